@@ -1,0 +1,1 @@
+//! Evaluating checked Scenalog programs with datafrog. Not built yet (issue: engine).

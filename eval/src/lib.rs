@@ -1,0 +1,1 @@
+//! The official Argoverse 2 scenario-mining metrics. Not built yet (issue: eval).

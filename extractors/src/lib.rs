@@ -1,0 +1,1 @@
+//! Computing the catalog's relations from a Scene. Not built yet (issue: extractors).

@@ -1,0 +1,463 @@
+//! The catalog: every relation the extractors provide, as data (name, typed columns, one-line doc).
+//!
+//! The checker, the synthesis prompt and `scenalog catalog` all read this one table, so the
+//! documentation an LLM sees is the one the checker enforces.
+
+use std::fmt;
+
+/// The type of a relation column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ColType {
+    /// An object of the log (the ego is one).
+    Track,
+    /// A frame index of the log (10 Hz, 0-based).
+    Time,
+    /// A lane segment id of the vector map.
+    Lane,
+    /// A string.
+    Str,
+    /// A floating-point number.
+    Float,
+    /// An integer.
+    Int,
+}
+
+impl ColType {
+    /// The type's name as written in the language and the catalog.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ColType::Track => "track",
+            ColType::Time => "time",
+            ColType::Lane => "lane",
+            ColType::Str => "str",
+            ColType::Float => "float",
+            ColType::Int => "int",
+        }
+    }
+
+    /// Parses a type name ("track", "time", "lane", "str", "float", "int"; "number" is "float").
+    pub fn parse(s: &str) -> Option<ColType> {
+        Some(match s {
+            "track" => ColType::Track,
+            "time" => ColType::Time,
+            "lane" => ColType::Lane,
+            "str" | "symbol" | "string" => ColType::Str,
+            "float" | "number" => ColType::Float,
+            "int" => ColType::Int,
+            _ => return None,
+        })
+    }
+
+    /// Whether values of this type are numbers (int, float or time).
+    pub fn is_numeric(self) -> bool {
+        matches!(self, ColType::Float | ColType::Int | ColType::Time)
+    }
+}
+
+impl fmt::Display for ColType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// One column of a relation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ColumnSpec {
+    /// The conventional variable name (e.g. "X", "T", "Dir").
+    pub name: &'static str,
+    /// The column's type.
+    pub ty: ColType,
+    /// For string columns with a closed set of values, the values; empty otherwise.
+    pub values: &'static [&'static str],
+}
+
+/// The part of the catalog a relation belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Group {
+    /// Objects and time.
+    Objects,
+    /// Kinematics of one object.
+    Kinematics,
+    /// Lanes and other map features.
+    Map,
+    /// Relations between two objects.
+    Pairs,
+}
+
+impl Group {
+    /// A heading for the group.
+    pub fn title(self) -> &'static str {
+        match self {
+            Group::Objects => "Objects and time",
+            Group::Kinematics => "Kinematics",
+            Group::Map => "Map",
+            Group::Pairs => "Pairs (Y within 50 m of X)",
+        }
+    }
+}
+
+/// One relation of the catalog.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RelationSpec {
+    /// The predicate name.
+    pub name: &'static str,
+    /// The columns, in order.
+    pub columns: &'static [ColumnSpec],
+    /// One line of documentation.
+    pub doc: &'static str,
+    /// Where it belongs.
+    pub group: Group,
+}
+
+impl RelationSpec {
+    /// Number of columns.
+    pub fn arity(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// The column types, in order.
+    pub fn types(&self) -> Vec<ColType> {
+        self.columns.iter().map(|c| c.ty).collect()
+    }
+
+    /// The signature as written in docs, e.g. `near(X: track, Y: track, T: time, D: float)`.
+    pub fn signature(&self) -> String {
+        self.to_string()
+    }
+
+    /// The relation as a JSON object: `name`, `columns` (`name`, `type`, optional `values`), `doc`, `group`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let columns: Vec<serde_json::Value> = self
+            .columns
+            .iter()
+            .map(|c| {
+                let mut o = serde_json::json!({ "name": c.name, "type": c.ty.as_str() });
+                if !c.values.is_empty() {
+                    o["values"] = serde_json::json!(c.values);
+                }
+                o
+            })
+            .collect();
+        serde_json::json!({
+            "name": self.name,
+            "columns": columns,
+            "doc": self.doc,
+            "group": self.group.title(),
+        })
+    }
+}
+
+impl fmt::Display for RelationSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}(", self.name)?;
+        for (i, c) in self.columns.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            write!(f, "{}: {}", c.name, c.ty)?;
+        }
+        f.write_str(")")
+    }
+}
+
+const fn col(name: &'static str, ty: ColType) -> ColumnSpec {
+    ColumnSpec {
+        name,
+        ty,
+        values: &[],
+    }
+}
+
+const fn enum_col(name: &'static str, values: &'static [&'static str]) -> ColumnSpec {
+    ColumnSpec {
+        name,
+        ty: ColType::Str,
+        values,
+    }
+}
+
+const X: ColumnSpec = col("X", ColType::Track);
+const Y: ColumnSpec = col("Y", ColType::Track);
+const T: ColumnSpec = col("T", ColType::Time);
+const L: ColumnSpec = col("L", ColType::Lane);
+
+/// Directions relative to an object's own frame.
+pub const DIRECTIONS: &[&str] = &["forward", "backward", "left", "right"];
+/// Turn and lane-change directions.
+pub const SIDES: &[&str] = &["left", "right"];
+/// Relative headings.
+pub const HEADINGS: &[&str] = &["same", "perpendicular", "opposite"];
+/// Lane types.
+pub const LANE_TYPES: &[&str] = &["VEHICLE", "BIKE", "BUS"];
+/// Road sides.
+pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
+
+const CATALOG: &[RelationSpec] = &[
+    // Objects and time
+    RelationSpec {
+        name: "category",
+        columns: &[X, col("C", ColType::Str)],
+        doc: "X's AV2 category, e.g. \"REGULAR_VEHICLE\", \"PEDESTRIAN\", \"EGO_VEHICLE\"; also the super-categories \"VEHICLE\" and \"ANY\"",
+        group: Group::Objects,
+    },
+    RelationSpec {
+        name: "ego",
+        columns: &[X],
+        doc: "X is the ego vehicle",
+        group: Group::Objects,
+    },
+    RelationSpec {
+        name: "present",
+        columns: &[X, T],
+        doc: "X is annotated at frame T",
+        group: Group::Objects,
+    },
+    RelationSpec {
+        name: "frame_ns",
+        columns: &[T, col("Ns", ColType::Int)],
+        doc: "frame T's timestamp in nanoseconds",
+        group: Group::Objects,
+    },
+    RelationSpec {
+        name: "seconds",
+        columns: &[T, col("S", ColType::Float)],
+        doc: "frame T's time in seconds from the log's start",
+        group: Group::Objects,
+    },
+    // Kinematics
+    RelationSpec {
+        name: "speed",
+        columns: &[X, T, col("V", ColType::Float)],
+        doc: "X's speed in m/s (city frame, smoothed)",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "accel",
+        columns: &[X, T, col("A", ColType::Float)],
+        doc: "X's forward acceleration in m/s² in its own frame (<= -1 reliably braking, >= 1 reliably accelerating)",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "lat_accel",
+        columns: &[X, T, col("A", ColType::Float)],
+        doc: "X's lateral acceleration in m/s² in its own frame, + is to the left",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "yaw_rate",
+        columns: &[X, T, col("W", ColType::Float)],
+        doc: "X's yaw rate in deg/s, + is counter-clockwise (left), unsmoothed",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "stationary",
+        columns: &[X],
+        doc: "X barely moves over its whole track (parked, not merely stopped): its smoothed positions fit in a box of diagonal < 3 m",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "turning",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "X is turning \"left\" or \"right\" at T (a run of same-sign yaw rate turning more than 45° in all)",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
+        name: "lane_change",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "X is changing lanes to the \"left\" or \"right\" neighbour lane at T (not while turning)",
+        group: Group::Kinematics,
+    },
+    // Map
+    RelationSpec {
+        name: "in_lane",
+        columns: &[X, T, L],
+        doc: "X's centre is in lane segment L at T (one lane per object and frame)",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "lane_type",
+        columns: &[L, enum_col("Ty", LANE_TYPES)],
+        doc: "lane L is a \"VEHICLE\", \"BIKE\" or \"BUS\" lane",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "intersection_lane",
+        columns: &[L],
+        doc: "lane L lies in an intersection",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "lane_successor",
+        columns: &[L, col("L2", ColType::Lane)],
+        doc: "lane L2 continues lane L",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "lane_neighbor",
+        columns: &[L, col("L2", ColType::Lane), enum_col("Side", SIDES)],
+        doc: "lane L2 is L's neighbour on the \"left\" or \"right\"",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "on_road",
+        columns: &[X, T],
+        doc: "X is in some lane at T",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "in_drivable_area",
+        columns: &[X, T],
+        doc: "X's centre is inside the drivable area at T",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "on_intersection",
+        columns: &[X, T],
+        doc: "X's centre is on an intersection lane at T",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "near_intersection",
+        columns: &[X, T, col("D", ColType::Float)],
+        doc: "distance in m from X's centre to the nearest intersection lane at T, 0 inside",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "at_crosswalk",
+        columns: &[X, T, col("D", ColType::Float)],
+        doc: "distance in m from X's box to the nearest pedestrian crossing at T, 0 when overlapping",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "at_stop_sign",
+        columns: &[X, col("S", ColType::Track), T],
+        doc: "X is in stop sign S's lane, within 10 m before it and facing it, at T",
+        group: Group::Map,
+    },
+    // Pairs
+    RelationSpec {
+        name: "near",
+        columns: &[X, Y, T, col("D", ColType::Float)],
+        doc: "D is the distance in m between X's and Y's ground rectangles at T (0 if they overlap)",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "direction",
+        columns: &[
+            X,
+            Y,
+            T,
+            enum_col("Dir", DIRECTIONS),
+            col("Dist", ColType::Float),
+            col("Lat", ColType::Float),
+        ],
+        doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame; Dist box-to-box distance, Lat how far Y's centre is outside X's sides (forward/backward) or ends (left/right)",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "heading_relative",
+        columns: &[X, Y, T, enum_col("Rel", HEADINGS)],
+        doc: "X's and Y's headings are the \"same\" (<= 45°), \"perpendicular\" or \"opposite\" (>= 135°)",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "facing",
+        columns: &[X, Y, T],
+        doc: "Y is within 22.5° of X's forward axis at T",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "heading_toward",
+        columns: &[X, Y, T],
+        doc: "X's velocity points within 22.5° of Y and X closes on Y at >= 0.5 m/s at T",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "crossing",
+        columns: &[X, Y, T, enum_col("Dir", DIRECTIONS)],
+        doc: "Y crosses the half-plane extending 10 m from X's Dir side at T",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "same_lane",
+        columns: &[X, Y, T],
+        doc: "Y is in X's lane as a driver sees it (the straight chain of predecessors and successors) at T",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "following",
+        columns: &[X, Y, T],
+        doc: "X follows lead Y at T: same lane (or Y in a successor), Y 0-25 m ahead, |lateral| < 5 m, headings within 60°",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "road_side",
+        columns: &[X, Y, T, enum_col("Side", ROAD_SIDES)],
+        doc: "Y is on the \"same\" or \"opposite\" side of the road as X at T",
+        group: Group::Pairs,
+    },
+];
+
+/// Every relation of the catalog, grouped and in documentation order.
+pub fn catalog() -> &'static [RelationSpec] {
+    CATALOG
+}
+
+/// The relation with this name, if the catalog has one.
+pub fn relation(name: &str) -> Option<&'static RelationSpec> {
+    CATALOG.iter().find(|r| r.name == name)
+}
+
+/// The catalog as plain text, grouped, one relation a line with its doc.
+pub fn render_text() -> String {
+    let mut out = String::new();
+    let mut group = None;
+    for r in CATALOG {
+        if group != Some(r.group) {
+            if group.is_some() {
+                out.push('\n');
+            }
+            out.push_str(r.group.title());
+            out.push('\n');
+            group = Some(r.group);
+        }
+        out.push_str(&format!("  {}\n      {}\n", r, r.doc));
+    }
+    out
+}
+
+/// The catalog as a JSON array of relation objects (see [`RelationSpec::to_json`]).
+pub fn render_json() -> serde_json::Value {
+    serde_json::Value::Array(CATALOG.iter().map(RelationSpec::to_json).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_lookup_works() {
+        let mut names: Vec<_> = catalog().iter().map(|r| r.name).collect();
+        names.sort_unstable();
+        let n = names.len();
+        names.dedup();
+        assert_eq!(n, names.len());
+        assert_eq!(relation("near").map(|r| r.arity()), Some(4));
+        assert_eq!(
+            relation("direction").map(|r| r.signature()),
+            Some(
+                "direction(X: track, Y: track, T: time, Dir: str, Dist: float, Lat: float)".into()
+            )
+        );
+        assert!(relation("nope").is_none());
+    }
+
+    #[test]
+    fn catalog_has_every_relation_of_the_design() {
+        // The 32 relations DESIGN.md's catalog names.
+        assert_eq!(catalog().len(), 32);
+        let json = render_json();
+        assert_eq!(json.as_array().map(|a| a.len()), Some(32));
+        assert!(render_text().contains("at_stop_sign(X: track, S: track, T: time)"));
+    }
+}

@@ -1,0 +1,16 @@
+//! Scenalog's facts: the Scene model and the catalog of relations.
+//!
+//! Owns: reading one Argoverse 2 log directory (annotations and ego poses from Arrow IPC files with
+//! LZ4, the vector map from JSON) into a typed [`Scene`]; interning and the frame timeline; the
+//! catalog of relations the extractors provide ([`catalog`]).
+//!
+//! Does not own: computing relations from a scene (the `extractors` crate) or anything about rules.
+
+pub mod catalog;
+pub mod map;
+pub mod scene;
+pub mod time;
+
+pub use map::{LaneId, LaneSegment, LaneType, VectorMap};
+pub use scene::{Frame, Pose, Scene, Track, TrackBox, TrackId};
+pub use time::Timeline;

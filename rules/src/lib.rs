@@ -1,0 +1,92 @@
+//! The Scenalog rule language: text in, checked program out.
+//!
+//! Owns: the lexer and parser (with byte spans), the AST ([`ast`]), the pretty-printer, the checks
+//! against the catalog (arity, types, safety, stratification, `referred`/`related` shape) and the
+//! diagnostics they produce, rendered for people and as JSON. Also holds `rules/library/*.dl`,
+//! the scenario library.
+//!
+//! Does not own: evaluation (the `engine` crate) or the catalog itself (the `facts` crate).
+//!
+//! The contract with the engine is [`CheckedProgram`]: a parsed program whose every predicate has
+//! known column types and whose clauses are grouped into strata in evaluation order.
+
+pub mod ast;
+
+use std::collections::BTreeMap;
+
+use scenalog_facts::catalog::ColType;
+
+pub use ast::Span;
+
+/// How bad a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Severity {
+    /// The program cannot run.
+    Error,
+    /// The program runs but is probably not what was meant.
+    Warning,
+}
+
+/// One finding of the parser or checker.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostic {
+    /// Stable code, e.g. "E0101".
+    pub code: &'static str,
+    /// Error or warning.
+    pub severity: Severity,
+    /// What is wrong, in one sentence.
+    pub message: String,
+    /// Where.
+    pub span: Span,
+    /// Other places that explain it, each with a short label.
+    pub related: Vec<(Span, String)>,
+    /// How to fix it, when a hint helps.
+    pub hint: Option<String>,
+}
+
+/// Where a predicate's tuples come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PredKind {
+    /// A relation of the catalog, provided by the extractors (EDB).
+    Catalog,
+    /// Defined by the program's own clauses and facts (IDB).
+    Derived,
+}
+
+/// What the checker knows about one predicate the program uses or defines.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PredicateInfo {
+    /// The name.
+    pub name: String,
+    /// Column types (declared, from the catalog, or inferred).
+    pub types: Vec<ColType>,
+    /// Catalog or derived.
+    pub kind: PredKind,
+}
+
+/// A set of mutually recursive derived predicates and the clauses that define them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stratum {
+    /// The predicates this stratum defines.
+    pub predicates: Vec<String>,
+    /// Indices into `program.clauses` of the clauses whose heads are in this stratum.
+    pub clauses: Vec<usize>,
+    /// Whether some predicate here depends on itself (needs fixpoint iteration).
+    pub recursive: bool,
+}
+
+/// A program that passed every check: safe, typed and stratified. The engine's input.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedProgram {
+    /// The parsed program.
+    pub program: Program,
+    /// Every predicate used or defined, by name.
+    pub predicates: BTreeMap<String, PredicateInfo>,
+    /// Strata in evaluation order: each depends only on earlier ones and the catalog
+    /// (negation and aggregates only on earlier strata).
+    pub strata: Vec<Stratum>,
+    /// Warnings the checker found (the program has no error).
+    pub warnings: Vec<Diagnostic>,
+}
+
+pub use ast::Program;

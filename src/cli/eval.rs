@@ -1,0 +1,12 @@
+//! `scenalog eval`: not built yet.
+
+use std::process::ExitCode;
+
+/// Arguments of `scenalog eval` (none yet).
+#[derive(clap::Args)]
+pub struct Args {}
+
+/// Runs the subcommand.
+pub fn run(_args: Args) -> ExitCode {
+    super::not_built("eval")
+}

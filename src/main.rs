@@ -1,0 +1,52 @@
+//! `scenalog`: mine Argoverse 2 driving logs for scenarios written as Datalog rules.
+//!
+//! The command joins the workspace's crates; each subcommand lives in its own module under
+//! [`cli`] and returns the process exit code.
+
+mod cli;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Mine Argoverse 2 driving logs for scenarios written as Datalog rules.
+#[derive(Parser)]
+#[command(name = "scenalog", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print the catalog of relations rules can use (name, typed columns, doc).
+    Catalog(cli::catalog::Args),
+    /// Summarise a log directory, or print one relation extracted from it.
+    Facts(cli::facts::Args),
+    /// Check rule files and print diagnostics (exit 0 clean, 1 errors, 2 unreadable).
+    Check(cli::check::Args),
+    /// Evaluate a program on its own ground facts, with no log.
+    Run(cli::run::Args),
+    /// Mine logs with rule programs and write predictions (no arguments: the library on the sample logs).
+    Mine(cli::mine::Args),
+    /// Explain why a track matched a program (or why it did not).
+    Explain(cli::explain::Args),
+    /// Score predictions against ground truth with the official scenario-mining metrics.
+    Eval(cli::eval::Args),
+    /// Write a rule program from a description with an LLM, repairing it on diagnostics.
+    Synth(cli::synth::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Catalog(a) => cli::catalog::run(a),
+        Command::Facts(a) => cli::facts::run(a),
+        Command::Check(a) => cli::check::run(a),
+        Command::Run(a) => cli::run::run(a),
+        Command::Mine(a) => cli::mine::run(a),
+        Command::Explain(a) => cli::explain::run(a),
+        Command::Eval(a) => cli::eval::run(a),
+        Command::Synth(a) => cli::synth::run(a),
+    }
+}
