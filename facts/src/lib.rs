@@ -8,6 +8,7 @@
 
 pub mod catalog;
 pub mod map;
+pub mod relation;
 pub mod scene;
 pub mod time;
 

@@ -90,3 +90,45 @@ pub struct CheckedProgram {
 }
 
 pub use ast::Program;
+
+/// Options of [`check`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CheckOptions {
+    /// Report a missing `referred/2` rule as an error (true for mining; false for `scenalog run`).
+    pub require_referred: bool,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions {
+            require_referred: true,
+        }
+    }
+}
+
+/// What [`check`] found: the checked program when there is no error, and every diagnostic.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckOutcome {
+    /// `Some` exactly when no diagnostic is an error.
+    pub program: Option<CheckedProgram>,
+    /// Errors and warnings, in source order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses and checks a program against the catalog.
+///
+/// Placeholder until the rule-language issue lands: reports that the checker is not built.
+pub fn check(source: &str, options: &CheckOptions) -> CheckOutcome {
+    let _ = (source, options);
+    CheckOutcome {
+        program: None,
+        diagnostics: vec![Diagnostic {
+            code: "E0000",
+            severity: Severity::Error,
+            message: "the rule checker is not built yet".into(),
+            span: Span::default(),
+            related: Vec::new(),
+            hint: None,
+        }],
+    }
+}
