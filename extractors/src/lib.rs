@@ -1,1 +1,4 @@
-//! Computing the catalog's relations from a Scene. Not built yet (issue: extractors).
+//! Computing the catalog's relations from a Scene. Being built (issue: extractors).
+
+pub mod kinematics;
+pub mod lanes;
