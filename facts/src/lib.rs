@@ -5,12 +5,26 @@
 //! catalog of relations the extractors provide ([`catalog`]).
 //!
 //! Does not own: computing relations from a scene (the `extractors` crate) or anything about rules.
+//!
+//! Entry point: [`load_scene`] reads a log directory; [`LoadError`] says what was wrong with it.
+
+#![warn(missing_docs)]
 
 pub mod catalog;
+pub mod error;
+pub mod intern;
 pub mod map;
+pub mod read;
 pub mod relation;
 pub mod scene;
+pub mod summary;
 pub mod time;
+
+pub use error::LoadError;
+pub use intern::{Interner, Sym};
+pub use map::{DrivableArea, PedestrianCrossing};
+pub use read::load_scene;
+pub use summary::SceneSummary;
 
 pub use map::{LaneId, LaneSegment, LaneType, VectorMap};
 pub use scene::{Frame, Pose, Scene, Track, TrackBox, TrackId};
