@@ -1,0 +1,271 @@
+//! The map prepared for queries: lane, crossing and drivable-area polygons in `rstar` R-trees, lane
+//! centrelines and turn angles, predecessors derived from successors, the lane chains and road sides.
+
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
+use scenalog_facts::map::VectorMap;
+use scenalog_facts::LaneId;
+
+use super::chain::{self, LaneChains};
+use super::geometry::{heading, polyline_length, resample, Polygon, Pt};
+use super::sides::{self, RoadSides};
+use crate::kinematics::wrap_angle;
+
+/// An R-tree entry: a polygon's bounding box and the polygon's index in its list.
+pub type BoxEntry = GeomWithData<Rectangle<Pt>, u32>;
+
+/// Geometry of one lane segment, in the order of [`VectorMap::lanes`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LaneGeom {
+    /// The map id.
+    pub id: LaneId,
+    /// Right boundary followed by the reversed left boundary.
+    pub polygon: Polygon,
+    /// Centreline (mean of the two boundaries resampled alike), in the direction of travel.
+    pub centerline: Vec<Pt>,
+    /// Left boundary, in the direction of travel.
+    pub left: Vec<Pt>,
+    /// Right boundary, in the direction of travel.
+    pub right: Vec<Pt>,
+    /// Centreline length, metres.
+    pub length: f64,
+    /// Mean width (distance between the resampled boundaries), metres.
+    pub width: f64,
+    /// Heading of the centreline's first and last segment, radians.
+    pub start_heading: f64,
+    /// Heading of the centreline's last segment, radians.
+    pub end_heading: f64,
+    /// Signed heading change from start to end, degrees (+ left).
+    pub turn_deg: f64,
+    /// Successors present in the map (dangling ids dropped), as lane indices.
+    pub successors: Vec<usize>,
+    /// Predecessors present in the map: the file's plus every lane naming this one a successor.
+    pub predecessors: Vec<usize>,
+}
+
+/// A vector map prepared for geometric queries. Built once per scene.
+#[derive(Debug)]
+pub struct MapIndex {
+    /// Per lane (same order as [`VectorMap::lanes`]).
+    pub lanes: Vec<LaneGeom>,
+    /// Pedestrian crossing polygons (same order as [`VectorMap::crossings`]).
+    pub crossings: Vec<Polygon>,
+    /// Drivable area polygons (same order as [`VectorMap::drivable_areas`]).
+    pub areas: Vec<Polygon>,
+    /// The lane as a driver sees it, per lane.
+    pub chains: LaneChains,
+    /// Lanes on the same and the opposite side of the road, per lane.
+    pub sides: RoadSides,
+    lane_tree: RTree<BoxEntry>,
+    intersection_tree: RTree<BoxEntry>,
+    crossing_tree: RTree<BoxEntry>,
+    area_tree: RTree<BoxEntry>,
+}
+
+fn xy(p: &[nalgebra::Point3<f64>]) -> Vec<Pt> {
+    p.iter().map(|q| [q.x, q.y]).collect()
+}
+
+fn entry(poly: &Polygon, i: usize) -> BoxEntry {
+    GeomWithData::new(
+        Rectangle::from_corners(poly.bbox[0], poly.bbox[1]),
+        i as u32,
+    )
+}
+
+fn tree_of<'a>(polys: impl Iterator<Item = (usize, &'a Polygon)>) -> RTree<BoxEntry> {
+    RTree::bulk_load(polys.map(|(i, p)| entry(p, i)).collect())
+}
+
+impl MapIndex {
+    /// Prepares `map` for queries.
+    pub fn new(map: &VectorMap) -> MapIndex {
+        let mut lanes: Vec<LaneGeom> = map
+            .lanes
+            .iter()
+            .map(|l| {
+                let left = xy(&l.left_boundary);
+                let right = xy(&l.right_boundary);
+                let n = left.len().max(right.len()).max(2);
+                let (rl, rr) = (resample(&left, n), resample(&right, n));
+                let centerline: Vec<Pt> = rl
+                    .iter()
+                    .zip(&rr)
+                    .map(|(a, b)| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])])
+                    .collect();
+                let width = if rl.is_empty() {
+                    0.0
+                } else {
+                    rl.iter()
+                        .zip(&rr)
+                        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+                        .sum::<f64>()
+                        / rl.len() as f64
+                };
+                let (start_heading, end_heading) = if centerline.len() >= 2 {
+                    let k = centerline.len();
+                    (
+                        heading(centerline[0], centerline[1]),
+                        heading(centerline[k - 2], centerline[k - 1]),
+                    )
+                } else {
+                    (0.0, 0.0)
+                };
+                let successors = l
+                    .successors
+                    .iter()
+                    .filter_map(|&s| map.lane_index(s))
+                    .collect();
+                let predecessors = l
+                    .predecessors
+                    .iter()
+                    .filter_map(|&s| map.lane_index(s))
+                    .collect();
+                LaneGeom {
+                    id: l.id,
+                    polygon: Polygon::new(l.polygon_xy()),
+                    length: polyline_length(&centerline),
+                    centerline,
+                    left,
+                    right,
+                    width,
+                    start_heading,
+                    end_heading,
+                    turn_deg: wrap_angle(end_heading - start_heading).to_degrees(),
+                    successors,
+                    predecessors,
+                }
+            })
+            .collect();
+        // AV2 map files usually leave `predecessors` empty: derive them from successors.
+        for i in 0..lanes.len() {
+            for s in lanes[i].successors.clone() {
+                if !lanes[s].predecessors.contains(&i) {
+                    lanes[s].predecessors.push(i);
+                }
+            }
+        }
+        for l in &mut lanes {
+            l.successors.sort_unstable();
+            l.successors.dedup();
+            l.predecessors.sort_unstable();
+            l.predecessors.dedup();
+        }
+        let crossings: Vec<Polygon> = map
+            .crossings
+            .iter()
+            .map(|c| Polygon::new(c.polygon_xy()))
+            .collect();
+        let areas: Vec<Polygon> = map
+            .drivable_areas
+            .iter()
+            .map(|a| Polygon::new(xy(&a.boundary)))
+            .collect();
+        let lane_tree = tree_of(lanes.iter().map(|l| &l.polygon).enumerate());
+        let intersection_tree = tree_of(
+            lanes
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| map.lanes[*i].is_intersection)
+                .map(|(i, l)| (i, &l.polygon)),
+        );
+        let crossing_tree = tree_of(crossings.iter().enumerate());
+        let area_tree = tree_of(areas.iter().enumerate());
+        let chains = chain::build(&lanes);
+        let sides = sides::build(map, &lanes);
+        MapIndex {
+            lanes,
+            crossings,
+            areas,
+            chains,
+            sides,
+            lane_tree,
+            intersection_tree,
+            crossing_tree,
+            area_tree,
+        }
+    }
+
+    /// Indices of the lanes whose polygon contains `p`, ascending.
+    pub fn lanes_containing(&self, p: Pt) -> Vec<usize> {
+        let mut out: Vec<usize> = self
+            .lane_tree
+            .locate_all_at_point(p)
+            .map(|e| e.data as usize)
+            .filter(|&i| self.lanes[i].polygon.contains(p))
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    /// Indices of the lanes whose bounding box lies within `r` of `p`, ascending.
+    pub fn lanes_near(&self, p: Pt, r: f64) -> Vec<usize> {
+        let env = AABB::from_corners([p[0] - r, p[1] - r], [p[0] + r, p[1] + r]);
+        let mut out: Vec<usize> = self
+            .lane_tree
+            .locate_in_envelope_intersecting(env)
+            .map(|e| e.data as usize)
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    /// Whether `p` lies in some intersection lane.
+    pub fn in_intersection(&self, p: Pt) -> bool {
+        self.intersection_tree
+            .locate_all_at_point(p)
+            .any(|e| self.lanes[e.data as usize].polygon.contains(p))
+    }
+
+    /// Whether `p` lies in some drivable area.
+    pub fn in_drivable_area(&self, p: Pt) -> bool {
+        self.area_tree
+            .locate_all_at_point(p)
+            .any(|e| self.areas[e.data as usize].contains(p))
+    }
+
+    /// Distance from `p` to the nearest intersection lane polygon (0 inside), if one lies within
+    /// `max` metres.
+    pub fn intersection_distance(&self, p: Pt, max: f64) -> Option<f64> {
+        let polys = &self.lanes;
+        nearest(&self.intersection_tree, p, 0.0, max, |i| {
+            polys[i].polygon.distance_to_point(p)
+        })
+    }
+
+    /// Distance from the polygon `shape` (an object's ground box) to the nearest pedestrian
+    /// crossing (0 when overlapping), if one lies within `max` metres.
+    pub fn crossing_distance(&self, shape: &Polygon, max: f64) -> Option<f64> {
+        let c = [
+            0.5 * (shape.bbox[0][0] + shape.bbox[1][0]),
+            0.5 * (shape.bbox[0][1] + shape.bbox[1][1]),
+        ];
+        let half_diag =
+            0.5 * (shape.bbox[1][0] - shape.bbox[0][0]).hypot(shape.bbox[1][1] - shape.bbox[0][1]);
+        let polys = &self.crossings;
+        nearest(&self.crossing_tree, c, half_diag, max, |i| {
+            polys[i].distance_to_polygon(shape)
+        })
+    }
+}
+
+/// Exact nearest distance through an R-tree of bounding boxes: candidates come in order of their
+/// box distance from `p`; that distance minus `slack` (how far the query shape reaches from `p`)
+/// bounds the exact distance from below, so the search stops once it passes the best exact one.
+fn nearest(
+    tree: &RTree<BoxEntry>,
+    p: Pt,
+    slack: f64,
+    max: f64,
+    exact: impl Fn(usize) -> f64,
+) -> Option<f64> {
+    let mut best = f64::INFINITY;
+    for (e, d2) in tree.nearest_neighbor_iter_with_distance_2(p) {
+        let lb = d2.sqrt() - slack;
+        if lb > best || lb > max {
+            break;
+        }
+        best = best.min(exact(e.data as usize));
+    }
+    (best <= max).then_some(best)
+}

@@ -1,0 +1,15 @@
+//! The vector map prepared for queries and the map relations.
+//!
+//! - [`geometry`]: polygons and polylines in the ground plane.
+//! - [`index`]: [`MapIndex`], lane/crossing/drivable-area polygons in R-trees.
+//! - [`chain`]: the lane as a driver sees it (straight predecessors and successors).
+//! - [`sides`]: same and opposite road sides through lane neighbours.
+
+pub mod chain;
+pub mod geometry;
+pub mod index;
+pub mod sides;
+
+pub use chain::LaneChains;
+pub use index::{LaneGeom, MapIndex};
+pub use sides::{RoadSide, RoadSides};

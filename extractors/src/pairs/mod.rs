@@ -1,0 +1,1 @@
+//! Pairwise relations between objects (built by the pairs work).

@@ -1,0 +1,89 @@
+//! Every threshold the extractors use, named and documented in one place.
+//!
+//! The values follow the reference behaviour of RefAV's atomic functions (DESIGN.md's catalog)
+//! unless a comment says otherwise. Distances are metres, speeds m/s, angles degrees, times frames
+//! or seconds as named.
+//!
+//! Sections: kinematics, lanes and map, events, then the pairwise relations (appended by the pairs
+//! work at the end of the file; keep new constants inside their section).
+
+// ---------------------------------------------------------------------------------------------
+// Kinematics
+// ---------------------------------------------------------------------------------------------
+
+/// Window (frames, odd) of the median filter over positions and their derivatives. Tracks shorter
+/// than this use the largest odd window that fits; at a track's ends the window is truncated to
+/// the boxes that exist (no zero padding, which pulled RefAV's end values towards 0).
+pub const MEDIAN_WINDOW: usize = 7;
+
+/// A track is `stationary` when the diagonal of the bounding box of its smoothed positions over
+/// its whole life is below this (parked, not merely stopped).
+pub const STATIONARY_MAX_DIAGONAL_M: f64 = 3.0;
+
+// ---------------------------------------------------------------------------------------------
+// Lanes and map
+// ---------------------------------------------------------------------------------------------
+
+/// A lane counts as turning left/right (for breaking lane-assignment ties against the track's mean
+/// yaw rate) when its centreline's heading changes by more than this from start to end.
+pub const LANE_TURN_MIN_DEG: f64 = 20.0;
+
+/// A track counts as turning left/right (for lane-assignment ties) when its mean yaw rate over the
+/// candidate run exceeds this, deg/s.
+pub const TRACK_TURN_MIN_YAW_RATE_DEG_S: f64 = 3.0;
+
+/// In the lane as a driver sees it, a successor (predecessor) continues the lane when it is the
+/// only one, or when it is the straightest and both its own heading change and the angle at the
+/// joint stay under this.
+pub const LANE_CHAIN_STRAIGHT_MAX_DEG: f64 = 30.0;
+
+/// How far (centreline length) the lane chain reaches beyond the lane itself in each direction.
+/// Pairs never exceed 50 m, so a little more than that is enough.
+pub const LANE_CHAIN_REACH_M: f64 = 60.0;
+
+/// Map distances (`near_intersection`, `at_crosswalk`) are produced only up to this distance; a
+/// farther object has no tuple. RefAV's own defaults are 5 m and 1 m, well inside.
+pub const MAP_DISTANCE_MAX_M: f64 = 50.0;
+
+/// `at_stop_sign`: X's centre lies at most this far before the stop sign, measured along X's
+/// forward axis (RefAV's `forward_thresh`).
+pub const STOP_SIGN_FORWARD_MAX_M: f64 = 10.0;
+
+/// `at_stop_sign`: the stop sign's lane is the nearest lane, within this distance of the sign, whose
+/// direction of travel has the sign on its right-hand side (or under it).
+pub const STOP_SIGN_LANE_SEARCH_M: f64 = 10.0;
+
+/// `at_stop_sign`: X faces the sign when its heading is within this angle of its lane's direction
+/// at the sign (so the sign is ahead of it, not behind).
+pub const STOP_SIGN_HEADING_MAX_DEG: f64 = 45.0;
+
+/// `at_stop_sign`: the sign may be at most this far to the side of X's forward axis.
+pub const STOP_SIGN_LATERAL_MAX_M: f64 = 10.0;
+
+// ---------------------------------------------------------------------------------------------
+// Events
+// ---------------------------------------------------------------------------------------------
+
+/// `turning`: a run of same-sign yaw rate is a turn when the heading changes by more than this over
+/// the run.
+pub const TURN_MIN_ANGLE_DEG: f64 = 45.0;
+
+/// `turning`: yaw rates of at most this magnitude (deg/s, after the median filter) are "no turn"
+/// and end a run, so sensor jitter on a straight road does not chain unrelated bends together.
+pub const TURN_DEAD_BAND_DEG_S: f64 = 1.0;
+
+/// `lane_change`: the velocity component across the crossed boundary, towards the new lane, must be
+/// at least this (m/s) when the centre changes lanes.
+pub const LANE_CHANGE_MIN_LATERAL_SPEED: f64 = 0.1;
+
+/// `lane_change`: the velocity must run roughly along the crossed boundary: |cos| of the angle
+/// between them at least this.
+pub const LANE_CHANGE_MIN_ABS_COS: f64 = 0.5;
+
+/// `lane_change`: the span grows over frames whose offset across the boundary keeps moving towards
+/// the new lane; a step backwards of at most this (m) does not break the monotonic move.
+pub const LANE_CHANGE_MONOTONE_TOL_M: f64 = 0.02;
+
+// ---------------------------------------------------------------------------------------------
+// Pairs (the pairs work appends its constants below this line)
+// ---------------------------------------------------------------------------------------------
