@@ -408,9 +408,14 @@ pub fn relation(name: &str) -> Option<&'static RelationSpec> {
     CATALOG.iter().find(|r| r.name == name)
 }
 
-/// The catalog as plain text, grouped, one relation a line with its doc.
+/// The catalog as plain text: a header with the column types, then the relations by group, each
+/// as its signature, its doc, and the allowed values of any closed string column.
 pub fn render_text() -> String {
-    let mut out = String::new();
+    let mut out = format!(
+        "{} relations. Column types: track (an object; the ego is one), time (frame, 10 Hz), \
+         lane (lane segment id), str, float, int. Metres, m/s, degrees, frames.\n\n",
+        CATALOG.len()
+    );
     let mut group = None;
     for r in CATALOG {
         if group != Some(r.group) {
@@ -422,6 +427,14 @@ pub fn render_text() -> String {
             group = Some(r.group);
         }
         out.push_str(&format!("  {}\n      {}\n", r, r.doc));
+        for c in r.columns.iter().filter(|c| !c.values.is_empty()) {
+            let values: Vec<String> = c.values.iter().map(|v| format!("{v:?}")).collect();
+            out.push_str(&format!(
+                "      {} is one of {}\n",
+                c.name,
+                values.join(", ")
+            ));
+        }
     }
     out
 }
@@ -458,6 +471,12 @@ mod tests {
         assert_eq!(catalog().len(), 32);
         let json = render_json();
         assert_eq!(json.as_array().map(|a| a.len()), Some(32));
-        assert!(render_text().contains("at_stop_sign(X: track, S: track, T: time)"));
+        let text = render_text();
+        assert!(text.starts_with("32 relations."));
+        assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
+        assert!(
+            text.contains("      Dir is one of \"left\", \"right\"\n"),
+            "{text}"
+        );
     }
 }

@@ -1,13 +1,13 @@
 //! Loading the three real Argoverse 2 logs in `tests/data/av2/logs/` and checking figures anyone
 //! can verify from the files.
 //!
-//! Every expected figure below was computed independently of this crate with python3 + pyarrow 26
-//! 26 + numpy 2.4 over the same files (the script is reproduced in `facts/tests/verify_figures.py`; run
-//! `python3 facts/tests/verify_figures.py` from the repository root to print them again):
-//! rows = `len(table)`, timestamps = `table.timestamp_ns.nunique()`, tracks per category =
-//! `table.groupby('category').track_uuid.nunique()`, map counts = `len(json[section])`,
-//! lanes by type / intersection = counting `lane_type` / `is_intersection`, dangling ids = distinct
-//! successor/predecessor/neighbour ids not among the lane keys, and one box's city pose =
+//! Every expected figure below was computed independently of this crate with python3, pyarrow 26
+//! and numpy 2.4 over the same files. The script is `facts/tests/verify_figures.py`; run
+//! `python3 facts/tests/verify_figures.py` from the repository root to print the figures again.
+//! It counts rows as `len(table)`, timestamps as `table.timestamp_ns.nunique()`, tracks per
+//! category as `table.groupby('category').track_uuid.nunique()`, map features as
+//! `len(json[section])`, lanes by `lane_type` and `is_intersection`, dangling ids as the distinct
+//! successor, predecessor and neighbour ids that are not lane keys, and one box's city pose as
 //! `R(q_ego) @ t_box + t_ego` with the ego pose row of the same timestamp.
 
 use std::collections::BTreeMap;

@@ -1,4 +1,4 @@
-//! `scenalog catalog`: print the catalog of relations.
+//! `scenalog catalog [NAME]`: print the catalog of relations, or one relation of it.
 
 use std::process::ExitCode;
 
@@ -7,17 +7,42 @@ use scenalog_facts::catalog;
 /// Arguments of `scenalog catalog`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Print the catalog as a JSON array instead of text.
+    /// Print only this relation (e.g. `near`); exit 2 if the catalog has no such relation.
+    pub name: Option<String>,
+    /// Print JSON (an array of relation objects, or one object with NAME) instead of text.
     #[arg(long)]
-    json: bool,
+    pub json: bool,
 }
 
-/// Prints the catalog as text or JSON.
+/// Prints the catalog (or one relation) as text or JSON.
 pub fn run(args: Args) -> ExitCode {
-    if args.json {
-        println!("{:#}", catalog::render_json());
-    } else {
-        print!("{}", catalog::render_text());
+    match args.name {
+        None if args.json => println!("{:#}", catalog::render_json()),
+        None => print!("{}", catalog::render_text()),
+        Some(name) => {
+            let Some(r) = catalog::relation(&name) else {
+                let names: Vec<&str> = catalog::catalog().iter().map(|r| r.name).collect();
+                eprintln!(
+                    "scenalog catalog: no relation `{name}` in the catalog; it has: {}",
+                    names.join(", ")
+                );
+                return ExitCode::from(2);
+            };
+            if args.json {
+                println!("{:#}", r.to_json());
+            } else {
+                println!("{r}\n    {}", r.doc);
+                for c in r.columns {
+                    let values = if c.values.is_empty() {
+                        String::new()
+                    } else {
+                        let v: Vec<String> = c.values.iter().map(|v| format!("{v:?}")).collect();
+                        format!(", one of {}", v.join(", "))
+                    };
+                    println!("    {}: {}{values}", c.name, c.ty);
+                }
+            }
+        }
     }
     ExitCode::SUCCESS
 }
