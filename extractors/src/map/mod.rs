@@ -9,6 +9,7 @@ pub mod chain;
 pub mod geometry;
 pub mod index;
 pub mod sides;
+pub mod stop_signs;
 
 pub use chain::LaneChains;
 pub use index::{LaneGeom, MapIndex};

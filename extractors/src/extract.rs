@@ -1,0 +1,88 @@
+//! The entry points: answering a [`Request`] for any catalog relation, all relations of a scene,
+//! and many logs in parallel.
+
+use scenalog_facts::catalog;
+use scenalog_facts::relation::{RelationData, Request};
+use scenalog_facts::Scene;
+
+use crate::cache::Extractor;
+use crate::query::{ExtractError, Query};
+use crate::relations::{map, motion, objects};
+
+/// Computes the tuples of `query`'s relation (unfiltered, unsorted), then filters and sorts them.
+pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, ExtractError> {
+    let data = match q.spec.name {
+        "category" => objects::category(ex, q),
+        "ego" => objects::ego(ex, q),
+        "present" => objects::present(ex, q),
+        "frame_ns" => objects::frame_ns(ex, q),
+        "seconds" => objects::seconds(ex, q),
+        "speed" => motion::per_box(ex, q, |k| &k.speed),
+        "accel" => motion::per_box(ex, q, |k| &k.accel),
+        "lat_accel" => motion::per_box(ex, q, |k| &k.lat_accel),
+        "yaw_rate" => motion::per_box(ex, q, |k| &k.yaw_rate),
+        "stationary" => motion::stationary(ex, q),
+        "turning" => motion::events(ex, q, ex.turning()),
+        "lane_change" => motion::events(ex, q, ex.lane_changes()),
+        "in_lane" => map::in_lane(ex, q),
+        "lane_type" => map::lane_type(ex, q),
+        "intersection_lane" => map::intersection_lane(ex, q),
+        "lane_successor" => map::lane_successor(ex, q),
+        "lane_neighbor" => map::lane_neighbor(ex, q),
+        "on_road" => map::on_road(ex, q),
+        "in_drivable_area" => {
+            let index = ex.map_index();
+            map::centre_test(ex, q, |c| index.in_drivable_area(c))
+        }
+        "on_intersection" => {
+            let index = ex.map_index();
+            map::centre_test(ex, q, |c| index.in_intersection(c))
+        }
+        "near_intersection" => map::near_intersection(ex, q),
+        "at_crosswalk" => map::at_crosswalk(ex, q),
+        "at_stop_sign" => map::at_stop_sign(ex, q),
+        other => return Err(ExtractError::NotProvided(other.to_string())),
+    };
+    Ok(q.finish(ex.scene(), data))
+}
+
+/// The relation `req` asks for over `scene`: only tuples satisfying every constraint, sorted.
+/// (One-off; use an [`Extractor`] to share work between requests on one scene.)
+pub fn extract(scene: &Scene, req: &Request) -> Result<RelationData, ExtractError> {
+    let ex = Extractor::new(scene);
+    ex.extract(req).map(|r| (*r).clone())
+}
+
+/// Every relation of the catalog the extractors provide, in catalog order (relations in parallel;
+/// the output does not depend on the thread count).
+pub fn extract_all(scene: &Scene) -> Vec<RelationData> {
+    extract_all_with(&Extractor::new(scene))
+}
+
+/// [`extract_all`] with an existing context.
+pub fn extract_all_with(ex: &Extractor) -> Vec<RelationData> {
+    use rayon::prelude::*;
+    catalog::catalog()
+        .par_iter()
+        .filter_map(|spec| ex.extract(&Request::all(spec.name)).ok())
+        .map(|r| (*r).clone())
+        .collect()
+}
+
+/// Answers the same requests on many logs in parallel: per scene, the answers in request order.
+pub fn extract_logs(
+    scenes: &[Scene],
+    requests: &[Request],
+) -> Vec<Result<Vec<RelationData>, ExtractError>> {
+    use rayon::prelude::*;
+    scenes
+        .par_iter()
+        .map(|scene| {
+            let ex = Extractor::new(scene);
+            requests
+                .iter()
+                .map(|r| ex.extract(r).map(|d| (*d).clone()))
+                .collect()
+        })
+        .collect()
+}

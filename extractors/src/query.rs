@@ -1,0 +1,246 @@
+//! A checked request: the relation's catalog entry, the constraints validated against its column
+//! types, the tracks each track column may take (pushdown), and the final filter every result
+//! passes, so a result never holds a tuple that breaks a constraint.
+
+use std::cmp::Ordering;
+
+use scenalog_facts::catalog::{self, ColType, RelationSpec};
+use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
+use scenalog_facts::scene::is_vehicle_category;
+use scenalog_facts::{Scene, TrackId};
+
+/// Why a request cannot be answered.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExtractError {
+    /// The catalog has no relation of this name.
+    #[error("unknown relation `{0}`; expected a catalog relation (see `scenalog catalog`)")]
+    UnknownRelation(String),
+    /// A constraint names a column the relation does not have.
+    #[error("relation `{relation}` has {arity} columns; a constraint names column {column}")]
+    NoSuchColumn {
+        /// The relation.
+        relation: String,
+        /// Its number of columns.
+        arity: usize,
+        /// The column index given.
+        column: usize,
+    },
+    /// A constraint does not fit its column's type.
+    #[error("relation `{relation}` column {column} is a {ty} column; constraint {constraint} does not apply to it")]
+    BadConstraint {
+        /// The relation.
+        relation: String,
+        /// The column index.
+        column: usize,
+        /// The column's type.
+        ty: ColType,
+        /// The constraint, printed.
+        constraint: String,
+    },
+    /// The relation exists in the catalog but no extractor provides it yet.
+    #[error("relation `{0}` is in the catalog but not provided by the extractors yet")]
+    NotProvided(String),
+}
+
+/// Whether `category` (a track's AV2 category) matches a category constraint (an AV2 category or
+/// the super-categories "VEHICLE" and "ANY").
+pub fn category_matches(category: &str, wanted: &str) -> bool {
+    wanted == "ANY" || category == wanted || (wanted == "VEHICLE" && is_vehicle_category(category))
+}
+
+/// A validated request, with the tracks each track column may take.
+#[derive(Debug, Clone)]
+pub struct Query<'r> {
+    /// The request.
+    pub req: &'r Request,
+    /// The relation's catalog entry.
+    pub spec: &'static RelationSpec,
+    /// Per column: for track columns with a category or equality constraint, which tracks (by
+    /// `TrackId::index()`) may appear; `None` for any.
+    allowed: Vec<Option<Vec<bool>>>,
+}
+
+fn constraint_fits(c: &Constraint, ty: ColType) -> bool {
+    match c {
+        Constraint::Category(_) => ty == ColType::Track,
+        Constraint::Eq(v) => matches!(
+            (v, ty),
+            (Value::Track(_), ColType::Track)
+                | (Value::Time(_), ColType::Time)
+                | (Value::Lane(_), ColType::Lane)
+                | (Value::Str(_), ColType::Str)
+                | (Value::Float(_), ColType::Float)
+                | (Value::Int(_), ColType::Int)
+                | (Value::Int(_), ColType::Float)
+                | (Value::Float(_), ColType::Int)
+                | (Value::Int(_), ColType::Time)
+        ),
+        Constraint::Lt(_) | Constraint::Le(_) | Constraint::Gt(_) | Constraint::Ge(_) => {
+            ty.is_numeric()
+        }
+    }
+}
+
+impl<'r> Query<'r> {
+    /// Validates `req` against the catalog and works out the allowed tracks per track column.
+    pub fn new(scene: &Scene, req: &'r Request) -> Result<Query<'r>, ExtractError> {
+        let spec = catalog::relation(&req.name)
+            .ok_or_else(|| ExtractError::UnknownRelation(req.name.clone()))?;
+        let mut allowed: Vec<Option<Vec<bool>>> = vec![None; spec.arity()];
+        for (col, c) in &req.constraints {
+            let Some(cs) = spec.columns.get(*col) else {
+                return Err(ExtractError::NoSuchColumn {
+                    relation: req.name.clone(),
+                    arity: spec.arity(),
+                    column: *col,
+                });
+            };
+            if !constraint_fits(c, cs.ty) {
+                return Err(ExtractError::BadConstraint {
+                    relation: req.name.clone(),
+                    column: *col,
+                    ty: cs.ty,
+                    constraint: format!("{c:?}"),
+                });
+            }
+            let keep: Option<Box<dyn Fn(TrackId) -> bool>> = match c {
+                Constraint::Category(cat) => {
+                    let cat = cat.clone();
+                    Some(Box::new(move |t| {
+                        category_matches(&scene.track(t).category, &cat)
+                    }))
+                }
+                Constraint::Eq(Value::Track(x)) => {
+                    let x = *x;
+                    Some(Box::new(move |t| t == x))
+                }
+                _ => None,
+            };
+            if let Some(keep) = keep {
+                let mask = allowed[*col].get_or_insert_with(|| vec![true; scene.tracks.len()]);
+                for (i, m) in mask.iter_mut().enumerate() {
+                    *m = *m && keep(TrackId(i as u32));
+                }
+            }
+        }
+        Ok(Query { req, spec, allowed })
+    }
+
+    /// Whether track `t` may appear in column `col`.
+    pub fn allows_track(&self, col: usize, t: TrackId) -> bool {
+        match self.allowed.get(col) {
+            Some(Some(mask)) => mask.get(t.index()).copied().unwrap_or(false),
+            _ => true,
+        }
+    }
+
+    /// The tracks of `scene` that may appear in column `col`, in id order.
+    pub fn tracks(&self, scene: &Scene, col: usize) -> impl Iterator<Item = TrackId> + '_ {
+        let n = scene.tracks.len();
+        (0..n as u32)
+            .map(TrackId)
+            .filter(move |&t| self.allows_track(col, t))
+    }
+
+    /// The tightest upper bound the constraints put on numeric column `col` (`Lt`/`Le`/`Eq`).
+    pub fn upper_bound(&self, col: usize) -> Option<f64> {
+        self.req
+            .constraints
+            .iter()
+            .filter(|(c, _)| *c == col)
+            .filter_map(|(_, c)| match c {
+                Constraint::Lt(v) | Constraint::Le(v) => Some(*v),
+                Constraint::Eq(Value::Float(v)) => Some(*v),
+                Constraint::Eq(Value::Int(v)) => Some(*v as f64),
+                _ => None,
+            })
+            .reduce(f64::min)
+    }
+
+    /// The string column `col` is fixed to, if an `Eq` constraint fixes it.
+    pub fn fixed_str(&self, col: usize) -> Option<&str> {
+        self.req.constraints.iter().find_map(|(c, k)| match k {
+            Constraint::Eq(Value::Str(s)) if *c == col => Some(&**s),
+            _ => None,
+        })
+    }
+
+    /// Whether row `i` of `data` satisfies every constraint of the request.
+    fn row_ok(&self, scene: &Scene, data: &RelationData, i: usize) -> bool {
+        self.req.constraints.iter().all(|(col, c)| {
+            let Some(v) = data.columns.get(*col).and_then(|column| column.get(i)) else {
+                return false;
+            };
+            satisfies(scene, &v, c)
+        })
+    }
+
+    /// Drops the rows that break a constraint and sorts the rest (lexicographically by column).
+    pub fn finish(&self, scene: &Scene, mut data: RelationData) -> RelationData {
+        let n = data.len();
+        let mut keep: Vec<usize> = if self.req.constraints.is_empty() {
+            (0..n).collect()
+        } else {
+            (0..n).filter(|&i| self.row_ok(scene, &data, i)).collect()
+        };
+        keep.sort_by(|&a, &b| compare_rows(&data, a, b));
+        keep.dedup_by(|a, b| compare_rows(&data, *a, *b) == Ordering::Equal);
+        data.columns = data.columns.iter().map(|c| take(c, &keep)).collect();
+        data
+    }
+}
+
+/// Whether value `v` satisfies constraint `c`.
+pub fn satisfies(scene: &Scene, v: &Value, c: &Constraint) -> bool {
+    let num = |v: &Value| match v {
+        Value::Float(x) => Some(*x),
+        Value::Int(x) => Some(*x as f64),
+        Value::Time(x) => Some(*x as f64),
+        _ => None,
+    };
+    match c {
+        Constraint::Category(cat) => match v {
+            Value::Track(t) => scene
+                .tracks
+                .get(t.index())
+                .is_some_and(|tr| category_matches(&tr.category, cat)),
+            _ => false,
+        },
+        Constraint::Eq(w) => match (num(v), num(w)) {
+            (Some(a), Some(b)) => a == b,
+            _ => v == w,
+        },
+        Constraint::Lt(b) => num(v).is_some_and(|a| a < *b),
+        Constraint::Le(b) => num(v).is_some_and(|a| a <= *b),
+        Constraint::Gt(b) => num(v).is_some_and(|a| a > *b),
+        Constraint::Ge(b) => num(v).is_some_and(|a| a >= *b),
+    }
+}
+
+fn compare_rows(data: &RelationData, a: usize, b: usize) -> Ordering {
+    for c in &data.columns {
+        let o = match c {
+            Column::Track(v) => v[a].cmp(&v[b]),
+            Column::Time(v) => v[a].cmp(&v[b]),
+            Column::Lane(v) => v[a].cmp(&v[b]),
+            Column::Str(v) => v[a].cmp(&v[b]),
+            Column::Float(v) => v[a].total_cmp(&v[b]),
+            Column::Int(v) => v[a].cmp(&v[b]),
+        };
+        if o != Ordering::Equal {
+            return o;
+        }
+    }
+    Ordering::Equal
+}
+
+fn take(c: &Column, idx: &[usize]) -> Column {
+    match c {
+        Column::Track(v) => Column::Track(idx.iter().map(|&i| v[i]).collect()),
+        Column::Time(v) => Column::Time(idx.iter().map(|&i| v[i]).collect()),
+        Column::Lane(v) => Column::Lane(idx.iter().map(|&i| v[i]).collect()),
+        Column::Str(v) => Column::Str(idx.iter().map(|&i| v[i].clone()).collect()),
+        Column::Float(v) => Column::Float(idx.iter().map(|&i| v[i]).collect()),
+        Column::Int(v) => Column::Int(idx.iter().map(|&i| v[i]).collect()),
+    }
+}

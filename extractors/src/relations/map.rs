@@ -1,0 +1,218 @@
+//! Map relations: lanes of the map (`lane_type`, `intersection_lane`, `lane_successor`,
+//! `lane_neighbor`) and of objects (`in_lane`, `on_road`, `in_drivable_area`, `on_intersection`,
+//! `near_intersection`, `at_crosswalk`, `at_stop_sign`).
+
+use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::{Frame, LaneId, TrackId};
+
+use super::s;
+use crate::cache::Extractor;
+use crate::map::geometry::{box_corners, Polygon};
+use crate::map::stop_signs::STOP_SIGN_CATEGORY;
+use crate::query::Query;
+use crate::thresholds::MAP_DISTANCE_MAX_M;
+
+fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
+    RelationData {
+        name: q.spec.name.into(),
+        columns,
+    }
+}
+
+/// `in_lane(X, T, L)`: the assigned lane per box.
+pub fn in_lane(ex: &Extractor, q: &Query) -> RelationData {
+    let (kin, lanes) = (ex.kinematics(), ex.lanes());
+    let (mut xs, mut ts, mut ls) = (Vec::new(), Vec::new(), Vec::new());
+    for t in q.tracks(ex.scene(), 0) {
+        let i = t.index();
+        for (&f, l) in kin.tracks[i].frames.iter().zip(&lanes.lanes[i]) {
+            if let Some(l) = l {
+                xs.push(t);
+                ts.push(f);
+                ls.push(*l);
+            }
+        }
+    }
+    rel(
+        q,
+        vec![Column::Track(xs), Column::Time(ts), Column::Lane(ls)],
+    )
+}
+
+/// `on_road(X, T)`: the box has an assigned lane.
+pub fn on_road(ex: &Extractor, q: &Query) -> RelationData {
+    let (kin, lanes) = (ex.kinematics(), ex.lanes());
+    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    for t in q.tracks(ex.scene(), 0) {
+        let i = t.index();
+        for (&f, l) in kin.tracks[i].frames.iter().zip(&lanes.lanes[i]) {
+            if l.is_some() {
+                xs.push(t);
+                ts.push(f);
+            }
+        }
+    }
+    rel(q, vec![Column::Track(xs), Column::Time(ts)])
+}
+
+/// A per-box test on the raw centre (`in_drivable_area`, `on_intersection`).
+pub fn centre_test(ex: &Extractor, q: &Query, test: impl Fn([f64; 2]) -> bool) -> RelationData {
+    let kin = ex.kinematics();
+    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    for t in q.tracks(ex.scene(), 0) {
+        let k = &kin.tracks[t.index()];
+        for (&f, &c) in k.frames.iter().zip(&k.center) {
+            if test(c) {
+                xs.push(t);
+                ts.push(f);
+            }
+        }
+    }
+    rel(q, vec![Column::Track(xs), Column::Time(ts)])
+}
+
+/// The distance bound for a `D` column: the request's upper bound, never above
+/// [`MAP_DISTANCE_MAX_M`].
+fn distance_bound(q: &Query, col: usize) -> f64 {
+    q.upper_bound(col)
+        .map_or(MAP_DISTANCE_MAX_M, |b| b.min(MAP_DISTANCE_MAX_M))
+}
+
+/// `near_intersection(X, T, D)`.
+pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
+    let (kin, index) = (ex.kinematics(), ex.map_index());
+    let max = distance_bound(q, 2);
+    let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
+    for t in q.tracks(ex.scene(), 0) {
+        let k = &kin.tracks[t.index()];
+        for (&f, &c) in k.frames.iter().zip(&k.center) {
+            if let Some(d) = index.intersection_distance(c, max) {
+                xs.push(t);
+                ts.push(f);
+                ds.push(d);
+            }
+        }
+    }
+    rel(
+        q,
+        vec![Column::Track(xs), Column::Time(ts), Column::Float(ds)],
+    )
+}
+
+/// `at_crosswalk(X, T, D)`: distance from the object's ground rectangle to the nearest crossing.
+pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
+    let (scene, kin, index) = (ex.scene(), ex.kinematics(), ex.map_index());
+    let max = distance_bound(q, 2);
+    let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
+    for t in q.tracks(scene, 0) {
+        let k = &kin.tracks[t.index()];
+        for (i, b) in scene.track(t).boxes.iter().enumerate() {
+            let shape =
+                Polygon::new(box_corners(k.center[i], k.yaw[i], b.size[0], b.size[1]).to_vec());
+            if let Some(d) = index.crossing_distance(&shape, max) {
+                xs.push(t);
+                ts.push(b.frame);
+                ds.push(d);
+            }
+        }
+    }
+    rel(
+        q,
+        vec![Column::Track(xs), Column::Time(ts), Column::Float(ds)],
+    )
+}
+
+/// `at_stop_sign(X, S, T)`.
+pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
+    let (scene, kin, lanes) = (ex.scene(), ex.kinematics(), ex.lane_indices());
+    let signs: Vec<_> = ex
+        .stop_signs()
+        .iter()
+        .filter(|s| q.allows_track(1, s.track))
+        .collect();
+    let (mut xs, mut ss, mut ts): (Vec<TrackId>, Vec<TrackId>, Vec<Frame>) =
+        (Vec::new(), Vec::new(), Vec::new());
+    if !signs.is_empty() {
+        for t in q.tracks(scene, 0) {
+            if scene.track(t).category == STOP_SIGN_CATEGORY {
+                continue;
+            }
+            let k = &kin.tracks[t.index()];
+            for (i, &f) in k.frames.iter().enumerate() {
+                for sign in &signs {
+                    if crate::map::stop_signs::at_sign(
+                        sign,
+                        k.center[i],
+                        k.yaw[i],
+                        lanes[t.index()][i],
+                    ) {
+                        xs.push(t);
+                        ss.push(sign.track);
+                        ts.push(f);
+                    }
+                }
+            }
+        }
+    }
+    rel(
+        q,
+        vec![Column::Track(xs), Column::Track(ss), Column::Time(ts)],
+    )
+}
+
+/// `lane_type(L, Ty)`.
+pub fn lane_type(ex: &Extractor, q: &Query) -> RelationData {
+    let lanes = &ex.scene().map.lanes;
+    rel(
+        q,
+        vec![
+            Column::Lane(lanes.iter().map(|l| l.id).collect()),
+            Column::Str(lanes.iter().map(|l| s(l.lane_type.as_str())).collect()),
+        ],
+    )
+}
+
+/// `intersection_lane(L)`.
+pub fn intersection_lane(ex: &Extractor, q: &Query) -> RelationData {
+    let ls = ex
+        .scene()
+        .map
+        .lanes
+        .iter()
+        .filter(|l| l.is_intersection)
+        .map(|l| l.id)
+        .collect();
+    rel(q, vec![Column::Lane(ls)])
+}
+
+/// `lane_successor(L, L2)`: successors present in the map (dangling ids are left out).
+pub fn lane_successor(ex: &Extractor, q: &Query) -> RelationData {
+    let map = &ex.scene().map;
+    let (mut a, mut b): (Vec<LaneId>, Vec<LaneId>) = (Vec::new(), Vec::new());
+    for l in &map.lanes {
+        for &s in &l.successors {
+            if map.lane(s).is_some() {
+                a.push(l.id);
+                b.push(s);
+            }
+        }
+    }
+    rel(q, vec![Column::Lane(a), Column::Lane(b)])
+}
+
+/// `lane_neighbor(L, L2, Side)`: neighbours present in the map.
+pub fn lane_neighbor(ex: &Extractor, q: &Query) -> RelationData {
+    let map = &ex.scene().map;
+    let (left, right) = (s("left"), s("right"));
+    let (mut a, mut b, mut sd) = (Vec::new(), Vec::new(), Vec::new());
+    for l in &map.lanes {
+        for (n, side) in [(l.left_neighbor, &left), (l.right_neighbor, &right)] {
+            if let Some(n) = n.filter(|&n| map.lane(n).is_some()) {
+                a.push(l.id);
+                b.push(n);
+                sd.push(side.clone());
+            }
+        }
+    }
+    rel(q, vec![Column::Lane(a), Column::Lane(b), Column::Str(sd)])
+}

@@ -1,0 +1,14 @@
+//! The providers of the single-object relations, grouped as in the catalog: objects and time,
+//! kinematics and events, map. Each takes the per-scene [`crate::Extractor`] and a checked
+//! [`crate::Query`] and returns the relation's columns (the caller filters and sorts).
+
+pub mod map;
+pub mod motion;
+pub mod objects;
+
+use std::sync::Arc;
+
+/// A shared string for a column value.
+pub(crate) fn s(v: &str) -> Arc<str> {
+    Arc::from(v)
+}

@@ -1,0 +1,86 @@
+//! Objects and time: `category`, `ego`, `present`, `frame_ns`, `seconds`.
+
+use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::scene::{is_vehicle_category, SUPER_CATEGORIES};
+
+use super::s;
+use crate::cache::Extractor;
+use crate::query::Query;
+
+/// `category(X, C)`: each track's category, plus "VEHICLE" for vehicles and "ANY" for all.
+pub fn category(ex: &Extractor, q: &Query) -> RelationData {
+    let scene = ex.scene();
+    let (any, vehicle) = (s(SUPER_CATEGORIES[1]), s(SUPER_CATEGORIES[0]));
+    let (mut xs, mut cs) = (Vec::new(), Vec::new());
+    for t in q.tracks(scene, 0) {
+        let cat = &scene.track(t).category;
+        xs.push(t);
+        cs.push(s(cat));
+        if is_vehicle_category(cat) {
+            xs.push(t);
+            cs.push(vehicle.clone());
+        }
+        xs.push(t);
+        cs.push(any.clone());
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Str(cs)],
+    }
+}
+
+/// `ego(X)`.
+pub fn ego(ex: &Extractor, q: &Query) -> RelationData {
+    let e = ex.scene().ego;
+    let xs = if q.allows_track(0, e) && e.index() < ex.scene().tracks.len() {
+        vec![e]
+    } else {
+        Vec::new()
+    };
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs)],
+    }
+}
+
+/// `present(X, T)`: one tuple per annotated box.
+pub fn present(ex: &Extractor, q: &Query) -> RelationData {
+    let scene = ex.scene();
+    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    for t in q.tracks(scene, 0) {
+        for b in &scene.track(t).boxes {
+            xs.push(t);
+            ts.push(b.frame);
+        }
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Time(ts)],
+    }
+}
+
+/// `frame_ns(T, Ns)`.
+pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
+    let ns = ex.scene().timeline.timestamps_ns();
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![
+            Column::Time((0..ns.len() as u32).collect()),
+            Column::Int(ns.to_vec()),
+        ],
+    }
+}
+
+/// `seconds(T, S)`.
+pub fn seconds(ex: &Extractor, q: &Query) -> RelationData {
+    let tl = &ex.scene().timeline;
+    let frames: Vec<u32> = (0..tl.len() as u32).collect();
+    let secs = frames
+        .iter()
+        .map(|&f| tl.seconds(f).unwrap_or(0.0))
+        .collect();
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Time(frames), Column::Float(secs)],
+    }
+}

@@ -1,0 +1,462 @@
+//! Every single-object relation on small synthetic scenes whose answer is known by construction:
+//! at least one positive and one negative case each, plus pushdown and determinism.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::Arc;
+
+use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
+use scenalog_extractors::{extract, extract_all, relation_json, ExtractError, Extractor};
+use scenalog_facts::relation::{Constraint, Request, Value};
+use scenalog_facts::{LaneType, Scene};
+use serde_json::{json, Value as J};
+
+const CAR: [f64; 3] = [4.5, 1.8, 1.5];
+const FRAMES: usize = 80;
+
+/// The lane-changing car: lane 2 (y 3.5..7) to lane 1 (y 0..3.5) over frames 20..50 at 10 m/s.
+fn changer() -> Vec<Waypoint> {
+    (0..FRAMES as u32)
+        .map(|f| {
+            let x = f as f64;
+            let s = ((f as f64 - 20.0) / 30.0).clamp(0.0, 1.0);
+            let y = 5.25 - 3.5 * (1.0 - (PI * s).cos()) / 2.0;
+            let vy = if (20..=50).contains(&f) {
+                -3.5 * PI / 2.0 / 3.0 * (PI * s).sin()
+            } else {
+                0.0
+            };
+            (f, x, y, vy.atan2(10.0))
+        })
+        .collect()
+}
+
+/// Drives lane 1 at 10 m/s, brakes at 5 m/s² from frame 30 to stop at x = 90 at frame 50, waits
+/// there until frame 70 (a red light), drives on.
+fn stopper() -> Vec<Waypoint> {
+    let mut w = straight(0, 30, 50.0, 1.75, 0.0, 10.0);
+    w.extend((30..50).map(|f| {
+        let t = (f - 30) as f64 * 0.1;
+        (f, 80.0 + 10.0 * t - 2.5 * t * t, 1.75, 0.0)
+    }));
+    w.extend((50..70).map(|f| (f, 90.0, 1.75, 0.0)));
+    w.extend((70..FRAMES as u32).map(|f| (f, 90.0 + (f - 70) as f64, 1.75, 0.0)));
+    w
+}
+
+/// A two-lane road along +x (lane 1 right, lane 2 left), an intersection lane 3 after lane 1, a
+/// bike lane 4 elsewhere, a crossing at x 60..64, a drivable area, a stop sign at the end of lane 1.
+fn road_scene() -> Scene {
+    SceneBuilder::new(FRAMES)
+        .lane(
+            1,
+            &[[0.0, 3.5], [100.0, 3.5]],
+            &[[0.0, 0.0], [100.0, 0.0]],
+            &[3],
+            Some(2),
+            None,
+            false,
+        )
+        .lane(
+            2,
+            &[[0.0, 7.0], [100.0, 7.0]],
+            &[[0.0, 3.5], [100.0, 3.5]],
+            &[],
+            None,
+            Some(1),
+            false,
+        )
+        .lane(
+            3,
+            &[[100.0, 3.5], [120.0, 3.5]],
+            &[[100.0, 0.0], [120.0, 0.0]],
+            &[999],
+            None,
+            None,
+            true,
+        )
+        .straight_lane(4, 0.0, 50.0, -20.0, -18.0)
+        .lane_type(LaneType::Bike)
+        .crossing(
+            1,
+            &[[60.0, -1.0], [60.0, 8.0]],
+            &[[64.0, -1.0], [64.0, 8.0]],
+        )
+        .drivable_area(
+            1,
+            &[[-5.0, -5.0], [125.0, -5.0], [125.0, 12.0], [-5.0, 12.0]],
+        )
+        .track("changer", "REGULAR_VEHICLE", CAR, changer())
+        .track("stopper", "REGULAR_VEHICLE", CAR, stopper())
+        .track(
+            "parked",
+            "REGULAR_VEHICLE",
+            CAR,
+            (0..FRAMES as u32).map(|f| (f, 30.0, -3.0, 0.0)).collect(),
+        )
+        .track(
+            "ped",
+            "PEDESTRIAN",
+            [0.5, 0.5, 1.7],
+            (0..FRAMES as u32)
+                .map(|f| (f, 62.0, 9.5, -FRAC_PI_2))
+                .collect(),
+        )
+        .track(
+            "sign",
+            "STOP_SIGN",
+            [0.2, 0.8, 2.0],
+            (0..FRAMES as u32).map(|f| (f, 98.0, -1.5, PI)).collect(),
+        )
+        .build()
+}
+
+/// A car turning left 90° at 10 m/s on a circle of radius 20 m.
+fn turn_scene() -> Scene {
+    let (v, r) = (10.0, 20.0);
+    let mut way = straight(0, 10, -10.0, 0.0, 0.0, v);
+    let w = v / r;
+    let n = ((FRAC_PI_2 / w) / 0.1).round() as u32;
+    for k in 0..=n {
+        let a = (w * 0.1 * k as f64).min(FRAC_PI_2);
+        way.push((10 + k, r * a.sin(), r - r * a.cos(), a));
+    }
+    for k in 1..15 {
+        way.push((10 + n + k, r, r + v * 0.1 * k as f64, FRAC_PI_2));
+    }
+    let frames = way.len();
+    SceneBuilder::new(frames)
+        .track("turner", "REGULAR_VEHICLE", CAR, way)
+        .track(
+            "straight",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, frames as u32, 0.0, -50.0, 0.0, 10.0),
+        )
+        .build()
+}
+
+fn rows_with(scene: &Scene, name: &str, constraints: Vec<(usize, Constraint)>) -> Vec<J> {
+    let req = Request {
+        name: name.into(),
+        constraints,
+    };
+    let data = extract(scene, &req).expect("extract");
+    match relation_json(scene, &data) {
+        J::Array(v) => v,
+        other => panic!("not an array: {other}"),
+    }
+}
+
+fn rows(scene: &Scene, name: &str) -> Vec<J> {
+    rows_with(scene, name, Vec::new())
+}
+
+/// Frames at which `track` appears in a (track, time, ...) relation, with the third column.
+fn frames_of(rows: &[J], track: &str) -> Vec<(u64, J)> {
+    rows.iter()
+        .filter(|r| r[0] == track)
+        .map(|r| {
+            (
+                r[1].as_u64().expect("time"),
+                r.get(2).cloned().unwrap_or(J::Null),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn objects_and_time() {
+    let scene = road_scene();
+    let cat = rows(&scene, "category");
+    assert!(cat.contains(&json!(["changer", "REGULAR_VEHICLE"])));
+    assert!(cat.contains(&json!(["changer", "VEHICLE"])));
+    assert!(cat.contains(&json!(["ped", "ANY"])));
+    assert!(!cat.contains(&json!(["ped", "VEHICLE"])));
+    assert!(cat.contains(&json!(["ego", "VEHICLE"])));
+    assert_eq!(rows(&scene, "ego"), vec![json!(["ego"])]);
+    let present = rows(&scene, "present");
+    assert_eq!(present.len(), 6 * FRAMES);
+    assert!(present.contains(&json!(["ped", 79])));
+    assert!(!present.contains(&json!(["ped", 80])));
+    let ns = rows(&scene, "frame_ns");
+    assert_eq!(ns.len(), FRAMES);
+    assert_eq!(ns[3], json!([3, 300_000_000]));
+    let secs = rows(&scene, "seconds");
+    assert_eq!(secs[10], json!([10, 1.0]));
+}
+
+#[test]
+fn kinematics_relations() {
+    let scene = road_scene();
+    let speed = rows(&scene, "speed");
+    let stopper = frames_of(&speed, "stopper");
+    assert!((stopper[10].1.as_f64().unwrap() - 10.0).abs() < 1e-6);
+    assert!(stopper[60].1.as_f64().unwrap() < 0.5);
+    let parked = frames_of(&speed, "parked");
+    assert!(parked.iter().all(|(_, v)| v.as_f64().unwrap() == 0.0));
+    // The stopper brakes at 5 m/s² over frames 30..50.
+    let accel = frames_of(&rows(&scene, "accel"), "stopper");
+    assert!(
+        (accel[40].1.as_f64().unwrap() + 5.0).abs() < 0.1,
+        "{:?}",
+        accel[40]
+    );
+    assert!(accel[10].1.as_f64().unwrap().abs() < 1e-9);
+    // The changer moves right: negative lateral acceleration at the start of its move.
+    let lat = frames_of(&rows(&scene, "lat_accel"), "changer");
+    assert!(lat[22].1.as_f64().unwrap() < -0.1, "{:?}", lat[22]);
+    assert!(lat[5].1.as_f64().unwrap().abs() < 1e-9);
+    let yaw = frames_of(&rows(&scene, "yaw_rate"), "changer");
+    assert!(yaw[25].1.as_f64().unwrap() < 0.0 && yaw[45].1.as_f64().unwrap() > 0.0);
+    assert!(yaw[5].1.as_f64().unwrap() == 0.0);
+    let st = rows(&scene, "stationary");
+    assert!(st.contains(&json!(["parked"])) && st.contains(&json!(["sign"])));
+    assert!(!st.contains(&json!(["stopper"])) && !st.contains(&json!(["changer"])));
+}
+
+#[test]
+fn turning_left_ninety_degrees() {
+    let scene = turn_scene();
+    let turning = rows(&scene, "turning");
+    let t = frames_of(&turning, "turner");
+    assert!(!t.is_empty());
+    assert!(t.iter().all(|(_, d)| d == "left"));
+    // The turn occupies frames 10..=41; the event covers its middle and not the straight parts.
+    let frames: Vec<u64> = t.iter().map(|(f, _)| *f).collect();
+    assert!(
+        frames.contains(&15) && frames.contains(&25) && frames.contains(&38),
+        "{frames:?}"
+    );
+    assert!(!frames.contains(&3) && !frames.contains(&50), "{frames:?}");
+    assert!(frames_of(&turning, "straight").is_empty());
+    // The lane changer's heading moves 10° each way: no turn.
+    assert!(rows(&road_scene(), "turning").is_empty());
+}
+
+#[test]
+fn lane_change_to_the_right() {
+    let scene = road_scene();
+    let lc = rows(&scene, "lane_change");
+    let c = frames_of(&lc, "changer");
+    assert!(c.iter().all(|(_, d)| d == "right"), "{c:?}");
+    let frames: Vec<u64> = c.iter().map(|(f, _)| *f).collect();
+    // The lateral move runs over frames 20..50 and crosses the boundary at 35.
+    assert!(
+        frames.contains(&35) && frames.contains(&25) && frames.contains(&45),
+        "{frames:?}"
+    );
+    assert!(frames.iter().all(|&f| (20..=50).contains(&f)), "{frames:?}");
+    assert!(frames_of(&lc, "stopper").is_empty());
+    let lanes = frames_of(&rows(&scene, "in_lane"), "changer");
+    assert_eq!(lanes[10].1, json!(2));
+    assert_eq!(lanes[60].1, json!(1));
+}
+
+#[test]
+fn lanes_and_map_features() {
+    let scene = road_scene();
+    let lt = rows(&scene, "lane_type");
+    assert!(lt.contains(&json!([1, "VEHICLE"])) && lt.contains(&json!([4, "BIKE"])));
+    assert!(!lt.contains(&json!([4, "VEHICLE"])));
+    assert_eq!(rows(&scene, "intersection_lane"), vec![json!([3])]);
+    // Lane 3's successor 999 is dangling: left out.
+    assert_eq!(rows(&scene, "lane_successor"), vec![json!([1, 3])]);
+    assert_eq!(
+        rows(&scene, "lane_neighbor"),
+        vec![json!([1, 2, "left"]), json!([2, 1, "right"])]
+    );
+    let in_lane = rows(&scene, "in_lane");
+    assert!(frames_of(&in_lane, "parked").is_empty());
+    assert!(frames_of(&in_lane, "stopper")
+        .iter()
+        .all(|(f, l)| (*f < 60 && l == 1) || *f >= 60));
+    let on_road = rows(&scene, "on_road");
+    assert_eq!(frames_of(&on_road, "changer").len(), FRAMES);
+    assert!(frames_of(&on_road, "parked").is_empty());
+    let da = rows(&scene, "in_drivable_area");
+    assert_eq!(frames_of(&da, "parked").len(), FRAMES);
+    assert!(frames_of(&da, "ego").is_empty());
+    let oi = frames_of(&rows(&scene, "on_intersection"), "stopper");
+    let oi: Vec<u64> = oi.iter().map(|(f, _)| *f).collect();
+    // x = 90 + (f - 70) > 100 from frame 81: never inside this 80-frame log; at 100 exactly on the
+    // boundary at frame 80 (absent). So no frame; the turner scene has no map at all.
+    assert!(oi.is_empty(), "{oi:?}");
+    let ni = frames_of(&rows(&scene, "near_intersection"), "stopper");
+    let at60 = ni.iter().find(|(f, _)| *f == 60).expect("frame 60");
+    assert!((at60.1.as_f64().unwrap() - 10.0).abs() < 1e-9, "{at60:?}");
+    // The parked car at x = 30 is 70 m from the intersection: beyond the 50 m cap.
+    assert!(frames_of(&rows(&scene, "near_intersection"), "parked").is_empty());
+}
+
+#[test]
+fn on_intersection_positive() {
+    let scene = SceneBuilder::new(10)
+        .lane(
+            3,
+            &[[100.0, 3.5], [120.0, 3.5]],
+            &[[100.0, 0.0], [120.0, 0.0]],
+            &[],
+            None,
+            None,
+            true,
+        )
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 10, 105.0, 1.75, 0.0, 1.0),
+        )
+        .build();
+    assert_eq!(frames_of(&rows(&scene, "on_intersection"), "car").len(), 10);
+    let ni = frames_of(&rows(&scene, "near_intersection"), "car");
+    assert!(ni.iter().all(|(_, d)| d == 0.0));
+}
+
+#[test]
+fn crosswalk_distance() {
+    let scene = road_scene();
+    let aw = rows(&scene, "at_crosswalk");
+    // Pedestrian box (0.5 m) centred 1.5 m beyond the crossing's edge at y = 8: 1.25 m away.
+    let ped = frames_of(&aw, "ped");
+    assert_eq!(ped.len(), FRAMES);
+    assert!(
+        ped.iter()
+            .all(|(_, d)| (d.as_f64().unwrap() - 1.25).abs() < 1e-9),
+        "{:?}",
+        ped[0]
+    );
+    // The changer's box overlaps the crossing (x 60..64) around frames 58..66: distance 0.
+    let ch = frames_of(&aw, "changer");
+    let d = |f: u64| {
+        ch.iter()
+            .find(|(g, _)| *g == f)
+            .map(|(_, d)| d.as_f64().unwrap())
+    };
+    assert_eq!(d(62), Some(0.0));
+    assert!(
+        (d(50).unwrap() - (60.0 - 52.25)).abs() < 1e-6,
+        "{:?}",
+        d(50)
+    );
+    // The parked car at x = 30 is 27.75 m from it; with D < 5 pushed down, it has no tuple.
+    let near = rows_with(&scene, "at_crosswalk", vec![(2, Constraint::Lt(5.0))]);
+    assert!(frames_of(&near, "parked").is_empty());
+    assert!(!frames_of(&near, "ped").is_empty());
+}
+
+#[test]
+fn stop_sign() {
+    let scene = road_scene();
+    let ss = rows(&scene, "at_stop_sign");
+    let at: Vec<u64> = ss
+        .iter()
+        .filter(|r| r[0] == "stopper" && r[1] == "sign")
+        .map(|r| r[2].as_u64().unwrap())
+        .collect();
+    // Sign at x = 98: the stopper is 0..10 m before it from x = 88 (frame 48) to x = 98 (frame 78).
+    assert!(
+        at.contains(&48) && at.contains(&60) && at.contains(&78),
+        "{at:?}"
+    );
+    assert!(!at.contains(&40) && !at.contains(&79), "{at:?}");
+    assert!(ss.iter().all(|r| r[0] == "stopper"), "{ss:?}");
+    // A car driving the other way past the sign does not face it.
+    let wrong_way = SceneBuilder::new(20)
+        .lane(
+            1,
+            &[[0.0, 3.5], [100.0, 3.5]],
+            &[[0.0, 0.0], [100.0, 0.0]],
+            &[],
+            None,
+            None,
+            false,
+        )
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 20, 99.0, 1.75, PI, 0.5),
+        )
+        .track(
+            "sign",
+            "STOP_SIGN",
+            [0.2, 0.8, 2.0],
+            vec![(0, 98.0, -1.5, PI)],
+        )
+        .build();
+    assert!(rows(&wrong_way, "at_stop_sign").is_empty());
+}
+
+#[test]
+fn pushdown_restricts_and_never_breaks_constraints() {
+    let scene = road_scene();
+    let ex = Extractor::new(&scene);
+    let ped_speed = ex
+        .extract(&Request {
+            name: "speed".into(),
+            constraints: vec![
+                (0, Constraint::Category(Arc::from("PEDESTRIAN"))),
+                (2, Constraint::Lt(0.5)),
+            ],
+        })
+        .unwrap();
+    assert_eq!(ped_speed.len(), FRAMES);
+    let vehicles = ex
+        .extract(&Request {
+            name: "speed".into(),
+            constraints: vec![
+                (0, Constraint::Category(Arc::from("VEHICLE"))),
+                (2, Constraint::Ge(5.0)),
+            ],
+        })
+        .unwrap();
+    let j = relation_json(&scene, &vehicles);
+    for r in j.as_array().unwrap() {
+        assert!(r[0] == "changer" || r[0] == "stopper", "{r}");
+        assert!(r[2].as_f64().unwrap() >= 5.0);
+    }
+    let eq = ex
+        .extract(&Request {
+            name: "lane_neighbor".into(),
+            constraints: vec![(2, Constraint::Eq(Value::Str(Arc::from("left"))))],
+        })
+        .unwrap();
+    assert_eq!(relation_json(&scene, &eq), json!([[1, 2, "left"]]));
+    let at_t = ex
+        .extract(&Request {
+            name: "present".into(),
+            constraints: vec![(1, Constraint::Eq(Value::Time(7)))],
+        })
+        .unwrap();
+    assert_eq!(at_t.len(), 6);
+    // Errors name what was wrong.
+    let bad = ex.extract(&Request::all("no_such"));
+    assert!(matches!(bad, Err(ExtractError::UnknownRelation(_))));
+    let bad = ex.extract(&Request {
+        name: "speed".into(),
+        constraints: vec![(2, Constraint::Category(Arc::from("BUS")))],
+    });
+    assert!(matches!(bad, Err(ExtractError::BadConstraint { .. })));
+    let bad = ex.extract(&Request {
+        name: "speed".into(),
+        constraints: vec![(7, Constraint::Lt(1.0))],
+    });
+    assert!(matches!(bad, Err(ExtractError::NoSuchColumn { .. })));
+}
+
+#[test]
+fn extract_all_is_deterministic_across_thread_counts() {
+    let scene = road_scene();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| extract_all(&scene));
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| extract_all(&scene));
+    assert_eq!(one, two);
+    assert!(one.iter().any(|r| r.name == "in_lane" && !r.is_empty()));
+}
