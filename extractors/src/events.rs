@@ -9,7 +9,9 @@
 //!   boundary towards B is at least [`LANE_CHANGE_MIN_LATERAL_SPEED`] and the velocity runs roughly
 //!   along the boundary (|cos| ≥ [`LANE_CHANGE_MIN_ABS_COS`]). The event spans the boxes around that
 //!   moment over which the smoothed centre keeps moving across the boundary towards B at that
-//!   speed or more, within one lane width either side of the boundary; turning frames are removed.
+//!   speed or more, between the two lanes' centres ([`LANE_CHANGE_SPAN_WIDTHS`] of a lane width
+//!   either side of the boundary, which is followed through the lane chain); turning frames are
+//!   removed.
 //!
 //! "Laterally" is measured across the crossed boundary (the lane's frame), not across the object's
 //! own heading: a car's velocity in its own frame is almost purely forward even mid-change (the
@@ -21,8 +23,8 @@ use crate::kinematics::{median_filter, TrackKinematics};
 use crate::map::geometry::{nearest_on_polyline, Pt};
 use crate::map::MapIndex;
 use crate::thresholds::{
-    LANE_CHANGE_MIN_ABS_COS, LANE_CHANGE_MIN_LATERAL_SPEED, MEDIAN_WINDOW, TURN_DEAD_BAND_DEG_S,
-    TURN_MIN_ANGLE_DEG,
+    LANE_CHANGE_MIN_ABS_COS, LANE_CHANGE_MIN_LATERAL_SPEED, LANE_CHANGE_SPAN_WIDTHS, MEDIAN_WINDOW,
+    TURN_DEAD_BAND_DEG_S, TURN_MIN_ANGLE_DEG,
 };
 
 /// Left or right, for turns and lane changes.
@@ -109,8 +111,8 @@ fn neighbour_link(map: &VectorMap, index: &MapIndex, a: usize, b: usize) -> Opti
     None
 }
 
-/// Signed distance of `p` across the infinite line of the polyline segment nearest to it,
-/// positive towards `side`, with that segment's unit direction.
+/// Signed distance of `p` across the polyline segment nearest to it, positive towards `side`,
+/// with that segment's unit direction; `None` when `p` projects beyond the polyline's ends.
 fn offset_across(line: &[Pt], p: Pt, side: Side) -> Option<(f64, Pt)> {
     let (k, _, _) = nearest_on_polyline(line, p)?;
     let (a, b) = (line[k], line[k + 1]);
@@ -119,8 +121,36 @@ fn offset_across(line: &[Pt], p: Pt, side: Side) -> Option<(f64, Pt)> {
         return None;
     }
     let d = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+    let u = d[0] * (p[0] - a[0]) + d[1] * (p[1] - a[1]);
+    if (k == 0 && u < 0.0) || (k + 2 == line.len() && u > len) {
+        return None;
+    }
     let left = d[0] * (p[1] - a[1]) - d[1] * (p[0] - a[0]);
     Some((if side == Side::Left { left } else { -left }, d))
+}
+
+/// The boundary on `side` of lane `p`, continued through the lanes of its chain (the lane as a
+/// driver sees it), so a slow change is measured against the road, not a short segment.
+fn chain_boundary(map: &VectorMap, index: &MapIndex, p: usize, side: Side) -> Vec<Pt> {
+    let mut line: Vec<Pt> = Vec::new();
+    for id in index.chains.chain(p) {
+        let Some(k) = map.lane_index(*id) else {
+            continue;
+        };
+        let b = match side {
+            Side::Left => &index.lanes[k].left,
+            Side::Right => &index.lanes[k].right,
+        };
+        for &q in b {
+            if line
+                .last()
+                .is_none_or(|l| (l[0] - q[0]).hypot(l[1] - q[1]) > 1e-6)
+            {
+                line.push(q);
+            }
+        }
+    }
+    line
 }
 
 /// The frames of one track's lane changes, in frame order. `lanes` are the track's assigned lane
@@ -146,10 +176,7 @@ pub fn lane_changes(
         let Some((p, side)) = neighbour_link(map, index, from, cur) else {
             continue;
         };
-        let line = match side {
-            Side::Left => &index.lanes[p].left,
-            Side::Right => &index.lanes[p].right,
-        };
+        let line = &chain_boundary(map, index, p, side);
         let Some((_, dir)) = offset_across(line, t.pos[i], side) else {
             continue;
         };
@@ -164,20 +191,21 @@ pub fn lane_changes(
         {
             continue;
         }
-        // Offsets across the boundary; the span is where they keep growing at the minimum speed.
-        let width = index.lanes[p].width.max(index.lanes[cur].width);
+        // Offsets across the boundary; the span is where they keep growing at the minimum speed,
+        // between the old lane's centre line and the new one's (half a lane width either side).
+        let half = LANE_CHANGE_SPAN_WIDTHS * index.lanes[p].width.max(index.lanes[cur].width);
         let off: Vec<Option<f64>> = (0..n)
             .map(|k| offset_across(line, t.pos[k], side).map(|o| o.0))
             .collect();
         let moving = |k: usize| -> bool {
-            // Moving from box k-1 to box k towards the new lane, within one width of the line.
+            // Moving from box k-1 to box k towards the new lane, between the two lane centres.
             match (off[k - 1], off[k]) {
                 (Some(a), Some(b)) => {
                     let dt = t.times[k] - t.times[k - 1];
                     dt > 0.0
                         && (b - a) / dt >= LANE_CHANGE_MIN_LATERAL_SPEED
-                        && a >= -width
-                        && b <= width
+                        && a >= -half
+                        && b <= half
                 }
                 _ => false,
             }

@@ -80,9 +80,11 @@ pub const LANE_CHANGE_MIN_LATERAL_SPEED: f64 = 0.1;
 /// between them at least this.
 pub const LANE_CHANGE_MIN_ABS_COS: f64 = 0.5;
 
-/// `lane_change`: the span grows over frames whose offset across the boundary keeps moving towards
-/// the new lane; a step backwards of at most this (m) does not break the monotonic move.
-pub const LANE_CHANGE_MONOTONE_TOL_M: f64 = 0.02;
+/// `lane_change`: the span covers the frames whose offset across the crossed boundary keeps growing
+/// towards the new lane at [`LANE_CHANGE_MIN_LATERAL_SPEED`] or more, while the offset lies within
+/// this many lane widths of the boundary on either side (0.5: from the old lane's centre to the new
+/// one's).
+pub const LANE_CHANGE_SPAN_WIDTHS: f64 = 0.5;
 
 // ---------------------------------------------------------------------------------------------
 // Pairs (the pairs work appends its constants below this line)
