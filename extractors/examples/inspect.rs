@@ -75,11 +75,11 @@ fn dump(ex: &Extractor, prefix: &str) {
         }
         let k = &ex.kinematics().tracks[t.id.index()];
         let l = &ex.lanes().lanes[t.id.index()];
-        for i in 0..k.frames.len() {
+        for (i, lane) in l.iter().enumerate() {
             println!(
                 "{} lane {:?} pos ({:.2},{:.2}) vel ({:.2},{:.2}) yaw {:.1} w {:.1}",
                 k.frames[i],
-                l[i].map(|x| x.0),
+                lane.map(|x| x.0),
                 k.pos[i][0],
                 k.pos[i][1],
                 k.vel[i][0],
