@@ -120,21 +120,11 @@ pub(crate) fn read_map(path: &Path) -> Result<VectorMap, LoadError> {
 
 /// Converts the bytes of a vector map file (named `path` in errors).
 pub(crate) fn parse_map(path: &Path, bytes: &[u8]) -> Result<VectorMap, LoadError> {
-    let mut de = serde_json::Deserializer::from_slice(bytes);
-    let file: MapFile = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let field = e.path().to_string();
-        let inner = e.into_inner();
-        LoadError::MapJson {
-            path: path.to_path_buf(),
-            field,
-            message: inner.to_string(),
-        }
-    })?;
-    de.end().map_err(|e| LoadError::MapJson {
-        path: path.to_path_buf(),
-        field: ".".into(),
-        message: e.to_string(),
-    })?;
+    // Fast path without path tracking; on failure, parse again tracking the path for the message.
+    let file: MapFile = match serde_json::from_slice(bytes) {
+        Ok(f) => f,
+        Err(_) => return Err(locate_json_error(path, bytes)),
+    };
     let bad = |field: String, message: String| LoadError::MapJson {
         path: path.to_path_buf(),
         field,
@@ -197,6 +187,23 @@ pub(crate) fn parse_map(path: &Path, bytes: &[u8]) -> Result<VectorMap, LoadErro
     Ok(VectorMap::new(lanes, crossings, areas))
 }
 
+/// The error of a map document that failed to parse, with the path of the offending field.
+fn locate_json_error(path: &Path, bytes: &[u8]) -> LoadError {
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    let (field, message) = match serde_path_to_error::deserialize::<_, MapFile>(&mut de) {
+        Err(e) => (e.path().to_string(), e.into_inner().to_string()),
+        Ok(_) => match de.end() {
+            Err(e) => (".".to_owned(), e.to_string()),
+            Ok(()) => (".".to_owned(), "invalid JSON".to_owned()),
+        },
+    };
+    LoadError::MapJson {
+        path: path.to_path_buf(),
+        field,
+        message,
+    }
+}
+
 fn points(ps: &[PointJson]) -> Vec<Point3<f64>> {
     ps.iter().map(|p| Point3::new(p.x, p.y, p.z)).collect()
 }
@@ -228,6 +235,17 @@ mod tests {
         let msg = err.map(|e| e.to_string()).unwrap_or_default();
         assert!(msg.contains("lane_segments.1.is_intersection"), "{msg}");
         assert!(msg.starts_with("m.json: "), "{msg}");
+    }
+
+    #[test]
+    fn trailing_garbage_is_an_error_on_the_whole_file() {
+        let text = br#"{"lane_segments": {}, "pedestrian_crossings": {}, "drivable_areas": {}} x"#;
+        let err = parse_map(Path::new("m.json"), text).err();
+        let msg = err.map(|e| e.to_string()).unwrap_or_default();
+        assert!(
+            msg.starts_with("m.json: field `.`: trailing characters"),
+            "{msg}"
+        );
     }
 
     #[test]
