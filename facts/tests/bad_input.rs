@@ -209,9 +209,9 @@ fn not_arrow_garbage_and_truncated() {
 #[test]
 fn damaged_bytes_never_panic() {
     // Damage the real annotation and pose files at pseudo-random offsets (some also cut short);
-    // each load is an error naming the damaged file or a scene, never a crash. (A one-off run of
-    // 800 such damages found 3 that make arrow-ipc 60 panic inside its decoder; the reader turns
-    // those into NotArrow errors.)
+    // each load is an error naming the damaged file or a scene, never a crash. (Before the reader
+    // checked declared sizes, 3 of 800 such damages made arrow-ipc 60 panic; a one-off run of
+    // 9,000 damages after the checks saw no panic and no abort.)
     let (_tmp, dir) = copy_log(WITH_EGO);
     let mut seed: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut rnd = move || {
@@ -243,6 +243,53 @@ fn damaged_bytes_never_panic() {
     }
     assert!(errors > 0, "some damage must be detected");
     load_ok(&dir);
+}
+
+/// Offset in `bytes` (an LZ4 Arrow IPC file) of the uncompressed-length prefix of the first
+/// compressed buffer of the first record batch.
+fn first_compressed_length_prefix(bytes: &[u8]) -> usize {
+    let n = bytes.len();
+    let mut w = [0u8; 4];
+    w.copy_from_slice(&bytes[n - 10..n - 6]);
+    let footer_len = i32::from_le_bytes(w) as usize;
+    let footer = arrow_ipc::root_as_footer(&bytes[n - 10 - footer_len..n - 10]).expect("footer");
+    let block = footer.recordBatches().expect("blocks").get(0);
+    let offset = block.offset() as usize;
+    let meta_len = block.metaDataLength() as usize;
+    let message = arrow_ipc::root_as_message(&bytes[offset + 8..offset + meta_len]).expect("msg");
+    let batch = message.header_as_record_batch().expect("record batch");
+    assert!(batch.compression().is_some(), "the fixture is compressed");
+    let buf = batch
+        .buffers()
+        .expect("buffers")
+        .iter()
+        .find(|b| b.length() >= 8)
+        .expect("a compressed buffer");
+    offset + meta_len + buf.offset() as usize
+}
+
+#[test]
+fn absurd_declared_sizes_are_errors_not_aborts() {
+    // A compressed buffer claiming 2^50 uncompressed bytes would make the decoder allocate a
+    // petabyte and abort the process; the reader must reject it first.
+    let (_tmp, dir) = copy_log(WITH_EGO);
+    let path = dir.join(ANNOTATIONS_WITH_EGO_FILE);
+    let mut bytes = std::fs::read(&path).expect("read");
+    let at = first_compressed_length_prefix(&bytes);
+    let real_len = i64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
+    assert!(
+        real_len > 0 && real_len < 1 << 20,
+        "prefix found: {real_len}"
+    );
+    bytes[at..at + 8].copy_from_slice(&(1i64 << 50).to_le_bytes());
+    std::fs::write(&path, &bytes).expect("write");
+    let err = load_err(&dir);
+    assert!(matches!(err, LoadError::NotArrow { .. }), "{err}");
+    assert_names(
+        &err,
+        ANNOTATIONS_WITH_EGO_FILE,
+        &["1125899906842624 uncompressed bytes"],
+    );
 }
 
 #[test]
