@@ -143,3 +143,60 @@ fn relation_counts_are_stable_and_plausible() {
         assert!(count("near_intersection").unwrap() > 0);
     }
 }
+
+#[test]
+fn map_distances_match_brute_force() {
+    use scenalog_extractors::map::geometry::{box_corners, Polygon};
+    for scene in scenes() {
+        let ex = Extractor::new(&scene);
+        let inter: Vec<Polygon> = scene
+            .map
+            .lanes
+            .iter()
+            .filter(|l| l.is_intersection)
+            .map(|l| Polygon::new(l.polygon_xy()))
+            .collect();
+        let crossings: Vec<Polygon> = scene
+            .map
+            .crossings
+            .iter()
+            .map(|c| Polygon::new(c.polygon_xy()))
+            .collect();
+        for (name, polys, boxes) in [
+            ("near_intersection", &inter, false),
+            ("at_crosswalk", &crossings, true),
+        ] {
+            let data = ex.extract(&Request::all(name)).unwrap();
+            let (Column::Track(xs), Column::Time(ts), Column::Float(ds)) =
+                (&data.columns[0], &data.columns[1], &data.columns[2])
+            else {
+                panic!("{name} columns")
+            };
+            assert!(!xs.is_empty());
+            for i in (0..xs.len()).step_by(13) {
+                let b = scene.track(xs[i]).box_at(ts[i]).expect("box");
+                let c = b.city_center();
+                let brute = if boxes {
+                    let shape = Polygon::new(
+                        box_corners([c.x, c.y], b.city_yaw(), b.size[0], b.size[1]).to_vec(),
+                    );
+                    polys
+                        .iter()
+                        .map(|p| p.distance_to_polygon(&shape))
+                        .fold(f64::INFINITY, f64::min)
+                } else {
+                    polys
+                        .iter()
+                        .map(|p| p.distance_to_point([c.x, c.y]))
+                        .fold(f64::INFINITY, f64::min)
+                };
+                assert!(
+                    (brute - ds[i]).abs() < 1e-9,
+                    "{}: {name} row {i}: {} vs brute force {brute}",
+                    scene.log_id,
+                    ds[i]
+                );
+            }
+        }
+    }
+}

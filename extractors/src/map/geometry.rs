@@ -67,8 +67,17 @@ impl Polygon {
             return 0.0;
         }
         self.edges()
-            .map(|(a, b)| point_segment_distance(p, a, b))
+            .map(|(a, b)| point_segment_distance2(p, a, b))
             .fold(f64::INFINITY, f64::min)
+            .sqrt()
+    }
+
+    /// Whether the two polygons' bounding boxes overlap.
+    pub fn bbox_overlaps(&self, other: &Polygon) -> bool {
+        self.bbox[0][0] <= other.bbox[1][0]
+            && other.bbox[0][0] <= self.bbox[1][0]
+            && self.bbox[0][1] <= other.bbox[1][1]
+            && other.bbox[0][1] <= self.bbox[1][1]
     }
 
     /// Distance between two polygons' areas, 0 when they overlap or touch.
@@ -76,25 +85,27 @@ impl Polygon {
         if self.pts.is_empty() || other.pts.is_empty() {
             return f64::INFINITY;
         }
-        if other.pts.iter().any(|&p| self.contains(p))
-            || self.pts.iter().any(|&p| other.contains(p))
+        let may_overlap = self.bbox_overlaps(other);
+        if may_overlap
+            && (other.pts.iter().any(|&p| self.contains(p))
+                || self.pts.iter().any(|&p| other.contains(p)))
         {
             return 0.0;
         }
         let mut best = f64::INFINITY;
         for (a, b) in self.edges() {
             for (c, d) in other.edges() {
-                if segments_intersect(a, b, c, d) {
+                if may_overlap && segments_intersect(a, b, c, d) {
                     return 0.0;
                 }
                 best = best
-                    .min(point_segment_distance(a, c, d))
-                    .min(point_segment_distance(b, c, d))
-                    .min(point_segment_distance(c, a, b))
-                    .min(point_segment_distance(d, a, b));
+                    .min(point_segment_distance2(a, c, d))
+                    .min(point_segment_distance2(b, c, d))
+                    .min(point_segment_distance2(c, a, b))
+                    .min(point_segment_distance2(d, a, b));
             }
         }
-        best
+        best.sqrt()
     }
 
     /// Distance between the polygon's bounding box and `p` (a lower bound of the true distance).
@@ -111,8 +122,14 @@ impl Polygon {
 
 /// Distance from `p` to the segment `a`-`b`.
 pub fn point_segment_distance(p: Pt, a: Pt, b: Pt) -> f64 {
+    point_segment_distance2(p, a, b).sqrt()
+}
+
+/// Squared distance from `p` to the segment `a`-`b`.
+pub fn point_segment_distance2(p: Pt, a: Pt, b: Pt) -> f64 {
     let (q, _) = closest_on_segment(p, a, b);
-    (p[0] - q[0]).hypot(p[1] - q[1])
+    let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
+    dx * dx + dy * dy
 }
 
 /// The point of segment `a`-`b` closest to `p`, and its parameter in [0, 1].

@@ -1,13 +1,13 @@
 //! The map prepared for queries: lane, crossing and drivable-area polygons in `rstar` R-trees, lane
 //! centrelines and turn angles, predecessors derived from successors, the lane chains and road sides.
 
-use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::primitives::{GeomWithData, Line, Rectangle};
 use rstar::{RTree, AABB};
 use scenalog_facts::map::VectorMap;
 use scenalog_facts::LaneId;
 
 use super::chain::{self, LaneChains};
-use super::geometry::{heading, polyline_length, resample, Polygon, Pt};
+use super::geometry::{heading, point_segment_distance, polyline_length, resample, Polygon, Pt};
 use super::sides::{self, RoadSides};
 use crate::kinematics::wrap_angle;
 
@@ -58,6 +58,7 @@ pub struct MapIndex {
     pub sides: RoadSides,
     lane_tree: RTree<BoxEntry>,
     intersection_tree: RTree<BoxEntry>,
+    intersection_edges: RTree<Line<Pt>>,
     crossing_tree: RTree<BoxEntry>,
     area_tree: RTree<BoxEntry>,
 }
@@ -169,6 +170,14 @@ impl MapIndex {
                 .filter(|(i, _)| map.lanes[*i].is_intersection)
                 .map(|(i, l)| (i, &l.polygon)),
         );
+        let intersection_edges = RTree::bulk_load(
+            lanes
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| map.lanes[*i].is_intersection)
+                .flat_map(|(_, l)| l.polygon.edges().map(|(a, b)| Line::new(a, b)))
+                .collect(),
+        );
         let crossing_tree = tree_of(crossings.iter().enumerate());
         let area_tree = tree_of(areas.iter().enumerate());
         let chains = chain::build(&lanes);
@@ -181,6 +190,7 @@ impl MapIndex {
             sides,
             lane_tree,
             intersection_tree,
+            intersection_edges,
             crossing_tree,
             area_tree,
         }
@@ -227,10 +237,39 @@ impl MapIndex {
     /// Distance from `p` to the nearest intersection lane polygon (0 inside), if one lies within
     /// `max` metres.
     pub fn intersection_distance(&self, p: Pt, max: f64) -> Option<f64> {
-        let polys = &self.lanes;
-        nearest(&self.intersection_tree, p, 0.0, max, |i| {
-            polys[i].polygon.distance_to_point(p)
-        })
+        self.intersection_distance_hinted(p, max, &mut None)
+    }
+
+    /// [`MapIndex::intersection_distance`] for a sequence of nearby points (one track's boxes):
+    /// `hint` carries the nearest edge found last time, whose distance bounds the search radius,
+    /// so a slowly moving object costs a small range query instead of a nearest-neighbour search.
+    pub fn intersection_distance_hinted(
+        &self,
+        p: Pt,
+        max: f64,
+        hint: &mut Option<Line<Pt>>,
+    ) -> Option<f64> {
+        if self.in_intersection(p) {
+            return Some(0.0);
+        }
+        // Outside every intersection lane: the distance is the one to the nearest of their edges.
+        let hinted = hint.map(|e| (point_segment_distance(p, e.from, e.to), e));
+        let bound = hinted.map_or(max, |(d, _)| d.min(max));
+        // The hinted edge itself is a candidate (the range query's bound may exclude it).
+        let mut best: Option<(f64, Line<Pt>)> = hinted.filter(|(d, _)| *d <= max);
+        for e in self
+            .intersection_edges
+            .locate_within_distance(p, bound * bound)
+        {
+            let d = point_segment_distance(p, e.from, e.to);
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, *e));
+            }
+        }
+        if let Some((_, e)) = best {
+            *hint = Some(e);
+        }
+        best.map(|(d, _)| d).filter(|&d| d <= max)
     }
 
     /// Distance from the polygon `shape` (an object's ground box) to the nearest pedestrian

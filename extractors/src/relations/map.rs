@@ -85,8 +85,9 @@ pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
     let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
+        let mut hint = None;
         for (&f, &c) in k.frames.iter().zip(&k.center) {
-            if let Some(d) = index.intersection_distance(c, max) {
+            if let Some(d) = index.intersection_distance_hinted(c, max, &mut hint) {
                 xs.push(t);
                 ts.push(f);
                 ds.push(d);
