@@ -161,3 +161,46 @@ fn lane_assignment_keeps_a_lane_and_leaves_the_road() {
         }
     }
 }
+
+#[test]
+fn lane_assignment_ties_follow_the_turn_direction() {
+    // Straight lane 1 along +x and left-turn lane 2 (quarter circle of radius 10 about (0, 10))
+    // overlap where both start. Two short tracks stay in the overlap: one yawing left, one straight.
+    let arc = |r: f64| -> Vec<[f64; 2]> {
+        (0..=9)
+            .map(|k| {
+                let a = FRAC_PI_2 * k as f64 / 9.0;
+                [r * a.sin(), 10.0 - r * a.cos()]
+            })
+            .collect()
+    };
+    let scene = SceneBuilder::new(4)
+        .straight_lane(1, 0.0, 20.0, -1.75, 1.75)
+        .lane(2, &arc(8.25), &arc(11.75), &[], None, None, true)
+        .track(
+            "turner",
+            "REGULAR_VEHICLE",
+            [4.5, 1.8, 1.5],
+            (0..4)
+                .map(|f| (f, 0.5 + 0.3 * f as f64, 0.0, 0.1 * f as f64))
+                .collect(),
+        )
+        .track(
+            "straight",
+            "REGULAR_VEHICLE",
+            [4.5, 1.8, 1.5],
+            (0..4)
+                .map(|f| (f, 0.5 + 0.3 * f as f64, 0.0, 0.0))
+                .collect(),
+        )
+        .build();
+    let kin = compute(&scene);
+    let la = assign(&scene, &kin);
+    let turner = &la.lanes[scene.track_by_uuid["turner"].index()];
+    let straight_car = &la.lanes[scene.track_by_uuid["straight"].index()];
+    assert!(turner.iter().all(|l| *l == Some(LaneId(2))), "{turner:?}");
+    assert!(
+        straight_car.iter().all(|l| *l == Some(LaneId(1))),
+        "{straight_car:?}"
+    );
+}

@@ -460,3 +460,40 @@ fn extract_all_is_deterministic_across_thread_counts() {
     assert_eq!(one, two);
     assert!(one.iter().any(|r| r.name == "in_lane" && !r.is_empty()));
 }
+
+#[test]
+fn logs_in_parallel_match_one_by_one() {
+    let scenes = vec![road_scene(), turn_scene()];
+    let reqs = vec![
+        Request::all("speed"),
+        Request::all("turning"),
+        Request::all("in_lane"),
+    ];
+    let together = scenalog_extractors::extract_logs(&scenes, &reqs);
+    assert_eq!(together.len(), 2);
+    for (scene, answers) in scenes.iter().zip(together) {
+        let answers = answers.expect("answers");
+        for (req, got) in reqs.iter().zip(answers) {
+            assert_eq!(got, extract(scene, req).expect("extract"));
+        }
+    }
+}
+
+#[test]
+fn json_uses_uuids_map_ids_frames_and_numbers() {
+    let scene = road_scene();
+    let ex = Extractor::new(&scene);
+    let r = ex
+        .extract(&Request {
+            name: "in_lane".into(),
+            constraints: vec![(1, Constraint::Eq(Value::Time(10)))],
+        })
+        .unwrap();
+    let j = relation_json(&scene, &r);
+    assert!(
+        j.as_array().unwrap().contains(&json!(["changer", 10, 2])),
+        "{j}"
+    );
+    let r = ex.extract(&Request::all("frame_ns")).unwrap();
+    assert_eq!(relation_json(&scene, &r)[1], json!([1, 100_000_000]));
+}
