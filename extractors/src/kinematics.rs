@@ -125,21 +125,26 @@ pub fn median_filter(x: &[f64], window: usize) -> Vec<f64> {
     (0..n)
         .map(|i| {
             let h = half.min(i).min(n - 1 - i);
-            let lo = i - h;
-            let hi = i + h + 1;
             buf.clear();
-            buf.extend_from_slice(&x[lo..hi]);
+            buf.extend_from_slice(&x[i - h..=i + h]);
             median(&mut buf)
         })
         .collect()
 }
 
-/// Median of a non-empty buffer (mean of the two middle values for an even count); 0 when empty.
+/// Median of a buffer (mean of the two middle values for an even count); 0 when empty.
 fn median(buf: &mut [f64]) -> f64 {
     if buf.is_empty() {
         return 0.0;
     }
-    buf.sort_by(f64::total_cmp);
+    // Insertion sort: the windows are a handful of values.
+    for i in 1..buf.len() {
+        let mut j = i;
+        while j > 0 && buf[j - 1].total_cmp(&buf[j]).is_gt() {
+            buf.swap(j - 1, j);
+            j -= 1;
+        }
+    }
     let m = buf.len() / 2;
     if buf.len() & 1 == 1 {
         buf[m]
