@@ -89,3 +89,55 @@ pub const LANE_CHANGE_SPAN_WIDTHS: f64 = 0.5;
 // ---------------------------------------------------------------------------------------------
 // Pairs (the pairs work appends its constants below this line)
 // ---------------------------------------------------------------------------------------------
+
+/// Pairs are produced only when the two boxes' ground rectangles are at most this far apart
+/// (every pair relation; RefAV's `within_distance` / `max_distance` default).
+pub const PAIR_MAX_DISTANCE_M: f64 = 50.0;
+
+/// `heading_relative`: "same" when the angle between the two headings is at most this.
+pub const HEADING_SAME_MAX_DEG: f64 = 45.0;
+
+/// `heading_relative`: "opposite" when the angle between the two headings is at least this;
+/// strictly between [`HEADING_SAME_MAX_DEG`] and this is "perpendicular".
+pub const HEADING_OPPOSITE_MIN_DEG: f64 = 135.0;
+
+/// `heading_relative`: an object at least this fast (m/s) is headed along its velocity; a slower
+/// one along its box heading if it moves by itself, and has no heading otherwise.
+pub const HEADING_MIN_SPEED_M_S: f64 = 1.0;
+
+/// `facing`: Y's centre lies within this angle of X's forward axis (either side).
+pub const FACING_MAX_ANGLE_DEG: f64 = 22.5;
+
+/// `heading_toward`: X's velocity points within this angle of the direction to Y's centre.
+pub const HEADING_TOWARD_MAX_ANGLE_DEG: f64 = 22.5;
+
+/// `heading_toward`: X closes on Y (the distance between the centres shrinks) at least this fast,
+/// m/s (RefAV measured it per frame; this is per second).
+pub const HEADING_TOWARD_MIN_CLOSING_M_S: f64 = 0.5;
+
+/// `heading_toward`: X itself moves at least this fast (m/s), so its velocity has a direction.
+pub const HEADING_TOWARD_MIN_SPEED_M_S: f64 = 0.5;
+
+/// `crossing`: the half-midplane extends this far beyond X's Dir side (RefAV's `forward_thresh`).
+pub const CROSSING_REACH_M: f64 = 10.0;
+
+/// `crossing`: the event spans the frames while Y's centre is within this distance of the
+/// midplane (either side; RefAV's `lateral_thresh`, which it only bounded on the far side).
+pub const CROSSING_SPAN_M: f64 = 5.0;
+
+/// `crossing`: Y moves across the midplane, relative to X, faster than this (m/s), at the crossing
+/// and at every frame of the span.
+pub const CROSSING_MIN_SPEED_M_S: f64 = 0.2;
+
+/// `following`: the lead's centre lies ahead of X's front by more than 0 and less than this.
+pub const FOLLOWING_MAX_AHEAD_M: f64 = 25.0;
+
+/// `following`: the lead's centre lies less than this far to either side of X's forward axis.
+pub const FOLLOWING_MAX_LATERAL_M: f64 = 5.0;
+
+/// `following`: cosine of the angle between the two headings above this (60°).
+pub const FOLLOWING_MIN_HEADING_COS: f64 = 0.5;
+
+/// `following`: an object faster than this (m/s) is headed along its velocity, a slower one along
+/// its box heading.
+pub const FOLLOWING_HEADING_MIN_SPEED_M_S: f64 = 0.5;

@@ -1,1 +1,312 @@
-//! Pairwise relations between objects (built by the pairs work).
+//! Pairwise relations between objects: `near`, `direction`, `facing` ([`spatial`]),
+//! `heading_relative`, `heading_toward`, `crossing` ([`motion`]), `same_lane`, `following`,
+//! `road_side` ([`lanes`]).
+//!
+//! Every pair relation holds only for two different objects present at the same frame whose
+//! ground rectangles are at most [`PAIR_MAX_DISTANCE_M`] apart (`near`'s distance). Candidates come
+//! from a per-frame `rstar` R-tree over the boxes' bounding boxes ([`index::PairIndex`]); the exact
+//! distance is `parry2d`'s rectangle distance ([`index::box_distance`]).
+//!
+//! Geometry conventions: relations about boxes (`near`, `direction`, `facing`) use the raw
+//! annotated box (centre and heading); relations about motion (`heading_relative`,
+//! `heading_toward`, `crossing`, `following`) use the smoothed positions and velocities of
+//! [`Kinematics`], in X's frame (X's smoothed position, X's box heading).
+//!
+//! Pushdown: a request's constraints restrict the work, not only the output. `Category` and
+//! `Eq(Track)` on X or Y restrict the tracks visited (a small Y set is looked up directly instead of
+//! through the R-tree), `Eq`/`Lt`/`Le`/`Gt`/`Ge` on T restrict the frames, an upper bound on a
+//! distance column shrinks the search radius, and a fixed string (direction, heading, side) skips
+//! the other values. Every result then passes [`Query::finish`] (all constraints, sorted rows).
+//!
+//! API: build a [`PairContext`] (or let [`provide`] build one from an [`Extractor`]) and call the
+//! relation's function, e.g. [`near`]`(&ctx, &request)`.
+
+pub mod index;
+pub mod lanes;
+pub mod motion;
+pub mod spatial;
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
+use scenalog_facts::{Frame, Scene, TrackId};
+
+use crate::cache::Extractor;
+use crate::kinematics::Kinematics;
+use crate::lanes::LaneAssignment;
+use crate::map::MapIndex;
+use crate::query::{ExtractError, Query};
+use crate::thresholds::PAIR_MAX_DISTANCE_M;
+
+pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex};
+
+/// The catalog names of the pair relations this module provides.
+pub const PAIR_RELATIONS: &[&str] = &[
+    "near",
+    "direction",
+    "heading_relative",
+    "facing",
+    "heading_toward",
+    "crossing",
+    "same_lane",
+    "following",
+    "road_side",
+];
+
+/// Everything the pair relations read: the scene, its kinematics, lane assignment, prepared map
+/// and per-frame box index. Plain references, so it is `Sync` and cheap to build per request.
+#[derive(Debug, Clone, Copy)]
+pub struct PairContext<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Kinematics of every track.
+    pub kin: &'a Kinematics,
+    /// Lane of every track box.
+    pub lanes: &'a LaneAssignment,
+    /// The map prepared for queries (lane chains, road sides).
+    pub map: &'a MapIndex,
+    /// Object boxes per frame in R-trees.
+    pub index: &'a PairIndex,
+}
+
+impl<'a> PairContext<'a> {
+    /// A context from its parts.
+    pub fn new(
+        scene: &'a Scene,
+        kin: &'a Kinematics,
+        lanes: &'a LaneAssignment,
+        map: &'a MapIndex,
+        index: &'a PairIndex,
+    ) -> PairContext<'a> {
+        PairContext {
+            scene,
+            kin,
+            lanes,
+            map,
+            index,
+        }
+    }
+
+    /// The map lane index of track `t`'s box `k`, if it is in a lane.
+    pub fn lane_index(&self, t: TrackId, k: usize) -> Option<usize> {
+        let id = (*self.lanes.lanes.get(t.index())?.get(k)?)?;
+        self.scene.map.lane_index(id)
+    }
+}
+
+/// The per-frame box index of the extractor's scene, built once and shared (through
+/// [`Extractor::cached`]).
+pub fn pair_index(ex: &Extractor) -> Arc<PairIndex> {
+    ex.cached(|ex| PairIndex::new(ex.scene()))
+}
+
+/// Whether `name` is one of the pair relations.
+pub fn is_pair_relation(name: &str) -> bool {
+    PAIR_RELATIONS.contains(&name)
+}
+
+/// The tuples of a pair relation for a validated query, computed with the extractor's shared
+/// data; `None` when `q` is not a pair relation. The rows are not yet filtered or sorted: the
+/// caller passes them through [`Query::finish`].
+pub fn provide(ex: &Extractor, q: &Query) -> Option<RelationData> {
+    if !is_pair_relation(q.spec.name) {
+        return None;
+    }
+    let index = pair_index(ex);
+    let ctx = PairContext::new(
+        ex.scene(),
+        ex.kinematics(),
+        ex.lanes(),
+        ex.map_index(),
+        &index,
+    );
+    provide_with(&ctx, q)
+}
+
+/// [`provide`] with an explicit context.
+pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
+    Some(match q.spec.name {
+        "near" => spatial::near(ctx, q),
+        "direction" => spatial::direction(ctx, q),
+        "facing" => spatial::facing(ctx, q),
+        "heading_relative" => motion::heading_relative(ctx, q),
+        "heading_toward" => motion::heading_toward(ctx, q),
+        "crossing" => motion::crossing(ctx, q),
+        "same_lane" => lanes::same_lane(ctx, q),
+        "following" => lanes::following(ctx, q),
+        "road_side" => lanes::road_side(ctx, q),
+        _ => return None,
+    })
+}
+
+fn answer(ctx: &PairContext, req: &Request, name: &str) -> Result<RelationData, ExtractError> {
+    if req.name != name {
+        return Err(ExtractError::UnknownRelation(format!(
+            "{} (asked the `{name}` extractor)",
+            req.name
+        )));
+    }
+    let q = Query::new(ctx.scene, req)?;
+    let data = provide_with(ctx, &q).ok_or_else(|| ExtractError::NotProvided(req.name.clone()))?;
+    Ok(q.finish(ctx.scene, data))
+}
+
+macro_rules! relation_fn {
+    ($name:ident, $doc:literal) => {
+        #[doc = $doc]
+        ///
+        /// Only tuples satisfying every constraint of `req`, rows sorted; an error when `req` names
+        /// another relation or a constraint does not fit its column.
+        pub fn $name(ctx: &PairContext, req: &Request) -> Result<RelationData, ExtractError> {
+            answer(ctx, req, stringify!($name))
+        }
+    };
+}
+
+relation_fn!(near, "`near(X, Y, T, D)`: see [`spatial::near`].");
+relation_fn!(
+    direction,
+    "`direction(X, Y, T, Dir, Dist, Lat)`: see [`spatial::direction`]."
+);
+relation_fn!(facing, "`facing(X, Y, T)`: see [`spatial::facing`].");
+relation_fn!(
+    heading_relative,
+    "`heading_relative(X, Y, T, Rel)`: see [`motion::heading_relative`]."
+);
+relation_fn!(
+    heading_toward,
+    "`heading_toward(X, Y, T)`: see [`motion::heading_toward`]."
+);
+relation_fn!(
+    crossing,
+    "`crossing(X, Y, T, Dir)`: see [`motion::crossing`]."
+);
+relation_fn!(same_lane, "`same_lane(X, Y, T)`: see [`lanes::same_lane`].");
+relation_fn!(following, "`following(X, Y, T)`: see [`lanes::following`].");
+relation_fn!(
+    road_side,
+    "`road_side(X, Y, T, Side)`: see [`lanes::road_side`]."
+);
+
+/// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to
+/// the log's frames.
+pub(crate) fn frame_range(q: &Query, col: usize, num_frames: usize) -> Range<Frame> {
+    let (mut lo, mut hi) = (0.0_f64, num_frames as f64);
+    for (c, k) in &q.req.constraints {
+        if *c != col {
+            continue;
+        }
+        match k {
+            Constraint::Eq(Value::Time(t)) => {
+                lo = lo.max(f64::from(*t));
+                hi = hi.min(f64::from(*t) + 1.0);
+            }
+            Constraint::Eq(Value::Int(t)) => {
+                lo = lo.max(*t as f64);
+                hi = hi.min(*t as f64 + 1.0);
+            }
+            Constraint::Lt(v) => hi = hi.min(v.ceil()),
+            Constraint::Le(v) => hi = hi.min(v.floor() + 1.0),
+            Constraint::Gt(v) => lo = lo.max(v.floor() + 1.0),
+            Constraint::Ge(v) => lo = lo.max(v.ceil()),
+            _ => {}
+        }
+    }
+    // NaN bounds (a constraint no number satisfies) leave an empty range.
+    if lo.is_nan() || hi.is_nan() || hi <= lo {
+        return 0..0;
+    }
+    let lo = lo.clamp(0.0, num_frames as f64) as Frame;
+    let hi = hi.clamp(0.0, num_frames as f64) as Frame;
+    lo..hi.max(lo)
+}
+
+/// The search radius for a relation whose distance column is `col` (if any): the request's upper
+/// bound on it, never above [`PAIR_MAX_DISTANCE_M`].
+pub(crate) fn radius(q: &Query, col: Option<usize>) -> f64 {
+    col.and_then(|c| q.upper_bound(c))
+        .map_or(PAIR_MAX_DISTANCE_M, |b| b.min(PAIR_MAX_DISTANCE_M))
+}
+
+/// Y sets at most this large are looked up directly per X instead of through the R-tree.
+const DIRECT_LOOKUP_MAX: usize = 16;
+
+/// Calls `f(frame, x, y, distance)` for every pair of different boxes at a frame the query allows,
+/// X allowed in column 0, Y in column 1, at most `radius` apart; frames in parallel, each frame's
+/// output in its own vector, concatenated in frame order (deterministic).
+pub(crate) fn for_each_pair<T: Send>(
+    ctx: &PairContext,
+    q: &Query,
+    radius: f64,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, f64, &mut Vec<T>) + Sync,
+) -> Vec<T> {
+    let frames = frame_range(q, 2, ctx.index.num_frames());
+    for_each_pair_in(ctx, q, frames, radius, f)
+}
+
+/// [`for_each_pair`] over the given frames, whatever the query's time constraints.
+pub(crate) fn for_each_pair_in<T: Send>(
+    ctx: &PairContext,
+    q: &Query,
+    frames: Range<Frame>,
+    radius: f64,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, f64, &mut Vec<T>) + Sync,
+) -> Vec<T> {
+    use rayon::prelude::*;
+    if radius.is_nan() || radius < 0.0 {
+        return Vec::new();
+    }
+    let ys: Vec<TrackId> = q.tracks(ctx.scene, 1).collect();
+    let direct = ys.len() <= DIRECT_LOOKUP_MAX;
+    let per_frame: Vec<Vec<T>> = frames
+        .into_par_iter()
+        .map(|frame| {
+            let mut out = Vec::new();
+            let Some(fb) = ctx.index.frame(ctx.kin, frame) else {
+                return out;
+            };
+            for x in fb.boxes.iter().filter(|b| q.allows_track(0, b.track)) {
+                let mut visit = |y: &ObjBox| {
+                    if y.track == x.track {
+                        return;
+                    }
+                    let d = box_distance(x, y);
+                    if d <= radius {
+                        f(frame, x, y, d, &mut out);
+                    }
+                };
+                if direct {
+                    for &t in &ys {
+                        if let Some(y) = fb.of(t) {
+                            visit(y);
+                        }
+                    }
+                } else {
+                    for i in fb.candidates(x, radius) {
+                        let y = &fb.boxes[i];
+                        if q.allows_track(1, y.track) {
+                            visit(y);
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    per_frame.into_iter().flatten().collect()
+}
+
+/// The string values of a closed column the query asks for: the fixed one if a constraint fixes
+/// it (and it is one of `all`), else all of them.
+pub(crate) fn wanted<'s>(q: &Query, col: usize, all: &[&'s str]) -> Vec<&'s str> {
+    match q.fixed_str(col) {
+        Some(s) => all.iter().copied().filter(|a| *a == s).collect(),
+        None => all.to_vec(),
+    }
+}
+
+/// The shared string values of a closed column, so each row costs a pointer.
+pub(crate) fn str_values(all: &[&str]) -> Vec<Arc<str>> {
+    all.iter().map(|s| Arc::from(*s)).collect()
+}

@@ -1,0 +1,209 @@
+//! Object boxes per frame in `rstar` R-trees, and the ground-rectangle distance between two boxes
+//! (with `parry2d`).
+
+use std::sync::OnceLock;
+
+use parry2d::math::{Pose, Vector};
+use parry2d::query::details::distance_cuboid_cuboid;
+use parry2d::shape::Cuboid;
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
+use scenalog_facts::{Frame, Scene, TrackId};
+
+use crate::kinematics::Kinematics;
+
+/// One object's box at one frame, in the ground plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjBox {
+    /// The track.
+    pub track: TrackId,
+    /// The box's index in the track (`Track::boxes`, `TrackKinematics` entries).
+    pub k: usize,
+    /// Raw city-frame centre (x, y), metres.
+    pub center: [f64; 2],
+    /// Box heading in the city frame, radians.
+    pub yaw: f64,
+    /// Cosine of `yaw`.
+    pub cos: f64,
+    /// Sine of `yaw`.
+    pub sin: f64,
+    /// Half the box length (along its heading), metres.
+    pub half_len: f64,
+    /// Half the box width, metres.
+    pub half_wid: f64,
+}
+
+impl ObjBox {
+    /// A city-frame point in this box's frame: (forward, left) of the centre, metres.
+    pub fn to_local(&self, p: [f64; 2]) -> [f64; 2] {
+        let (dx, dy) = (p[0] - self.center[0], p[1] - self.center[1]);
+        [
+            dx * self.cos + dy * self.sin,
+            -dx * self.sin + dy * self.cos,
+        ]
+    }
+
+    /// A city-frame vector (e.g. a velocity) in this box's frame: (forward, left).
+    pub fn vec_to_local(&self, v: [f64; 2]) -> [f64; 2] {
+        [
+            v[0] * self.cos + v[1] * self.sin,
+            -v[0] * self.sin + v[1] * self.cos,
+        ]
+    }
+
+    /// Axis-aligned bounding box of the ground rectangle: (min, max).
+    pub fn aabb(&self) -> ([f64; 2], [f64; 2]) {
+        let ex = self.half_len * self.cos.abs() + self.half_wid * self.sin.abs();
+        let ey = self.half_len * self.sin.abs() + self.half_wid * self.cos.abs();
+        (
+            [self.center[0] - ex, self.center[1] - ey],
+            [self.center[0] + ex, self.center[1] + ey],
+        )
+    }
+}
+
+/// Distance between the ground rectangles of two boxes, metres (0 when they overlap or touch).
+///
+/// Computed by `parry2d` (single precision) in the frame of the box of the lower track id, so the
+/// value does not depend on the argument order and city coordinates never lose precision.
+pub fn box_distance(a: &ObjBox, b: &ObjBox) -> f64 {
+    let (a, b) = if (a.track, a.k) <= (b.track, b.k) {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    let rel = a.to_local(b.center);
+    let c1 = Cuboid::new(Vector::new(a.half_len as f32, a.half_wid as f32));
+    let c2 = Cuboid::new(Vector::new(b.half_len as f32, b.half_wid as f32));
+    let pos12 = Pose::new(
+        Vector::new(rel[0] as f32, rel[1] as f32),
+        (b.yaw - a.yaw) as f32,
+    );
+    f64::from(distance_cuboid_cuboid(&pos12, &c1, &c2))
+}
+
+type Entry = GeomWithData<Rectangle<[f64; 2]>, u32>;
+
+/// The boxes of one frame, sorted by track id, and an R-tree over their bounding boxes.
+#[derive(Debug)]
+pub struct FrameBoxes {
+    /// Boxes present at the frame, ascending track id.
+    pub boxes: Vec<ObjBox>,
+    tree: RTree<Entry>,
+}
+
+impl FrameBoxes {
+    /// The box of `track` at this frame, if present.
+    pub fn of(&self, track: TrackId) -> Option<&ObjBox> {
+        self.boxes
+            .binary_search_by_key(&track, |b| b.track)
+            .ok()
+            .map(|i| &self.boxes[i])
+    }
+
+    /// Indices (into `boxes`) of the boxes whose bounding box comes within `radius` of `b`'s
+    /// bounding box: a superset of the boxes within `radius` of `b` by rectangle distance.
+    pub fn candidates(&self, b: &ObjBox, radius: f64) -> impl Iterator<Item = usize> + '_ {
+        let (lo, hi) = b.aabb();
+        let env = AABB::from_corners(
+            [lo[0] - radius, lo[1] - radius],
+            [hi[0] + radius, hi[1] + radius],
+        );
+        self.tree
+            .locate_in_envelope_intersecting(env)
+            .map(|e| e.data as usize)
+    }
+}
+
+/// Per-frame boxes of a scene; each frame's R-tree is built on first use. `Sync`.
+#[derive(Debug)]
+pub struct PairIndex {
+    /// Per frame: (track, box index) of every box present, ascending track id.
+    present: Vec<Vec<(TrackId, usize)>>,
+    /// Half length, half width per track box: `sizes[track][k]`.
+    sizes: Vec<Vec<[f64; 2]>>,
+    frames: Vec<OnceLock<FrameBoxes>>,
+}
+
+impl PairIndex {
+    /// Prepares the index of `scene` (cheap: the R-trees are built lazily per frame).
+    pub fn new(scene: &Scene) -> PairIndex {
+        let n = scene.num_frames();
+        let mut present: Vec<Vec<(TrackId, usize)>> = vec![Vec::new(); n];
+        for t in &scene.tracks {
+            for (k, b) in t.boxes.iter().enumerate() {
+                if let Some(p) = present.get_mut(b.frame as usize) {
+                    p.push((t.id, k));
+                }
+            }
+        }
+        for p in &mut present {
+            p.sort_unstable();
+            p.dedup_by_key(|e| e.0);
+        }
+        let sizes = scene
+            .tracks
+            .iter()
+            .map(|t| {
+                t.boxes
+                    .iter()
+                    .map(|b| [0.5 * b.size[0].max(0.0), 0.5 * b.size[1].max(0.0)])
+                    .collect()
+            })
+            .collect();
+        PairIndex {
+            present,
+            sizes,
+            frames: (0..n).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// Number of frames.
+    pub fn num_frames(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// The boxes of `frame` (empty for a frame outside the log).
+    pub fn frame(&self, kin: &Kinematics, frame: Frame) -> Option<&FrameBoxes> {
+        let cell = self.frames.get(frame as usize)?;
+        Some(cell.get_or_init(|| self.build(kin, frame as usize)))
+    }
+
+    fn build(&self, kin: &Kinematics, f: usize) -> FrameBoxes {
+        let boxes: Vec<ObjBox> = self.present[f]
+            .iter()
+            .filter_map(|&(track, k)| {
+                let tk = kin.tracks.get(track.index())?;
+                let center = *tk.center.get(k)?;
+                let yaw = *tk.yaw.get(k)?;
+                let [half_len, half_wid] = *self.sizes.get(track.index())?.get(k)?;
+                if !(center[0].is_finite() && center[1].is_finite() && yaw.is_finite()) {
+                    return None;
+                }
+                let (sin, cos) = yaw.sin_cos();
+                Some(ObjBox {
+                    track,
+                    k,
+                    center,
+                    yaw,
+                    cos,
+                    sin,
+                    half_len,
+                    half_wid,
+                })
+            })
+            .collect();
+        let entries: Vec<Entry> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let (lo, hi) = b.aabb();
+                GeomWithData::new(Rectangle::from_corners(lo, hi), i as u32)
+            })
+            .collect();
+        FrameBoxes {
+            boxes,
+            tree: RTree::bulk_load(entries),
+        }
+    }
+}

@@ -1,0 +1,167 @@
+//! Relations through the lanes the objects are in: `same_lane`, `following`, `road_side`.
+//!
+//! They use the lane assignment (one lane per track box, [`crate::lanes`]) and the map's lane
+//! chains (the lane as a driver sees it, [`crate::map::chain`]) and road sides
+//! ([`crate::map::sides`]). An object in no lane has none of these relations.
+
+use scenalog_facts::relation::{Column, RelationData};
+
+use super::spatial::{rel, xyt};
+use super::{for_each_pair, radius, str_values, wanted, ObjBox, PairContext};
+use crate::map::RoadSide;
+use crate::query::Query;
+use crate::thresholds::{
+    FOLLOWING_HEADING_MIN_SPEED_M_S, FOLLOWING_MAX_AHEAD_M, FOLLOWING_MAX_LATERAL_M,
+    FOLLOWING_MIN_HEADING_COS,
+};
+
+/// The values of `road_side`'s Side column, in catalog order.
+pub const SIDES: [&str; 2] = ["same", "opposite"];
+
+/// Whether lane `ly` (a map lane index) is in lane `lx`'s chain (the lane as a driver sees it,
+/// `lx` itself included).
+pub fn in_chain(ctx: &PairContext, lx: usize, ly: usize) -> bool {
+    lx == ly || {
+        let id = ctx.map.lanes[ly].id;
+        ctx.map.chains.chain(lx).contains(&id)
+    }
+}
+
+/// `same_lane(X, Y, T)`: Y's lane at T is in X's lane as a driver sees it ([`in_chain`]: X's lane
+/// and the predecessors and successors that continue it straight). Not symmetric at the chain's
+/// reach or where chains fork.
+pub fn same_lane(ctx: &PairContext, q: &Query) -> RelationData {
+    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+        let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
+        else {
+            return;
+        };
+        if in_chain(ctx, lx, ly) {
+            out.push((x.track, y.track, f));
+        }
+    });
+    xyt(q, rows)
+}
+
+/// The unit heading of box `b` for `following`: along its smoothed velocity when faster than
+/// [`FOLLOWING_HEADING_MIN_SPEED_M_S`], else along its box.
+fn follow_heading(ctx: &PairContext, b: &ObjBox) -> [f64; 2] {
+    let v = ctx
+        .kin
+        .tracks
+        .get(b.track.index())
+        .and_then(|k| k.vel.get(b.k).copied())
+        .unwrap_or([0.0, 0.0]);
+    let s = v[0].hypot(v[1]);
+    if s > FOLLOWING_HEADING_MIN_SPEED_M_S {
+        [v[0] / s, v[1] / s]
+    } else {
+        [b.cos, b.sin]
+    }
+}
+
+/// Y's smoothed centre in X's frame (X's smoothed centre, X's box heading): (forward, left).
+fn smoothed_local(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> Option<[f64; 2]> {
+    let px = *ctx.kin.tracks.get(x.track.index())?.pos.get(x.k)?;
+    let py = *ctx.kin.tracks.get(y.track.index())?.pos.get(y.k)?;
+    let (dx, dy) = (py[0] - px[0], py[1] - px[1]);
+    Some([dx * x.cos + dy * x.sin, -dx * x.sin + dy * x.cos])
+}
+
+/// Whether X (box `x`) follows lead Y (box `y`): both are in lanes; Y's centre is ahead of X's
+/// front by more than 0 and less than [`FOLLOWING_MAX_AHEAD_M`]; their headings (velocity, or box
+/// when slow) are within 60° (cosine above [`FOLLOWING_MIN_HEADING_COS`]); and either
+/// - Y's lane is X's lane, one of its successors, or ahead of it in X's lane as a driver sees it,
+///   and Y's centre is less than [`FOLLOWING_MAX_LATERAL_M`] to either side of X's axis; or
+/// - Y's lane is a left/right neighbour of X's and Y's box overlaps X's width (a lead straddling
+///   the lane line; RefAV's second case, with Y's own width where RefAV used X's).
+pub fn follows(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
+    let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k)) else {
+        return false;
+    };
+    let Some([fwd, lat]) = smoothed_local(ctx, x, y) else {
+        return false;
+    };
+    let ahead = fwd - x.half_len;
+    if !(ahead > 0.0 && ahead < FOLLOWING_MAX_AHEAD_M) {
+        return false;
+    }
+    let (hx, hy) = (follow_heading(ctx, x), follow_heading(ctx, y));
+    if hx[0] * hy[0] + hx[1] * hy[1] <= FOLLOWING_MIN_HEADING_COS {
+        return false;
+    }
+    let geom = &ctx.map.lanes[lx];
+    let ly_id = ctx.map.lanes[ly].id;
+    let same_or_ahead =
+        lx == ly || geom.successors.contains(&ly) || ctx.map.chains.ahead(lx).contains(&ly_id);
+    if same_or_ahead && lat.abs() < FOLLOWING_MAX_LATERAL_M {
+        return true;
+    }
+    let seg = &ctx.scene.map.lanes[lx];
+    let neighbour = seg.left_neighbor == Some(ly_id) || seg.right_neighbor == Some(ly_id);
+    neighbour && lat.abs() < x.half_wid + y.half_wid
+}
+
+/// `following(X, Y, T)`: X follows lead Y at T ([`follows`]; RefAV's `following`).
+pub fn following(ctx: &PairContext, q: &Query) -> RelationData {
+    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+        if follows(ctx, x, y) {
+            out.push((x.track, y.track, f));
+        }
+    });
+    xyt(q, rows)
+}
+
+/// The road side of lane `ly` relative to lane `lx` (map lane indices): the road-side groups'
+/// answer for `lx`, or else for the nearest lane of `lx`'s chain that has one (road-side groups
+/// join neighbours across the road, chains join segments along it).
+pub fn lane_side(ctx: &PairContext, lx: usize, ly: usize) -> Option<RoadSide> {
+    if let Some(s) = ctx.map.sides.side(lx, ly) {
+        return Some(s);
+    }
+    let chain = ctx.map.chains.chain(lx);
+    let p = ctx.map.chains.position.get(lx).copied().unwrap_or(0);
+    let mut order: Vec<usize> = (0..chain.len()).filter(|&i| i != p).collect();
+    order.sort_by_key(|&i| (i.abs_diff(p), i));
+    order
+        .into_iter()
+        .filter_map(|i| ctx.scene.map.lane_index(chain[i]))
+        .find_map(|c| ctx.map.sides.side(c, ly))
+}
+
+/// `road_side(X, Y, T, Side)`: Y's lane at T is on the "same" or "opposite" side of the road as
+/// X's lane ([`lane_side`]: same-direction neighbours are the same side, a neighbour whose shared
+/// boundary runs the other way and everything on its side is opposite). No tuple when either is
+/// in no lane or the map does not relate their lanes.
+pub fn road_side(ctx: &PairContext, q: &Query) -> RelationData {
+    let want = wanted(q, 3, &SIDES);
+    let names = str_values(&SIDES);
+    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+        let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
+        else {
+            return;
+        };
+        if let Some(side) = lane_side(ctx, lx, ly) {
+            let k = usize::from(side == RoadSide::Opposite);
+            if want.contains(&SIDES[k]) {
+                out.push((x.track, y.track, f, k));
+            }
+        }
+    });
+    let (mut xs, mut ys, mut ts, mut ss) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (x, y, t, k) in rows {
+        xs.push(x);
+        ys.push(y);
+        ts.push(t);
+        ss.push(names[k].clone());
+    }
+    rel(
+        q,
+        vec![
+            Column::Track(xs),
+            Column::Track(ys),
+            Column::Time(ts),
+            Column::Str(ss),
+        ],
+    )
+}

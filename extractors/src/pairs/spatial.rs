@@ -1,0 +1,137 @@
+//! Relations about where the boxes are: `near`, `direction`, `facing` (raw annotated boxes).
+
+use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::{Frame, TrackId};
+
+use super::{for_each_pair, radius, str_values, wanted, ObjBox, PairContext};
+use crate::query::Query;
+use crate::thresholds::FACING_MAX_ANGLE_DEG;
+
+/// The directions of `direction` (and `crossing`), in catalog order.
+pub const DIRECTIONS: [&str; 4] = ["forward", "backward", "left", "right"];
+
+pub(crate) fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
+    RelationData {
+        name: q.spec.name.into(),
+        columns,
+    }
+}
+
+/// Rows `(X, Y, T)` as a three-column relation.
+pub(crate) fn xyt(q: &Query, rows: Vec<(TrackId, TrackId, Frame)>) -> RelationData {
+    let (mut xs, mut ys, mut ts) = (Vec::new(), Vec::new(), Vec::new());
+    for (x, y, t) in rows {
+        xs.push(x);
+        ys.push(y);
+        ts.push(t);
+    }
+    rel(
+        q,
+        vec![Column::Track(xs), Column::Track(ys), Column::Time(ts)],
+    )
+}
+
+/// `near(X, Y, T, D)`: D is the distance between X's and Y's ground rectangles at T (0 when they
+/// overlap), for every pair within [`crate::thresholds::PAIR_MAX_DISTANCE_M`] (or the request's
+/// tighter bound on D). Symmetric: `near(X, Y, T, D)` iff `near(Y, X, T, D)`, the same D.
+pub fn near(ctx: &PairContext, q: &Query) -> RelationData {
+    let rows = for_each_pair(ctx, q, radius(q, Some(3)), |f, x, y, d, out| {
+        out.push((x.track, y.track, f, d));
+    });
+    let (mut xs, mut ys, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (x, y, t, d) in rows {
+        xs.push(x);
+        ys.push(y);
+        ts.push(t);
+        ds.push(d);
+    }
+    rel(
+        q,
+        vec![
+            Column::Track(xs),
+            Column::Track(ys),
+            Column::Time(ts),
+            Column::Float(ds),
+        ],
+    )
+}
+
+/// Which of X's four regions hold Y's centre, with the lateral offset for each: `local` is Y's
+/// centre in X's box frame (forward, left). "forward": ahead of X's front; "backward": behind its
+/// rear; "left"/"right": beyond its left/right side. The regions overlap at the corners (a centre
+/// ahead and to the left is both "forward" and "left"); a centre inside X's box is in none.
+/// Lat: for forward/backward, how far the centre lies beyond X's sides; for left/right, beyond its
+/// front or rear; 0 when within.
+pub fn regions(x: &ObjBox, local: [f64; 2]) -> [Option<f64>; 4] {
+    let [fx, ly] = local;
+    let lat_fb = (ly.abs() - x.half_wid).max(0.0);
+    let lat_lr = (fx.abs() - x.half_len).max(0.0);
+    [
+        (fx > x.half_len).then_some(lat_fb),
+        (fx < -x.half_len).then_some(lat_fb),
+        (ly > x.half_wid).then_some(lat_lr),
+        (ly < -x.half_wid).then_some(lat_lr),
+    ]
+}
+
+/// `direction(X, Y, T, Dir, Dist, Lat)`: Y's centre lies in X's Dir region ([`regions`]), Dist the
+/// box-to-box distance (as `near`), Lat the lateral offset. RefAV's
+/// `get_objects_in_relative_direction` with its default unlimited lateral threshold (bound Lat in
+/// the rule to narrow it).
+pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
+    let want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
+        .iter()
+        .filter_map(|w| DIRECTIONS.iter().position(|d| d == w))
+        .collect();
+    let names = str_values(&DIRECTIONS);
+    let rows = for_each_pair(ctx, q, radius(q, Some(4)), |f, x, y, d, out| {
+        let r = regions(x, x.to_local(y.center));
+        for &w in &want {
+            if let Some(lat) = r[w] {
+                out.push((x.track, y.track, f, w, d, lat));
+            }
+        }
+    });
+    let n = rows.len();
+    let (mut xs, mut ys, mut ts) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    let (mut dirs, mut ds, mut lats) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    for (x, y, t, w, d, lat) in rows {
+        xs.push(x);
+        ys.push(y);
+        ts.push(t);
+        dirs.push(names[w].clone());
+        ds.push(d);
+        lats.push(lat);
+    }
+    rel(
+        q,
+        vec![
+            Column::Track(xs),
+            Column::Track(ys),
+            Column::Time(ts),
+            Column::Str(dirs),
+            Column::Float(ds),
+            Column::Float(lats),
+        ],
+    )
+}
+
+/// `facing(X, Y, T)`: the bearing of Y's centre from X's centre is within
+/// [`FACING_MAX_ANGLE_DEG`] of X's forward axis (RefAV's `facing_toward`).
+pub fn facing(ctx: &PairContext, q: &Query) -> RelationData {
+    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+        let [fx, ly] = x.to_local(y.center);
+        if ly.atan2(fx).to_degrees().abs() <= FACING_MAX_ANGLE_DEG {
+            out.push((x.track, y.track, f));
+        }
+    });
+    xyt(q, rows)
+}
