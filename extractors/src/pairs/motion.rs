@@ -227,18 +227,19 @@ fn samples(ctx: &PairContext, x: TrackId, y: TrackId, dir: usize) -> Vec<Sample>
 /// The frames of every crossing event in `s` (a direction's samples) for an object whose extent
 /// along the direction from its centre is `reach0` (half its length or width).
 ///
-/// A crossing happens between consecutive samples whose `v` changes sign, where the interpolated
-/// crossing point lies on the half-midplane (`reach0 <= u <= reach0 + CROSSING_REACH_M`) and Y
-/// moves across it in that sense faster than [`CROSSING_MIN_SPEED_M_S`]. The event spans the two
-/// samples and extends each way while Y keeps moving across that fast and stays within
-/// [`CROSSING_SPAN_M`] of the midplane.
+/// A crossing happens between consecutive samples whose `v` changes sign, both within
+/// [`CROSSING_SPAN_M`] of the midplane (so a box heading flipping by 180° does not swing a distant
+/// object across), where the interpolated crossing point lies on the half-midplane
+/// (`reach0 <= u <= reach0 + CROSSING_REACH_M`) and Y moves across it in that sense faster than
+/// [`CROSSING_MIN_SPEED_M_S`]. The event spans the two samples and extends each way while Y keeps
+/// moving across that fast and stays within [`CROSSING_SPAN_M`] of the midplane.
 fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
     let mut frames = BTreeSet::new();
     let moving = |k: usize, sign: f64| sign * s[k].dv > CROSSING_MIN_SPEED_M_S;
     let near_plane = |k: usize| s[k].v.abs() <= CROSSING_SPAN_M;
     for j in 1..s.len() {
         let (a, b) = (&s[j - 1], &s[j]);
-        if (a.v < 0.0) == (b.v < 0.0) {
+        if (a.v < 0.0) == (b.v < 0.0) || !near_plane(j - 1) || !near_plane(j) {
             continue;
         }
         let t = a.v / (a.v - b.v);

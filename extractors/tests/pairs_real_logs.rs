@@ -1,0 +1,383 @@
+//! Pair relations on the three real Argoverse 2 logs in `tests/data/av2/logs/`: properties a
+//! person can confirm, checked against an independent rectangle distance written here.
+//! Run with `--nocapture` to see the per-relation counts.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use scenalog_extractors::pairs::{self, PairContext, PAIR_RELATIONS};
+use scenalog_extractors::query::satisfies;
+use scenalog_extractors::Extractor;
+use scenalog_facts::read::load_scene;
+use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
+use scenalog_facts::{Frame, Scene, TrackId};
+
+const LOGS: [&str; 3] = [
+    "3b3570b4-7b0b-3268-a571-b0889dbf40b6",
+    "3bffdcff-c3a7-38b6-a0f2-64196d130958",
+    "adcf7d18-0510-35b0-a2fa-b4cea13a6d76",
+];
+
+fn scenes() -> &'static [Scene] {
+    static SCENES: OnceLock<Vec<Scene>> = OnceLock::new();
+    SCENES.get_or_init(|| {
+        LOGS.iter()
+            .map(|id| {
+                let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                    .join("../tests/data/av2/logs")
+                    .join(id);
+                load_scene(&dir).unwrap_or_else(|e| panic!("{e}"))
+            })
+            .collect()
+    })
+}
+
+/// Answers `req` through the pairs API.
+fn answer(ex: &Extractor, req: &Request) -> RelationData {
+    let index = pairs::pair_index(ex);
+    let ctx = PairContext::new(
+        ex.scene(),
+        ex.kinematics(),
+        ex.lanes(),
+        ex.map_index(),
+        &index,
+    );
+    let f = match req.name.as_str() {
+        "near" => pairs::near,
+        "direction" => pairs::direction,
+        "facing" => pairs::facing,
+        "heading_relative" => pairs::heading_relative,
+        "heading_toward" => pairs::heading_toward,
+        "crossing" => pairs::crossing,
+        "same_lane" => pairs::same_lane,
+        "following" => pairs::following,
+        "road_side" => pairs::road_side,
+        other => panic!("not a pair relation: {other}"),
+    };
+    f(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn rows(d: &RelationData) -> Vec<Vec<Value>> {
+    (0..d.len())
+        .map(|i| d.row(i).expect("row in range"))
+        .collect()
+}
+
+fn xyt(row: &[Value]) -> (TrackId, TrackId, Frame) {
+    match (&row[0], &row[1], &row[2]) {
+        (Value::Track(x), Value::Track(y), Value::Time(t)) => (*x, *y, *t),
+        other => panic!("pair rows start with X, Y, T: {other:?}"),
+    }
+}
+
+// ----- An independent ground-rectangle distance (f64), to check the crate's parry2d one. -----
+
+type P = [f64; 2];
+
+fn corners(scene: &Scene, t: TrackId, f: Frame) -> Option<[P; 4]> {
+    let b = scene.track(t).box_at(f)?;
+    let c = b.city_center();
+    let yaw = b.city_yaw();
+    let (s, co) = yaw.sin_cos();
+    let (l, w) = (b.size[0] / 2.0, b.size[1] / 2.0);
+    let at = |a: f64, b: f64| [c.x + a * co - b * s, c.y + a * s + b * co];
+    Some([at(l, w), at(-l, w), at(-l, -w), at(l, -w)])
+}
+
+fn separated_on_axes(a: &[P; 4], b: &[P; 4]) -> bool {
+    for poly in [a, b] {
+        for i in 0..4 {
+            let (p, q) = (poly[i], poly[(i + 1) % 4]);
+            let axis = [q[1] - p[1], p[0] - q[0]];
+            let proj = |r: &[P; 4]| {
+                r.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                        let d = v[0] * axis[0] + v[1] * axis[1];
+                        (lo.min(d), hi.max(d))
+                    })
+            };
+            let ((alo, ahi), (blo, bhi)) = (proj(a), proj(b));
+            if ahi < blo || bhi < alo {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+fn point_segment(p: P, a: P, b: P) -> f64 {
+    let (ab, ap) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let t = if len2 > 0.0 {
+        ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1])
+}
+
+fn rect_distance(a: &[P; 4], b: &[P; 4]) -> f64 {
+    if !separated_on_axes(a, b) {
+        return 0.0;
+    }
+    let mut d = f64::INFINITY;
+    for (u, v) in [(a, b), (b, a)] {
+        for p in u {
+            for i in 0..4 {
+                d = d.min(point_segment(*p, v[i], v[(i + 1) % 4]));
+            }
+        }
+    }
+    d
+}
+
+fn distance(scene: &Scene, x: TrackId, y: TrackId, f: Frame) -> f64 {
+    match (corners(scene, x, f), corners(scene, y, f)) {
+        (Some(a), Some(b)) => rect_distance(&a, &b),
+        _ => panic!("a pair at a frame where one box is missing: {x:?} {y:?} {f}"),
+    }
+}
+
+#[test]
+fn near_is_symmetric_exact_and_complete() {
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let near = answer(&ex, &Request::all("near"));
+        assert!(!near.is_empty(), "{}: no pairs at all", scene.log_id);
+        let mut set: BTreeMap<(TrackId, TrackId, Frame), u64> = BTreeMap::new();
+        for r in rows(&near) {
+            let (x, y, t) = xyt(&r);
+            let Value::Float(d) = r[3] else {
+                panic!("D is a float")
+            };
+            assert_ne!(x, y);
+            assert!((0.0..=50.0).contains(&d), "{d}");
+            let truth = distance(scene, x, y, t);
+            assert!((d - truth).abs() < 1e-3, "{x:?} {y:?} {t}: {d} vs {truth}");
+            set.insert((x, y, t), d.to_bits());
+        }
+        for (&(x, y, t), d) in &set {
+            assert_eq!(
+                set.get(&(y, x, t)),
+                Some(d),
+                "near({x:?}, {y:?}, {t}) has no mirror"
+            );
+        }
+        // Complete: every pair clearly within 50 m is there, none clearly beyond (every 10th
+        // frame, all pairs by brute force).
+        let mut checked = 0;
+        for f in (0..scene.num_frames() as Frame).step_by(10) {
+            let present: Vec<TrackId> = scene
+                .tracks
+                .iter()
+                .filter(|t| t.box_at(f).is_some())
+                .map(|t| t.id)
+                .collect();
+            for &x in &present {
+                for &y in present.iter().filter(|&&y| y != x) {
+                    let d = distance(scene, x, y, f);
+                    if d < 49.99 {
+                        assert!(set.contains_key(&(x, y, f)), "missing {x:?} {y:?} {f}: {d}");
+                        checked += 1;
+                    } else if d > 50.01 {
+                        assert!(!set.contains_key(&(x, y, f)));
+                    }
+                }
+            }
+        }
+        assert!(checked > 100, "{checked}");
+        println!(
+            "{}: near {} tuples, {checked} brute-force pairs checked",
+            scene.log_id,
+            near.len()
+        );
+    }
+}
+
+#[test]
+fn no_pair_relation_holds_beyond_fifty_metres() {
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let mut counts = Vec::new();
+        for name in PAIR_RELATIONS {
+            let d = answer(&ex, &Request::all(name));
+            for r in rows(&d) {
+                let (x, y, t) = xyt(&r);
+                assert_ne!(x, y, "{name}");
+                let dist = distance(scene, x, y, t);
+                assert!(dist <= 50.0 + 1e-3, "{name} {x:?} {y:?} {t}: {dist} m");
+            }
+            counts.push(format!("{name} {}", d.len()));
+        }
+        println!("{}: {}", scene.log_id, counts.join(", "));
+    }
+}
+
+/// Rows of the unconstrained relation that satisfy every constraint, in order.
+fn filtered(scene: &Scene, full: &RelationData, req: &Request) -> Vec<Vec<Value>> {
+    rows(full)
+        .into_iter()
+        .filter(|r| {
+            req.constraints
+                .iter()
+                .all(|(c, k)| satisfies(scene, &r[*c], k))
+        })
+        .collect()
+}
+
+#[test]
+fn pushdown_equals_the_unconstrained_relation_filtered() {
+    let cat = |c: &str| Constraint::Category(c.into());
+    let s = |v: &str| Constraint::Eq(Value::Str(v.into()));
+    let mut nonempty = 0;
+    let mut total = 0;
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let ego = Constraint::Eq(Value::Track(scene.ego));
+        let mid = (scene.num_frames() / 2) as Frame;
+        let cases: Vec<Request> = vec![
+            Request {
+                name: "near".into(),
+                constraints: vec![
+                    (0, cat("PEDESTRIAN")),
+                    (1, cat("VEHICLE")),
+                    (3, Constraint::Lt(5.0)),
+                ],
+            },
+            Request {
+                name: "near".into(),
+                constraints: vec![(0, ego.clone()), (3, Constraint::Le(10.0))],
+            },
+            Request {
+                name: "near".into(),
+                constraints: vec![(2, Constraint::Eq(Value::Time(mid)))],
+            },
+            Request {
+                name: "direction".into(),
+                constraints: vec![
+                    (0, ego.clone()),
+                    (3, s("forward")),
+                    (4, Constraint::Lt(20.0)),
+                ],
+            },
+            Request {
+                name: "direction".into(),
+                constraints: vec![(1, cat("PEDESTRIAN")), (5, Constraint::Lt(1.0))],
+            },
+            Request {
+                name: "facing".into(),
+                constraints: vec![(1, cat("VEHICLE")), (2, Constraint::Ge(50.0))],
+            },
+            Request {
+                name: "heading_relative".into(),
+                constraints: vec![(0, cat("VEHICLE")), (3, s("opposite"))],
+            },
+            Request {
+                name: "heading_toward".into(),
+                constraints: vec![(0, cat("VEHICLE")), (2, Constraint::Lt(100.0))],
+            },
+            Request {
+                name: "crossing".into(),
+                constraints: vec![
+                    (0, cat("VEHICLE")),
+                    (1, cat("PEDESTRIAN")),
+                    (3, s("forward")),
+                ],
+            },
+            Request {
+                name: "crossing".into(),
+                constraints: vec![(3, s("left")), (2, Constraint::Gt(20.0))],
+            },
+            Request {
+                name: "same_lane".into(),
+                constraints: vec![(0, ego.clone())],
+            },
+            Request {
+                name: "following".into(),
+                constraints: vec![(1, cat("VEHICLE")), (2, Constraint::Le(mid as f64))],
+            },
+            Request {
+                name: "road_side".into(),
+                constraints: vec![(0, ego.clone()), (3, s("opposite"))],
+            },
+        ];
+        for req in cases {
+            let full = answer(&ex, &Request::all(&req.name));
+            let pushed = answer(&ex, &req);
+            assert_eq!(
+                rows(&pushed),
+                filtered(scene, &full, &req),
+                "{}: {req:?}",
+                scene.log_id
+            );
+            total += 1;
+            nonempty += usize::from(!pushed.is_empty());
+        }
+    }
+    // Most of these select something on real traffic (the checks are not vacuous).
+    assert!(nonempty * 3 >= total * 2, "{nonempty} of {total} non-empty");
+}
+
+#[test]
+fn deterministic_whatever_the_thread_count() {
+    let scene = &scenes()[0];
+    let run = |threads: usize| -> Vec<RelationData> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        pool.install(|| {
+            let ex = Extractor::new(scene);
+            PAIR_RELATIONS
+                .iter()
+                .map(|n| answer(&ex, &Request::all(n)))
+                .collect()
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn real_crossings_are_sensible() {
+    // Every crossing tuple: Y's centre within the span's 5 m of X's midplane on that side, and the
+    // pair appears in `near`. Also print which categories cross which.
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let crossing = answer(&ex, &Request::all("crossing"));
+        let near = answer(&ex, &Request::all("near"));
+        let near_set: BTreeSet<(TrackId, TrackId, Frame)> =
+            rows(&near).iter().map(|r| xyt(r)).collect();
+        let mut kinds: BTreeMap<(String, String), usize> = BTreeMap::new();
+        for r in rows(&crossing) {
+            let (x, y, t) = xyt(&r);
+            assert!(near_set.contains(&(x, y, t)));
+            let kin = ex.kinematics();
+            let (kx, ky) = (&kin.tracks[x.index()], &kin.tracks[y.index()]);
+            let (i, j) = (
+                kx.index_of(t).expect("x present"),
+                ky.index_of(t).expect("y present"),
+            );
+            let (dx, dy) = (ky.pos[j][0] - kx.pos[i][0], ky.pos[j][1] - kx.pos[i][1]);
+            let (s, c) = kx.yaw[i].sin_cos();
+            let (fwd, left) = (dx * c + dy * s, -dx * s + dy * c);
+            let across = match &r[3] {
+                Value::Str(d) if &**d == "forward" || &**d == "backward" => left,
+                Value::Str(_) => fwd,
+                other => panic!("{other:?}"),
+            };
+            assert!(across.abs() <= 5.0 + 1e-9, "{r:?}: {across}");
+            *kinds
+                .entry((
+                    scene.track(x).category.clone(),
+                    scene.track(y).category.clone(),
+                ))
+                .or_default() += 1;
+        }
+        println!(
+            "{}: crossing {} tuples {kinds:?}",
+            scene.log_id,
+            crossing.len()
+        );
+    }
+}
