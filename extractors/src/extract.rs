@@ -41,7 +41,10 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "near_intersection" => map::near_intersection(ex, q),
         "at_crosswalk" => map::at_crosswalk(ex, q),
         "at_stop_sign" => map::at_stop_sign(ex, q),
-        other => return Err(ExtractError::NotProvided(other.to_string())),
+        other => match crate::pairs::provide(ex, q) {
+            Some(data) => data,
+            None => return Err(ExtractError::NotProvided(other.to_string())),
+        },
     };
     Ok(q.finish(ex.scene(), data))
 }
