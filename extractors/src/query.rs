@@ -183,8 +183,33 @@ impl<'r> Query<'r> {
         } else {
             (0..n).filter(|&i| self.row_ok(scene, &data, i)).collect()
         };
-        keep.sort_by(|&a, &b| compare_rows(&data, a, b));
-        keep.dedup_by(|a, b| compare_rows(&data, *a, *b) == Ordering::Equal);
+        let (keys, packed_all) = sort_keys(&data);
+        let sorted = keep.windows(2).all(|w| {
+            keys[w[0]] < keys[w[1]]
+                || (keys[w[0]] == keys[w[1]]
+                    && !packed_all
+                    && compare_rows(&data, w[0], w[1]) == Ordering::Less)
+        });
+        if sorted {
+            // Already strictly increasing: nothing to sort or drop.
+            if keep.len() == n {
+                return data;
+            }
+        } else {
+            keep.sort_unstable_by(|&a, &b| {
+                keys[a].cmp(&keys[b]).then_with(|| {
+                    if packed_all {
+                        Ordering::Equal
+                    } else {
+                        compare_rows(&data, a, b)
+                    }
+                })
+            });
+            keep.dedup_by(|a, b| {
+                keys[*a] == keys[*b]
+                    && (packed_all || compare_rows(&data, *a, *b) == Ordering::Equal)
+            });
+        }
         data.columns = data.columns.iter().map(|c| take(c, &keep)).collect();
         data
     }
@@ -217,6 +242,88 @@ pub fn satisfies(scene: &Scene, v: &Value, c: &Constraint) -> bool {
     }
 }
 
+/// String columns with more distinct values than this are not packed into sort keys.
+const STR_RANK_MAX: usize = 256;
+
+/// An order-preserving 64-bit image of an f64 under `total_cmp`.
+fn float_key(x: f64) -> u64 {
+    let bits = x.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    }
+}
+
+/// Per row, a 128-bit key that orders rows like [`compare_rows`] on the leading columns that fit
+/// (tracks and times 32 bits, strings by rank 32 bits, lanes, ints and floats 64 bits), and
+/// whether every column fit (then equal keys mean equal rows).
+fn sort_keys(data: &RelationData) -> (Vec<u128>, bool) {
+    let n = data.len();
+    let mut keys = vec![0u128; n];
+    let mut used = 0u32;
+    for c in &data.columns {
+        let width = match c {
+            Column::Track(_) | Column::Time(_) | Column::Str(_) => 32,
+            Column::Lane(_) | Column::Int(_) | Column::Float(_) => 64,
+        };
+        if used + width > 128 {
+            return (keys, false);
+        }
+        used += width;
+        let shift = 128 - used;
+        match c {
+            Column::Track(v) => {
+                for (k, t) in keys.iter_mut().zip(v) {
+                    *k |= u128::from(t.0) << shift;
+                }
+            }
+            Column::Time(v) => {
+                for (k, t) in keys.iter_mut().zip(v) {
+                    *k |= u128::from(*t) << shift;
+                }
+            }
+            Column::Lane(v) => {
+                for (k, l) in keys.iter_mut().zip(v) {
+                    *k |= u128::from((l.0 as u64) ^ (1 << 63)) << shift;
+                }
+            }
+            Column::Int(v) => {
+                for (k, x) in keys.iter_mut().zip(v) {
+                    *k |= u128::from((*x as u64) ^ (1 << 63)) << shift;
+                }
+            }
+            Column::Float(v) => {
+                for (k, x) in keys.iter_mut().zip(v) {
+                    *k |= u128::from(float_key(*x)) << shift;
+                }
+            }
+            Column::Str(v) => {
+                // Rank among the distinct values (closed columns hold a handful).
+                let mut distinct: Vec<&std::sync::Arc<str>> = Vec::new();
+                for x in v {
+                    let seen = distinct.iter().any(|d: &&std::sync::Arc<str>| {
+                        std::sync::Arc::ptr_eq(d, x) || d.as_ref() == x.as_ref()
+                    });
+                    if !seen {
+                        if distinct.len() == STR_RANK_MAX {
+                            // An open string column: order by the leading columns only.
+                            return (keys, false);
+                        }
+                        distinct.push(x);
+                    }
+                }
+                distinct.sort();
+                for (k, x) in keys.iter_mut().zip(v) {
+                    let rank = distinct.binary_search(&x).unwrap_or(0) as u128;
+                    *k |= rank << shift;
+                }
+            }
+        }
+    }
+    (keys, true)
+}
+
 fn compare_rows(data: &RelationData, a: usize, b: usize) -> Ordering {
     for c in &data.columns {
         let o = match c {
@@ -242,5 +349,73 @@ fn take(c: &Column, idx: &[usize]) -> Column {
         Column::Str(v) => Column::Str(idx.iter().map(|&i| v[i].clone()).collect()),
         Column::Float(v) => Column::Float(idx.iter().map(|&i| v[i]).collect()),
         Column::Int(v) => Column::Int(idx.iter().map(|&i| v[i]).collect()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scenalog_facts::LaneId;
+    use std::sync::Arc;
+
+    fn rows(d: &RelationData) -> Vec<Vec<Value>> {
+        (0..d.len()).filter_map(|i| d.row(i)).collect()
+    }
+
+    #[test]
+    fn finish_sorts_like_a_row_comparison_and_drops_duplicates() {
+        let scene = crate::synthetic::SceneBuilder::new(3).build();
+        let strs: Vec<Arc<str>> = ["b", "a", "c"].iter().map(|s| Arc::from(*s)).collect();
+        // Pseudo-random rows with negative numbers, repeated keys and duplicates.
+        let mut state = 12345u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as i64
+        };
+        let n = 500;
+        let (mut lanes, mut ints, mut ss, mut fs, mut ts) =
+            (vec![], vec![], vec![], vec![], vec![]);
+        for _ in 0..n {
+            lanes.push(LaneId(next() % 5 - 2));
+            ints.push(next() % 3 - 1);
+            ss.push(strs[(next() % 3) as usize].clone());
+            fs.push(((next() % 7) - 3) as f64 * 0.5);
+            ts.push((next() % 4) as u32);
+        }
+        for columns in [
+            vec![
+                Column::Lane(lanes.clone()),
+                Column::Int(ints.clone()),
+                Column::Str(ss.clone()),
+                Column::Float(fs.clone()),
+            ],
+            vec![
+                Column::Time(ts.clone()),
+                Column::Str(ss.clone()),
+                Column::Int(ints.clone()),
+            ],
+            vec![
+                Column::Float(fs.clone()),
+                Column::Lane(lanes.clone()),
+                Column::Time(ts.clone()),
+                Column::Int(ints.clone()),
+            ],
+        ] {
+            let data = RelationData {
+                name: "x".into(),
+                columns,
+            };
+            let req = Request::all("present");
+            let q = Query::new(&scene, &req).expect("query");
+            let got = rows(&q.finish(&scene, data.clone()));
+            let mut idx: Vec<usize> = (0..n).collect();
+            idx.sort_by(|&a, &b| compare_rows(&data, a, b));
+            idx.dedup_by(|a, b| compare_rows(&data, *a, *b) == Ordering::Equal);
+            let want: Vec<Vec<Value>> = idx.iter().filter_map(|&i| data.row(i)).collect();
+            assert_eq!(got, want);
+            assert!(got.len() < n);
+        }
     }
 }
