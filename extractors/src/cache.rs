@@ -165,6 +165,16 @@ impl<'s> Extractor<'s> {
         Ok(data)
     }
 
+    /// The relation `req` asks for, computed without keeping the answer (the derived data it
+    /// needs is still cached). For one-off requests, where storing a copy would only cost.
+    pub fn extract_uncached(&self, req: &Request) -> Result<RelationData, ExtractError> {
+        if let Some(r) = self.lock_results().get(&format!("{req:?}")) {
+            return Ok((**r).clone());
+        }
+        let query = Query::new(self.scene, req)?;
+        crate::extract::provide(self, &query)
+    }
+
     fn lock_results(&self) -> std::sync::MutexGuard<'_, HashMap<String, Arc<RelationData>>> {
         self.results.lock().unwrap_or_else(|e| e.into_inner())
     }

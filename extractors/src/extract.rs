@@ -52,8 +52,7 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
 /// The relation `req` asks for over `scene`: only tuples satisfying every constraint, sorted.
 /// (One-off; use an [`Extractor`] to share work between requests on one scene.)
 pub fn extract(scene: &Scene, req: &Request) -> Result<RelationData, ExtractError> {
-    let ex = Extractor::new(scene);
-    ex.extract(req).map(|r| (*r).clone())
+    Extractor::new(scene).extract_uncached(req)
 }
 
 /// Every relation of the catalog the extractors provide, in catalog order (relations in parallel;
@@ -67,8 +66,7 @@ pub fn extract_all_with(ex: &Extractor) -> Vec<RelationData> {
     use rayon::prelude::*;
     catalog::catalog()
         .par_iter()
-        .filter_map(|spec| ex.extract(&Request::all(spec.name)).ok())
-        .map(|r| (*r).clone())
+        .filter_map(|spec| ex.extract_uncached(&Request::all(spec.name)).ok())
         .collect()
 }
 
@@ -82,10 +80,7 @@ pub fn extract_logs(
         .par_iter()
         .map(|scene| {
             let ex = Extractor::new(scene);
-            requests
-                .iter()
-                .map(|r| ex.extract(r).map(|d| (*d).clone()))
-                .collect()
+            requests.iter().map(|r| ex.extract_uncached(r)).collect()
         })
         .collect()
 }
