@@ -6,11 +6,11 @@
 //! ([`Query`]), and every threshold in one place ([`thresholds`]).
 //!
 //! Does not own: reading logs (the `facts` crate builds the [`Scene`]), the catalog itself (also
-//! `facts`), or evaluating rules (the `engine` crate asks for relations through [`extract`] or an
+//! `facts`), or evaluating rules (the `engine` crate asks for relations through [`extract()`] or an
 //! [`Extractor`]).
 //!
 //! Public API:
-//! - [`extract`]`(scene, &Request) -> Result<RelationData, ExtractError>`: one relation, only the
+//! - [`extract()`]`(scene, &Request) -> Result<RelationData, ExtractError>`: one relation, only the
 //!   tuples satisfying the request's constraints, rows sorted.
 //! - [`Extractor`]: the same through a per-scene cache (kinematics, lanes, R-trees, answers),
 //!   `Sync`, so one run computes each thing once.
