@@ -497,3 +497,17 @@ fn json_uses_uuids_map_ids_frames_and_numbers() {
     let r = ex.extract(&Request::all("frame_ns")).unwrap();
     assert_eq!(relation_json(&scene, &r)[1], json!([1, 100_000_000]));
 }
+
+#[test]
+fn extractor_is_shareable_across_threads() {
+    fn assert_sync_send<T: Sync + Send>() {}
+    assert_sync_send::<Extractor<'static>>();
+    let scene = road_scene();
+    let ex = Extractor::new(&scene);
+    let (a, b) = rayon::join(
+        || ex.extract(&Request::all("lane_change")).map(|r| r.len()),
+        || ex.extract(&Request::all("lane_change")).map(|r| r.len()),
+    );
+    assert_eq!(a, b);
+    assert!(a.expect("lane_change") > 0);
+}
