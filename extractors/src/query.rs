@@ -165,14 +165,49 @@ impl<'r> Query<'r> {
         })
     }
 
-    /// Whether row `i` of `data` satisfies every constraint of the request.
-    fn row_ok(&self, scene: &Scene, data: &RelationData, i: usize) -> bool {
-        self.req.constraints.iter().all(|(col, c)| {
-            let Some(v) = data.columns.get(*col).and_then(|column| column.get(i)) else {
-                return false;
+    /// Which rows of `data` satisfy every constraint of the request (column by column).
+    fn rows_ok(&self, scene: &Scene, data: &RelationData) -> Vec<bool> {
+        let n = data.len();
+        let mut ok = vec![true; n];
+        for (col, c) in &self.req.constraints {
+            let Some(column) = data.columns.get(*col) else {
+                return vec![false; n];
             };
-            satisfies(scene, &v, c)
-        })
+            match (column, c, self.allowed.get(*col)) {
+                // Track constraints were turned into a mask over tracks up front.
+                (
+                    Column::Track(v),
+                    Constraint::Category(_) | Constraint::Eq(Value::Track(_)),
+                    Some(Some(mask)),
+                ) => {
+                    for (o, t) in ok.iter_mut().zip(v) {
+                        *o = *o && mask.get(t.index()).copied().unwrap_or(false);
+                    }
+                }
+                (Column::Float(v), Constraint::Lt(b), _) => {
+                    ok.iter_mut().zip(v).for_each(|(o, x)| *o = *o && *x < *b)
+                }
+                (Column::Float(v), Constraint::Le(b), _) => {
+                    ok.iter_mut().zip(v).for_each(|(o, x)| *o = *o && *x <= *b)
+                }
+                (Column::Float(v), Constraint::Gt(b), _) => {
+                    ok.iter_mut().zip(v).for_each(|(o, x)| *o = *o && *x > *b)
+                }
+                (Column::Float(v), Constraint::Ge(b), _) => {
+                    ok.iter_mut().zip(v).for_each(|(o, x)| *o = *o && *x >= *b)
+                }
+                (Column::Str(v), Constraint::Eq(Value::Str(w)), _) => ok
+                    .iter_mut()
+                    .zip(v)
+                    .for_each(|(o, x)| *o = *o && **x == **w),
+                _ => {
+                    for (i, o) in ok.iter_mut().enumerate() {
+                        *o = *o && column.get(i).is_some_and(|v| satisfies(scene, &v, c));
+                    }
+                }
+            }
+        }
+        ok
     }
 
     /// Drops the rows that break a constraint and sorts the rest (lexicographically by column).
@@ -181,7 +216,8 @@ impl<'r> Query<'r> {
         let mut keep: Vec<usize> = if self.req.constraints.is_empty() {
             (0..n).collect()
         } else {
-            (0..n).filter(|&i| self.row_ok(scene, &data, i)).collect()
+            let ok = self.rows_ok(scene, &data);
+            (0..n).filter(|&i| ok[i]).collect()
         };
         let (keys, packed_all) = sort_keys(&data);
         let sorted = keep.windows(2).all(|w| {
