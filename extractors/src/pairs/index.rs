@@ -10,7 +10,10 @@ use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
 use scenalog_facts::{Frame, Scene, TrackId};
 
+use scenalog_facts::VectorMap;
+
 use crate::kinematics::Kinematics;
+use crate::lanes::LaneAssignment;
 
 /// One object's box at one frame, in the ground plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,6 +34,8 @@ pub struct ObjBox {
     pub half_len: f64,
     /// Half the box width, metres.
     pub half_wid: f64,
+    /// Half the box diagonal: no point of the box is farther from its centre.
+    pub reach: f64,
 }
 
 impl ObjBox {
@@ -123,6 +128,8 @@ pub struct PairIndex {
     /// Half length, half width per track box: `sizes[track][k]`.
     sizes: Vec<Vec<[f64; 2]>>,
     frames: Vec<OnceLock<FrameBoxes>>,
+    /// Map lane index of every track box (`lanes[track][k]`), built on first use.
+    lanes: OnceLock<Vec<Vec<Option<u32>>>>,
 }
 
 impl PairIndex {
@@ -155,6 +162,7 @@ impl PairIndex {
             present,
             sizes,
             frames: (0..n).map(|_| OnceLock::new()).collect(),
+            lanes: OnceLock::new(),
         }
     }
 
@@ -167,6 +175,22 @@ impl PairIndex {
     pub fn frame(&self, kin: &Kinematics, frame: Frame) -> Option<&FrameBoxes> {
         let cell = self.frames.get(frame as usize)?;
         Some(cell.get_or_init(|| self.build(kin, frame as usize)))
+    }
+
+    /// The map lane index of every track box (`[track][k]`), from the lane assignment's ids
+    /// (computed once; later calls return the first answer).
+    pub fn lane_indices(&self, lanes: &LaneAssignment, map: &VectorMap) -> &[Vec<Option<u32>>] {
+        self.lanes.get_or_init(|| {
+            lanes
+                .lanes
+                .iter()
+                .map(|t| {
+                    t.iter()
+                        .map(|l| l.and_then(|id| map.lane_index(id)).map(|i| i as u32))
+                        .collect()
+                })
+                .collect()
+        })
     }
 
     fn build(&self, kin: &Kinematics, f: usize) -> FrameBoxes {
@@ -190,6 +214,7 @@ impl PairIndex {
                     sin,
                     half_len,
                     half_wid,
+                    reach: (half_len * half_len + half_wid * half_wid).sqrt(),
                 })
             })
             .collect();

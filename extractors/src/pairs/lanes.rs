@@ -5,9 +5,10 @@
 //! ([`crate::map::sides`]). An object in no lane has none of these relations.
 
 use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::{Frame, TrackId};
 
-use super::spatial::{rel, xyt};
-use super::{for_each_pair, radius, str_values, wanted, ObjBox, PairContext};
+use super::spatial::{key3, rel, xyt};
+use super::{for_each_pair, radius, str_values, text_ranks, wanted, ObjBox, PairContext};
 use crate::map::RoadSide;
 use crate::query::Query;
 use crate::thresholds::{
@@ -31,12 +32,12 @@ pub fn in_chain(ctx: &PairContext, lx: usize, ly: usize) -> bool {
 /// and the predecessors and successors that continue it straight). Not symmetric at the chain's
 /// reach or where chains fork.
 pub fn same_lane(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+    let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
         let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
         else {
             return;
         };
-        if in_chain(ctx, lx, ly) {
+        if in_chain(ctx, lx, ly) && d.within() {
             out.push((x.track, y.track, f));
         }
     });
@@ -52,7 +53,7 @@ fn follow_heading(ctx: &PairContext, b: &ObjBox) -> [f64; 2] {
         .get(b.track.index())
         .and_then(|k| k.vel.get(b.k).copied())
         .unwrap_or([0.0, 0.0]);
-    let s = v[0].hypot(v[1]);
+    let s = (v[0] * v[0] + v[1] * v[1]).sqrt();
     if s > FOLLOWING_HEADING_MIN_SPEED_M_S {
         [v[0] / s, v[1] / s]
     } else {
@@ -104,8 +105,8 @@ pub fn follows(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
 
 /// `following(X, Y, T)`: X follows lead Y at T ([`follows`]; RefAV's `following`).
 pub fn following(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
-        if follows(ctx, x, y) {
+    let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
+        if follows(ctx, x, y) && d.within() {
             out.push((x.track, y.track, f));
         }
     });
@@ -136,18 +137,25 @@ pub fn lane_side(ctx: &PairContext, lx: usize, ly: usize) -> Option<RoadSide> {
 pub fn road_side(ctx: &PairContext, q: &Query) -> RelationData {
     let want = wanted(q, 3, &SIDES);
     let names = str_values(&SIDES);
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
-        let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
-        else {
-            return;
-        };
-        if let Some(side) = lane_side(ctx, lx, ly) {
-            let k = usize::from(side == RoadSide::Opposite);
-            if want.contains(&SIDES[k]) {
-                out.push((x.track, y.track, f, k));
+    let ranks = text_ranks(&SIDES);
+    let rows = for_each_pair(
+        ctx,
+        q,
+        radius(q, None),
+        |r: &(TrackId, TrackId, Frame, usize)| (r.0, r.1, r.2, ranks[r.3]),
+        |f, x, y, d, out| {
+            let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
+            else {
+                return;
+            };
+            if let Some(side) = lane_side(ctx, lx, ly) {
+                let k = usize::from(side == RoadSide::Opposite);
+                if want.contains(&SIDES[k]) && d.within() {
+                    out.push((x.track, y.track, f, k));
+                }
             }
-        }
-    });
+        },
+    );
     let (mut xs, mut ys, mut ts, mut ss) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (x, y, t, k) in rows {
         xs.push(x);

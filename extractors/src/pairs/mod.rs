@@ -26,6 +26,7 @@ pub mod lanes;
 pub mod motion;
 pub mod spatial;
 
+use std::cell::Cell;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -90,8 +91,13 @@ impl<'a> PairContext<'a> {
 
     /// The map lane index of track `t`'s box `k`, if it is in a lane.
     pub fn lane_index(&self, t: TrackId, k: usize) -> Option<usize> {
-        let id = (*self.lanes.lanes.get(t.index())?.get(k)?)?;
-        self.scene.map.lane_index(id)
+        let lanes = self.index.lane_indices(self.lanes, &self.scene.map);
+        lanes
+            .get(t.index())?
+            .get(k)
+            .copied()
+            .flatten()
+            .map(|i| i as usize)
     }
 }
 
@@ -232,17 +238,60 @@ pub(crate) fn radius(q: &Query, col: Option<usize>) -> f64 {
 /// Y sets at most this large are looked up directly per X instead of through the R-tree.
 const DIRECT_LOOKUP_MAX: usize = 16;
 
-/// Calls `f(frame, x, y, distance)` for every pair of different boxes at a frame the query allows,
-/// X allowed in column 0, Y in column 1, at most `radius` apart; frames in parallel, each frame's
-/// output in its own vector, concatenated in frame order (deterministic).
+/// The distance between the two boxes of a pair, computed only when asked for (most relations
+/// test their own condition first) and at most once.
+#[derive(Debug)]
+pub struct PairDistance<'b> {
+    x: &'b ObjBox,
+    y: &'b ObjBox,
+    centres: f64,
+    radius: f64,
+    value: Cell<Option<f64>>,
+}
+
+impl PairDistance<'_> {
+    /// The ground-rectangle distance ([`box_distance`]).
+    pub fn value(&self) -> f64 {
+        if let Some(v) = self.value.get() {
+            return v;
+        }
+        let v = box_distance(self.x, self.y);
+        self.value.set(Some(v));
+        v
+    }
+
+    /// Whether the boxes are within the search radius. Cheap when the centres already are (the
+    /// rectangle distance never exceeds the centre distance).
+    pub fn within(&self) -> bool {
+        self.centres <= self.radius || self.value() <= self.radius
+    }
+}
+
+/// A row's sort key: `(X, Y, T, rank)`, where `rank` orders the row's string value by its text
+/// ([`text_ranks`]; 0 when there is none). Keys are unique within a relation, and rows sorted by
+/// them are in [`Query::finish`]'s order, so its sort only confirms it.
+pub(crate) type RowKey = (TrackId, TrackId, Frame, u8);
+
+fn packed(k: RowKey) -> u128 {
+    (u128::from(k.0 .0) << 96)
+        | (u128::from(k.1 .0) << 64)
+        | (u128::from(k.2) << 32)
+        | u128::from(k.3)
+}
+
+/// Calls `f(frame, x, y, distance, out)` for every pair of different boxes at a frame the query
+/// allows, X allowed in column 0, Y in column 1, whose rectangles may come within `radius`; `f`
+/// must check [`PairDistance::within`] (or the value) itself. X tracks in parallel; the rows come
+/// back sorted by `key` (each X's rows sorted, X ascending): deterministic.
 pub(crate) fn for_each_pair<T: Send>(
     ctx: &PairContext,
     q: &Query,
     radius: f64,
-    f: impl Fn(Frame, &ObjBox, &ObjBox, f64, &mut Vec<T>) + Sync,
+    key: impl Fn(&T) -> RowKey + Sync,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
 ) -> Vec<T> {
     let frames = frame_range(q, 2, ctx.index.num_frames());
-    for_each_pair_in(ctx, q, frames, radius, f)
+    for_each_pair_in(ctx, q, frames, radius, key, f)
 }
 
 /// [`for_each_pair`] over the given frames, whatever the query's time constraints.
@@ -251,30 +300,49 @@ pub(crate) fn for_each_pair_in<T: Send>(
     q: &Query,
     frames: Range<Frame>,
     radius: f64,
-    f: impl Fn(Frame, &ObjBox, &ObjBox, f64, &mut Vec<T>) + Sync,
+    key: impl Fn(&T) -> RowKey + Sync,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
 ) -> Vec<T> {
     use rayon::prelude::*;
-    if radius.is_nan() || radius < 0.0 {
+    if radius.is_nan() || radius < 0.0 || frames.is_empty() {
         return Vec::new();
     }
+    let xs: Vec<TrackId> = q.tracks(ctx.scene, 0).collect();
     let ys: Vec<TrackId> = q.tracks(ctx.scene, 1).collect();
     let direct = ys.len() <= DIRECT_LOOKUP_MAX;
-    let per_frame: Vec<Vec<T>> = frames
-        .into_par_iter()
-        .map(|frame| {
+    let per_x: Vec<Vec<T>> = xs
+        .par_iter()
+        .map(|&xt| {
             let mut out = Vec::new();
-            let Some(fb) = ctx.index.frame(ctx.kin, frame) else {
+            let Some(kx) = ctx.kin.tracks.get(xt.index()) else {
                 return out;
             };
-            for x in fb.boxes.iter().filter(|b| q.allows_track(0, b.track)) {
+            for &frame in kx.frames.iter().filter(|f| frames.contains(f)) {
+                let Some(fb) = ctx.index.frame(ctx.kin, frame) else {
+                    continue;
+                };
+                let Some(x) = fb.of(xt) else {
+                    continue;
+                };
                 let mut visit = |y: &ObjBox| {
                     if y.track == x.track {
                         return;
                     }
-                    let d = box_distance(x, y);
-                    if d <= radius {
-                        f(frame, x, y, d, &mut out);
+                    let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
+                    let d2 = dx * dx + dy * dy;
+                    // Beyond this the rectangles cannot come within the radius.
+                    let max = radius + x.reach + y.reach;
+                    if d2 > max * max {
+                        return;
                     }
+                    let d = PairDistance {
+                        x,
+                        y,
+                        centres: d2.sqrt(),
+                        radius,
+                        value: Cell::new(None),
+                    };
+                    f(frame, x, y, &d, &mut out);
                 };
                 if direct {
                     for &t in &ys {
@@ -291,10 +359,18 @@ pub(crate) fn for_each_pair_in<T: Send>(
                     }
                 }
             }
+            out.sort_unstable_by_key(|r| packed(key(r)));
             out
         })
         .collect();
-    per_frame.into_iter().flatten().collect()
+    per_x.into_iter().flatten().collect()
+}
+
+/// For each value of a closed column, its rank among the values in text order.
+pub(crate) fn text_ranks(all: &[&str]) -> Vec<u8> {
+    all.iter()
+        .map(|a| all.iter().filter(|b| *b < a).count() as u8)
+        .collect()
 }
 
 /// The string values of a closed column the query asks for: the fixed one if a constraint fixes

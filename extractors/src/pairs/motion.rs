@@ -6,10 +6,10 @@ use std::collections::BTreeSet;
 use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::{Frame, TrackId};
 
-use super::spatial::{rel, xyt, DIRECTIONS};
+use super::spatial::{key3, rel, xyt, DIRECTIONS};
 use super::{
-    box_distance, for_each_pair, for_each_pair_in, frame_range, radius, str_values, wanted, ObjBox,
-    PairContext,
+    box_distance, for_each_pair, for_each_pair_in, frame_range, radius, str_values, text_ranks,
+    wanted, ObjBox, PairContext,
 };
 use crate::kinematics::TrackKinematics;
 use crate::query::Query;
@@ -51,7 +51,7 @@ pub fn moves_by_itself(category: &str) -> bool {
 }
 
 fn norm(v: [f64; 2]) -> f64 {
-    v[0].hypot(v[1])
+    (v[0] * v[0] + v[1] * v[1]).sqrt()
 }
 
 fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -105,15 +105,22 @@ pub fn heading_relative(ctx: &PairContext, q: &Query) -> RelationData {
         .filter_map(|w| HEADINGS.iter().position(|h| h == w))
         .collect();
     let names = str_values(&HEADINGS);
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
-        let (Some(hx), Some(hy)) = (travel_heading(ctx, x), travel_heading(ctx, y)) else {
-            return;
-        };
-        let c = heading_class(angle_deg(hx, hy));
-        if want.contains(&c) {
-            out.push((x.track, y.track, f, c));
-        }
-    });
+    let ranks = text_ranks(&HEADINGS);
+    let rows = for_each_pair(
+        ctx,
+        q,
+        radius(q, None),
+        |r: &(TrackId, TrackId, Frame, usize)| (r.0, r.1, r.2, ranks[r.3]),
+        |f, x, y, d, out| {
+            let (Some(hx), Some(hy)) = (travel_heading(ctx, x), travel_heading(ctx, y)) else {
+                return;
+            };
+            let c = heading_class(angle_deg(hx, hy));
+            if want.contains(&c) && d.within() {
+                out.push((x.track, y.track, f, c));
+            }
+        },
+    );
     let (mut xs, mut ys, mut ts, mut rs) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (x, y, t, c) in rows {
         xs.push(x);
@@ -162,8 +169,8 @@ pub fn heads_toward(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
 /// `heading_toward(X, Y, T)`: see [`heads_toward`] (RefAV's `heading_toward`, with the closing
 /// speed in m/s instead of metres per frame).
 pub fn heading_toward(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
-        if heads_toward(ctx, x, y) {
+    let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
+        if heads_toward(ctx, x, y) && d.within() {
             out.push((x.track, y.track, f));
         }
     });
@@ -302,11 +309,17 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
         q,
         all_frames,
         CROSSING_REACH_M + CROSSING_CANDIDATE_MARGIN_M,
-        |_, x, y, _, out| out.push((x.track, y.track)),
+        |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
+        |_, x, y, d, out| {
+            if d.within() {
+                out.push((x.track, y.track));
+            }
+        },
     );
     pairs.sort_unstable();
     pairs.dedup();
-    let rows: Vec<(TrackId, TrackId, Frame, usize)> = pairs
+    let ranks = text_ranks(&DIRECTIONS);
+    let mut rows: Vec<(TrackId, TrackId, Frame, usize)> = pairs
         .par_iter()
         .flat_map_iter(|&(x, y)| {
             let mut rows = Vec::new();
@@ -322,6 +335,7 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
             rows
         })
         .collect();
+    rows.sort_unstable_by_key(|r| (r.0, r.1, r.2, ranks[r.3]));
     let (mut xs, mut ys, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (x, y, t, d) in rows {
         xs.push(x);

@@ -3,7 +3,7 @@
 use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::{Frame, TrackId};
 
-use super::{for_each_pair, radius, str_values, wanted, ObjBox, PairContext};
+use super::{for_each_pair, radius, str_values, text_ranks, wanted, ObjBox, PairContext, RowKey};
 use crate::query::Query;
 use crate::thresholds::FACING_MAX_ANGLE_DEG;
 
@@ -17,7 +17,12 @@ pub(crate) fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
     }
 }
 
-/// Rows `(X, Y, T)` as a three-column relation.
+/// The sort key of an `(X, Y, T)` row.
+pub(crate) fn key3(r: &(TrackId, TrackId, Frame)) -> RowKey {
+    (r.0, r.1, r.2, 0)
+}
+
+/// Rows `(X, Y, T)` (sorted) as a three-column relation.
 pub(crate) fn xyt(q: &Query, rows: Vec<(TrackId, TrackId, Frame)>) -> RelationData {
     let (mut xs, mut ys, mut ts) = (Vec::new(), Vec::new(), Vec::new());
     for (x, y, t) in rows {
@@ -35,9 +40,19 @@ pub(crate) fn xyt(q: &Query, rows: Vec<(TrackId, TrackId, Frame)>) -> RelationDa
 /// overlap), for every pair within [`crate::thresholds::PAIR_MAX_DISTANCE_M`] (or the request's
 /// tighter bound on D). Symmetric: `near(X, Y, T, D)` iff `near(Y, X, T, D)`, the same D.
 pub fn near(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, Some(3)), |f, x, y, d, out| {
-        out.push((x.track, y.track, f, d));
-    });
+    let r = radius(q, Some(3));
+    let rows = for_each_pair(
+        ctx,
+        q,
+        r,
+        |r: &(TrackId, TrackId, Frame, f64)| (r.0, r.1, r.2, 0),
+        |f, x, y, d, out| {
+            let d = d.value();
+            if d <= r {
+                out.push((x.track, y.track, f, d));
+            }
+        },
+    );
     let (mut xs, mut ys, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (x, y, t, d) in rows {
         xs.push(x);
@@ -84,14 +99,29 @@ pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
         .filter_map(|w| DIRECTIONS.iter().position(|d| d == w))
         .collect();
     let names = str_values(&DIRECTIONS);
-    let rows = for_each_pair(ctx, q, radius(q, Some(4)), |f, x, y, d, out| {
-        let r = regions(x, x.to_local(y.center));
-        for &w in &want {
-            if let Some(lat) = r[w] {
-                out.push((x.track, y.track, f, w, d, lat));
+    let bound = radius(q, Some(4));
+    let ranks = text_ranks(&DIRECTIONS);
+    let rows = for_each_pair(
+        ctx,
+        q,
+        bound,
+        |r: &(TrackId, TrackId, Frame, usize, f64, f64)| (r.0, r.1, r.2, ranks[r.3]),
+        |f, x, y, d, out| {
+            let r = regions(x, x.to_local(y.center));
+            if want.iter().all(|&w| r[w].is_none()) {
+                return;
             }
-        }
-    });
+            let d = d.value();
+            if d > bound {
+                return;
+            }
+            for &w in &want {
+                if let Some(lat) = r[w] {
+                    out.push((x.track, y.track, f, w, d, lat));
+                }
+            }
+        },
+    );
     let n = rows.len();
     let (mut xs, mut ys, mut ts) = (
         Vec::with_capacity(n),
@@ -127,9 +157,9 @@ pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
 /// `facing(X, Y, T)`: the bearing of Y's centre from X's centre is within
 /// [`FACING_MAX_ANGLE_DEG`] of X's forward axis (RefAV's `facing_toward`).
 pub fn facing(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, None), |f, x, y, _, out| {
+    let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
         let [fx, ly] = x.to_local(y.center);
-        if ly.atan2(fx).to_degrees().abs() <= FACING_MAX_ANGLE_DEG {
+        if ly.atan2(fx).to_degrees().abs() <= FACING_MAX_ANGLE_DEG && d.within() {
             out.push((x.track, y.track, f));
         }
     });
