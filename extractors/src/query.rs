@@ -7,7 +7,7 @@ use std::cmp::Ordering;
 use scenalog_facts::catalog::{self, ColType, RelationSpec};
 use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
 use scenalog_facts::scene::is_vehicle_category;
-use scenalog_facts::{Scene, TrackId};
+use scenalog_facts::{Frame, Scene, TrackId};
 
 /// Why a request cannot be answered.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -155,6 +155,52 @@ impl<'r> Query<'r> {
                 _ => None,
             })
             .reduce(f64::min)
+    }
+
+    /// The frames the constraints on time column `col` allow (`Eq`, `Lt`, `Le`, `Gt`, `Ge`), as a
+    /// range within `0..num_frames` (empty when no frame can satisfy them).
+    pub fn frames(&self, col: usize, num_frames: usize) -> std::ops::Range<Frame> {
+        let (mut lo, mut hi) = (0.0_f64, num_frames as f64);
+        for (c, k) in &self.req.constraints {
+            if *c != col {
+                continue;
+            }
+            match k {
+                Constraint::Eq(Value::Time(t)) => {
+                    lo = lo.max(f64::from(*t));
+                    hi = hi.min(f64::from(*t) + 1.0);
+                }
+                Constraint::Eq(Value::Int(t)) => {
+                    lo = lo.max(*t as f64);
+                    hi = hi.min(*t as f64 + 1.0);
+                }
+                Constraint::Lt(v) => hi = hi.min(v.ceil()),
+                Constraint::Le(v) => hi = hi.min(v.floor() + 1.0),
+                Constraint::Gt(v) => lo = lo.max(v.floor() + 1.0),
+                Constraint::Ge(v) => lo = lo.max(v.ceil()),
+                _ => {}
+            }
+        }
+        if lo.is_nan() || hi.is_nan() || hi <= lo {
+            return 0..0;
+        }
+        let lo = lo.clamp(0.0, num_frames as f64) as Frame;
+        let hi = hi.clamp(0.0, num_frames as f64) as Frame;
+        lo..hi.max(lo)
+    }
+
+    /// The indices of a track's boxes (given their sorted frames) whose frame the constraints on
+    /// time column `col` allow.
+    pub fn box_range(
+        &self,
+        col: usize,
+        num_frames: usize,
+        frames: &[Frame],
+    ) -> std::ops::Range<usize> {
+        let r = self.frames(col, num_frames);
+        let a = frames.partition_point(|&f| f < r.start);
+        let b = frames.partition_point(|&f| f < r.end);
+        a..b.max(a)
     }
 
     /// The string column `col` is fixed to, if an `Eq` constraint fixes it.

@@ -511,3 +511,54 @@ fn extractor_is_shareable_across_threads() {
     assert_eq!(a, b);
     assert!(a.expect("lane_change") > 0);
 }
+
+/// For every relation and a set of constraints on each of its columns, the pushed-down answer is
+/// exactly the full relation filtered by those constraints.
+#[test]
+fn pushdown_equals_filtering_the_full_relation() {
+    use scenalog_extractors::query::satisfies;
+    use scenalog_facts::catalog::{catalog, ColType};
+    let scene = road_scene();
+    let ex = Extractor::new(&scene);
+    let changer = scene.track_by_uuid["changer"];
+    let mut checked = 0;
+    for spec in catalog() {
+        let full = ex.extract(&Request::all(spec.name)).expect("full");
+        for (col, c) in spec.columns.iter().enumerate() {
+            let options: Vec<Constraint> = match c.ty {
+                ColType::Track => vec![
+                    Constraint::Category(Arc::from("VEHICLE")),
+                    Constraint::Category(Arc::from("PEDESTRIAN")),
+                    Constraint::Eq(Value::Track(changer)),
+                ],
+                ColType::Time => vec![
+                    Constraint::Eq(Value::Time(35)),
+                    Constraint::Lt(10.0),
+                    Constraint::Ge(70.5),
+                ],
+                ColType::Float => vec![
+                    Constraint::Lt(1.0),
+                    Constraint::Ge(2.0),
+                    Constraint::Le(0.0),
+                ],
+                ColType::Str => vec![Constraint::Eq(Value::Str(Arc::from("right")))],
+                ColType::Lane | ColType::Int => vec![],
+            };
+            for c in options {
+                let req = Request {
+                    name: spec.name.into(),
+                    constraints: vec![(col, c.clone())],
+                };
+                let got = ex.extract(&req).expect("constrained");
+                let want: Vec<Vec<Value>> = (0..full.len())
+                    .filter_map(|i| full.row(i))
+                    .filter(|r| satisfies(&scene, &r[col], &c))
+                    .collect();
+                let got: Vec<Vec<Value>> = (0..got.len()).filter_map(|i| got.row(i)).collect();
+                assert_eq!(got, want, "{} with column {col} {c:?}", spec.name);
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 80, "{checked}");
+}

@@ -22,10 +22,13 @@ fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
 /// `in_lane(X, T, L)`: the assigned lane per box.
 pub fn in_lane(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, lanes) = (ex.kinematics(), ex.lanes());
+    let n = ex.scene().num_frames();
     let (mut xs, mut ts, mut ls) = (Vec::new(), Vec::new(), Vec::new());
     for t in q.tracks(ex.scene(), 0) {
         let i = t.index();
-        for (&f, l) in kin.tracks[i].frames.iter().zip(&lanes.lanes[i]) {
+        let k = &kin.tracks[i];
+        let r = q.box_range(1, n, &k.frames);
+        for (&f, l) in k.frames[r.clone()].iter().zip(&lanes.lanes[i][r]) {
             if let Some(l) = l {
                 xs.push(t);
                 ts.push(f);
@@ -42,10 +45,13 @@ pub fn in_lane(ex: &Extractor, q: &Query) -> RelationData {
 /// `on_road(X, T)`: the box has an assigned lane.
 pub fn on_road(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, lanes) = (ex.kinematics(), ex.lanes());
+    let n = ex.scene().num_frames();
     let (mut xs, mut ts) = (Vec::new(), Vec::new());
     for t in q.tracks(ex.scene(), 0) {
         let i = t.index();
-        for (&f, l) in kin.tracks[i].frames.iter().zip(&lanes.lanes[i]) {
+        let k = &kin.tracks[i];
+        let r = q.box_range(1, n, &k.frames);
+        for (&f, l) in k.frames[r.clone()].iter().zip(&lanes.lanes[i][r]) {
             if l.is_some() {
                 xs.push(t);
                 ts.push(f);
@@ -58,10 +64,12 @@ pub fn on_road(ex: &Extractor, q: &Query) -> RelationData {
 /// A per-box test on the raw centre (`in_drivable_area`, `on_intersection`).
 pub fn centre_test(ex: &Extractor, q: &Query, test: impl Fn([f64; 2]) -> bool) -> RelationData {
     let kin = ex.kinematics();
+    let n = ex.scene().num_frames();
     let (mut xs, mut ts) = (Vec::new(), Vec::new());
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
-        for (&f, &c) in k.frames.iter().zip(&k.center) {
+        let r = q.box_range(1, n, &k.frames);
+        for (&f, &c) in k.frames[r.clone()].iter().zip(&k.center[r]) {
             if test(c) {
                 xs.push(t);
                 ts.push(f);
@@ -81,12 +89,14 @@ fn distance_bound(q: &Query, col: usize) -> f64 {
 /// `near_intersection(X, T, D)`.
 pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, index) = (ex.kinematics(), ex.map_index());
+    let n = ex.scene().num_frames();
     let max = distance_bound(q, 2);
     let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
         let mut hint = None;
-        for (&f, &c) in k.frames.iter().zip(&k.center) {
+        let r = q.box_range(1, n, &k.frames);
+        for (&f, &c) in k.frames[r.clone()].iter().zip(&k.center[r]) {
             if let Some(d) = index.intersection_distance_hinted(c, max, &mut hint) {
                 xs.push(t);
                 ts.push(f);
@@ -103,11 +113,14 @@ pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
 /// `at_crosswalk(X, T, D)`: distance from the object's ground rectangle to the nearest crossing.
 pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin, index) = (ex.scene(), ex.kinematics(), ex.map_index());
+    let n = scene.num_frames();
     let max = distance_bound(q, 2);
     let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
     for t in q.tracks(scene, 0) {
         let k = &kin.tracks[t.index()];
-        for (i, b) in scene.track(t).boxes.iter().enumerate() {
+        let boxes = &scene.track(t).boxes;
+        for i in q.box_range(1, n, &k.frames) {
+            let b = &boxes[i];
             let shape =
                 Polygon::new(box_corners(k.center[i], k.yaw[i], b.size[0], b.size[1]).to_vec());
             if let Some(d) = index.crossing_distance(&shape, max) {
@@ -126,6 +139,7 @@ pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
 /// `at_stop_sign(X, S, T)`.
 pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin, lanes) = (ex.scene(), ex.kinematics(), ex.lane_indices());
+    let n = scene.num_frames();
     let signs: Vec<_> = ex
         .stop_signs()
         .iter()
@@ -139,7 +153,8 @@ pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
                 continue;
             }
             let k = &kin.tracks[t.index()];
-            for (i, &f) in k.frames.iter().enumerate() {
+            for i in q.box_range(2, n, &k.frames) {
+                let f = k.frames[i];
                 for sign in &signs {
                     if crate::map::stop_signs::at_sign(
                         sign,

@@ -18,7 +18,8 @@ pub fn per_box(ex: &Extractor, q: &Query, field: fn(&TrackKinematics) -> &[f64])
         let Some(k) = kin.tracks.get(t.index()) else {
             continue;
         };
-        for (&f, &v) in k.frames.iter().zip(field(k)) {
+        let r = q.box_range(1, ex.scene().num_frames(), &k.frames);
+        for (&f, &v) in k.frames[r.clone()].iter().zip(&field(k)[r]) {
             xs.push(t);
             ts.push(f);
             vs.push(v);

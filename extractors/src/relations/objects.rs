@@ -47,8 +47,12 @@ pub fn ego(ex: &Extractor, q: &Query) -> RelationData {
 pub fn present(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
     let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    let r = q.frames(1, scene.num_frames());
     for t in q.tracks(scene, 0) {
-        for b in &scene.track(t).boxes {
+        let boxes = &scene.track(t).boxes;
+        let a = boxes.partition_point(|b| b.frame < r.start);
+        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
+        for b in &boxes[a..z] {
             xs.push(t);
             ts.push(b.frame);
         }
@@ -62,11 +66,12 @@ pub fn present(ex: &Extractor, q: &Query) -> RelationData {
 /// `frame_ns(T, Ns)`.
 pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
     let ns = ex.scene().timeline.timestamps_ns();
+    let r = q.frames(0, ns.len());
     RelationData {
         name: q.spec.name.into(),
         columns: vec![
-            Column::Time((0..ns.len() as u32).collect()),
-            Column::Int(ns.to_vec()),
+            Column::Time(r.clone().collect()),
+            Column::Int(ns[r.start as usize..r.end as usize].to_vec()),
         ],
     }
 }
@@ -74,7 +79,7 @@ pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
 /// `seconds(T, S)`.
 pub fn seconds(ex: &Extractor, q: &Query) -> RelationData {
     let tl = &ex.scene().timeline;
-    let frames: Vec<u32> = (0..tl.len() as u32).collect();
+    let frames: Vec<u32> = q.frames(0, tl.len()).collect();
     let secs = frames
         .iter()
         .map(|&f| tl.seconds(f).unwrap_or(0.0))
