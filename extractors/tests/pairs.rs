@@ -601,3 +601,10 @@ fn facing_on_the_road() {
     );
     assert!(frames(&rows, "lead", "follower").is_empty());
 }
+
+#[test]
+fn the_context_and_index_are_sync() {
+    fn sync<T: Sync + Send>() {}
+    sync::<pairs::PairIndex>();
+    sync::<PairContext<'static>>();
+}

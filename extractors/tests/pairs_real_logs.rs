@@ -381,3 +381,109 @@ fn real_crossings_are_sensible() {
         );
     }
 }
+
+/// Y's raw centre in X's raw box frame at `f`: (forward, left), and X's half length and width.
+fn local(scene: &Scene, x: TrackId, y: TrackId, f: Frame) -> ([f64; 2], [f64; 2]) {
+    let bx = scene.track(x).box_at(f).expect("x present");
+    let by = scene.track(y).box_at(f).expect("y present");
+    let (cx, cy) = (bx.city_center(), by.city_center());
+    let (s, c) = bx.city_yaw().sin_cos();
+    let (dx, dy) = (cy.x - cx.x, cy.y - cx.y);
+    (
+        [dx * c + dy * s, -dx * s + dy * c],
+        [bx.size[0] / 2.0, bx.size[1] / 2.0],
+    )
+}
+
+#[test]
+fn box_relations_agree_with_independent_geometry() {
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let near: BTreeMap<(TrackId, TrackId, Frame), f64> =
+            rows(&answer(&ex, &Request::all("near")))
+                .iter()
+                .map(|r| match r[3] {
+                    Value::Float(d) => (xyt(r), d),
+                    _ => panic!("D is a float"),
+                })
+                .collect();
+        let direction = answer(&ex, &Request::all("direction"));
+        let mut per_dir: BTreeMap<String, usize> = BTreeMap::new();
+        for r in rows(&direction) {
+            let (x, y, t) = xyt(&r);
+            let (Value::Str(dir), Value::Float(dist), Value::Float(lat)) = (&r[3], &r[4], &r[5])
+            else {
+                panic!("{r:?}")
+            };
+            assert_eq!(near.get(&(x, y, t)), Some(dist), "Dist is near's D");
+            let ([fwd, left], [hl, hw]) = local(scene, x, y, t);
+            let (inside, expected_lat) = match &**dir {
+                "forward" => (fwd > hl, (left.abs() - hw).max(0.0)),
+                "backward" => (fwd < -hl, (left.abs() - hw).max(0.0)),
+                "left" => (left > hw, (fwd.abs() - hl).max(0.0)),
+                "right" => (left < -hw, (fwd.abs() - hl).max(0.0)),
+                other => panic!("{other}"),
+            };
+            assert!(inside, "{r:?}: {fwd} {left}");
+            assert!((lat - expected_lat).abs() < 1e-6, "{r:?}: {expected_lat}");
+            *per_dir.entry(dir.to_string()).or_default() += 1;
+        }
+        // Every near pair whose Y centre lies outside X's box has at least one direction.
+        let dir_pairs: BTreeSet<(TrackId, TrackId, Frame)> =
+            rows(&direction).iter().map(|r| xyt(r)).collect();
+        for &(x, y, t) in near.keys() {
+            let ([fwd, left], [hl, hw]) = local(scene, x, y, t);
+            if fwd.abs() > hl + 1e-6 || left.abs() > hw + 1e-6 {
+                assert!(dir_pairs.contains(&(x, y, t)), "{x:?} {y:?} {t}");
+            }
+        }
+        let facing = answer(&ex, &Request::all("facing"));
+        for r in rows(&facing) {
+            let (x, y, t) = xyt(&r);
+            let ([fwd, left], _) = local(scene, x, y, t);
+            assert!(left.atan2(fwd).to_degrees().abs() <= 22.5 + 1e-9, "{r:?}");
+        }
+        // Following: the lead's centre is ahead of X's front by less than 25 m, within 5 m to the
+        // side (raw centres here, smoothed in the relation: 1 m of slack), both in lanes.
+        let in_lane: BTreeSet<(TrackId, Frame)> = {
+            let d = ex
+                .extract(&Request::all("in_lane"))
+                .unwrap_or_else(|e| panic!("{e}"));
+            rows(&d)
+                .iter()
+                .map(|r| match (&r[0], &r[1]) {
+                    (Value::Track(x), Value::Time(t)) => (*x, *t),
+                    other => panic!("{other:?}"),
+                })
+                .collect()
+        };
+        let following = answer(&ex, &Request::all("following"));
+        for r in rows(&following) {
+            let (x, y, t) = xyt(&r);
+            let ([fwd, left], [hl, _]) = local(scene, x, y, t);
+            assert!(
+                fwd - hl > -1.0 && fwd - hl < 26.0 && left.abs() < 6.0,
+                "{r:?}"
+            );
+            assert!(
+                in_lane.contains(&(x, t)) && in_lane.contains(&(y, t)),
+                "{r:?}"
+            );
+        }
+        for name in ["same_lane", "road_side"] {
+            for r in rows(&answer(&ex, &Request::all(name))) {
+                let (x, y, t) = xyt(&r);
+                assert!(
+                    in_lane.contains(&(x, t)) && in_lane.contains(&(y, t)),
+                    "{name} {r:?}"
+                );
+            }
+        }
+        println!(
+            "{}: direction {per_dir:?}, facing {}, following {}",
+            scene.log_id,
+            facing.len(),
+            following.len()
+        );
+    }
+}
