@@ -2,7 +2,9 @@
 //! - `all/LOG/threads=N`: every relation of the catalog from a fresh [`Extractor`] (kinematics,
 //!   map index, lane assignment and all), on a rayon pool of N threads;
 //! - `demand/LOG`: the demand-driven path of a typical two-relation program,
-//!   `category(X, "VEHICLE"), speed(X, T, V), V < 0.5`, from a fresh context on one thread.
+//!   `category(X, "VEHICLE"), speed(X, T, V), V < 0.5`, from a fresh context on one thread;
+//! - `demand_pairs/LOG`: `category(P, "PEDESTRIAN"), category(B, "BUS"), near(P, B, T, D), D < 5`
+//!   (the pushdown keeps car-to-car pairs out), fresh context, one thread.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -70,6 +72,35 @@ fn bench(c: &mut Criterion) {
                     let a = ex.extract(&category).map_or(0, |r| r.len());
                     let b = ex.extract(&speed).map_or(0, |r| r.len());
                     a + b
+                })
+            })
+        });
+    }
+    g.finish();
+
+    let cat = |c: &str| Request {
+        name: "category".into(),
+        constraints: vec![(1, Constraint::Eq(Value::Str(Arc::from(c))))],
+    };
+    let near = Request {
+        name: "near".into(),
+        constraints: vec![
+            (0, Constraint::Category(Arc::from("PEDESTRIAN"))),
+            (1, Constraint::Category(Arc::from("BUS"))),
+            (3, Constraint::Lt(5.0)),
+        ],
+    };
+    let mut g = c.benchmark_group("demand_pairs");
+    g.sample_size(30);
+    for s in &scenes {
+        g.bench_function(&s.log_id[..8], |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    let ex = Extractor::new(s);
+                    [cat("PEDESTRIAN"), cat("BUS"), near.clone()]
+                        .iter()
+                        .map(|r| ex.extract(r).map_or(0, |d| d.len()))
+                        .sum::<usize>()
                 })
             })
         });
