@@ -1,1 +1,201 @@
-//! Synthesizing Scenalog programs from descriptions with an LLM. Not built yet (issue: synth).
+//! Synthesizing Scenalog programs from natural-language descriptions with an LLM.
+//!
+//! Owns: the prompt (built from the catalog, a summary of the language, the category list and
+//! examples chosen from the scenario library), the OpenAI-compatible chat-completions client
+//! (timeouts, retries with backoff), extraction of the program from an answer, the repair loop
+//! that feeds the checker's diagnostics back to the model (with a transcript of every round), the
+//! on-disk completion cache, and batch synthesis of many descriptions into a directory of `.dl`
+//! files.
+//!
+//! Does not own: the rule language or its checker (the `rules` crate, which this calls through
+//! [`scenalog_rules::check`]), the catalog (the `facts` crate), or mining with the programs (the
+//! root package's pipeline, which calls [`batch::run`]).
+//!
+//! The entry point is [`Synthesizer`]: made from a [`SynthConfig`], it turns one description into a
+//! [`repair::Transcript`] ([`Synthesizer::synthesize`]); [`batch::run`] does many at once.
+
+#![warn(missing_docs)]
+
+pub mod batch;
+pub mod cache;
+pub mod client;
+pub mod diagnostics;
+pub mod extract;
+pub mod library;
+pub mod prompt;
+pub mod repair;
+pub mod slug;
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+pub use batch::{BatchItem, BatchOptions, BatchReport, ItemStatus};
+pub use cache::Cache;
+pub use client::{Client, ClientError, LlmConfig, Message};
+pub use library::Example;
+pub use repair::{Outcome, Round, Transcript};
+
+/// Errors of synthesis that are not the model's or the server's fault: files and directories.
+#[derive(Debug, thiserror::Error)]
+pub enum SynthError {
+    /// A file or directory could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+    /// A file's content is not what was expected.
+    #[error("{path}: {message}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the line when there is one.
+        message: String,
+    },
+}
+
+impl SynthError {
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> SynthError {
+        SynthError::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// Everything a [`Synthesizer`] needs.
+#[derive(Debug, Clone)]
+pub struct SynthConfig {
+    /// The LLM server and model.
+    pub llm: LlmConfig,
+    /// Where completions are cached (`None`: no cache).
+    pub cache_dir: Option<PathBuf>,
+    /// How many completions to ask for at most (the first attempt and the repairs), at least 1.
+    pub rounds: usize,
+    /// The in-context examples to choose from.
+    pub library: Vec<Example>,
+    /// How many examples go into a prompt: the most similar to the description (`None`: all).
+    pub examples: Option<usize>,
+}
+
+impl SynthConfig {
+    /// A configuration with the server from `llm`, no cache, 3 rounds, the embedded library and
+    /// at most [`prompt::DEFAULT_EXAMPLES`] examples.
+    pub fn new(llm: LlmConfig) -> SynthConfig {
+        SynthConfig {
+            llm,
+            cache_dir: None,
+            rounds: 3,
+            library: library::embedded(),
+            examples: Some(prompt::DEFAULT_EXAMPLES),
+        }
+    }
+}
+
+/// How many completions a [`Synthesizer`] got from the server and from the cache.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Stats {
+    /// Completions answered by the server (each may have taken several HTTP attempts).
+    pub requests: usize,
+    /// Completions answered by the cache.
+    pub cache_hits: usize,
+}
+
+/// Turns descriptions into checked programs: the client, the cache and the prompt's examples.
+/// Shareable across threads.
+#[derive(Debug)]
+pub struct Synthesizer {
+    config: SynthConfig,
+    client: Client,
+    cache: Option<Cache>,
+    requests: AtomicUsize,
+    cache_hits: AtomicUsize,
+}
+
+impl Synthesizer {
+    /// Makes the client and opens (creating it if needed) the cache directory.
+    pub fn new(config: SynthConfig) -> Result<Synthesizer, SynthError> {
+        let cache = match &config.cache_dir {
+            Some(dir) => Some(Cache::open(dir)?),
+            None => None,
+        };
+        Ok(Synthesizer {
+            client: Client::new(config.llm.clone()),
+            config,
+            cache,
+            requests: AtomicUsize::new(0),
+            cache_hits: AtomicUsize::new(0),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SynthConfig {
+        &self.config
+    }
+
+    /// The first request's messages for a description (what `--print-prompt` shows).
+    pub fn prompt(&self, description: &str) -> Vec<Message> {
+        prompt::messages(description, &self.config.library, self.config.examples)
+    }
+
+    /// Synthesizes one description: prompt, then up to `rounds` completions, each checked and
+    /// repaired on diagnostics. Never fails: an unreachable server is the transcript's outcome.
+    pub fn synthesize(&self, description: &str) -> Transcript {
+        repair::run(self, description)
+    }
+
+    /// Completions so far, from the server and from the cache.
+    pub fn stats(&self) -> Stats {
+        Stats {
+            requests: self.requests.load(Ordering::Relaxed),
+            cache_hits: self.cache_hits.load(Ordering::Relaxed),
+        }
+    }
+
+    /// One completion: from the cache when it has one, else from the server, stored in the cache
+    /// before it is returned. The flag says whether it came from the cache.
+    pub fn complete(&self, messages: &[Message]) -> Result<(String, bool), ClientError> {
+        let key = Cache::key(&self.config.llm.model, messages);
+        if let Some(cache) = &self.cache {
+            if let Some(text) = cache.get(&key) {
+                self.cache_hits.fetch_add(1, Ordering::Relaxed);
+                return Ok((text, true));
+            }
+        }
+        let text = self.client.complete(messages)?;
+        self.requests.fetch_add(1, Ordering::Relaxed);
+        if let Some(cache) = &self.cache {
+            if let Err(e) = cache.put(&key, &self.config.llm.model, messages, &text) {
+                // The completion is still good; say the cache could not keep it.
+                eprintln!("warning: could not cache a completion: {e}");
+            }
+        }
+        Ok((text, false))
+    }
+}
+
+/// For `scenalog mine --descriptions FILE`: synthesizes (or takes from `out_dir` and the cache)
+/// a program for every description of `descriptions_file` (one a line), writing them to
+/// `out_dir` as [`batch::run`] does. The report's items hold the programs in file order; mine
+/// those whose status is [`ItemStatus::Clean`] or [`ItemStatus::Resumed`].
+pub fn programs_for_descriptions(
+    descriptions_file: &std::path::Path,
+    out_dir: &std::path::Path,
+    config: SynthConfig,
+    jobs: usize,
+    progress: bool,
+) -> Result<BatchReport, SynthError> {
+    let descriptions = batch::read_descriptions(descriptions_file)?;
+    let synth = Synthesizer::new(config)?;
+    batch::run(
+        &synth,
+        &descriptions,
+        &BatchOptions {
+            out_dir: out_dir.to_path_buf(),
+            jobs,
+            progress,
+        },
+    )
+}

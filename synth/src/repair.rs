@@ -1,0 +1,182 @@
+//! The repair loop: ask for a program, check it, send the diagnostics back, and ask again, up to
+//! the configured number of rounds; every round is recorded in a [`Transcript`].
+
+use scenalog_rules::{check, CheckOptions};
+use serde::Serialize;
+
+use crate::client::Message;
+use crate::diagnostics;
+use crate::extract::{extract, one_line, with_description, Extracted};
+use crate::Synthesizer;
+
+/// What one round produced.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RoundResult {
+    /// The program checked with no error (warnings may remain).
+    Clean,
+    /// The program has errors.
+    Errors,
+    /// The answer held no program.
+    NoCode,
+}
+
+/// One completion and what the checker made of it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Round {
+    /// 1-based round number.
+    pub round: usize,
+    /// Whether the completion came from the cache.
+    pub cached: bool,
+    /// The model's whole answer.
+    pub completion: String,
+    /// The program taken from it, with the description comment first (`None`: no code).
+    pub program: Option<String>,
+    /// The checker's diagnostics on `program`, as JSON (see [`diagnostics::to_json`]).
+    pub diagnostics: serde_json::Value,
+    /// How many of them are errors.
+    pub errors: usize,
+    /// What the round amounted to.
+    pub result: RoundResult,
+    /// The message sent back to the model after this round (`None` after the last one or a
+    /// clean one).
+    pub feedback: Option<String>,
+}
+
+/// How synthesis of one description ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Outcome {
+    /// A program checked clean in this round.
+    Clean {
+        /// The round (1-based).
+        round: usize,
+    },
+    /// Every round ended with errors or without code.
+    Failed,
+    /// The server could not be reached or did not answer properly.
+    Unreachable {
+        /// The client's error.
+        error: String,
+    },
+}
+
+/// Everything that happened while synthesizing one description.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Transcript {
+    /// The description (on one line).
+    pub description: String,
+    /// The model asked.
+    pub model: String,
+    /// The rounds, in order.
+    pub rounds: Vec<Round>,
+    /// How it ended.
+    pub outcome: Outcome,
+}
+
+impl Transcript {
+    /// Whether a program checked clean.
+    pub fn is_clean(&self) -> bool {
+        matches!(self.outcome, Outcome::Clean { .. })
+    }
+
+    /// The last program any round produced (the clean one when there is one).
+    pub fn program(&self) -> Option<&str> {
+        self.rounds.iter().rev().find_map(|r| r.program.as_deref())
+    }
+
+    /// The diagnostics of [`Transcript::program`] as JSON (an empty array when there is none).
+    pub fn diagnostics(&self) -> serde_json::Value {
+        self.rounds
+            .iter()
+            .rev()
+            .find(|r| r.program.is_some())
+            .map_or_else(|| serde_json::json!([]), |r| r.diagnostics.clone())
+    }
+
+    /// The transcript as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+}
+
+/// What the model is told when its answer held no program.
+pub const NO_CODE_FEEDBACK: &str = "Your answer contained no program: no fenced code block and no clause (`head :- body.`). Reply with the complete Scenalog program for the description in one fenced code block (```scenalog ... ```), and nothing else.";
+
+/// The feedback for a program with errors: the diagnostics as JSON and the offending lines.
+pub fn error_feedback(program: &str, diags: &[scenalog_rules::Diagnostic]) -> String {
+    let n = diagnostics::error_count(diags);
+    let json = serde_json::to_string_pretty(&diagnostics::to_json(diags, program))
+        .unwrap_or_else(|_| "[]".into());
+    format!(
+        "The checker rejected the program with {n} error{}. Its diagnostics as JSON (lines and columns count from 1 at the `// description:` line):\n\n```json\n{json}\n```\n\nThe offending lines:\n\n```\n{}```\n\nFix every error and reply with the complete corrected program in one fenced code block (```scenalog ... ```).",
+        if n == 1 { "" } else { "s" },
+        diagnostics::render(diags, program),
+    )
+}
+
+/// Runs the loop for one description with `synth`'s client, cache and configuration.
+pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
+    let description = one_line(description);
+    let config = synth.config();
+    let mut messages = synth.prompt(&description);
+    let mut transcript = Transcript {
+        description: description.clone(),
+        model: config.llm.model.clone(),
+        rounds: Vec::new(),
+        outcome: Outcome::Failed,
+    };
+    let rounds = config.rounds.max(1);
+    for round in 1..=rounds {
+        let (completion, cached) = match synth.complete(&messages) {
+            Ok(c) => c,
+            Err(e) => {
+                transcript.outcome = Outcome::Unreachable {
+                    error: e.to_string(),
+                };
+                return transcript;
+            }
+        };
+        let mut r = Round {
+            round,
+            cached,
+            completion: completion.clone(),
+            program: None,
+            diagnostics: serde_json::json!([]),
+            errors: 0,
+            result: RoundResult::NoCode,
+            feedback: None,
+        };
+        let feedback = match extract(&completion) {
+            Extracted::NoCode => NO_CODE_FEEDBACK.to_string(),
+            Extracted::Program(code) => {
+                let program = with_description(&code, &description);
+                let outcome = check(
+                    &program,
+                    &CheckOptions {
+                        require_referred: true,
+                    },
+                );
+                r.diagnostics = diagnostics::to_json(&outcome.diagnostics, &program);
+                r.errors = diagnostics::error_count(&outcome.diagnostics);
+                let feedback = error_feedback(&program, &outcome.diagnostics);
+                r.program = Some(program);
+                if outcome.program.is_some() {
+                    r.result = RoundResult::Clean;
+                    transcript.rounds.push(r);
+                    transcript.outcome = Outcome::Clean { round };
+                    return transcript;
+                }
+                r.result = RoundResult::Errors;
+                feedback
+            }
+        };
+        if round < rounds {
+            r.feedback = Some(feedback.clone());
+            messages.push(Message::assistant(completion));
+            messages.push(Message::user(feedback));
+        }
+        transcript.rounds.push(r);
+    }
+    transcript
+}
