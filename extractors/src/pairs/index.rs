@@ -1,6 +1,8 @@
 //! Object boxes per frame in `rstar` R-trees, and the ground-rectangle distance between two boxes
 //! (with `parry2d`).
 
+use std::ops::Range;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 
 use parry2d::math::{Pose, Vector};
@@ -14,6 +16,7 @@ use scenalog_facts::VectorMap;
 
 use crate::kinematics::Kinematics;
 use crate::lanes::LaneAssignment;
+use crate::thresholds::PAIR_MAX_DISTANCE_M;
 
 /// One object's box at one frame, in the ground plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,10 +103,12 @@ pub struct FrameBoxes {
 impl FrameBoxes {
     /// The box of `track` at this frame, if present.
     pub fn of(&self, track: TrackId) -> Option<&ObjBox> {
-        self.boxes
-            .binary_search_by_key(&track, |b| b.track)
-            .ok()
-            .map(|i| &self.boxes[i])
+        self.position(track).map(|i| &self.boxes[i])
+    }
+
+    /// The position of `track`'s box in `boxes`, if present.
+    pub fn position(&self, track: TrackId) -> Option<usize> {
+        self.boxes.binary_search_by_key(&track, |b| b.track).ok()
     }
 
     /// Indices (into `boxes`) of the boxes whose bounding box comes within `radius` of `b`'s
@@ -130,6 +135,63 @@ pub struct PairIndex {
     frames: Vec<OnceLock<FrameBoxes>>,
     /// Map lane index of every track box (`lanes[track][k]`), built on first use.
     lanes: OnceLock<Vec<Vec<Option<u32>>>>,
+    /// Every pair that may be within [`PAIR_MAX_DISTANCE_M`] at every frame, built on first use.
+    all: OnceLock<PairList>,
+}
+
+/// One pair of boxes at one frame whose rectangles may be within the list's radius: Y, the frame,
+/// the two boxes' positions in the frame's [`FrameBoxes::boxes`], the distance between their
+/// centres, and their rectangle distance once someone needed it (computed at most once per
+/// thread race, always to the same value).
+#[derive(Debug)]
+pub struct PairRow {
+    /// The other track.
+    pub y: TrackId,
+    /// The frame.
+    pub frame: Frame,
+    /// X's box in the frame's boxes.
+    pub xi: u32,
+    /// Y's box in the frame's boxes.
+    pub yi: u32,
+    /// Distance between the two centres, metres (never less than the rectangle distance).
+    pub centres: f64,
+    dist: AtomicU64,
+}
+
+/// `PairRow::dist` before it is computed (a NaN no distance computation returns).
+const UNKNOWN: u64 = u64::MAX;
+
+impl PairRow {
+    /// The rectangle distance of the pair (`x`, `y` its boxes), computed on first use.
+    pub fn distance(&self, x: &ObjBox, y: &ObjBox) -> f64 {
+        let bits = self.dist.load(Ordering::Relaxed);
+        if bits != UNKNOWN {
+            return f64::from_bits(bits);
+        }
+        let d = box_distance(x, y);
+        self.dist.store(d.to_bits(), Ordering::Relaxed);
+        d
+    }
+}
+
+impl Clone for PairRow {
+    fn clone(&self) -> Self {
+        PairRow {
+            dist: AtomicU64::new(self.dist.load(Ordering::Relaxed)),
+            ..*self
+        }
+    }
+}
+
+/// Pairs of boxes whose rectangles may be at most `radius` apart (their centres are at most
+/// `radius` plus both half diagonals apart), grouped by X (ascending), each X's rows sorted by
+/// (Y, frame).
+#[derive(Debug, Clone, Default)]
+pub struct PairList {
+    /// The largest distance listed.
+    pub radius: f64,
+    /// Per X track: its pairs.
+    pub per_x: Vec<(TrackId, Vec<PairRow>)>,
 }
 
 impl PairIndex {
@@ -163,6 +225,7 @@ impl PairIndex {
             sizes,
             frames: (0..n).map(|_| OnceLock::new()).collect(),
             lanes: OnceLock::new(),
+            all: OnceLock::new(),
         }
     }
 
@@ -191,6 +254,85 @@ impl PairIndex {
                 })
                 .collect()
         })
+    }
+
+    /// Every pair that may be within [`PAIR_MAX_DISTANCE_M`] at every frame (computed once, in
+    /// parallel; rectangle distances are filled in as relations need them).
+    pub fn all_pairs(&self, kin: &Kinematics) -> &PairList {
+        self.all.get_or_init(|| {
+            let xs: Vec<TrackId> = (0..kin.tracks.len() as u32).map(TrackId).collect();
+            let frames = 0..self.num_frames() as Frame;
+            self.pairs(kin, &xs, |_| true, None, frames, PAIR_MAX_DISTANCE_M)
+        })
+    }
+
+    /// [`PairIndex::all_pairs`] if it has been computed.
+    pub fn all_pairs_if_built(&self) -> Option<&PairList> {
+        self.all.get()
+    }
+
+    /// The pairs (X in `xs`, Y passing `keep_y`, X ≠ Y) that may be at most `radius` apart at the given
+    /// frames: through each frame's R-tree, or by looking up each of `direct_ys` when given (a
+    /// small Y set). X tracks in parallel; deterministic.
+    pub fn pairs(
+        &self,
+        kin: &Kinematics,
+        xs: &[TrackId],
+        keep_y: impl Fn(TrackId) -> bool + Sync,
+        direct_ys: Option<&[TrackId]>,
+        frames: Range<Frame>,
+        radius: f64,
+    ) -> PairList {
+        use rayon::prelude::*;
+        let per_x = xs
+            .par_iter()
+            .map(|&xt| {
+                let mut rows = Vec::new();
+                let Some(kx) = kin.tracks.get(xt.index()) else {
+                    return (xt, rows);
+                };
+                for &frame in kx.frames.iter().filter(|f| frames.contains(f)) {
+                    let Some(fb) = self.frame(kin, frame) else {
+                        continue;
+                    };
+                    let Some(xi) = fb.position(xt) else {
+                        continue;
+                    };
+                    let x = &fb.boxes[xi];
+                    let mut visit = |yi: usize| {
+                        let y = &fb.boxes[yi];
+                        if y.track == xt || !keep_y(y.track) {
+                            return;
+                        }
+                        let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
+                        let d2 = dx * dx + dy * dy;
+                        // Beyond this the rectangles cannot come within the radius.
+                        let max = radius + x.reach + y.reach;
+                        if d2 > max * max {
+                            return;
+                        }
+                        rows.push(PairRow {
+                            y: y.track,
+                            frame,
+                            xi: xi as u32,
+                            yi: yi as u32,
+                            centres: d2.sqrt(),
+                            dist: AtomicU64::new(UNKNOWN),
+                        });
+                    };
+                    match direct_ys {
+                        Some(ys) => ys
+                            .iter()
+                            .filter_map(|&t| fb.position(t))
+                            .for_each(&mut visit),
+                        None => fb.candidates(x, radius).for_each(&mut visit),
+                    }
+                }
+                rows.sort_unstable_by_key(|r| (u64::from(r.y.0) << 32) | u64::from(r.frame));
+                (xt, rows)
+            })
+            .collect();
+        PairList { radius, per_x }
     }
 
     fn build(&self, kin: &Kinematics, f: usize) -> FrameBoxes {

@@ -26,7 +26,6 @@ pub mod lanes;
 pub mod motion;
 pub mod spatial;
 
-use std::cell::Cell;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -40,7 +39,7 @@ use crate::map::MapIndex;
 use crate::query::{ExtractError, Query};
 use crate::thresholds::PAIR_MAX_DISTANCE_M;
 
-pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex};
+pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex, PairList, PairRow};
 
 /// The catalog names of the pair relations this module provides.
 pub const PAIR_RELATIONS: &[&str] = &[
@@ -238,32 +237,26 @@ pub(crate) fn radius(q: &Query, col: Option<usize>) -> f64 {
 /// Y sets at most this large are looked up directly per X instead of through the R-tree.
 const DIRECT_LOOKUP_MAX: usize = 16;
 
-/// The distance between the two boxes of a pair, computed only when asked for (most relations
-/// test their own condition first) and at most once.
+/// The distance between the two boxes of a visited pair, computed when first asked for (most
+/// relations test their own condition first) and shared through the pair list.
 #[derive(Debug)]
 pub struct PairDistance<'b> {
+    row: &'b PairRow,
     x: &'b ObjBox,
     y: &'b ObjBox,
-    centres: f64,
     radius: f64,
-    value: Cell<Option<f64>>,
 }
 
 impl PairDistance<'_> {
     /// The ground-rectangle distance ([`box_distance`]).
     pub fn value(&self) -> f64 {
-        if let Some(v) = self.value.get() {
-            return v;
-        }
-        let v = box_distance(self.x, self.y);
-        self.value.set(Some(v));
-        v
+        self.row.distance(self.x, self.y)
     }
 
     /// Whether the boxes are within the search radius. Cheap when the centres already are (the
     /// rectangle distance never exceeds the centre distance).
     pub fn within(&self) -> bool {
-        self.centres <= self.radius || self.value() <= self.radius
+        self.row.centres <= self.radius || self.value() <= self.radius
     }
 }
 
@@ -280,9 +273,10 @@ fn packed(k: RowKey) -> u128 {
 }
 
 /// Calls `f(frame, x, y, distance, out)` for every pair of different boxes at a frame the query
-/// allows, X allowed in column 0, Y in column 1, whose rectangles may come within `radius`; `f`
-/// must check [`PairDistance::within`] (or the value) itself. X tracks in parallel; the rows come
-/// back sorted by `key` (each X's rows sorted, X ascending): deterministic.
+/// allows, X allowed in column 0, Y in column 1, whose rectangles may be at most `radius` apart;
+/// `f` must check [`PairDistance::within`] (or the value) itself. X tracks in parallel;
+/// pairs are visited in (X, Y, T) order and the rows come back sorted by `key` (so `f` should push
+/// several rows of one pair in key order): deterministic.
 pub(crate) fn for_each_pair<T: Send>(
     ctx: &PairContext,
     q: &Query,
@@ -292,6 +286,37 @@ pub(crate) fn for_each_pair<T: Send>(
 ) -> Vec<T> {
     let frames = frame_range(q, 2, ctx.index.num_frames());
     for_each_pair_in(ctx, q, frames, radius, key, f)
+}
+
+/// The pairs a query may need: the scene's cached list of every pair within
+/// [`PAIR_MAX_DISTANCE_M`] when it exists or the query is unrestricted (the full relation needs it
+/// anyway), else a list restricted to the query's tracks, frames and radius (pushdown).
+fn pair_list<'c>(
+    ctx: &'c PairContext,
+    q: &Query,
+    frames: &Range<Frame>,
+    radius: f64,
+) -> std::borrow::Cow<'c, PairList> {
+    use std::borrow::Cow;
+    if let Some(all) = ctx.index.all_pairs_if_built() {
+        return Cow::Borrowed(all);
+    }
+    let n = ctx.scene.tracks.len();
+    let xs: Vec<TrackId> = q.tracks(ctx.scene, 0).collect();
+    let ys: Vec<TrackId> = q.tracks(ctx.scene, 1).collect();
+    let whole = frames.start == 0 && frames.end as usize >= ctx.index.num_frames();
+    if xs.len() == n && ys.len() == n && whole {
+        return Cow::Borrowed(ctx.index.all_pairs(ctx.kin));
+    }
+    let direct = (ys.len() <= DIRECT_LOOKUP_MAX).then_some(ys.as_slice());
+    Cow::Owned(ctx.index.pairs(
+        ctx.kin,
+        &xs,
+        |t| q.allows_track(1, t),
+        direct,
+        frames.clone(),
+        radius,
+    ))
 }
 
 /// [`for_each_pair`] over the given frames, whatever the query's time constraints.
@@ -307,58 +332,38 @@ pub(crate) fn for_each_pair_in<T: Send>(
     if radius.is_nan() || radius < 0.0 || frames.is_empty() {
         return Vec::new();
     }
-    let xs: Vec<TrackId> = q.tracks(ctx.scene, 0).collect();
-    let ys: Vec<TrackId> = q.tracks(ctx.scene, 1).collect();
-    let direct = ys.len() <= DIRECT_LOOKUP_MAX;
-    let per_x: Vec<Vec<T>> = xs
+    let list = pair_list(ctx, q, &frames, radius);
+    let per_x: Vec<Vec<T>> = list
+        .per_x
         .par_iter()
-        .map(|&xt| {
+        .filter(|(x, _)| q.allows_track(0, *x))
+        .map(|(xt, rows)| {
             let mut out = Vec::new();
-            let Some(kx) = ctx.kin.tracks.get(xt.index()) else {
-                return out;
-            };
-            for &frame in kx.frames.iter().filter(|f| frames.contains(f)) {
-                let Some(fb) = ctx.index.frame(ctx.kin, frame) else {
+            for r in rows {
+                if !frames.contains(&r.frame) || !q.allows_track(1, r.y) {
                     continue;
-                };
-                let Some(x) = fb.of(xt) else {
-                    continue;
-                };
-                let mut visit = |y: &ObjBox| {
-                    if y.track == x.track {
-                        return;
-                    }
-                    let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
-                    let d2 = dx * dx + dy * dy;
-                    // Beyond this the rectangles cannot come within the radius.
-                    let max = radius + x.reach + y.reach;
-                    if d2 > max * max {
-                        return;
-                    }
-                    let d = PairDistance {
-                        x,
-                        y,
-                        centres: d2.sqrt(),
-                        radius,
-                        value: Cell::new(None),
-                    };
-                    f(frame, x, y, &d, &mut out);
-                };
-                if direct {
-                    for &t in &ys {
-                        if let Some(y) = fb.of(t) {
-                            visit(y);
-                        }
-                    }
-                } else {
-                    for i in fb.candidates(x, radius) {
-                        let y = &fb.boxes[i];
-                        if q.allows_track(1, y.track) {
-                            visit(y);
-                        }
-                    }
                 }
+                let Some(fb) = ctx.index.frame(ctx.kin, r.frame) else {
+                    continue;
+                };
+                let (Some(x), Some(y)) = (fb.boxes.get(r.xi as usize), fb.boxes.get(r.yi as usize))
+                else {
+                    continue;
+                };
+                debug_assert!(x.track == *xt && y.track == r.y);
+                // Beyond this the rectangles cannot come within the radius.
+                if r.centres - x.reach - y.reach > radius {
+                    continue;
+                }
+                let d = PairDistance {
+                    row: r,
+                    x,
+                    y,
+                    radius,
+                };
+                f(r.frame, x, y, &d, &mut out);
             }
+            // Already in order when `f` pushes in key order: then this only checks it.
             out.sort_unstable_by_key(|r| packed(key(r)));
             out
         })

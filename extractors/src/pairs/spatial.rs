@@ -94,13 +94,15 @@ pub fn regions(x: &ObjBox, local: [f64; 2]) -> [Option<f64>; 4] {
 /// `get_objects_in_relative_direction` with its default unlimited lateral threshold (bound Lat in
 /// the rule to narrow it).
 pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
-    let want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
+    let ranks = text_ranks(&DIRECTIONS);
+    let mut want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
         .iter()
         .filter_map(|w| DIRECTIONS.iter().position(|d| d == w))
         .collect();
+    // Rows of one pair in text order of the direction, as the output is sorted.
+    want.sort_by_key(|&w| ranks[w]);
     let names = str_values(&DIRECTIONS);
     let bound = radius(q, Some(4));
-    let ranks = text_ranks(&DIRECTIONS);
     let rows = for_each_pair(
         ctx,
         q,
