@@ -10,7 +10,21 @@
 //! The contract with the engine is [`CheckedProgram`]: a parsed program whose every predicate has
 //! known column types and whose clauses are grouped into strata in evaluation order.
 
+#![warn(missing_docs)]
+
 pub mod ast;
+pub mod check;
+pub mod diagnostics;
+pub mod lexer;
+pub mod parser;
+pub mod printer;
+pub mod render;
+pub mod strata;
+
+pub use parser::parse;
+pub use printer::print_program;
+pub use render::{diagnostics_json, render_human};
+pub use strata::{dependency_graph, DepGraph};
 
 use std::collections::BTreeMap;
 
@@ -115,20 +129,9 @@ pub struct CheckOutcome {
     pub diagnostics: Vec<Diagnostic>,
 }
 
-/// Parses and checks a program against the catalog.
-///
-/// Placeholder until the rule-language issue lands: reports that the checker is not built.
+/// Parses and checks a program against the catalog: every syntax error, unknown predicate, arity
+/// and type error, unsafe variable, recursion through negation or aggregation, output-shape
+/// problem and warning, in source order. Never panics, whatever the input.
 pub fn check(source: &str, options: &CheckOptions) -> CheckOutcome {
-    let _ = (source, options);
-    CheckOutcome {
-        program: None,
-        diagnostics: vec![Diagnostic {
-            code: "E0000",
-            severity: Severity::Error,
-            message: "the rule checker is not built yet".into(),
-            span: Span::default(),
-            related: Vec::new(),
-            hint: None,
-        }],
-    }
+    check::check_source(source, options)
 }

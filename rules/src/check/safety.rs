@@ -1,0 +1,239 @@
+//! Safety (every variable bound by a positive atom or a binding: E0201) and variables used
+//! once (W0501).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::ast::{Clause, CmpOp, Expr, ExprKind, Literal, Span};
+use crate::diagnostics::{self, error, warning};
+use crate::Diagnostic;
+
+/// Named variables of an expression, with their spans, in order.
+fn vars<'a>(e: &'a Expr, out: &mut Vec<(&'a str, Span)>) {
+    match &e.kind {
+        ExprKind::Var(v) => out.push((v, e.span)),
+        ExprKind::Neg(x) => vars(x, out),
+        ExprKind::Binary(_, a, b) => {
+            vars(a, out);
+            vars(b, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| vars(a, out)),
+        _ => {}
+    }
+}
+
+fn wildcards(e: &Expr, out: &mut Vec<Span>) {
+    match &e.kind {
+        ExprKind::Wildcard => out.push(e.span),
+        ExprKind::Neg(x) => wildcards(x, out),
+        ExprKind::Binary(_, a, b) => {
+            wildcards(a, out);
+            wildcards(b, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| wildcards(a, out)),
+        _ => {}
+    }
+}
+
+fn expr_vars(e: &Expr) -> Vec<(&str, Span)> {
+    let mut out = Vec::new();
+    vars(e, &mut out);
+    out
+}
+
+/// Binds what positive atoms and bindings of `body` bind, given `bound` from outside.
+fn bind(body: &[Literal], bound: &mut BTreeSet<String>) {
+    for l in body {
+        if let Literal::Pos(a) = l {
+            for arg in &a.args {
+                if let Some(v) = arg.as_var() {
+                    bound.insert(v.to_string());
+                }
+            }
+        }
+    }
+    loop {
+        let mut changed = false;
+        for l in body {
+            match l {
+                Literal::Cmp(c) if c.op == CmpOp::Eq => {
+                    for (side, other) in [(&c.lhs, &c.rhs), (&c.rhs, &c.lhs)] {
+                        if let Some(v) = side.as_var() {
+                            if !bound.contains(v)
+                                && expr_vars(other).iter().all(|(w, _)| bound.contains(*w))
+                            {
+                                bound.insert(v.to_string());
+                                changed = true;
+                            }
+                        }
+                    }
+                }
+                Literal::Agg(g) => {
+                    if let Some(v) = g.result.as_var() {
+                        if !bound.contains(v) {
+                            bound.insert(v.to_string());
+                            changed = true;
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        if !changed {
+            return;
+        }
+    }
+}
+
+struct Safety {
+    diags: Vec<Diagnostic>,
+    reported: BTreeSet<String>,
+}
+
+impl Safety {
+    fn unbound(&mut self, name: &str, span: Span, place: &str, hint: &str) {
+        if self.reported.insert(name.to_string()) {
+            self.diags.push(
+                error(
+                    diagnostics::UNSAFE_VARIABLE,
+                    span,
+                    format!(
+                        "unsafe variable `{name}` in {place}: no positive atom or binding binds it"
+                    ),
+                )
+                .with_hint(hint.replace("{V}", name)),
+            );
+        }
+    }
+
+    fn wildcard(&mut self, span: Span, place: &str) {
+        self.diags.push(
+            error(
+                diagnostics::UNSAFE_VARIABLE,
+                span,
+                format!("`_` cannot appear in {place}: it stands for a value that is never bound"),
+            )
+            .with_hint("use a named variable bound by a positive atom of the body"),
+        );
+    }
+
+    fn check_exprs<'a>(
+        &mut self,
+        exprs: impl IntoIterator<Item = &'a Expr>,
+        bound: &BTreeSet<String>,
+        place: &str,
+        hint: &str,
+    ) {
+        for e in exprs {
+            for (v, s) in expr_vars(e) {
+                if !bound.contains(v) {
+                    self.unbound(v, s, place, hint);
+                }
+            }
+        }
+    }
+
+    fn body(&mut self, body: &[Literal], bound: &BTreeSet<String>) {
+        const HINT: &str = "bind `{V}` in a positive atom of the body (e.g. `speed(X, T, {V})`) or with `{V} = expression`";
+        for l in body {
+            match l {
+                Literal::Pos(a) => {
+                    let complex: Vec<&Expr> = a.args.iter().filter(|e| e.as_var().is_none()).collect();
+                    self.check_exprs(complex, bound, &format!("an argument of `{}`", a.pred), HINT);
+                }
+                Literal::Neg(a, _) => self.check_exprs(
+                    &a.args,
+                    bound,
+                    &format!("the negation of `{}`", a.pred),
+                    "bind `{V}` in a positive atom before negating, or write `_` if any value will do",
+                ),
+                Literal::Cmp(c) => {
+                    let mut w = Vec::new();
+                    wildcards(&c.lhs, &mut w);
+                    wildcards(&c.rhs, &mut w);
+                    for s in w {
+                        self.wildcard(s, "a comparison");
+                    }
+                    self.check_exprs([&c.lhs, &c.rhs], bound, "a comparison", HINT);
+                }
+                Literal::Agg(g) => {
+                    let mut inner = bound.clone();
+                    bind(&g.body, &mut inner);
+                    if matches!(g.result.kind, ExprKind::Wildcard) {
+                        self.wildcard(g.result.span, "an aggregate's result");
+                    }
+                    if let Some(t) = &g.target {
+                        self.check_exprs([t], &inner, &format!("the target of `{}`", g.func.as_str()), HINT);
+                    }
+                    self.body(&g.body, &inner);
+                }
+            }
+        }
+    }
+}
+
+/// Reports unsafe variables (E0201) and variables used once (W0501) in one clause.
+pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
+    let mut bound = BTreeSet::new();
+    bind(&c.body, &mut bound);
+    let mut s = Safety {
+        diags: Vec::new(),
+        reported: BTreeSet::new(),
+    };
+    for arg in &c.head.args {
+        let mut w = Vec::new();
+        wildcards(arg, &mut w);
+        for sp in w {
+            s.wildcard(sp, "the head");
+        }
+    }
+    s.check_exprs(
+        &c.head.args,
+        &bound,
+        "the head",
+        "every variable of the head must appear in a positive atom of the body (e.g. `present({V}, T)`) or a binding `{V} = expression`",
+    );
+    s.body(&c.body, &bound);
+    // Singletons.
+    let mut count: BTreeMap<&str, (usize, Span)> = BTreeMap::new();
+    let mut all = Vec::new();
+    for e in &c.head.args {
+        vars(e, &mut all);
+    }
+    lit_vars(&c.body, &mut all);
+    for (v, sp) in all {
+        let e = count.entry(v).or_insert((0, sp));
+        e.0 += 1;
+    }
+    for (v, (n, sp)) in count {
+        if n == 1 && !v.starts_with('_') && !s.reported.contains(v) {
+            s.diags.push(
+                warning(
+                    diagnostics::SINGLETON,
+                    sp,
+                    format!("variable `{v}` is used only once"),
+                )
+                .with_hint(format!("if any value will do, write `_` (or `_{v}` to keep the name); otherwise check its spelling")),
+            );
+        }
+    }
+    diags.append(&mut s.diags);
+}
+
+fn lit_vars<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
+    for l in body {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| vars(e, out)),
+            Literal::Cmp(c) => {
+                vars(&c.lhs, out);
+                vars(&c.rhs, out);
+            }
+            Literal::Agg(g) => {
+                vars(&g.result, out);
+                if let Some(t) = &g.target {
+                    vars(t, out);
+                }
+                lit_vars(&g.body, out);
+            }
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! Diagnostic codes and small helpers to build diagnostics and suggestions.
+//!
+//! Every code is documented, with an example, in `rules/DIAGNOSTICS.md`. Codes never change meaning.
+
+use crate::ast::Span;
+use crate::{Diagnostic, Severity};
+
+/// Syntax error: what was expected and what was found.
+pub const SYNTAX: &str = "E0001";
+/// A predicate that is neither in the catalog nor defined or declared by the program.
+pub const UNKNOWN_PREDICATE: &str = "E0101";
+/// An atom with the wrong number of arguments.
+pub const WRONG_ARITY: &str = "E0102";
+/// A value of one type where another is required.
+pub const TYPE_MISMATCH: &str = "E0103";
+/// A string constant outside a column's closed set of values.
+pub const BAD_VALUE: &str = "E0104";
+/// A variable that no positive atom or binding binds.
+pub const UNSAFE_VARIABLE: &str = "E0201";
+/// Negation inside a recursive cycle.
+pub const NEGATION_CYCLE: &str = "E0301";
+/// Aggregation inside a recursive cycle.
+pub const AGGREGATE_CYCLE: &str = "E0302";
+/// No `referred/2` rule.
+pub const NO_REFERRED: &str = "E0401";
+/// `referred` or `related` with the wrong number of columns or wrong column types.
+pub const OUTPUT_SHAPE: &str = "E0402";
+/// A clause (or `.decl`) that defines a catalog relation.
+pub const REDEFINED_CATALOG: &str = "E0403";
+/// A predicate declared twice with `.decl`.
+pub const DUPLICATE_DECL: &str = "E0404";
+/// A variable used only once in its clause.
+pub const SINGLETON: &str = "W0501";
+/// A declared helper predicate with no clauses (always empty).
+pub const EMPTY_PREDICATE: &str = "W0502";
+/// A helper predicate defined but used by no other rule.
+pub const UNUSED_PREDICATE: &str = "W0503";
+
+/// Every code, in order, with its severity and a one-line summary.
+pub const CODES: &[(&str, Severity, &str)] = &[
+    (SYNTAX, Severity::Error, "syntax error"),
+    (UNKNOWN_PREDICATE, Severity::Error, "unknown predicate"),
+    (WRONG_ARITY, Severity::Error, "wrong number of arguments"),
+    (TYPE_MISMATCH, Severity::Error, "type mismatch"),
+    (
+        BAD_VALUE,
+        Severity::Error,
+        "string outside the column's values",
+    ),
+    (UNSAFE_VARIABLE, Severity::Error, "unsafe variable"),
+    (
+        NEGATION_CYCLE,
+        Severity::Error,
+        "negation through recursion",
+    ),
+    (
+        AGGREGATE_CYCLE,
+        Severity::Error,
+        "aggregation through recursion",
+    ),
+    (NO_REFERRED, Severity::Error, "no referred/2 rule"),
+    (
+        OUTPUT_SHAPE,
+        Severity::Error,
+        "referred/related with the wrong shape",
+    ),
+    (
+        REDEFINED_CATALOG,
+        Severity::Error,
+        "catalog relation redefined",
+    ),
+    (DUPLICATE_DECL, Severity::Error, "predicate declared twice"),
+    (SINGLETON, Severity::Warning, "variable used once"),
+    (
+        EMPTY_PREDICATE,
+        Severity::Warning,
+        "declared predicate never defined",
+    ),
+    (
+        UNUSED_PREDICATE,
+        Severity::Warning,
+        "helper predicate never used",
+    ),
+];
+
+/// An error with no related spans and no hint.
+pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    Diagnostic {
+        code,
+        severity: Severity::Error,
+        message: message.into(),
+        span,
+        related: Vec::new(),
+        hint: None,
+    }
+}
+
+/// A warning with no related spans and no hint.
+pub fn warning(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    Diagnostic {
+        severity: Severity::Warning,
+        ..error(code, span, message)
+    }
+}
+
+impl Diagnostic {
+    /// The diagnostic with this hint.
+    pub fn with_hint(mut self, hint: impl Into<String>) -> Diagnostic {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    /// The diagnostic with one more related span.
+    pub fn with_related(mut self, span: Span, label: impl Into<String>) -> Diagnostic {
+        self.related.push((span, label.into()));
+        self
+    }
+
+    /// Whether this is an error.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+/// Levenshtein distance between two strings (by characters).
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut cur = vec![0; b.len() + 1];
+    for (i, ca) in a.chars().enumerate() {
+        cur[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    prev[b.len()]
+}
+
+/// Up to `k` candidates closest to `name`, nearest first (ties by name), among those close
+/// enough to be a plausible typo or a word in common (`stopped` for `stopped_car`).
+pub fn closest<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+    k: usize,
+) -> Vec<&'a str> {
+    let len = name.chars().count();
+    let limit = (len / 2).max(1);
+    let mut scored: Vec<(usize, &str)> = candidates
+        .into_iter()
+        .filter(|c| *c != name)
+        .filter_map(|c| {
+            let d = edit_distance(name, c);
+            let shares_word = name
+                .split('_')
+                .any(|w| w.len() >= 4 && c.split('_').any(|cw| cw == w));
+            if d <= limit && d < len {
+                Some((d, c))
+            } else if shares_word {
+                Some((limit + 1, c))
+            } else {
+                None
+            }
+        })
+        .collect();
+    scored.sort();
+    scored.dedup();
+    scored.into_iter().take(k).map(|(_, c)| c).collect()
+}

@@ -1,0 +1,613 @@
+//! The recursive-descent parser: tokens to [`Program`], with error recovery.
+//!
+//! After a syntax error the parser skips to the next `.` at clause level and continues, so one
+//! run reports every broken clause.
+
+use scenalog_facts::catalog::ColType;
+
+use crate::ast::*;
+use crate::diagnostics::{self, error};
+use crate::lexer::{lex, Tok, Token};
+use crate::Diagnostic;
+
+/// What the parser found besides the program: syntax diagnostics, and the names of predicates
+/// whose clauses failed to parse (so the checker does not also call them unknown).
+#[derive(Debug, Clone, Default)]
+pub struct ParseOutput {
+    /// The program (clauses that failed to parse are left out).
+    pub program: Program,
+    /// Syntax errors in source order.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Head predicate names of clauses that failed to parse.
+    pub broken_heads: Vec<String>,
+}
+
+/// Parses a program. Never panics; clauses with syntax errors are left out of the program.
+pub fn parse(source: &str) -> (Program, Vec<Diagnostic>) {
+    let out = parse_detailed(source);
+    (out.program, out.diagnostics)
+}
+
+/// Parses a program, also returning the heads of broken clauses.
+pub fn parse_detailed(source: &str) -> ParseOutput {
+    let (toks, description) = lex(source);
+    let mut p = Parser {
+        toks,
+        pos: 0,
+        diags: Vec::new(),
+        depth: 0,
+    };
+    let mut program = Program {
+        description,
+        ..Program::default()
+    };
+    let mut broken_heads = Vec::new();
+    while !matches!(p.peek(), Tok::Eof) {
+        let start = p.pos;
+        let is_decl =
+            matches!(p.peek(), Tok::Dot) && matches!(p.peek_at(1), Tok::Ident(s) if s == "decl");
+        let result = if is_decl {
+            p.decl().map(|d| program.decls.push(d))
+        } else {
+            p.clause().map(|c| program.clauses.push(c))
+        };
+        if let Err(d) = result {
+            p.diags.push(*d);
+            if !is_decl {
+                if let (Tok::Ident(name), Tok::LParen) =
+                    (&p.toks[start].tok, p.peek_tok_at(start + 1))
+                {
+                    broken_heads.push(name.clone());
+                }
+            }
+            p.recover(start);
+        }
+    }
+    ParseOutput {
+        program,
+        diagnostics: p.diags,
+        broken_heads,
+    }
+}
+
+type PResult<T> = Result<T, Box<Diagnostic>>;
+
+/// Nesting limit for expressions and aggregates, so hostile input cannot overflow the stack.
+const MAX_DEPTH: usize = 64;
+
+struct Parser {
+    toks: Vec<Token>,
+    pos: usize,
+    diags: Vec<Diagnostic>,
+    depth: usize,
+}
+
+fn is_agg_keyword(s: &str) -> bool {
+    matches!(s, "count" | "min" | "max" | "sum")
+}
+
+fn builtin(s: &str) -> Option<Func> {
+    match s {
+        "abs" => Some(Func::Abs),
+        "min" => Some(Func::Min),
+        "max" => Some(Func::Max),
+        _ => None,
+    }
+}
+
+impl Parser {
+    fn peek(&self) -> &Tok {
+        self.peek_at(0)
+    }
+
+    fn peek_at(&self, k: usize) -> &Tok {
+        self.peek_tok_at(self.pos + k)
+    }
+
+    fn peek_tok_at(&self, i: usize) -> &Tok {
+        let last = self.toks.len() - 1;
+        &self.toks[i.min(last)].tok
+    }
+
+    fn span(&self) -> Span {
+        let last = self.toks.len() - 1;
+        self.toks[self.pos.min(last)].span
+    }
+
+    fn prev_span(&self) -> Span {
+        self.toks[self.pos.saturating_sub(1)].span
+    }
+
+    fn bump(&mut self) -> Token {
+        let last = self.toks.len() - 1;
+        let t = self.toks[self.pos.min(last)].clone();
+        if self.pos < last {
+            self.pos += 1;
+        }
+        t
+    }
+
+    fn eat(&mut self, t: &Tok) -> bool {
+        if self.peek() == t {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    /// An E0001 "expected …, found …" at the current token.
+    fn unexpected(&self, expected: &str) -> Box<Diagnostic> {
+        let found = self.peek();
+        let span = self.span();
+        let mut d = match found {
+            Tok::Error(m) => error(diagnostics::SYNTAX, span, format!("syntax error: {m}")),
+            _ => error(
+                diagnostics::SYNTAX,
+                span,
+                format!(
+                    "syntax error: expected {expected}, found {}",
+                    found.describe()
+                ),
+            ),
+        };
+        d.hint = match found {
+            Tok::Ident(s) if expected.contains("term") || expected.contains("expression") => Some(format!(
+                "variables start with a capital letter or `_` (write `{}`), strings are quoted (write \"{s}\")",
+                capitalise(s)
+            )),
+            Tok::Eof => Some("every clause ends with `.`".into()),
+            Tok::Error(_) => None,
+            _ if expected.contains("`.`") => Some(
+                "a clause is `head(Args) :- literal, literal, … .`: literals are separated by `,` and the clause ends with `.`"
+                    .into(),
+            ),
+            _ => None,
+        };
+        Box::new(d)
+    }
+
+    fn expect(&mut self, t: &Tok, what: &str) -> PResult<Span> {
+        if self.peek() == t {
+            Ok(self.bump().span)
+        } else {
+            Err(self.unexpected(what))
+        }
+    }
+
+    /// Skips to just after the next `.` at clause level (or to a `.decl`), making progress.
+    fn recover(&mut self, start: usize) {
+        if self.pos == start {
+            self.bump();
+        }
+        loop {
+            match self.peek() {
+                Tok::Eof => return,
+                Tok::Dot => {
+                    if matches!(self.peek_at(1), Tok::Ident(s) if s == "decl") {
+                        return;
+                    }
+                    self.bump();
+                    return;
+                }
+                _ => {
+                    self.bump();
+                }
+            }
+        }
+    }
+
+    fn decl(&mut self) -> PResult<Decl> {
+        let start = self.bump().span; // `.`
+        self.bump(); // `decl`
+        let (name, name_span) = match self.peek().clone() {
+            Tok::Ident(n) => (n, self.bump().span),
+            _ => return Err(self.unexpected("a predicate name after `.decl`")),
+        };
+        self.expect(&Tok::LParen, "`(`")?;
+        let mut columns = Vec::new();
+        if !self.eat(&Tok::RParen) {
+            loop {
+                let col = match self.peek().clone() {
+                    Tok::Var(v) => v,
+                    Tok::Ident(v) => v,
+                    _ => return Err(self.unexpected("a column name")),
+                };
+                self.bump();
+                self.expect(&Tok::Colon, "`:` and a type after the column name")?;
+                let ty = match self.peek().clone() {
+                    Tok::Ident(t) => match ColType::parse(&t) {
+                        Some(ty) => ty,
+                        None => {
+                            let d = error(
+                                diagnostics::SYNTAX,
+                                self.span(),
+                                format!("syntax error: unknown column type `{t}`"),
+                            )
+                            .with_hint("column types are track, time, lane, str, float and int");
+                            return Err(Box::new(d));
+                        }
+                    },
+                    _ => {
+                        return Err(
+                            self.unexpected("a column type (track, time, lane, str, float, int)")
+                        )
+                    }
+                };
+                self.bump();
+                columns.push((col, ty));
+                if self.eat(&Tok::Comma) {
+                    continue;
+                }
+                self.expect(&Tok::RParen, "`,` or `)`")?;
+                break;
+            }
+        }
+        // An optional `.` after a declaration, unless it starts the next `.decl`.
+        if matches!(self.peek(), Tok::Dot)
+            && !matches!(self.peek_at(1), Tok::Ident(s) if s == "decl")
+        {
+            self.bump();
+        }
+        Ok(Decl {
+            name,
+            name_span,
+            columns,
+            span: start.to(self.prev_span()),
+        })
+    }
+
+    fn clause(&mut self) -> PResult<Clause> {
+        let head = match self.peek() {
+            Tok::Ident(_) => self.atom()?,
+            _ => return Err(self.unexpected("a clause (a predicate name like `referred`)")),
+        };
+        let mut body = Vec::new();
+        if self.eat(&Tok::If) {
+            body = self.body(&Tok::Dot)?;
+        }
+        let end = self.expect(
+            &Tok::Dot,
+            if body.is_empty() {
+                "`:-` or `.`"
+            } else {
+                "`,` or `.`"
+            },
+        )?;
+        Ok(Clause {
+            span: head.span.to(end),
+            head,
+            body,
+        })
+    }
+
+    /// Literals separated by commas, up to (not including) `end`.
+    fn body(&mut self, end: &Tok) -> PResult<Vec<Literal>> {
+        let mut body = vec![self.literal()?];
+        while self.eat(&Tok::Comma) {
+            body.push(self.literal()?);
+        }
+        if self.peek() != end {
+            let what = if *end == Tok::Dot {
+                "`,` or `.`"
+            } else {
+                "`,` or `}`"
+            };
+            return Err(self.unexpected(what));
+        }
+        Ok(body)
+    }
+
+    fn atom(&mut self) -> PResult<Atom> {
+        let (pred, pred_span) = match self.peek().clone() {
+            Tok::Ident(n) => (n, self.bump().span),
+            _ => return Err(self.unexpected("a predicate name")),
+        };
+        let mut args = Vec::new();
+        let mut end = pred_span;
+        if self.eat(&Tok::LParen) {
+            if !matches!(self.peek(), Tok::RParen) {
+                loop {
+                    args.push(self.expr()?);
+                    if !self.eat(&Tok::Comma) {
+                        break;
+                    }
+                }
+            }
+            end = self.expect(&Tok::RParen, "`,` or `)`")?;
+        }
+        Ok(Atom {
+            pred,
+            pred_span,
+            args,
+            span: pred_span.to(end),
+        })
+    }
+
+    fn literal(&mut self) -> PResult<Literal> {
+        match self.peek().clone() {
+            Tok::Bang => {
+                let start = self.bump().span;
+                if !matches!(self.peek(), Tok::Ident(_)) {
+                    return Err(self.unexpected("an atom after `!`"));
+                }
+                let a = self.atom()?;
+                let span = start.to(a.span);
+                Ok(Literal::Neg(a, span))
+            }
+            Tok::Ident(s) if s == "not" && matches!(self.peek_at(1), Tok::Ident(_)) => {
+                let start = self.bump().span;
+                let a = self.atom()?;
+                let span = start.to(a.span);
+                Ok(Literal::Neg(a, span))
+            }
+            Tok::Ident(s) if !(builtin(&s).is_some() && matches!(self.peek_at(1), Tok::LParen)) => {
+                Ok(Literal::Pos(self.atom()?))
+            }
+            _ => self.comparison(),
+        }
+    }
+
+    fn comparison(&mut self) -> PResult<Literal> {
+        let lhs = self.expr()?;
+        let op = match self.peek() {
+            Tok::Lt => CmpOp::Lt,
+            Tok::Le => CmpOp::Le,
+            Tok::Gt => CmpOp::Gt,
+            Tok::Ge => CmpOp::Ge,
+            Tok::Eq => CmpOp::Eq,
+            Tok::Ne => CmpOp::Ne,
+            _ => {
+                return Err(
+                    self.unexpected("a comparison operator (`<`, `<=`, `>`, `>=`, `=`, `!=`)")
+                )
+            }
+        };
+        self.bump();
+        if op == CmpOp::Eq {
+            if let Some(agg) = self.try_aggregate(&lhs)? {
+                return Ok(Literal::Agg(agg));
+            }
+        }
+        let rhs = self.expr()?;
+        Ok(Literal::Cmp(Comparison {
+            span: lhs.span.to(rhs.span),
+            op,
+            lhs,
+            rhs,
+        }))
+    }
+
+    /// After `lhs =`: an aggregate `count : { … }` or `min|max|sum E : { … }`, if one follows.
+    fn try_aggregate(&mut self, lhs: &Expr) -> PResult<Option<Aggregate>> {
+        let func = match self.peek() {
+            Tok::Ident(s) if s == "count" && matches!(self.peek_at(1), Tok::Colon) => {
+                AggFunc::Count
+            }
+            Tok::Ident(s) if is_agg_keyword(s) && s != "count" => match s.as_str() {
+                "min" => AggFunc::Min,
+                "max" => AggFunc::Max,
+                _ => AggFunc::Sum,
+            },
+            _ => return Ok(None),
+        };
+        let save = (self.pos, self.diags.len());
+        self.bump();
+        let target = if func == AggFunc::Count {
+            None
+        } else {
+            match self.expr() {
+                Ok(e) if matches!(self.peek(), Tok::Colon) => Some(e),
+                _ => {
+                    // Not an aggregate: `min(A, B)` and friends are expressions.
+                    self.pos = save.0;
+                    self.diags.truncate(save.1);
+                    return Ok(None);
+                }
+            }
+        };
+        self.expect(&Tok::Colon, "`:` after the aggregate")?;
+        self.expect(&Tok::LBrace, "`{` to open the aggregate's body")?;
+        self.enter()?;
+        let body = self.body(&Tok::RBrace);
+        self.depth -= 1;
+        let body = body?;
+        let end = self.expect(&Tok::RBrace, "`}`")?;
+        Ok(Some(Aggregate {
+            result: lhs.clone(),
+            func,
+            target,
+            body,
+            span: lhs.span.to(end),
+        }))
+    }
+
+    fn enter(&mut self) -> PResult<()> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            self.depth -= 1;
+            return Err(Box::new(error(
+                diagnostics::SYNTAX,
+                self.span(),
+                format!("syntax error: nesting deeper than {MAX_DEPTH} levels"),
+            )));
+        }
+        Ok(())
+    }
+
+    fn expr(&mut self) -> PResult<Expr> {
+        self.enter()?;
+        let r = self.additive();
+        self.depth -= 1;
+        r
+    }
+
+    fn additive(&mut self) -> PResult<Expr> {
+        let mut lhs = self.multiplicative()?;
+        loop {
+            let op = match self.peek() {
+                Tok::Plus => BinOp::Add,
+                Tok::Minus => BinOp::Sub,
+                _ => return Ok(lhs),
+            };
+            self.bump();
+            let rhs = self.multiplicative()?;
+            lhs = Expr {
+                span: lhs.span.to(rhs.span),
+                kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
+            };
+        }
+    }
+
+    fn multiplicative(&mut self) -> PResult<Expr> {
+        let mut lhs = self.unary()?;
+        loop {
+            let op = match self.peek() {
+                Tok::Star => BinOp::Mul,
+                Tok::Slash => BinOp::Div,
+                _ => return Ok(lhs),
+            };
+            self.bump();
+            let rhs = self.unary()?;
+            lhs = Expr {
+                span: lhs.span.to(rhs.span),
+                kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
+            };
+        }
+    }
+
+    fn unary(&mut self) -> PResult<Expr> {
+        if matches!(self.peek(), Tok::Minus) {
+            let start = self.bump().span;
+            // `-` directly before a number is a negative constant.
+            match self.peek().clone() {
+                Tok::Int(text) if self.span().start == start.end => {
+                    let span = start.to(self.bump().span);
+                    return int_literal(&format!("-{text}"), span);
+                }
+                Tok::Float(text) if self.span().start == start.end => {
+                    let span = start.to(self.bump().span);
+                    return float_literal(&format!("-{text}"), span);
+                }
+                _ => {}
+            }
+            self.enter()?;
+            let inner = self.unary();
+            self.depth -= 1;
+            let inner = inner?;
+            return Ok(Expr {
+                span: start.to(inner.span),
+                kind: ExprKind::Neg(Box::new(inner)),
+            });
+        }
+        self.primary()
+    }
+
+    fn primary(&mut self) -> PResult<Expr> {
+        let span = self.span();
+        let kind = match self.peek().clone() {
+            Tok::Var(v) => ExprKind::Var(v),
+            Tok::Wildcard => ExprKind::Wildcard,
+            Tok::Str(s) => ExprKind::Str(s),
+            Tok::Int(text) => {
+                self.bump();
+                return int_literal(&text, span);
+            }
+            Tok::Float(text) => {
+                self.bump();
+                return float_literal(&text, span);
+            }
+            Tok::LParen => {
+                self.bump();
+                let inner = self.expr()?;
+                let end = self.expect(&Tok::RParen, "`)`")?;
+                return Ok(Expr {
+                    kind: inner.kind,
+                    span: span.to(end),
+                });
+            }
+            Tok::Ident(name)
+                if builtin(&name).is_some() && matches!(self.peek_at(1), Tok::LParen) =>
+            {
+                let func = builtin(&name).unwrap_or(Func::Abs);
+                self.bump();
+                self.bump();
+                let mut args = Vec::new();
+                if !matches!(self.peek(), Tok::RParen) {
+                    loop {
+                        args.push(self.expr()?);
+                        if !self.eat(&Tok::Comma) {
+                            break;
+                        }
+                    }
+                }
+                let end = self.expect(&Tok::RParen, "`,` or `)`")?;
+                let want = if func == Func::Abs { 1 } else { 2 };
+                if args.len() != want {
+                    return Err(Box::new(
+                        error(
+                            diagnostics::SYNTAX,
+                            span.to(end),
+                            format!(
+                                "syntax error: `{}` takes {want} argument{}, found {}",
+                                func.as_str(),
+                                if want == 1 { "" } else { "s" },
+                                args.len()
+                            ),
+                        )
+                        .with_hint("abs(E), min(E1, E2), max(E1, E2)"),
+                    ));
+                }
+                return Ok(Expr {
+                    kind: ExprKind::Call(func, args),
+                    span: span.to(end),
+                });
+            }
+            _ => {
+                return Err(self
+                    .unexpected("a term (a variable, `_`, a string, a number or an expression)"))
+            }
+        };
+        self.bump();
+        Ok(Expr { kind, span })
+    }
+}
+
+fn int_literal(text: &str, span: Span) -> PResult<Expr> {
+    match text.parse::<i64>() {
+        Ok(v) => Ok(Expr {
+            kind: ExprKind::Int(v),
+            span,
+        }),
+        Err(_) => Err(Box::new(
+            error(
+                diagnostics::SYNTAX,
+                span,
+                format!("syntax error: the integer `{text}` does not fit in 64 bits"),
+            )
+            .with_hint("write it as a float, e.g. `1.0e20`"),
+        )),
+    }
+}
+
+fn float_literal(text: &str, span: Span) -> PResult<Expr> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(Expr {
+            kind: ExprKind::Float(v),
+            span,
+        }),
+        _ => Err(Box::new(error(
+            diagnostics::SYNTAX,
+            span,
+            format!("syntax error: the number `{text}` is out of range"),
+        ))),
+    }
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().chain(c).collect(),
+        None => String::new(),
+    }
+}
