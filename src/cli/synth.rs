@@ -1,12 +1,264 @@
-//! `scenalog synth`: not built yet.
+//! `scenalog synth`: write a rule program from a description with an LLM, repairing it on the
+//! checker's diagnostics.
+//!
+//! One description: prints the program (or writes it with `-o`); exit 0 when it checks clean,
+//! 1 when the rounds ran out (the last attempt is still printed or written, with its diagnostics
+//! in `FILE.dl.diagnostics.json`), 2 when the LLM could not be reached or an input is unusable.
+//! Many: `--descriptions FILE.txt --out DIR` writes one `.dl` per description and a summary;
+//! exit 0 when all are clean, 1 when some failed, 2 when the server could not be reached.
 
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
 
-/// Arguments of `scenalog synth` (none yet).
+use scenalog_synth::batch::{self, diagnostics_path, write_outputs};
+use scenalog_synth::client::{ENV_API_KEY, ENV_BASE_URL, ENV_MODEL};
+use scenalog_synth::{library, prompt, BatchOptions, LlmConfig, Outcome, SynthConfig, Synthesizer};
+
+/// Arguments of `scenalog synth`.
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The scenario description, e.g. "vehicle making a left turn".
+    #[arg(
+        required_unless_present = "descriptions",
+        conflicts_with = "descriptions"
+    )]
+    pub description: Option<String>,
+    /// A file of descriptions, one a line (blank lines and `#` comments skipped); needs `--out`.
+    #[arg(long, value_name = "FILE.txt", requires = "out")]
+    pub descriptions: Option<PathBuf>,
+    /// Directory for the programs of `--descriptions` (one `<slug>.dl` each, with transcripts).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write the program to this file instead of standard output (with its transcript beside it).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE.dl",
+        conflicts_with = "descriptions"
+    )]
+    pub output: Option<PathBuf>,
+    /// Print the prompt the description would be sent with, and ask nothing.
+    #[arg(long)]
+    pub print_prompt: bool,
+    /// Cache completions here (default: DIR/.llm-cache with `--out`, none otherwise).
+    #[arg(long, value_name = "DIR")]
+    pub cache_dir: Option<PathBuf>,
+    /// Completions to ask for at most: the first attempt and the repairs.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=20))]
+    pub rounds: u32,
+    /// Base URL of an OpenAI-compatible server [env: SCENALOG_LLM_BASE_URL; default:
+    /// http://127.0.0.1:8080/v1, llama.cpp's server].
+    #[arg(long, value_name = "URL")]
+    pub base_url: Option<String>,
+    /// Model name [env: SCENALOG_LLM_MODEL; default: "default"].
+    #[arg(long)]
+    pub model: Option<String>,
+    /// API key, sent as a bearer token [env: SCENALOG_LLM_API_KEY].
+    #[arg(long, value_name = "KEY")]
+    pub api_key: Option<String>,
+    /// Seconds one completion may take before it is retried.
+    #[arg(long, default_value_t = 300, value_name = "SECS")]
+    pub timeout: u64,
+    /// Retries after a failed attempt (refused connection, timeout, 429, 5xx).
+    #[arg(long, default_value_t = 4)]
+    pub retries: u32,
+    /// Descriptions synthesized at once with `--descriptions`.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub jobs: u32,
+    /// In-context examples per prompt: the most similar of the library ("all" for every one).
+    #[arg(long, default_value = "8", value_name = "K|all")]
+    pub examples: String,
+    /// Read the example library from this directory instead of the one built in.
+    #[arg(long, value_name = "DIR")]
+    pub library: Option<PathBuf>,
+    /// Also write the transcript of every round (JSON) to this file (one description).
+    #[arg(long, value_name = "FILE.json", conflicts_with = "descriptions")]
+    pub transcript: Option<PathBuf>,
+}
+
+fn fail(message: impl std::fmt::Display) -> ExitCode {
+    eprintln!("scenalog synth: {message}");
+    ExitCode::from(2)
+}
+
+fn llm_config(args: &Args) -> LlmConfig {
+    let mut llm = LlmConfig::from_env();
+    if let Some(v) = &args.base_url {
+        llm.base_url = v.clone();
+    }
+    if let Some(v) = &args.model {
+        llm.model = v.clone();
+    }
+    if let Some(v) = &args.api_key {
+        llm.api_key = Some(v.clone());
+    }
+    llm.timeout = Duration::from_secs(args.timeout.max(1));
+    llm.max_retries = args.retries;
+    llm
+}
+
+fn synth_config(args: &Args) -> Result<SynthConfig, String> {
+    let examples = match args.examples.trim() {
+        "all" => None,
+        k => Some(
+            k.parse::<usize>()
+                .map_err(|_| format!("--examples: expected a number or \"all\", got {k:?}"))?,
+        ),
+    };
+    let library = match &args.library {
+        Some(dir) => library::load_dir(dir).map_err(|e| e.to_string())?,
+        None => library::embedded(),
+    };
+    let cache_dir = args
+        .cache_dir
+        .clone()
+        .or_else(|| args.out.as_ref().map(|d| d.join(".llm-cache")));
+    Ok(SynthConfig {
+        llm: llm_config(args),
+        cache_dir,
+        rounds: args.rounds as usize,
+        library,
+        examples,
+    })
+}
 
 /// Runs the subcommand.
-pub fn run(_args: Args) -> ExitCode {
-    super::not_built("synth")
+pub fn run(args: Args) -> ExitCode {
+    let config = match synth_config(&args) {
+        Ok(c) => c,
+        Err(e) => return fail(e),
+    };
+    if args.print_prompt {
+        let Some(description) = &args.description else {
+            return fail("--print-prompt needs a description");
+        };
+        let messages = prompt::messages(description, &config.library, config.examples);
+        print!("{}", prompt::render(&messages));
+        return ExitCode::SUCCESS;
+    }
+    let synth = match Synthesizer::new(config) {
+        Ok(s) => s,
+        Err(e) => return fail(e),
+    };
+    match (&args.description, &args.descriptions, &args.out) {
+        (Some(d), _, _) => one(&synth, d, &args),
+        (None, Some(file), Some(out)) => many(&synth, file, out, args.jobs as usize),
+        _ => fail("give a description, or --descriptions FILE.txt with --out DIR"),
+    }
+}
+
+fn one(synth: &Synthesizer, description: &str, args: &Args) -> ExitCode {
+    if description.trim().is_empty() {
+        return fail("the description is empty");
+    }
+    let t = synth.synthesize(description);
+    if let Some(path) = &args.transcript {
+        if let Err(e) = scenalog_synth::cache::write_atomic(path, t.to_json().as_bytes()) {
+            eprintln!("scenalog synth: {e}");
+        }
+    }
+    match &args.output {
+        Some(path) => {
+            if let Err(e) = write_outputs(path, &t) {
+                return fail(e);
+            }
+        }
+        None => {
+            if let Some(p) = t.program() {
+                print!("{p}");
+            }
+        }
+    }
+    let rounds = t.rounds.len();
+    match &t.outcome {
+        Outcome::Clean { round } => {
+            eprintln!("scenalog synth: checked clean in round {round}");
+            ExitCode::SUCCESS
+        }
+        Outcome::Failed => {
+            eprintln!(
+                "scenalog synth: no clean program after {rounds} round{}",
+                if rounds == 1 { "" } else { "s" }
+            );
+            report_last(&t, args);
+            ExitCode::from(1)
+        }
+        Outcome::Unreachable { error } => {
+            report_last(&t, args);
+            eprintln!("scenalog synth: {error}");
+            eprintln!(
+                "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
+            );
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Says where the last attempt and its diagnostics are, or prints the diagnostics.
+fn report_last(t: &scenalog_synth::Transcript, args: &Args) {
+    let Some(program) = t.program() else {
+        return;
+    };
+    match &args.output {
+        Some(path) => eprintln!(
+            "scenalog synth: the last attempt is in {}, its diagnostics in {}",
+            path.display(),
+            diagnostics_path(path).display()
+        ),
+        None => {
+            let outcome = scenalog_rules::check(
+                program,
+                &scenalog_rules::CheckOptions {
+                    require_referred: true,
+                },
+            );
+            let color = std::io::stderr().is_terminal();
+            eprint!(
+                "{}",
+                scenalog_rules::render_human(&outcome.diagnostics, program, "<synthesized>", color)
+            );
+        }
+    }
+}
+
+fn many(
+    synth: &Synthesizer,
+    file: &std::path::Path,
+    out: &std::path::Path,
+    jobs: usize,
+) -> ExitCode {
+    let descriptions = match batch::read_descriptions(file) {
+        Ok(d) => d,
+        Err(e) => return fail(e),
+    };
+    let options = BatchOptions {
+        out_dir: out.to_path_buf(),
+        jobs,
+        progress: true,
+    };
+    let report = match batch::run(synth, &descriptions, &options) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    for item in &report.items {
+        let status = match &item.status {
+            scenalog_synth::ItemStatus::Resumed => "already clean".to_string(),
+            scenalog_synth::ItemStatus::Clean { round } => format!("clean in round {round}"),
+            scenalog_synth::ItemStatus::Failed => "FAILED".to_string(),
+            scenalog_synth::ItemStatus::Unreachable { error } => format!("UNREACHABLE: {error}"),
+            scenalog_synth::ItemStatus::Skipped => "not attempted".to_string(),
+        };
+        println!("{}\t{status}\t{}", item.path.display(), item.description);
+    }
+    let s = &report.summary;
+    eprintln!("scenalog synth: {s}");
+    if s.unreachable + s.skipped > 0 {
+        ExitCode::from(2)
+    } else if s.failed > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }

@@ -1,19 +1,9 @@
-//! The checker's diagnostics as the repair loop sends them back: JSON with line and column
-//! positions, and the offending source lines with a caret under each span.
+//! The checker's diagnostics as the repair loop sends them back: the JSON of `scenalog check
+//! --json`, and the offending source lines with a caret under each span.
 
-use scenalog_rules::{Diagnostic, Severity, Span};
+use scenalog_rules::{Diagnostic, Severity};
 
-/// 1-based line and column (in characters) of a byte offset, clamped into the text.
-pub fn line_col(source: &str, offset: usize) -> (usize, usize) {
-    let mut offset = offset.min(source.len());
-    while !source.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &source[..offset];
-    let line = before.matches('\n').count() + 1;
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    (line, source[line_start..offset].chars().count() + 1)
-}
+use scenalog_rules::render::line_column as line_col;
 
 fn severity(s: Severity) -> &'static str {
     match s {
@@ -22,35 +12,11 @@ fn severity(s: Severity) -> &'static str {
     }
 }
 
-fn span_json(source: &str, span: Span) -> serde_json::Value {
-    let (line, column) = line_col(source, span.start);
-    let (end_line, end_column) = line_col(source, span.end);
-    serde_json::json!({
-        "start": span.start, "end": span.end,
-        "line": line, "column": column, "end_line": end_line, "end_column": end_column,
-    })
-}
-
-/// The diagnostics as a JSON array: `code`, `severity`, `message`, `span` (byte offsets and
-/// 1-based line/column), `related` (`span`, `label`), `hint`.
+/// The diagnostics as JSON, exactly as `scenalog check --json` prints them (see
+/// [`scenalog_rules::diagnostics_json`]: `code`, `severity`, `message`, 1-based `line` and
+/// `column`, byte `span`, `hint`, `related`).
 pub fn to_json(diagnostics: &[Diagnostic], source: &str) -> serde_json::Value {
-    serde_json::Value::Array(
-        diagnostics
-            .iter()
-            .map(|d| {
-                serde_json::json!({
-                    "code": d.code,
-                    "severity": severity(d.severity),
-                    "message": d.message,
-                    "span": span_json(source, d.span),
-                    "related": d.related.iter().map(|(s, label)| serde_json::json!({
-                        "span": span_json(source, *s), "label": label,
-                    })).collect::<Vec<_>>(),
-                    "hint": d.hint,
-                })
-            })
-            .collect(),
-    )
+    scenalog_rules::diagnostics_json(diagnostics, source)
 }
 
 /// Each diagnostic as text: `line:col: severity[code]: message`, the source line with its number,
@@ -102,6 +68,7 @@ pub fn error_count(diagnostics: &[Diagnostic]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use scenalog_rules::Span;
 
     fn diag(start: usize, end: usize) -> Diagnostic {
         Diagnostic {
@@ -115,25 +82,16 @@ mod tests {
     }
 
     #[test]
-    fn positions_are_one_based_and_clamped() {
-        let s = "ab\ncdé\n";
-        assert_eq!(line_col(s, 0), (1, 1));
-        assert_eq!(line_col(s, 3), (2, 1));
-        assert_eq!(line_col(s, 6), (2, 3)); // inside 'é': moved back to its start
-        assert_eq!(line_col(s, 999), (3, 1));
-    }
-
-    #[test]
     fn json_and_text_name_the_place() {
         let s = "// d\nreferred(X, T) :- turn(X, T).\n";
         let start = s.find("turn(").expect("turn");
         let d = diag(start, start + 4);
         let j = to_json(std::slice::from_ref(&d), s);
-        assert_eq!(j[0]["span"]["line"], 2);
-        assert_eq!(j[0]["span"]["column"], 19);
+        assert_eq!(j[0]["line"], 2);
+        assert_eq!(j[0]["column"], 19);
         assert_eq!(j[0]["code"], "E0101");
         assert_eq!(j[0]["hint"], "did you mean `turning`?");
-        assert_eq!(j[0]["related"][0]["label"], "here");
+        assert_eq!(j[0]["related"][0]["message"], "here");
         let text = render(&[d], s);
         assert!(
             text.starts_with("2:19: error[E0101]: unknown predicate `turn`\n"),

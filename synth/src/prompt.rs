@@ -39,7 +39,7 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 
 # Conventions (use these thresholds unless the description says otherwise)
 - An object's kind: `category(X, "PEDESTRIAN")`; "vehicle" is `category(X, "VEHICLE")` (every vehicle category, the ego included); "car" is "REGULAR_VEHICLE"; the ego vehicle is `ego(X)`.
-- Stopped: `speed(X, T, V), V < 0.5`. Moving: `V >= 0.5`. Parked for the whole log: `stationary(X)`. Fast: `V > 10`.
+- Stopped (not parked): `speed(X, T, V), V < 0.5, !stationary(X)`. Moving: `V > 0.5`. Parked for the whole log: `stationary(X)`. Fast: `V > 10`.
 - Accelerating: `accel(X, T, A), A >= 1` (`>= 0.65` for "speeding up" in general). Braking: `A <= -1`.
 - Turning: `turning(X, T, "left")`. Changing lanes: `lane_change(X, T, "right")`.
 - Near, close to, next to: `near(X, Y, T, D), D < 10` (`D < 5` for "very close"); X != Y.
@@ -209,6 +209,26 @@ mod tests {
         ] {
             assert!(s.contains(topic), "missing {topic}");
         }
+    }
+
+    /// The snippets the conventions recommend, put together, check clean: the prompt does not
+    /// teach anything the checker rejects.
+    #[test]
+    fn the_conventions_check_clean() {
+        let program = r#"// description: conventions
+.decl peds_near(X: track, T: time, N: int)
+peds_near(X, T, N) :- category(X, "VEHICLE"), present(X, T), N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 }.
+close(X, Y, T) :- category(X, "VEHICLE"), near(X, Y, T, D), D < 10, X != Y.
+later_fast(X, T) :- speed(X, T, V), V < 0.5, !stationary(X), speed(X, T2, V2), T2 >= T, T2 <= T + 20, V2 > 0.5.
+ahead(X, Y, T) :- direction(X, Y, T, "forward", Dist, Lat), Lat < 1, Dist < 25.
+referred(X, T) :- peds_near(X, T, N), N >= 3, close(X, _, T), later_fast(X, T), ahead(X, _, T),
+    accel(X, T, A), A >= 1, near_intersection(X, T, D), D < 10, at_crosswalk(X, T, C), C < 1,
+    turning(X, T, "left"), on_intersection(X, T).
+related(X, Y, T) :- referred(X, T), close(X, Y, T), following(X, Y, T), crossing(X, Y, T, "forward").
+"#;
+        let outcome = scenalog_rules::check(program, &scenalog_rules::CheckOptions::default());
+        assert!(outcome.program.is_some(), "{:?}", outcome.diagnostics);
+        assert!(outcome.diagnostics.is_empty(), "{:?}", outcome.diagnostics);
     }
 
     #[test]
