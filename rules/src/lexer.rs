@@ -169,7 +169,20 @@ pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
             b'-' => one(Tok::Minus),
             b'*' => one(Tok::Star),
             b'/' => one(Tok::Slash),
-            b'"' => lex_string(source, i),
+            b'"' => {
+                let (tok, len) = lex_string(source, i);
+                if matches!(&tok, Tok::Error(m) if m.contains("unterminated")) {
+                    // Show the whole bad string, but lex on after the quote so the clause's
+                    // `.` is still seen and error recovery stops there.
+                    toks.push(Token {
+                        tok,
+                        span: Span::new(i, i + len),
+                    });
+                    i += 1;
+                    continue;
+                }
+                (tok, len)
+            }
             b'0'..=b'9' => lex_number(bytes, i),
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
                 let mut j = i + 1;
@@ -219,12 +232,14 @@ fn lex_string(source: &str, start: usize) -> (Tok, usize) {
                 Some((_, 'r')) => out.push('\r'),
                 Some((_, '"')) => out.push('"'),
                 Some((_, '\\')) => out.push('\\'),
-                Some((k2, other)) => return (
-                    Tok::Error(format!(
+                Some((k2, other)) => {
+                    return (
+                        Tok::Error(format!(
                         "an unknown escape `\\{other}` in a string (use \\\" \\\\ \\n \\t or \\r)"
                     )),
-                    k2 + 1 + other.len_utf8(),
-                ),
+                        k2 + 1 + other.len_utf8(),
+                    )
+                }
                 None => break,
             },
             '\n' => {

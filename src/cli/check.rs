@@ -1,12 +1,86 @@
-//! `scenalog check`: not built yet.
+//! `scenalog check FILE.dl…`: parse and check rule programs against the catalog and print the
+//! diagnostics. Exit 0 when no file has an error (warnings allowed), 1 when some file has an
+//! error, 2 when some input cannot be read.
 
+use std::io::{IsTerminal, Read};
 use std::process::ExitCode;
 
-/// Arguments of `scenalog check` (none yet).
-#[derive(clap::Args)]
-pub struct Args {}
+use scenalog_rules::{check, diagnostics_json, render_human, CheckOptions};
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> ExitCode {
-    super::not_built("check")
+/// Arguments of `scenalog check`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Rule programs to check; `-` reads one from standard input.
+    #[arg(required = true)]
+    pub files: Vec<String>,
+    /// Print one JSON array of {"file", "diagnostics"} objects instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Do not require a `referred` rule (for programs run with `scenalog run`).
+    #[arg(long)]
+    pub no_referred: bool,
+}
+
+fn read_input(name: &str) -> Result<String, String> {
+    if name == "-" {
+        let mut s = String::new();
+        std::io::stdin()
+            .read_to_string(&mut s)
+            .map_err(|e| format!("cannot read standard input: {e}"))?;
+        Ok(s)
+    } else {
+        std::fs::read_to_string(name).map_err(|e| format!("cannot read `{name}`: {e}"))
+    }
+}
+
+/// Checks every file and prints the diagnostics.
+pub fn run(args: Args) -> ExitCode {
+    let options = CheckOptions {
+        require_referred: !args.no_referred,
+    };
+    let color = !args.json && std::io::stdout().is_terminal();
+    let mut unreadable = false;
+    let mut errors = false;
+    let mut json = Vec::new();
+    for file in &args.files {
+        let display = if file == "-" {
+            "<stdin>"
+        } else {
+            file.as_str()
+        };
+        let source = match read_input(file) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("scenalog check: {e}");
+                unreadable = true;
+                continue;
+            }
+        };
+        let outcome = check(&source, &options);
+        errors |= outcome.program.is_none();
+        if args.json {
+            json.push(serde_json::json!({
+                "file": display,
+                "diagnostics": diagnostics_json(&outcome.diagnostics, &source),
+            }));
+        } else {
+            print!(
+                "{}",
+                render_human(&outcome.diagnostics, &source, display, color)
+            );
+            let n_err = outcome.diagnostics.iter().filter(|d| d.is_error()).count();
+            let n_warn = outcome.diagnostics.len() - n_err;
+            println!("{display}: {n_err} error(s), {n_warn} warning(s)");
+        }
+    }
+    if args.json {
+        println!("{:#}", serde_json::Value::Array(json));
+    }
+    if unreadable {
+        ExitCode::from(2)
+    } else if errors {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }

@@ -204,8 +204,11 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
         let e = count.entry(v).or_insert((0, sp));
         e.0 += 1;
     }
+    // A variable only inside a `count` body is what is counted: not a slip.
+    let mut counted = Vec::new();
+    count_vars(&c.body, false, &mut counted);
     for (v, (n, sp)) in count {
-        if n == 1 && !v.starts_with('_') && !s.reported.contains(v) {
+        if n == 1 && !v.starts_with('_') && !s.reported.contains(v) && !counted.contains(&v) {
             s.diags.push(
                 warning(
                     diagnostics::SINGLETON,
@@ -234,6 +237,25 @@ fn lit_vars<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
                 }
                 lit_vars(&g.body, out);
             }
+        }
+    }
+}
+
+/// Variables inside the bodies of `count` aggregates.
+fn count_vars<'a>(body: &'a [Literal], in_count: bool, out: &mut Vec<&'a str>) {
+    for l in body {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) if in_count => {
+                let mut v = Vec::new();
+                a.args.iter().for_each(|e| vars(e, &mut v));
+                out.extend(v.into_iter().map(|(n, _)| n));
+            }
+            Literal::Agg(g) => count_vars(
+                &g.body,
+                in_count || g.func == crate::ast::AggFunc::Count,
+                out,
+            ),
+            _ => {}
         }
     }
 }

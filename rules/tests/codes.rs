@@ -1,0 +1,367 @@
+//! One small program per diagnostic code: the code, the exact text under the span, and the hint.
+
+use scenalog_rules::{check, CheckOptions, Diagnostic, Severity};
+
+fn diags(src: &str) -> Vec<Diagnostic> {
+    check(src, &CheckOptions::default()).diagnostics
+}
+
+/// The only diagnostic with `code`; asserts the text under its span and that its hint contains `hint`.
+fn expect(src: &str, code: &str, under: &str, hint: &str) -> Diagnostic {
+    let all = diags(src);
+    let found: Vec<&Diagnostic> = all.iter().filter(|d| d.code == code).collect();
+    assert_eq!(found.len(), 1, "expected one {code} in {all:#?}");
+    let d = found[0].clone();
+    assert_eq!(&src[d.span.start..d.span.end], under, "{d:#?}");
+    let h = d.hint.clone().unwrap_or_default();
+    assert!(h.contains(hint), "hint {h:?} lacks {hint:?}");
+    let expected_severity = if code.starts_with('W') {
+        Severity::Warning
+    } else {
+        Severity::Error
+    };
+    assert_eq!(d.severity, expected_severity);
+    d
+}
+
+#[test]
+fn e0001_syntax_error_says_what_was_expected_and_found() {
+    let src = "referred(X, T) :- present(X, T) present(X, T).\n";
+    let d = expect(src, "E0001", "present", "separated by `,`");
+    assert!(d.message.contains("expected `,` or `.`"), "{}", d.message);
+    assert!(
+        d.message.contains("found identifier `present`"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn e0001_lowercase_variable_hints_capital_or_quotes() {
+    let src = "referred(x, T) :- present(X, T).\n";
+    let d = expect(src, "E0001", "x", "write `X`");
+    assert!(d.message.contains("expected a term"), "{}", d.message);
+}
+
+#[test]
+fn e0001_recovery_reports_several_syntax_errors() {
+    let src = "a(X) :- present(X, ).\nreferred(X, T) :- present(X, T).\nb(X) :- present(X T).\nc(X :- x.\n";
+    let all = diags(src);
+    let syntax: Vec<&str> = all
+        .iter()
+        .filter(|d| d.code == "E0001")
+        .map(|d| &src[d.span.start..d.span.end])
+        .collect();
+    assert_eq!(syntax, vec![")", "T", ":-"], "{all:#?}");
+    // Broken clauses' heads are not also reported as unknown predicates.
+    assert!(all.iter().all(|d| d.code != "E0101"), "{all:#?}");
+}
+
+#[test]
+fn e0001_unterminated_string_and_bad_character() {
+    let src = "referred(X, T) :- category(X, \"CAR), present(X, T).\nb(X) :- present(X, T) # 1.\n";
+    let all = diags(src);
+    let msgs: Vec<&str> = all
+        .iter()
+        .filter(|d| d.code == "E0001")
+        .map(|d| d.message.as_str())
+        .collect();
+    assert_eq!(msgs.len(), 2, "{all:#?}");
+    assert!(msgs[0].contains("unterminated string"));
+    assert!(msgs[1].contains("unexpected character '#'"));
+}
+
+#[test]
+fn e0101_unknown_predicate_suggests_catalog_and_program_names() {
+    let src = "stopped_car(X, T) :- speed(X, T, S), S < 0.5.\nreferred(X, T) :- stoped_car(X, T), nearr(X, _, T, _).\n";
+    let all = diags(src);
+    let unknown: Vec<&Diagnostic> = all.iter().filter(|d| d.code == "E0101").collect();
+    assert_eq!(unknown.len(), 2, "{all:#?}");
+    assert_eq!(
+        &src[unknown[0].span.start..unknown[0].span.end],
+        "stoped_car"
+    );
+    assert!(unknown[0]
+        .hint
+        .as_deref()
+        .unwrap_or("")
+        .contains("`stopped_car` (defined in this program)"));
+    assert_eq!(&src[unknown[1].span.start..unknown[1].span.end], "nearr");
+    assert!(unknown[1]
+        .hint
+        .as_deref()
+        .unwrap_or("")
+        .contains("near(X: track, Y: track, T: time, D: float)"));
+}
+
+#[test]
+fn e0102_wrong_arity_shows_signature() {
+    let src = "referred(X, T) :- near(X, Y, T), category(Y, \"BUS\").\n";
+    let d = expect(
+        src,
+        "E0102",
+        "near(X, Y, T)",
+        "near(X: track, Y: track, T: time, D: float)",
+    );
+    assert!(d.message.contains("takes 4 arguments, found 3"));
+}
+
+#[test]
+fn e0102_helper_arity_points_at_its_definition() {
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\nreferred(X, T) :- slow(X, T, 3).\n";
+    let d = expect(src, "E0102", "slow(X, T, 3)", "with 2 arguments");
+    assert_eq!(d.related.len(), 1);
+    assert_eq!(&src[d.related[0].0.start..d.related[0].0.end], "slow(X, T)");
+}
+
+#[test]
+fn e0103_type_mismatch_time_where_track_goes() {
+    let src = "referred(X, T) :- present(X, T), near(T, X, T, _).\n";
+    let d = expect(
+        src,
+        "E0103",
+        "T",
+        "near(X: track, Y: track, T: time, D: float)",
+    );
+    assert!(
+        d.message
+            .contains("argument 1 of `near` is a track, but `T` is a time"),
+        "{}",
+        d.message
+    );
+    assert_eq!(
+        d.related.len(),
+        1,
+        "the related span says where T became a time"
+    );
+}
+
+#[test]
+fn e0103_string_where_number_goes() {
+    let src = "referred(X, T) :- speed(X, T, \"fast\").\n";
+    let d = expect(
+        src,
+        "E0103",
+        "\"fast\"",
+        "speed(X: track, T: time, V: float)",
+    );
+    assert!(d.message.contains("found the string"));
+}
+
+#[test]
+fn e0103_inferred_helper_types_by_unification() {
+    // `lane_of`'s second column is a lane (from in_lane); using it as a track is a mismatch.
+    let src = "lane_of(X, L, T) :- in_lane(X, T, L).\nreferred(X, T) :- lane_of(X, Y, T), category(Y, \"BUS\").\n";
+    let d = expect(src, "E0103", "Y", "signature is category");
+    assert!(
+        d.message.contains("is a track, but `Y` is a lane"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn e0103_decl_wins_over_uses() {
+    let src = ".decl fast(X: track, T: time, V: int)\nfast(X, T, V) :- speed(X, T, V), V > 10.0.\nreferred(X, T) :- fast(X, T, _).\n";
+    let d = expect(src, "E0103", "V", "");
+    assert!(
+        d.message
+            .contains("argument 3 of `fast` is an int, but `V` is a float"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn e0103_comparison_of_track_with_number() {
+    let src = "referred(X, T) :- present(X, T), X > 3.\n";
+    let d = expect(src, "E0103", "X > 3", "both sides of a comparison");
+    assert!(
+        d.message.contains("cannot compare a track with a number"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn e0104_string_outside_closed_values() {
+    let src = "referred(X, T) :- turning(X, T, \"lef\").\n";
+    let d = expect(src, "E0104", "\"lef\"", "did you mean \"left\"?");
+    assert!(d
+        .hint
+        .as_deref()
+        .unwrap_or("")
+        .contains("\"left\", \"right\""));
+    let src = "referred(X, T) :- direction(X, _, T, D, _, _), D = \"forwards\".\n";
+    expect(
+        src,
+        "E0104",
+        "\"forwards\"",
+        "\"forward\", \"backward\", \"left\", \"right\"",
+    );
+}
+
+#[test]
+fn e0201_unsafe_head_variable() {
+    let src = "referred(X, T) :- present(Y, T), category(Y, \"BUS\").\n";
+    let d = expect(src, "E0201", "X", "present(X, T)");
+    assert!(d.message.contains("in the head"));
+}
+
+#[test]
+fn e0201_unsafe_in_negation_comparison_and_aggregate() {
+    let src = "referred(X, T) :- present(X, T), !near(X, Y, T, _).\n";
+    expect(src, "E0201", "Y", "write `_` if any value will do");
+    let src = "referred(X, T) :- present(X, T), S > 3.0.\n";
+    expect(src, "E0201", "S", "bind `S`");
+    let src = "referred(X, T) :- present(X, T), M = max S : { speed(X, T, V) }, M > 1.0.\n";
+    expect(src, "E0201", "S", "bind `S`");
+}
+
+#[test]
+fn e0201_binding_and_aggregate_result_are_safe() {
+    let src =
+        "referred(X, T) :- speed(X, T0, _), T = T0 + 1, N = count : { near(X, Y, T, _) }, N > 2.\n";
+    let all = diags(src);
+    assert!(all.iter().all(|d| d.code != "E0201"), "{all:#?}");
+}
+
+#[test]
+fn e0301_negation_through_recursion_names_the_cycle() {
+    let src =
+        "a(X, T) :- present(X, T), !b(X, T).\nb(X, T) :- a(X, T).\nreferred(X, T) :- a(X, T).\n";
+    let d = expect(src, "E0301", "!b(X, T)", "negation of itself");
+    assert!(
+        d.message.contains("`a` uses `!b`, `b` uses `a`"),
+        "{}",
+        d.message
+    );
+    let related: Vec<&str> = d
+        .related
+        .iter()
+        .map(|(s, _)| &src[s.start..s.end])
+        .collect();
+    assert_eq!(
+        related,
+        vec!["a(X, T) :- present(X, T), !b(X, T).", "b(X, T) :- a(X, T)."]
+    );
+}
+
+#[test]
+fn e0302_aggregation_through_recursion() {
+    let src = "c(X, T, N) :- present(X, T), N = count : { c(Y, T, _), near(X, Y, T, _) }.\nreferred(X, T) :- c(X, T, N), N > 1.\n";
+    let d = expect(src, "E0302", "c(Y, T, _)", "aggregate over");
+    assert!(
+        d.message.contains("aggregation through recursion"),
+        "{}",
+        d.message
+    );
+    assert_eq!(d.related.len(), 1);
+}
+
+#[test]
+fn e0401_no_referred_unless_not_required() {
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\n";
+    expect(src, "E0401", "slow(X, T)", "referred(X, T) :-");
+    let out = check(
+        src,
+        &CheckOptions {
+            require_referred: false,
+        },
+    );
+    assert!(out.program.is_some(), "{:#?}", out.diagnostics);
+}
+
+#[test]
+fn e0402_referred_and_related_shape() {
+    let src = "referred(X) :- present(X, _).\n";
+    expect(
+        src,
+        "E0402",
+        "referred(X)",
+        "referred(Track: track, T: time)",
+    );
+    let src =
+        "referred(X, T) :- present(X, T).\nrelated(X, L, T) :- referred(X, T), in_lane(X, T, L).\n";
+    let d = expect(
+        src,
+        "E0402",
+        "L",
+        "related(Track: track, Other: track, T: time)",
+    );
+    assert!(
+        d.message.contains("is a track, but `L` is a lane"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn e0403_catalog_relation_in_a_head() {
+    let src =
+        "near(X, Y, T, 0.0) :- present(X, T), present(Y, T).\nreferred(X, T) :- present(X, T).\n";
+    expect(
+        src,
+        "E0403",
+        "near",
+        "near(X: track, Y: track, T: time, D: float)",
+    );
+}
+
+#[test]
+fn e0404_declared_twice() {
+    let src = ".decl p(X: track)\n.decl p(X: track)\np(X) :- ego(X).\nreferred(X, T) :- p(X), present(X, T).\n";
+    let d = expect(src, "E0404", "p", "one `.decl`");
+    assert_eq!(
+        Some(d.span.start),
+        src.rfind(".decl p").map(|i| i + 6),
+        "the second declaration"
+    );
+    assert_eq!(d.related.len(), 1);
+}
+
+#[test]
+fn w0501_variable_used_once() {
+    let src = "referred(X, T) :- present(X, T), speed(X, T, Speed).\n";
+    let d = expect(src, "W0501", "Speed", "write `_`");
+    let out = check(src, &CheckOptions::default());
+    assert!(out.program.is_some(), "warnings do not stop the program");
+    assert_eq!(out.program.map(|p| p.warnings), Some(vec![d]));
+}
+
+#[test]
+fn w0502_declared_but_never_defined() {
+    let src = ".decl p(X: track)\nreferred(X, T) :- present(X, T), !p(X).\n";
+    expect(src, "W0502", "p", "add a rule");
+}
+
+#[test]
+fn w0503_helper_never_used() {
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\nreferred(X, T) :- present(X, T).\n";
+    expect(src, "W0503", "slow", "use `slow`");
+}
+
+#[test]
+fn several_errors_at_once_in_source_order() {
+    let src = "referred(X, T) :- nearr(X, T).\nrelated(X, Y, T) :- referred(X, T), near(X, Y, T).\nfoo(X) :- ego(X), speed(X, T, \"a\").\n";
+    let all = diags(src);
+    let codes: Vec<&str> = all.iter().map(|d| d.code).collect();
+    assert!(codes.starts_with(&["E0101", "E0102"]), "{codes:?}");
+    assert!(codes.contains(&"E0103"), "{codes:?}");
+    let starts: Vec<usize> = all.iter().map(|d| d.span.start).collect();
+    let mut sorted = starts.clone();
+    sorted.sort();
+    assert_eq!(starts, sorted);
+}
+
+#[test]
+fn every_code_is_documented() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/DIAGNOSTICS.md"))
+        .expect("DIAGNOSTICS.md");
+    for (code, _, _) in scenalog_rules::diagnostics::CODES {
+        assert!(
+            doc.contains(&format!("## {code}")),
+            "{code} is not documented"
+        );
+    }
+}
