@@ -1,0 +1,280 @@
+//! `scenalog synth` end to end: the built binary against a scripted OpenAI-compatible server on
+//! 127.0.0.1 (the same test server as the synth crate's tests).
+
+#[path = "../synth/tests/support/server.rs"]
+mod server;
+
+use std::fs;
+use std::process::{Command, Output};
+
+use server::{program, Reply, Server};
+
+const GOOD: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
+const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning_left(V, T).";
+
+/// Runs the binary with no LLM settings from the environment but `env`.
+fn scenalog(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    c.arg("synth").args(args);
+    for v in [
+        "SCENALOG_LLM_BASE_URL",
+        "SCENALOG_LLM_MODEL",
+        "SCENALOG_LLM_API_KEY",
+    ] {
+        c.env_remove(v);
+    }
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run scenalog")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn print_prompt_shows_the_catalog_examples_and_description() {
+    let o = scenalog(&["--print-prompt", "vehicle making a left turn"], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("=== system ===\n"));
+    assert!(text.contains("=== user ===\n"));
+    for r in scenalog_facts::catalog::catalog() {
+        assert!(text.contains(&r.signature()), "missing {}", r.name);
+    }
+    assert!(text.contains("WHEELED_RIDER"));
+    assert!(text.ends_with(
+        "Write the Scenalog program for this description:\nvehicle making a left turn\n"
+    ));
+    // The library's left-turn example is among the examples.
+    assert!(text.contains("turning(V, T, \"left\")"), "{text}");
+    // All examples: at least as long as with the default 8.
+    let all = scenalog(&["--print-prompt", "--examples", "all", "x"], &[]);
+    assert!(all.status.success());
+    let none = scenalog(&["--print-prompt", "--examples", "0", "x"], &[]);
+    assert!(!stdout(&none).contains("Examples of checked programs"));
+    assert!(stdout(&all).len() > stdout(&none).len());
+    let bad = scenalog(&["--print-prompt", "--examples", "some", "x"], &[]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(stderr(&bad).contains("--examples"));
+}
+
+#[test]
+fn one_description_clean_after_a_repair_prints_the_program() {
+    let server = Server::scripted(vec![program(UNKNOWN), program(GOOD)]);
+    let url = server.base_url();
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "--model",
+            "m1",
+            "--api-key",
+            "k1",
+        ],
+        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!("// description: vehicle making a left turn\n{GOOD}\n")
+    );
+    assert!(stderr(&o).contains("checked clean in round 2"));
+    let reqs = server.requests();
+    assert_eq!(reqs.len(), 2);
+    assert_eq!(reqs[0].json["model"], "m1");
+    assert_eq!(reqs[0].header("authorization"), Some("Bearer k1"));
+    assert!(reqs[1].last_message().contains("turning_left"));
+}
+
+#[test]
+fn one_description_written_to_a_file_and_cached() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("left.dl");
+    let out_s = out.to_string_lossy().into_owned();
+    let cache = dir.path().join("cache");
+    let cache_s = cache.to_string_lossy().into_owned();
+    let server = Server::scripted(vec![program(GOOD)]);
+    let url = server.base_url();
+    let args = [
+        "vehicle making a left turn",
+        "-o",
+        &out_s,
+        "--cache-dir",
+        &cache_s,
+        "--base-url",
+        &url,
+    ];
+    let o = scenalog(&args, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).is_empty());
+    let written = fs::read_to_string(&out).expect("program");
+    assert!(written.starts_with("// description: vehicle making a left turn\n"));
+    assert!(dir.path().join("left.transcript.json").exists());
+    // Again: answered by the cache, the server sees nothing new.
+    let o = scenalog(&args, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(server.count(), 1);
+    assert_eq!(fs::read_to_string(&out).expect("program"), written);
+}
+
+#[test]
+fn rounds_run_out_exit_1_with_the_attempt_and_diagnostics_written() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("bad.dl");
+    let out_s = out.to_string_lossy().into_owned();
+    let server = Server::start(|_, _| program(UNKNOWN));
+    let url = server.base_url();
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "-o",
+            &out_s,
+            "--rounds",
+            "2",
+            "--base-url",
+            &url,
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(server.count(), 2);
+    assert!(stderr(&o).contains("no clean program after 2 rounds"));
+    assert!(fs::read_to_string(&out)
+        .expect("attempt")
+        .contains("turning_left"));
+    let diags: serde_json::Value = serde_json::from_str(
+        &fs::read_to_string(dir.path().join("bad.dl.diagnostics.json")).expect("diagnostics"),
+    )
+    .expect("json");
+    assert!(diags[0]["message"]
+        .as_str()
+        .is_some_and(|m| m.contains("turning_left")));
+
+    // Without -o the attempt goes to stdout and its diagnostics to stderr.
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "--rounds",
+            "1",
+            "--base-url",
+            &url,
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stdout(&o).contains("turning_left"));
+    assert!(stderr(&o).contains("turning_left"), "{}", stderr(&o));
+}
+
+#[test]
+fn unreachable_or_refused_exits_2_with_the_servers_message() {
+    let server = Server::scripted(vec![Reply::Error {
+        status: 401,
+        message: "Invalid API key".into(),
+        retry_after: None,
+    }]);
+    let url = server.base_url();
+    let o = scenalog(&["stopped car", "--base-url", &url], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(
+        err.contains("401") && err.contains("Invalid API key"),
+        "{err}"
+    );
+    assert!(stdout(&o).is_empty());
+
+    let o = scenalog(
+        &[
+            "stopped car",
+            "--base-url",
+            "http://127.0.0.1:9/v1",
+            "--retries",
+            "0",
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("could not reach the LLM server at http://127.0.0.1:9/v1"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_batch_writes_one_program_per_description_and_resumes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let list = dir.path().join("d.txt");
+    fs::write(
+        &list,
+        "vehicle making a left turn\n\n# comment\nstopped car\n",
+    )
+    .expect("write");
+    let out = dir.path().join("out");
+    let server = Server::start(|_, r| {
+        if r.description().contains("stopped") {
+            program(UNKNOWN)
+        } else {
+            program(GOOD)
+        }
+    });
+    let url = server.base_url();
+    let args = [
+        "--descriptions",
+        &list.to_string_lossy().into_owned(),
+        "--out",
+        &out.to_string_lossy().into_owned(),
+        "--base-url",
+        &url,
+        "--jobs",
+        "2",
+    ]
+    .map(|s| s.to_string());
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = scenalog(&args, &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("2 descriptions: 1 clean (round 1: 1, round 2: 0, round 3: 0), 0 already done, 1 failed"), "{err}");
+    assert!(out.join("vehicle-making-a-left-turn.dl").exists());
+    assert!(out.join("stopped-car.dl.diagnostics.json").exists());
+    assert!(stdout(&o).contains("stopped-car.dl\tFAILED\tstopped car"));
+    assert_eq!(server.count(), 4);
+
+    // Rerun: the clean one is skipped, the failed one comes from the cache in DIR/.llm-cache.
+    let o = scenalog(&args, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("1 already done"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("0 completions from the server, 3 from the cache"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(server.count(), 4);
+}
+
+#[test]
+fn bad_arguments_are_refused() {
+    let o = scenalog(&[], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = scenalog(&["--descriptions", "x.txt"], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--out"), "{}", stderr(&o));
+    let dir = tempfile::tempdir().expect("tempdir");
+    let missing = dir.path().join("missing.txt");
+    let o = scenalog(
+        &[
+            "--descriptions",
+            &missing.to_string_lossy(),
+            "--out",
+            &dir.path().to_string_lossy(),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("missing.txt"), "{}", stderr(&o));
+}
