@@ -107,10 +107,17 @@ fn synth_config(args: &Args) -> Result<SynthConfig, String> {
                 .map_err(|_| format!("--examples: expected a number or \"all\", got {k:?}"))?,
         ),
     };
-    let library = match &args.library {
+    let mut library = match &args.library {
         Some(dir) => library::load_dir(dir).map_err(|e| e.to_string())?,
         None => library::embedded(),
     };
+    let dropped = library::retain_clean(&mut library);
+    if !dropped.is_empty() {
+        eprintln!(
+            "scenalog synth: warning: examples left out because they do not check clean: {}",
+            dropped.join(", ")
+        );
+    }
     let cache_dir = args
         .cache_dir
         .clone()

@@ -81,14 +81,16 @@ pub struct SynthConfig {
 }
 
 impl SynthConfig {
-    /// A configuration with the server from `llm`, no cache, 3 rounds, the embedded library and
-    /// at most [`prompt::DEFAULT_EXAMPLES`] examples.
+    /// A configuration with the server from `llm`, no cache, 3 rounds, the embedded library
+    /// (the programs that check clean) and at most [`prompt::DEFAULT_EXAMPLES`] examples.
     pub fn new(llm: LlmConfig) -> SynthConfig {
+        let mut examples = library::embedded();
+        library::retain_clean(&mut examples);
         SynthConfig {
             llm,
             cache_dir: None,
             rounds: 3,
-            library: library::embedded(),
+            library: examples,
             examples: Some(prompt::DEFAULT_EXAMPLES),
         }
     }

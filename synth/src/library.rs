@@ -68,6 +68,22 @@ pub fn load_dir(dir: &Path) -> Result<Vec<Example>, SynthError> {
     Ok(out)
 }
 
+/// Keeps the examples whose program checks clean (the prompt calls them checked programs) and
+/// returns the names of those dropped.
+pub fn retain_clean(examples: &mut Vec<Example>) -> Vec<String> {
+    let mut dropped = Vec::new();
+    examples.retain(|e| {
+        let ok = scenalog_rules::check(&e.source, &scenalog_rules::CheckOptions::default())
+            .program
+            .is_some();
+        if !ok {
+            dropped.push(e.name.clone());
+        }
+        ok
+    });
+    dropped
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,6 +115,23 @@ mod tests {
         assert_eq!(lib[1].description, "bee");
         let missing = load_dir(&dir.path().join("nope")).unwrap_err().to_string();
         assert!(missing.contains("nope"), "{missing}");
+    }
+
+    #[test]
+    fn only_clean_examples_are_kept() {
+        let mut lib = vec![
+            Example::new(
+                "good.dl",
+                "// description: ego\nreferred(X, T) :- ego(X), present(X, T).\n",
+            ),
+            Example::new(
+                "bad.dl",
+                "// description: bad\nreferred(X, T) :- nope(X, T).\n",
+            ),
+        ];
+        assert_eq!(retain_clean(&mut lib), ["bad.dl"]);
+        assert_eq!(lib.len(), 1);
+        assert_eq!(lib[0].name, "good.dl");
     }
 
     #[test]

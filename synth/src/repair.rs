@@ -106,8 +106,12 @@ pub const NO_CODE_FEEDBACK: &str = "Your answer contained no program: no fenced 
 /// The feedback for a program with errors: the diagnostics as JSON and the offending lines.
 pub fn error_feedback(program: &str, diags: &[scenalog_rules::Diagnostic]) -> String {
     let n = diagnostics::error_count(diags);
-    let json = serde_json::to_string_pretty(&diagnostics::to_json(diags, program))
-        .unwrap_or_else(|_| "[]".into());
+    // One diagnostic a line: compact for the model, still easy to read.
+    let items: Vec<String> = match diagnostics::to_json(diags, program) {
+        serde_json::Value::Array(a) => a.iter().map(|d| d.to_string()).collect(),
+        other => vec![other.to_string()],
+    };
+    let json = format!("[\n{}\n]", items.join(",\n"));
     format!(
         "The checker rejected the program with {n} error{}. Its diagnostics as JSON (lines and columns count from 1 at the `// description:` line):\n\n```json\n{json}\n```\n\nThe offending lines:\n\n```\n{}```\n\nFix every error and reply with the complete corrected program in one fenced code block (```scenalog ... ```).",
         if n == 1 { "" } else { "s" },

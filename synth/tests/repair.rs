@@ -102,7 +102,14 @@ fn an_unknown_predicate_is_sent_back_and_repaired() {
     // Line 2: the description comment is line 1.
     assert_eq!(unknown["line"], 2);
     let feedback = r1.feedback.as_deref().expect("feedback");
-    assert!(feedback.contains("```json"));
+    // The JSON block parses and is the round's diagnostics.
+    let json = feedback
+        .split_once("```json\n")
+        .and_then(|(_, rest)| rest.split_once("\n```"))
+        .map(|(j, _)| j)
+        .expect("a json block");
+    let parsed: serde_json::Value = serde_json::from_str(json).expect("feedback json");
+    assert_eq!(parsed, r1.diagnostics);
     assert!(
         feedback.contains(&format!("   2 | {UNKNOWN}")),
         "{feedback}"
