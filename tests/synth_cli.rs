@@ -94,7 +94,7 @@ fn one_description_clean_after_a_repair_prints_the_program() {
 #[test]
 fn one_description_written_to_a_file_and_cached() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = dir.path().join("left.dl");
+    let out = dir.path().join("new").join("left.dl");
     let out_s = out.to_string_lossy().into_owned();
     let cache = dir.path().join("cache");
     let cache_s = cache.to_string_lossy().into_owned();
@@ -114,7 +114,7 @@ fn one_description_written_to_a_file_and_cached() {
     assert!(stdout(&o).is_empty());
     let written = fs::read_to_string(&out).expect("program");
     assert!(written.starts_with("// description: vehicle making a left turn\n"));
-    assert!(dir.path().join("left.transcript.json").exists());
+    assert!(dir.path().join("new/left.transcript.json").exists());
     // Again: answered by the cache, the server sees nothing new.
     let o = scenalog(&args, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

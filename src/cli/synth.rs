@@ -169,6 +169,10 @@ fn one(synth: &Synthesizer, description: &str, args: &Args) -> ExitCode {
     match &args.output {
         Some(path) => {
             if let Err(e) = write_outputs(path, &t) {
+                // Keep the answer: print it rather than lose it.
+                if let Some(p) = t.program() {
+                    print!("{p}");
+                }
                 return fail(e);
             }
         }

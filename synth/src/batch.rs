@@ -163,9 +163,12 @@ fn checks_clean(path: &Path) -> Option<String> {
 }
 
 /// Writes a transcript's program, diagnostics (when not clean) and the transcript itself next to
-/// `dl` (`dl`, `dl.diagnostics.json`, `<stem>.transcript.json`). Writes nothing for the program
-/// when no round produced one.
+/// `dl` (`dl`, `dl.diagnostics.json`, `<stem>.transcript.json`), creating the directory if
+/// needed. Writes nothing for the program when no round produced one.
 pub fn write_outputs(dl: &Path, transcript: &Transcript) -> Result<(), SynthError> {
+    if let Some(parent) = dl.parent().filter(|p| !p.as_os_str().is_empty()) {
+        fs::create_dir_all(parent).map_err(|e| SynthError::io(parent, e))?;
+    }
     if let Some(program) = transcript.program() {
         write_atomic(dl, program.as_bytes())?;
     }

@@ -8,7 +8,7 @@
 //! files.
 //!
 //! Does not own: the rule language or its checker (the `rules` crate, which this calls through
-//! [`scenalog_rules::check`]), the catalog (the `facts` crate), or mining with the programs (the
+//! [`scenalog_rules::check()`]), the catalog (the `facts` crate), or mining with the programs (the
 //! root package's pipeline, which calls [`batch::run`]).
 //!
 //! The entry point is [`Synthesizer`]: made from a [`SynthConfig`], it turns one description into a
