@@ -193,9 +193,9 @@ struct Sample {
     dv: f64,
 }
 
-/// The samples of Y (track `y`) in X's frame for direction `dir` (index into [`DIRECTIONS`]), over
-/// the frames both are present.
-fn samples(ctx: &PairContext, x: TrackId, y: TrackId, dir: usize) -> Vec<Sample> {
+/// Y (track `y`) relative to X over the frames both are present: the frame, Y's centre in X's
+/// frame (forward, left) and Y's velocity relative to X in X's frame (forward, left).
+fn relative_motion(ctx: &PairContext, x: TrackId, y: TrackId) -> Vec<(Frame, [f64; 4])> {
     let (Some(kx), Some(ky)) = (track_kin(ctx, x), track_kin(ctx, y)) else {
         return Vec::new();
     };
@@ -214,21 +214,34 @@ fn samples(ctx: &PairContext, x: TrackId, y: TrackId, dir: usize) -> Vec<Sample>
         let (s, c) = yaw.sin_cos();
         let (dx, dy) = (py[0] - px[0], py[1] - px[1]);
         let (rvx, rvy) = (vy[0] - vx[0], vy[1] - vx[1]);
-        // X's frame: (forward, left).
-        let (fx, ly) = (dx * c + dy * s, -dx * s + dy * c);
-        let (fv, lv) = (rvx * c + rvy * s, -rvx * s + rvy * c);
-        // Rotate so the direction is +u; v is across the midplane.
-        let (u, v, dv) = match dir {
-            0 => (fx, ly, lv),
-            1 => (-fx, -ly, -lv),
-            2 => (ly, -fx, -fv),
-            _ => (-ly, fx, fv),
-        };
-        if u.is_finite() && v.is_finite() && dv.is_finite() {
-            out.push(Sample { frame, u, v, dv });
+        let m = [
+            dx * c + dy * s,
+            -dx * s + dy * c,
+            rvx * c + rvy * s,
+            -rvx * s + rvy * c,
+        ];
+        if m.iter().all(|v| v.is_finite()) {
+            out.push((frame, m));
         }
     }
     out
+}
+
+/// The samples of a relative motion ([`relative_motion`]) for direction `dir` (index into
+/// [`DIRECTIONS`]): rotated so the direction is +u and v is across the midplane.
+fn samples(motion: &[(Frame, [f64; 4])], dir: usize) -> Vec<Sample> {
+    motion
+        .iter()
+        .map(|&(frame, [fx, ly, fv, lv])| {
+            let (u, v, dv) = match dir {
+                0 => (fx, ly, lv),
+                1 => (-fx, -ly, -lv),
+                2 => (ly, -fx, -fv),
+                _ => (-ly, fx, fv),
+            };
+            Sample { frame, u, v, dv }
+        })
+        .collect()
 }
 
 /// The frames of every crossing event in `s` (a direction's samples) for an object whose extent
@@ -276,8 +289,12 @@ fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
 
 /// `crossing(X, Y, T, Dir)`: Y's centre crosses the half-midplane of X that extends
 /// [`CROSSING_REACH_M`] beyond X's Dir side (forward: the plane through X's length axis in front
-/// of X; left: the plane through its width axis beside it; ...), and T lies in the event's span
-/// ([`crossing_frames`]). Motion is relative to X (Y's velocity minus X's, in X's frame), so a
+/// of X; left: the plane through its width axis beside it; ...), and T lies in the event's span.
+/// A crossing is a sign change of Y's offset across the plane between two consecutive common
+/// frames, both within [`CROSSING_SPAN_M`] of the plane, the interpolated crossing point on the
+/// half-plane, and Y moving across faster than [`CROSSING_MIN_SPEED_M_S`]; the span extends each
+/// way while Y keeps moving across that fast and within [`CROSSING_SPAN_M`] of the plane.
+/// Motion is relative to X (Y's velocity minus X's, in X's frame), so a
 /// pedestrian standing still while a car turns past is not crossing. Every pair that comes within
 /// [`CROSSING_REACH_M`] (plus a margin) at some frame is examined, in every requested direction
 /// (RefAV's `being_crossed_by` overwrote its direction argument after the first crossing, and
@@ -323,8 +340,9 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
         .par_iter()
         .flat_map_iter(|&(x, y)| {
             let mut rows = Vec::new();
+            let motion = relative_motion(ctx, x, y);
             for &dir in &want {
-                let s = samples(ctx, x, y, dir);
+                let s = samples(&motion, dir);
                 let frames = crossing_frames(&s, reach0(ctx, x, dir, &s));
                 for f in frames.into_iter().filter(|f| out_frames.contains(f)) {
                     if within_pair_distance(ctx, x, y, f) {
