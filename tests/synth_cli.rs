@@ -89,6 +89,17 @@ fn one_description_clean_after_a_repair_prints_the_program() {
     assert_eq!(reqs[0].json["model"], "m1");
     assert_eq!(reqs[0].header("authorization"), Some("Bearer k1"));
     assert!(reqs[1].last_message().contains("turning_left"));
+    assert_eq!(reqs[0].json["temperature"], 0.0);
+
+    // --temperature default sends none.
+    let server = Server::scripted(vec![program(GOOD)]);
+    let url = server.base_url();
+    let o = scenalog(&["x", "--temperature", "default", "--base-url", &url], &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(server.requests()[0].json.get("temperature").is_none());
+    let o = scenalog(&["x", "--temperature", "hot", "--base-url", &url], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--temperature"));
 }
 
 #[test]

@@ -58,6 +58,9 @@ pub struct Args {
     /// API key, sent as a bearer token [env: SCENALOG_LLM_API_KEY].
     #[arg(long, value_name = "KEY")]
     pub api_key: Option<String>,
+    /// Sampling temperature, or "default" to send none (for models that accept only their own).
+    #[arg(long, default_value = "0", value_name = "T|default")]
+    pub temperature: String,
     /// Seconds one completion may take before it is retried.
     #[arg(long, default_value_t = 300, value_name = "SECS")]
     pub timeout: u64,
@@ -83,8 +86,21 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn llm_config(args: &Args) -> LlmConfig {
+fn llm_config(args: &Args) -> Result<LlmConfig, String> {
     let mut llm = LlmConfig::from_env();
+    llm.temperature = match args.temperature.trim() {
+        "default" => None,
+        t => Some(
+            t.parse::<f64>()
+                .ok()
+                .filter(|t| (0.0..=2.0).contains(t))
+                .ok_or_else(|| {
+                    format!(
+                        "--temperature: expected a number from 0 to 2 or \"default\", got {t:?}"
+                    )
+                })?,
+        ),
+    };
     if let Some(v) = &args.base_url {
         llm.base_url = v.clone();
     }
@@ -96,7 +112,7 @@ fn llm_config(args: &Args) -> LlmConfig {
     }
     llm.timeout = Duration::from_secs(args.timeout.max(1));
     llm.max_retries = args.retries;
-    llm
+    Ok(llm)
 }
 
 fn synth_config(args: &Args) -> Result<SynthConfig, String> {
@@ -123,7 +139,7 @@ fn synth_config(args: &Args) -> Result<SynthConfig, String> {
         .clone()
         .or_else(|| args.out.as_ref().map(|d| d.join(".llm-cache")));
     Ok(SynthConfig {
-        llm: llm_config(args),
+        llm: llm_config(args)?,
         cache_dir,
         rounds: args.rounds as usize,
         library,

@@ -76,8 +76,9 @@ pub struct LlmConfig {
     pub backoff: Duration,
     /// Longest wait between attempts (also caps `Retry-After`).
     pub max_backoff: Duration,
-    /// Sampling temperature (0: as deterministic as the server allows).
-    pub temperature: f64,
+    /// Sampling temperature (0: as deterministic as the server allows; `None`: not sent, for
+    /// models that accept only their default, such as OpenAI's reasoning models).
+    pub temperature: Option<f64>,
 }
 
 impl Default for LlmConfig {
@@ -91,7 +92,7 @@ impl Default for LlmConfig {
             max_retries: 4,
             backoff: Duration::from_secs(1),
             max_backoff: Duration::from_secs(60),
-            temperature: 0.0,
+            temperature: Some(0.0),
         }
     }
 }
@@ -198,13 +199,15 @@ impl Client {
     /// Asks for one completion of `messages` and returns the assistant's text.
     pub fn complete(&self, messages: &[Message]) -> Result<String, ClientError> {
         let url = self.config.endpoint();
-        let body = serde_json::json!({
+        let mut body = serde_json::json!({
             "model": self.config.model,
             "messages": messages,
-            "temperature": self.config.temperature,
             "stream": false,
-        })
-        .to_string();
+        });
+        if let Some(t) = self.config.temperature {
+            body["temperature"] = serde_json::json!(t);
+        }
+        let body = body.to_string();
         let mut attempts = 0u32;
         loop {
             attempts += 1;

@@ -25,7 +25,7 @@ fn llm(server: &Server) -> LlmConfig {
         max_retries: 2,
         backoff: Duration::from_millis(10),
         max_backoff: Duration::from_millis(200),
-        temperature: 0.0,
+        temperature: Some(0.0),
     }
 }
 
