@@ -237,9 +237,9 @@ fn a_batch_writes_one_program_per_description_and_resumes() {
     let url = server.base_url();
     let args = [
         "--descriptions",
-        &list.to_string_lossy().into_owned(),
+        &list.to_string_lossy(),
         "--out",
-        &out.to_string_lossy().into_owned(),
+        &out.to_string_lossy(),
         "--base-url",
         &url,
         "--jobs",

@@ -16,9 +16,17 @@ use scenalog_synth::batch::{self, diagnostics_path, write_outputs};
 use scenalog_synth::client::{ENV_API_KEY, ENV_BASE_URL, ENV_MODEL};
 use scenalog_synth::{library, prompt, BatchOptions, LlmConfig, Outcome, SynthConfig, Synthesizer};
 
-/// Arguments of `scenalog synth`.
+/// Arguments of `scenalog synth` (boxed: they are many, and the command enum stays small).
 #[derive(clap::Args)]
 pub struct Args {
+    /// The options.
+    #[command(flatten)]
+    pub options: Box<Options>,
+}
+
+/// The options of `scenalog synth`.
+#[derive(clap::Args)]
+pub struct Options {
     /// The scenario description, e.g. "vehicle making a left turn".
     #[arg(
         required_unless_present = "descriptions",
@@ -86,7 +94,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn llm_config(args: &Args) -> Result<LlmConfig, String> {
+fn llm_config(args: &Options) -> Result<LlmConfig, String> {
     let mut llm = LlmConfig::from_env();
     llm.temperature = match args.temperature.trim() {
         "default" => None,
@@ -115,7 +123,7 @@ fn llm_config(args: &Args) -> Result<LlmConfig, String> {
     Ok(llm)
 }
 
-fn synth_config(args: &Args) -> Result<SynthConfig, String> {
+fn synth_config(args: &Options) -> Result<SynthConfig, String> {
     let examples = match args.examples.trim() {
         "all" => None,
         k => Some(
@@ -149,6 +157,7 @@ fn synth_config(args: &Args) -> Result<SynthConfig, String> {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
+    let args = *args.options;
     let config = match synth_config(&args) {
         Ok(c) => c,
         Err(e) => return fail(e),
@@ -172,7 +181,7 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-fn one(synth: &Synthesizer, description: &str, args: &Args) -> ExitCode {
+fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
     if description.trim().is_empty() {
         return fail("the description is empty");
     }
@@ -224,7 +233,7 @@ fn one(synth: &Synthesizer, description: &str, args: &Args) -> ExitCode {
 }
 
 /// Says where the last attempt and its diagnostics are, or prints the diagnostics.
-fn report_last(t: &scenalog_synth::Transcript, args: &Args) {
+fn report_last(t: &scenalog_synth::Transcript, args: &Options) {
     let Some(program) = t.program() else {
         return;
     };
