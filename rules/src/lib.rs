@@ -1,11 +1,46 @@
 //! The Scenalog rule language: text in, checked program out.
 //!
-//! Owns: the lexer and parser (with byte spans), the AST ([`ast`]), the pretty-printer, the checks
-//! against the catalog (arity, types, safety, stratification, `referred`/`related` shape) and the
-//! diagnostics they produce, rendered for people and as JSON. Also holds `rules/library/*.dl`,
-//! the scenario library.
+//! # The language
 //!
-//! Does not own: evaluation (the `engine` crate) or the catalog itself (the `facts` crate).
+//! Soufflé-flavoured Datalog over the relations of the catalog (`scenalog_facts::catalog`):
+//!
+//! ```text
+//! // description: vehicle with a bicycle to its right
+//! bicycle_right(V, B, T) :-
+//!     category(V, "VEHICLE"), category(B, "BICYCLE"),
+//!     direction(V, B, T, "right", Dist, _), Dist <= 3.0.
+//! referred(V, T) :- bicycle_right(V, _, T).
+//! related(V, B, T) :- bicycle_right(V, B, T).
+//! ```
+//!
+//! - Clauses `head :- body.` and ground facts `head.`; comments `//`, `%` and `/* */`; a leading
+//!   `// description: …` comment is kept as [`Program::description`].
+//! - Terms: variables (`Capitalised` or `_name`), `_`, strings, integers, floats, `+ - * /` with the
+//!   usual precedence, unary `-`, `abs(E)`, `min(E, E)`, `max(E, E)`.
+//! - Body literals: atoms, negated atoms (`!p(..)` or `not p(..)`), comparisons
+//!   (`< <= > >= = !=`), bindings `X = expr` (binds `X` when it is otherwise unbound and `expr`'s
+//!   variables are bound), aggregates `N = count : { … }`, `M = min E : { … }`, `max`, `sum`
+//!   (grouped by the variables the braces share with the rest of the clause).
+//! - Optional `.decl name(Col: type, …)` lines declare a helper's column types (track, time, lane,
+//!   str, float, int); without them the types are inferred by unification, and a `.decl` wins.
+//!   Arithmetic on a time gives a time; int, float and time compare freely.
+//! - `referred(Track, T)` is the output (required unless [`CheckOptions::require_referred`] is
+//!   off); `related(Track, Other, T)` is optional. Recursion is allowed, but not through negation
+//!   or aggregation.
+//!
+//! [`check`] parses and checks a program and returns a [`CheckedProgram`] (typed and stratified:
+//! the engine's input) when there is no error, with every [`Diagnostic`] in source order. The codes
+//! are in [`diagnostics`] and documented with examples in `rules/DIAGNOSTICS.md`. [`parse`] and
+//! [`print_program`] convert between text and [`ast`]; [`render_human`] and [`diagnostics_json`]
+//! present diagnostics; [`strata`] exposes the dependency graph.
+//!
+//! Owns: the lexer and parser (with byte spans and error recovery), the AST ([`ast`]), the
+//! pretty-printer, the checks against the catalog (arity, types, safety, stratification,
+//! `referred`/`related` shape) and the diagnostics they produce, rendered for people and as JSON.
+//! Also holds `rules/library/*.dl`, the scenario library.
+//!
+//! Does not own: evaluation (the `engine` crate), the catalog itself (the `facts` crate), or the
+//! `scenalog check` command line (the root package's `src/cli/check.rs`, a thin wrapper).
 //!
 //! The contract with the engine is [`CheckedProgram`]: a parsed program whose every predicate has
 //! known column types and whose clauses are grouped into strata in evaluation order.

@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use scenalog_facts::catalog;
+use scenalog_facts::catalog::{self, ColType};
 
 use super::body_atoms;
 use crate::ast::{Atom, Program, Span};
@@ -42,6 +42,15 @@ impl PredTable {
         self.preds
             .get(&atom.pred)
             .is_some_and(|e| e.arity == atom.args.len())
+    }
+}
+
+/// The required column types of an output predicate (empty for other names).
+pub fn output_types(name: &str) -> Vec<ColType> {
+    match name {
+        "referred" => vec![ColType::Track, ColType::Time],
+        "related" => vec![ColType::Track, ColType::Track, ColType::Time],
+        _ => Vec::new(),
     }
 }
 
@@ -92,7 +101,9 @@ pub fn collect(
             continue;
         }
         if let Some((arity, sig)) = output_arity(&d.name) {
-            if d.columns.len() != arity {
+            let want = output_types(&d.name);
+            let have: Vec<ColType> = d.columns.iter().map(|(_, t)| *t).collect();
+            if d.columns.len() != arity || have != want {
                 diags.push(
                     error(
                         diagnostics::OUTPUT_SHAPE,
