@@ -157,6 +157,9 @@ impl Parser {
                 capitalise(s)
             )),
             Tok::Eof => Some("every clause ends with `.`".into()),
+            Tok::Eq if matches!(self.peek_tok_at(self.pos.wrapping_sub(1)), Tok::Eq) => {
+                Some("equality is a single `=`".into())
+            }
             Tok::Error(_) => None,
             _ if expected.contains("`.`") => Some(
                 "a clause is `head(Args) :- literal, literal, … .`: literals are separated by `,` and the clause ends with `.`"

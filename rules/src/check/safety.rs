@@ -215,7 +215,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
                     sp,
                     format!("variable `{v}` is used only once"),
                 )
-                .with_hint(format!("if any value will do, write `_` (or `_{v}` to keep the name); otherwise check its spelling")),
+                .with_hint(singleton_hint(v)),
             );
         }
     }
@@ -258,4 +258,12 @@ fn count_vars<'a>(body: &'a [Literal], in_count: bool, out: &mut Vec<&'a str>) {
             _ => {}
         }
     }
+}
+
+fn singleton_hint(v: &str) -> String {
+    let mut hint = format!("if any value will do, write `_` (or `_{v}` to keep the name); otherwise check its spelling");
+    if v.len() > 1 && v.chars().all(|c| c.is_ascii_uppercase() || c == '_') {
+        hint.push_str(&format!("; if you meant the string, quote it: \"{v}\""));
+    }
+    hint
 }
