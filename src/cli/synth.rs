@@ -50,6 +50,21 @@ pub struct Options {
     /// Print the prompt the description would be sent with, and ask nothing.
     #[arg(long)]
     pub print_prompt: bool,
+    /// Descriptions synthesized at once with `--descriptions`.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub jobs: u32,
+    /// Also write the transcript of every round (JSON) to this file (one description).
+    #[arg(long, value_name = "FILE.json", conflicts_with = "descriptions")]
+    pub transcript: Option<PathBuf>,
+    /// The server, the cache and the prompt.
+    #[command(flatten)]
+    pub synth: SynthArgs,
+}
+
+/// The options that make a [`SynthConfig`]: the server, the cache, the rounds and the examples.
+/// `scenalog mine --descriptions` flattens these too.
+#[derive(clap::Args, Clone, Debug)]
+pub struct SynthArgs {
     /// Cache completions here (default: DIR/.llm-cache with `--out`, none otherwise).
     #[arg(long, value_name = "DIR")]
     pub cache_dir: Option<PathBuf>,
@@ -75,18 +90,12 @@ pub struct Options {
     /// Retries after a failed attempt (refused connection, timeout, 429, 5xx).
     #[arg(long, default_value_t = 4)]
     pub retries: u32,
-    /// Descriptions synthesized at once with `--descriptions`.
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
-    pub jobs: u32,
     /// In-context examples per prompt: the most similar of the library ("all" for every one).
     #[arg(long, default_value = "8", value_name = "K|all")]
     pub examples: String,
     /// Read the example library from this directory instead of the one built in.
     #[arg(long, value_name = "DIR")]
     pub library: Option<PathBuf>,
-    /// Also write the transcript of every round (JSON) to this file (one description).
-    #[arg(long, value_name = "FILE.json", conflicts_with = "descriptions")]
-    pub transcript: Option<PathBuf>,
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -94,7 +103,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn llm_config(args: &Options) -> Result<LlmConfig, String> {
+fn llm_config(args: &SynthArgs) -> Result<LlmConfig, String> {
     let mut llm = LlmConfig::from_env();
     llm.temperature = match args.temperature.trim() {
         "default" => None,
@@ -123,7 +132,13 @@ fn llm_config(args: &Options) -> Result<LlmConfig, String> {
     Ok(llm)
 }
 
-fn synth_config(args: &Options) -> Result<SynthConfig, String> {
+/// The synthesis configuration from the flags and the environment; completions are cached in
+/// `--cache-dir`, else in `default_cache` (e.g. `OUT/.llm-cache`), else not at all. Warns on
+/// stderr about library examples left out because they do not check clean.
+pub fn synth_config(
+    args: &SynthArgs,
+    default_cache: Option<PathBuf>,
+) -> Result<SynthConfig, String> {
     let examples = match args.examples.trim() {
         "all" => None,
         k => Some(
@@ -142,10 +157,7 @@ fn synth_config(args: &Options) -> Result<SynthConfig, String> {
             dropped.join(", ")
         );
     }
-    let cache_dir = args
-        .cache_dir
-        .clone()
-        .or_else(|| args.out.as_ref().map(|d| d.join(".llm-cache")));
+    let cache_dir = args.cache_dir.clone().or(default_cache);
     Ok(SynthConfig {
         llm: llm_config(args)?,
         cache_dir,
@@ -158,7 +170,8 @@ fn synth_config(args: &Options) -> Result<SynthConfig, String> {
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
-    let config = match synth_config(&args) {
+    let default_cache = args.out.as_ref().map(|d| d.join(".llm-cache"));
+    let config = match synth_config(&args.synth, default_cache) {
         Ok(c) => c,
         Err(e) => return fail(e),
     };
