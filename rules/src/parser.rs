@@ -42,6 +42,7 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
         ..Program::default()
     };
     let mut broken_heads = Vec::new();
+    let mut stray_run = false;
     while !matches!(p.peek(), Tok::Eof) {
         let start = p.pos;
         let is_decl =
@@ -52,7 +53,12 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
             p.clause().map(|c| program.clauses.push(c))
         };
         if let Err(d) = result {
-            p.diags.push(*d);
+            // A run of stray tokens where clauses should start is reported once.
+            let stray = p.pos == start;
+            if !(stray && stray_run) {
+                p.diags.push(*d);
+            }
+            stray_run = stray;
             if !is_decl {
                 if let (Tok::Ident(name), Tok::LParen) =
                     (&p.toks[start].tok, p.peek_tok_at(start + 1))
@@ -61,6 +67,8 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
                 }
             }
             p.recover(start);
+        } else {
+            stray_run = false;
         }
     }
     ParseOutput {
@@ -178,10 +186,12 @@ impl Parser {
         }
     }
 
-    /// Skips to just after the next `.` at clause level (or to a `.decl`), making progress.
+    /// Skips to just after the next `.` at clause level (or to a `.decl`), making progress. A stray
+    /// token where a clause should start is skipped alone, so the clause after it still parses.
     fn recover(&mut self, start: usize) {
         if self.pos == start {
             self.bump();
+            return;
         }
         loop {
             match self.peek() {

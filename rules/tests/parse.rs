@@ -103,3 +103,22 @@ fn helpful_syntax_hints() {
     let d = &check("referred(X, T) :- present(X, T)", &CheckOptions::default()).diagnostics;
     assert_eq!(d[0].hint.as_deref(), Some("every clause ends with `.`"));
 }
+
+#[test]
+fn a_stray_token_between_clauses_does_not_swallow_the_next_clause() {
+    let src = "p(X) :- ego(X).. # q(X) :- ego(X).\nreferred(X, T) :- p(X), q(X), present(X, T).\n";
+    let (prog, d) = parse(src);
+    assert_eq!(d.len(), 1, "{d:#?}");
+    let heads: Vec<&str> = prog.clauses.iter().map(|c| c.head.pred.as_str()).collect();
+    assert_eq!(heads, vec!["p", "q", "referred"]);
+}
+
+#[test]
+fn a_run_of_stray_tokens_is_one_error() {
+    let (prog, d) = parse("1 2 3 4 ) ( p(X) :- ego(X).");
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(prog.clauses.len(), 1);
+    let (prog, d) = parse("1 2 3 4 .\np(X) :- ego(X). 5 q(X) :- ego(X).");
+    assert_eq!(d.len(), 2, "{d:#?}");
+    assert_eq!(prog.clauses.len(), 1);
+}
