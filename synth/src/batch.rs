@@ -3,7 +3,8 @@
 //!
 //! For a description whose slug is `s`, the directory gets `s.dl` (the last program, clean or
 //! not), `s.transcript.json` (every round) and, when the program did not check clean,
-//! `s.dl.diagnostics.json`. A description whose `s.dl` exists and checks clean is skipped.
+//! `s.dl.diagnostics.json`. A description whose `s.dl` exists and checks clean is skipped. The
+//! whole report (every item and the counts) goes to `summary.json`.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -278,7 +279,10 @@ pub fn run(
             ItemStatus::Skipped => summary.skipped += 1,
         }
     }
-    Ok(BatchReport { items, summary })
+    let report = BatchReport { items, summary };
+    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
+    write_atomic(&out_dir.join("summary.json"), json.as_bytes())?;
+    Ok(report)
 }
 
 fn one(

@@ -11,8 +11,9 @@ pub enum Extracted {
 
 /// The program in an answer: the last fenced code block that holds a clause (`:-`) or a
 /// `referred` atom, else the last non-empty fenced block, else the whole answer when it has a
-/// clause (`:-`). `<think>…</think>` sections of reasoning models are dropped first. An answer
-/// cut off inside a block still yields the block's text.
+/// clause (`:-`). `<think>…</think>` sections of reasoning models are dropped first (and
+/// everything before a lone `</think>`). An answer cut off inside a block still yields the
+/// block's text.
 pub fn extract(answer: &str) -> Extracted {
     let answer = strip_think(answer);
     let blocks = fenced_blocks(&answer);
@@ -41,7 +42,11 @@ fn strip_think(answer: &str) -> String {
         }
     }
     out.push_str(rest);
-    out
+    // A template that opens the thinking itself leaves only the closing tag in the answer.
+    match out.rfind("</think>") {
+        Some(i) => out[i + "</think>".len()..].to_string(),
+        None => out,
+    }
 }
 
 /// The contents of every fenced block (``` or ~~~), in order; a block left open at the end runs
@@ -158,6 +163,10 @@ mod tests {
             Extracted::Program("referred(X, T) :- c(X, T).\n".into())
         );
         assert_eq!(extract("<think>referred(X,T) :- a."), Extracted::NoCode);
+        assert_eq!(
+            extract("referred(X, T) :- a(X, T).\n</think>\nNo program."),
+            Extracted::NoCode
+        );
         // A longer fence is not closed by a shorter one.
         let a = "````\nx :- y.\n```\nz :- w.\n````\n";
         assert_eq!(

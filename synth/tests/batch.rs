@@ -123,6 +123,12 @@ fn a_batch_writes_every_program_resumes_and_reuses_the_cache() {
             .expect("json");
     assert_eq!(tr["rounds"].as_array().map(Vec::len), Some(3));
     assert!(!diagnostics_path(&out.join("vehicle-turning-left.dl")).exists());
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    assert_eq!(summary["summary"]["failed"], 1);
+    assert_eq!(summary["items"][2]["status"]["status"], "failed");
+    assert_eq!(summary["items"][0]["status"]["round"], 1);
 
     // A rerun: the clean ones are skipped, the failed one is answered from the cache.
     let synth = Synthesizer::new(config(&server, &cache)).expect("synth");
