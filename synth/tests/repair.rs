@@ -252,9 +252,12 @@ fn malformed_json_is_reported_not_retried() {
 #[test]
 fn a_timeout_is_retried_then_reported() {
     // One hang, then an answer: the retry succeeds.
-    let server = Server::scripted(vec![Reply::Hang(Duration::from_secs(2)), program(GOOD)]);
+    let server = Server::scripted(vec![
+        Reply::Hang(Duration::from_millis(2500)),
+        program(GOOD),
+    ]);
     let mut c = config(&server);
-    c.llm.timeout = Duration::from_millis(400);
+    c.llm.timeout = Duration::from_secs(1);
     let t = synth(c).synthesize(DESCRIPTION);
     assert_eq!(t.outcome, Outcome::Clean { round: 1 });
     assert_eq!(server.count(), 2);
@@ -262,7 +265,7 @@ fn a_timeout_is_retried_then_reported() {
     // Always hanging: the client gives up after its retries with a transport error.
     let server = Server::start(|_, _| Reply::Hang(Duration::from_secs(2)));
     let mut l = llm(&server);
-    l.timeout = Duration::from_millis(300);
+    l.timeout = Duration::from_millis(800);
     l.max_retries = 1;
     let e = scenalog_synth::Client::new(l)
         .complete(&[Message::user("hi")])
