@@ -40,7 +40,7 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 # Conventions (use these thresholds unless the description says otherwise)
 - An object's kind: `category(X, "PEDESTRIAN")`; "vehicle" is `category(X, "VEHICLE")` (every vehicle category, the ego included); "car" is "REGULAR_VEHICLE"; the ego vehicle is `ego(X)`.
 - Stopped (not parked): `speed(X, T, V), V < 0.5, !stationary(X)`. Moving: `V > 0.5`. Parked for the whole log: `stationary(X)`. Fast: `V > 10`.
-- Accelerating: `accel(X, T, A), A >= 1` (`>= 0.65` for "speeding up" in general). Braking: `A <= -1`.
+- Accelerating: `accel(X, T, A), A >= 0.65` (`A >= 1` when it must be unmistakable). Braking: `A <= -1` (heavily: `A <= -3`).
 - Turning: `turning(X, T, "left")`. Changing lanes: `lane_change(X, T, "right")`.
 - Near, close to, next to: `near(X, Y, T, D), D < 10` (`D < 5` for "very close"); X != Y.
 - In front of / behind / beside: `direction(X, Y, T, "forward", Dist, Lat)` says Y is ahead of X; "directly in front" adds `Lat < 1`; within a distance: `Dist < 25`.
