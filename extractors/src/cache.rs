@@ -114,13 +114,24 @@ impl<'s> Extractor<'s> {
         self.lane_changes.get_or_init(|| {
             let (kin, lanes, turning) = (self.kinematics(), self.lane_indices(), self.turning());
             let index = self.map_index();
+            use rayon::prelude::*;
             kin.tracks
-                .iter()
+                .par_iter()
                 .zip(lanes)
                 .zip(turning)
                 .map(|((t, l), tu)| events::lane_changes(&self.scene.map, index, t, l, tu))
                 .collect()
         })
+    }
+
+    /// Computes the shared derived data (kinematics, map index, lanes, events) up front, each step
+    /// parallel inside, so relations answered in parallel afterwards do not wait on one another.
+    pub fn prepare(&self) {
+        self.kinematics();
+        self.map_index();
+        self.lane_indices();
+        self.lanes();
+        self.lane_changes();
     }
 
     /// The stop signs with their lanes.

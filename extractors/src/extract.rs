@@ -64,6 +64,7 @@ pub fn extract_all(scene: &Scene) -> Vec<RelationData> {
 /// [`extract_all`] with an existing context.
 pub fn extract_all_with(ex: &Extractor) -> Vec<RelationData> {
     use rayon::prelude::*;
+    ex.prepare();
     catalog::catalog()
         .par_iter()
         .filter_map(|spec| ex.extract_uncached(&Request::all(spec.name)).ok())
