@@ -5,19 +5,19 @@ use crate::ast::Span;
 
 /// The kinds of tokens.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Tok {
+pub enum Tok<'a> {
     /// A lowercase identifier: predicate names and keywords (`not`, `count`, `decl`, …).
-    Ident(String),
+    Ident(&'a str),
     /// A variable: starts with an uppercase letter, or `_` followed by more characters.
-    Var(String),
+    Var(&'a str),
     /// `_` alone.
     Wildcard,
     /// A string constant, unescaped.
     Str(String),
     /// An integer literal as written (digits only).
-    Int(String),
+    Int(&'a str),
     /// A float literal as written.
-    Float(String),
+    Float(&'a str),
     /// `(`
     LParen,
     /// `)`
@@ -62,7 +62,7 @@ pub enum Tok {
     Eof,
 }
 
-impl Tok {
+impl Tok<'_> {
     /// How the token is described in "expected …, found …" messages.
     pub fn describe(&self) -> String {
         match self {
@@ -98,16 +98,16 @@ impl Tok {
 
 /// A token and where it is.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Token {
+pub struct Token<'a> {
     /// What it is.
-    pub tok: Tok,
+    pub tok: Tok<'a>,
     /// Where it is.
     pub span: Span,
 }
 
 /// The tokens of `source` (ending with [`Tok::Eof`]) and the leading description, if the first
 /// comment before any token is `// description: …`.
-pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
+pub fn lex(source: &str) -> (Vec<Token<'_>>, Option<String>) {
     let bytes = source.as_bytes();
     let mut toks = Vec::new();
     let mut description = None;
@@ -147,7 +147,6 @@ pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
             }
             continue;
         }
-        let one = |t: Tok| (t, 1usize);
         let next = bytes.get(i + 1).copied();
         let (tok, len) = match c {
             b'(' => one(Tok::LParen),
@@ -183,7 +182,7 @@ pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
                 }
                 (tok, len)
             }
-            b'0'..=b'9' => lex_number(bytes, i),
+            b'0'..=b'9' => lex_number(source, i),
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
                 let mut j = i + 1;
                 while j < n && (bytes[j].is_ascii_alphanumeric() || bytes[j] == b'_') {
@@ -193,9 +192,9 @@ pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
                 let tok = if word == "_" {
                     Tok::Wildcard
                 } else if c.is_ascii_uppercase() || c == b'_' {
-                    Tok::Var(word.to_string())
+                    Tok::Var(word)
                 } else {
-                    Tok::Ident(word.to_string())
+                    Tok::Ident(word)
                 };
                 (tok, j - i)
             }
@@ -220,7 +219,7 @@ pub fn lex(source: &str) -> (Vec<Token>, Option<String>) {
     (toks, description)
 }
 
-fn lex_string(source: &str, start: usize) -> (Tok, usize) {
+fn lex_string(source: &str, start: usize) -> (Tok<'_>, usize) {
     let mut out = String::new();
     let mut chars = source[start + 1..].char_indices();
     while let Some((k, ch)) = chars.next() {
@@ -257,7 +256,8 @@ fn lex_string(source: &str, start: usize) -> (Tok, usize) {
     )
 }
 
-fn lex_number(bytes: &[u8], start: usize) -> (Tok, usize) {
+fn lex_number(source: &str, start: usize) -> (Tok<'_>, usize) {
+    let bytes = source.as_bytes();
     let n = bytes.len();
     let digits = |mut j: usize| {
         while j < n && bytes[j].is_ascii_digit() {
@@ -281,7 +281,7 @@ fn lex_number(bytes: &[u8], start: usize) -> (Tok, usize) {
             float = true;
         }
     }
-    let text = String::from_utf8_lossy(&bytes[start..j]).into_owned();
+    let text = &source[start..j];
     (
         if float {
             Tok::Float(text)
@@ -290,4 +290,8 @@ fn lex_number(bytes: &[u8], start: usize) -> (Tok, usize) {
         },
         j - start,
     )
+}
+
+fn one(t: Tok<'_>) -> (Tok<'_>, usize) {
+    (t, 1)
 }

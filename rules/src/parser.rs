@@ -46,7 +46,7 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
     while !matches!(p.peek(), Tok::Eof) {
         let start = p.pos;
         let is_decl =
-            matches!(p.peek(), Tok::Dot) && matches!(p.peek_at(1), Tok::Ident(s) if s == "decl");
+            matches!(p.peek(), Tok::Dot) && matches!(p.peek_at(1), Tok::Ident(s) if *s == "decl");
         let result = if is_decl {
             p.decl().map(|d| program.decls.push(d))
         } else {
@@ -63,7 +63,7 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
                 if let (Tok::Ident(name), Tok::LParen) =
                     (&p.toks[start].tok, p.peek_tok_at(start + 1))
                 {
-                    broken_heads.push(name.clone());
+                    broken_heads.push(name.to_string());
                 }
             }
             p.recover(start);
@@ -83,8 +83,8 @@ type PResult<T> = Result<T, Box<Diagnostic>>;
 /// Nesting limit for expressions and aggregates, so hostile input cannot overflow the stack.
 const MAX_DEPTH: usize = 64;
 
-struct Parser {
-    toks: Vec<Token>,
+struct Parser<'a> {
+    toks: Vec<Token<'a>>,
     pos: usize,
     diags: Vec<Diagnostic>,
     depth: usize,
@@ -103,16 +103,16 @@ fn builtin(s: &str) -> Option<Func> {
     }
 }
 
-impl Parser {
-    fn peek(&self) -> &Tok {
+impl<'a> Parser<'a> {
+    fn peek(&self) -> &Tok<'a> {
         self.peek_at(0)
     }
 
-    fn peek_at(&self, k: usize) -> &Tok {
+    fn peek_at(&self, k: usize) -> &Tok<'a> {
         self.peek_tok_at(self.pos + k)
     }
 
-    fn peek_tok_at(&self, i: usize) -> &Tok {
+    fn peek_tok_at(&self, i: usize) -> &Tok<'a> {
         let last = self.toks.len() - 1;
         &self.toks[i.min(last)].tok
     }
@@ -126,13 +126,14 @@ impl Parser {
         self.toks[self.pos.saturating_sub(1)].span
     }
 
-    fn bump(&mut self) -> Token {
+    /// Moves past the current token, returning its span.
+    fn bump(&mut self) -> Span {
         let last = self.toks.len() - 1;
-        let t = self.toks[self.pos.min(last)].clone();
+        let span = self.toks[self.pos.min(last)].span;
         if self.pos < last {
             self.pos += 1;
         }
-        t
+        span
     }
 
     fn eat(&mut self, t: &Tok) -> bool {
@@ -180,7 +181,7 @@ impl Parser {
 
     fn expect(&mut self, t: &Tok, what: &str) -> PResult<Span> {
         if self.peek() == t {
-            Ok(self.bump().span)
+            Ok(self.bump())
         } else {
             Err(self.unexpected(what))
         }
@@ -197,7 +198,7 @@ impl Parser {
             match self.peek() {
                 Tok::Eof => return,
                 Tok::Dot => {
-                    if matches!(self.peek_at(1), Tok::Ident(s) if s == "decl") {
+                    if matches!(self.peek_at(1), Tok::Ident(s) if *s == "decl") {
                         return;
                     }
                     self.bump();
@@ -211,10 +212,10 @@ impl Parser {
     }
 
     fn decl(&mut self) -> PResult<Decl> {
-        let start = self.bump().span; // `.`
+        let start = self.bump(); // `.`
         self.bump(); // `decl`
         let (name, name_span) = match self.peek().clone() {
-            Tok::Ident(n) => (n, self.bump().span),
+            Tok::Ident(n) => (n, self.bump()),
             _ => return Err(self.unexpected("a predicate name after `.decl`")),
         };
         self.expect(&Tok::LParen, "`(`")?;
@@ -229,7 +230,7 @@ impl Parser {
                 self.bump();
                 self.expect(&Tok::Colon, "`:` and a type after the column name")?;
                 let ty = match self.peek().clone() {
-                    Tok::Ident(t) => match ColType::parse(&t) {
+                    Tok::Ident(t) => match ColType::parse(t) {
                         Some(ty) => ty,
                         None => {
                             let d = error(
@@ -248,7 +249,7 @@ impl Parser {
                     }
                 };
                 self.bump();
-                columns.push((col, ty));
+                columns.push((col.to_string(), ty));
                 if self.eat(&Tok::Comma) {
                     continue;
                 }
@@ -258,12 +259,12 @@ impl Parser {
         }
         // An optional `.` after a declaration, unless it starts the next `.decl`.
         if matches!(self.peek(), Tok::Dot)
-            && !matches!(self.peek_at(1), Tok::Ident(s) if s == "decl")
+            && !matches!(self.peek_at(1), Tok::Ident(s) if *s == "decl")
         {
             self.bump();
         }
         Ok(Decl {
-            name,
+            name: name.to_string(),
             name_span,
             columns,
             span: start.to(self.prev_span()),
@@ -313,7 +314,7 @@ impl Parser {
 
     fn atom(&mut self) -> PResult<Atom> {
         let (pred, pred_span) = match self.peek().clone() {
-            Tok::Ident(n) => (n, self.bump().span),
+            Tok::Ident(n) => (n, self.bump()),
             _ => return Err(self.unexpected("a predicate name")),
         };
         let mut args = Vec::new();
@@ -330,7 +331,7 @@ impl Parser {
             end = self.expect(&Tok::RParen, "`,` or `)`")?;
         }
         Ok(Atom {
-            pred,
+            pred: pred.to_string(),
             pred_span,
             args,
             span: pred_span.to(end),
@@ -338,26 +339,28 @@ impl Parser {
     }
 
     fn literal(&mut self) -> PResult<Literal> {
-        match self.peek().clone() {
-            Tok::Bang => {
-                let start = self.bump().span;
-                if !matches!(self.peek(), Tok::Ident(_)) {
-                    return Err(self.unexpected("an atom after `!`"));
-                }
-                let a = self.atom()?;
-                let span = start.to(a.span);
-                Ok(Literal::Neg(a, span))
+        let negation = match self.peek() {
+            Tok::Bang => true,
+            Tok::Ident(s) => *s == "not" && matches!(self.peek_at(1), Tok::Ident(_)),
+            _ => false,
+        };
+        if negation {
+            let start = self.bump();
+            if !matches!(self.peek(), Tok::Ident(_)) {
+                return Err(self.unexpected("an atom after `!`"));
             }
-            Tok::Ident(s) if s == "not" && matches!(self.peek_at(1), Tok::Ident(_)) => {
-                let start = self.bump().span;
-                let a = self.atom()?;
-                let span = start.to(a.span);
-                Ok(Literal::Neg(a, span))
-            }
-            Tok::Ident(s) if !(builtin(&s).is_some() && matches!(self.peek_at(1), Tok::LParen)) => {
-                Ok(Literal::Pos(self.atom()?))
-            }
-            _ => self.comparison(),
+            let a = self.atom()?;
+            let span = start.to(a.span);
+            return Ok(Literal::Neg(a, span));
+        }
+        let is_atom = match self.peek() {
+            Tok::Ident(s) => !(builtin(s).is_some() && matches!(self.peek_at(1), Tok::LParen)),
+            _ => false,
+        };
+        if is_atom {
+            Ok(Literal::Pos(self.atom()?))
+        } else {
+            self.comparison()
         }
     }
 
@@ -394,10 +397,10 @@ impl Parser {
     /// After `lhs =`: an aggregate `count : { … }` or `min|max|sum E : { … }`, if one follows.
     fn try_aggregate(&mut self, lhs: &Expr) -> PResult<Option<Aggregate>> {
         let func = match self.peek() {
-            Tok::Ident(s) if s == "count" && matches!(self.peek_at(1), Tok::Colon) => {
+            Tok::Ident(s) if *s == "count" && matches!(self.peek_at(1), Tok::Colon) => {
                 AggFunc::Count
             }
-            Tok::Ident(s) if is_agg_keyword(s) && s != "count" => match s.as_str() {
+            Tok::Ident(s) if is_agg_keyword(s) && *s != "count" => match *s {
                 "min" => AggFunc::Min,
                 "max" => AggFunc::Max,
                 _ => AggFunc::Sum,
@@ -491,15 +494,15 @@ impl Parser {
 
     fn unary(&mut self) -> PResult<Expr> {
         if matches!(self.peek(), Tok::Minus) {
-            let start = self.bump().span;
+            let start = self.bump();
             // `-` directly before a number is a negative constant.
             match self.peek().clone() {
                 Tok::Int(text) if self.span().start == start.end => {
-                    let span = start.to(self.bump().span);
+                    let span = start.to(self.bump());
                     return int_literal(&format!("-{text}"), span);
                 }
                 Tok::Float(text) if self.span().start == start.end => {
-                    let span = start.to(self.bump().span);
+                    let span = start.to(self.bump());
                     return float_literal(&format!("-{text}"), span);
                 }
                 _ => {}
@@ -519,16 +522,16 @@ impl Parser {
     fn primary(&mut self) -> PResult<Expr> {
         let span = self.span();
         let kind = match self.peek().clone() {
-            Tok::Var(v) => ExprKind::Var(v),
+            Tok::Var(v) => ExprKind::Var(v.to_string()),
             Tok::Wildcard => ExprKind::Wildcard,
             Tok::Str(s) => ExprKind::Str(s),
             Tok::Int(text) => {
                 self.bump();
-                return int_literal(&text, span);
+                return int_literal(text, span);
             }
             Tok::Float(text) => {
                 self.bump();
-                return float_literal(&text, span);
+                return float_literal(text, span);
             }
             Tok::LParen => {
                 self.bump();
@@ -540,9 +543,9 @@ impl Parser {
                 });
             }
             Tok::Ident(name)
-                if builtin(&name).is_some() && matches!(self.peek_at(1), Tok::LParen) =>
+                if builtin(name).is_some() && matches!(self.peek_at(1), Tok::LParen) =>
             {
-                let func = builtin(&name).unwrap_or(Func::Abs);
+                let func = builtin(name).unwrap_or(Func::Abs);
                 self.bump();
                 self.bump();
                 let mut args = Vec::new();

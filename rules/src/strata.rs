@@ -192,6 +192,17 @@ pub fn stratify(program: &Program) -> (Vec<Stratum>, Vec<Diagnostic>) {
         }
         diags.push(cycle_diagnostic(program, &graph, &comp_of, e));
     }
+    let index: std::collections::HashMap<&str, usize> = graph
+        .preds
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.as_str(), i))
+        .collect();
+    let clause_pred: Vec<Option<usize>> = program
+        .clauses
+        .iter()
+        .map(|c| index.get(c.head.pred.as_str()).copied())
+        .collect();
     let mut strata = Vec::new();
     for comp in &comps {
         let recursive = comp.len() > 1
@@ -199,11 +210,10 @@ pub fn stratify(program: &Program) -> (Vec<Stratum>, Vec<Diagnostic>) {
                 .edges
                 .iter()
                 .any(|e| e.from == comp[0] && e.to == comp[0]);
-        let clauses: Vec<usize> = program
-            .clauses
+        let clauses: Vec<usize> = clause_pred
             .iter()
             .enumerate()
-            .filter(|(_, c)| graph.index(&c.head.pred).is_some_and(|i| comp.contains(&i)))
+            .filter(|(_, p)| p.is_some_and(|p| comp.contains(&p)))
             .map(|(i, _)| i)
             .collect();
         strata.push(Stratum {

@@ -139,15 +139,44 @@ impl Classes {
 /// What an argument position expects.
 #[derive(Clone)]
 enum Expect {
-    /// A catalog column.
-    Fixed(ColType, &'static [&'static str], String),
+    /// A catalog column: its type, closed values and name.
+    Fixed(ColType, &'static [&'static str], &'static str),
     /// A derived predicate's column (a class).
     Node(usize),
 }
 
+/// Where an argument is, for messages built only when something is wrong.
+struct ArgAt<'a> {
+    atom: &'a Atom,
+    index: usize,
+    code: &'static str,
+}
+
+impl ArgAt<'_> {
+    fn what(&self) -> String {
+        format!("argument {} of `{}`", self.index + 1, self.atom.pred)
+    }
+
+    fn column_desc(&self, col: &str) -> String {
+        format!("`{}`'s column {} ({col})", self.atom.pred, self.index + 1)
+    }
+
+    fn hint(&self, d: Diagnostic) -> Diagnostic {
+        let sig = match catalog::relation(&self.atom.pred) {
+            Some(r) => Some(r.signature()),
+            None => output_arity(&self.atom.pred).map(|(_, s)| s.to_string()),
+        };
+        match sig {
+            Some(s) => d.with_hint(format!("the signature is {s}")),
+            None => d,
+        }
+    }
+}
+
 struct Infer<'a> {
     cls: Classes,
-    cols: HashMap<(String, usize), usize>,
+    /// Column classes of derived predicates, by name.
+    cols: HashMap<String, Vec<usize>>,
     table: &'a PredTable,
     /// Whether to report errors (the last round) or only learn types.
     report: bool,
@@ -237,16 +266,18 @@ pub fn infer(
             continue;
         }
         let types = (0..e.arity)
-            .map(|i| match inf.cols.get(&(name.clone(), i)).copied() {
-                Some(n) => {
-                    let r = inf.cls.find(n);
-                    match inf.cls.ty[r] {
-                        Ty::Known(t) => t,
-                        Ty::Num | Ty::Unknown => ColType::Int,
+            .map(
+                |i| match inf.cols.get(name).and_then(|v| v.get(i)).copied() {
+                    Some(n) => {
+                        let r = inf.cls.find(n);
+                        match inf.cls.ty[r] {
+                            Ty::Known(t) => t,
+                            Ty::Num | Ty::Unknown => ColType::Int,
+                        }
                     }
-                }
-                None => ColType::Int,
-            })
+                    None => ColType::Int,
+                },
+            )
             .collect();
         out.insert(name.clone(), types);
     }
@@ -255,11 +286,15 @@ pub fn infer(
 
 impl Infer<'_> {
     fn col(&mut self, pred: &str, i: usize) -> usize {
-        if let Some(&n) = self.cols.get(&(pred.to_string(), i)) {
+        if let Some(&n) = self.cols.get(pred).and_then(|v| v.get(i)) {
             return n;
         }
-        let n = self.cls.add();
-        self.cols.insert((pred.to_string(), i), n);
+        let mut v = self.cols.remove(pred).unwrap_or_default();
+        while v.len() <= i {
+            v.push(self.cls.add());
+        }
+        let n = v[i];
+        self.cols.insert(pred.to_string(), v);
         n
     }
 
@@ -302,55 +337,46 @@ impl Infer<'_> {
         } else {
             diagnostics::TYPE_MISMATCH
         };
-        let signature = match spec {
-            Some(r) => Some(r.signature()),
-            None => output_arity(&a.pred).map(|(_, s)| s.to_string()),
-        };
         for (i, arg) in a.args.iter().enumerate() {
             let expect = match spec {
                 Some(r) => {
                     let c = r.columns[i];
-                    Expect::Fixed(
-                        c.ty,
-                        c.values,
-                        format!("`{}`'s column {} ({})", a.pred, i + 1, c.name),
-                    )
+                    Expect::Fixed(c.ty, c.values, c.name)
                 }
                 None => Expect::Node(self.col(&a.pred, i)),
             };
-            let what = format!("argument {} of `{}`", i + 1, a.pred);
-            self.arg(arg, &expect, scope, &what, code, signature.as_deref());
+            let at = ArgAt {
+                atom: a,
+                index: i,
+                code,
+            };
+            self.arg(arg, &expect, scope, &at);
         }
     }
 
-    fn arg(
-        &mut self,
-        arg: &Expr,
-        expect: &Expect,
-        scope: &mut HashMap<String, usize>,
-        what: &str,
-        code: &'static str,
-        signature: Option<&str>,
-    ) {
-        let hint = |d: Diagnostic| match signature {
-            Some(s) => d.with_hint(format!("the signature is {s}")),
-            None => d,
-        };
+    fn arg(&mut self, arg: &Expr, expect: &Expect, scope: &mut HashMap<String, usize>, at: &ArgAt) {
+        let code = at.code;
         match (&arg.kind, expect) {
             (ExprKind::Wildcard, _) => {}
-            (ExprKind::Var(v), Expect::Fixed(t, values, desc)) => {
+            (ExprKind::Var(v), Expect::Fixed(t, values, col)) => {
                 let n = self.var(scope, v);
                 let origin = || {
                     (
                         arg.span,
-                        format!("`{v}` is {} here, {desc}", a_ty(Ty::Known(*t))),
+                        format!(
+                            "`{v}` is {} here, {}",
+                            a_ty(Ty::Known(*t)),
+                            at.column_desc(col)
+                        ),
                     )
                 };
                 match self.cls.constrain(n, Ty::Known(*t), origin) {
                     Ok(()) => {
                         if !values.is_empty() {
                             let r = self.cls.find(n);
-                            self.cls.domain[r] = Some((values, desc.clone()));
+                            if self.cls.domain[r].is_none() {
+                                self.cls.domain[r] = Some((values, at.column_desc(col)));
+                            }
                         }
                     }
                     Err((have, origin)) => {
@@ -358,7 +384,8 @@ impl Infer<'_> {
                             code,
                             arg.span,
                             format!(
-                                "type mismatch: {what} is {}, but `{v}` is {}",
+                                "type mismatch: {} is {}, but `{v}` is {}",
+                                at.what(),
                                 a_ty(Ty::Known(*t)),
                                 a_ty(have)
                             ),
@@ -366,7 +393,7 @@ impl Infer<'_> {
                         if let Some((s, l)) = origin {
                             d = d.with_related(s, l);
                         }
-                        self.push(hint(d));
+                        self.push(at.hint(d));
                     }
                 }
             }
@@ -380,7 +407,8 @@ impl Infer<'_> {
                         code,
                         arg.span,
                         format!(
-                            "type mismatch: {what} is {}, but `{v}` is {}",
+                            "type mismatch: {} is {}, but `{v}` is {}",
+                            at.what(),
                             a_ty(have),
                             a_ty(vt)
                         ),
@@ -391,46 +419,51 @@ impl Infer<'_> {
                     if let Some((s, l)) = vo {
                         d = d.with_related(s, l);
                     }
-                    self.push(hint(d));
+                    self.push(at.hint(d));
                 }
             }
-            (ExprKind::Str(s), Expect::Fixed(t, values, desc)) => {
+            (ExprKind::Str(s), Expect::Fixed(t, values, col)) => {
                 if *t != ColType::Str {
-                    self.push(hint(error(
+                    let d = error(
                         code,
                         arg.span,
                         format!(
-                            "type mismatch: {what} is {}, found the string {s:?}",
+                            "type mismatch: {} is {}, found the string {s:?}",
+                            at.what(),
                             a_ty(Ty::Known(*t))
                         ),
-                    )));
+                    );
+                    self.push(at.hint(d));
                 } else if !values.is_empty() && !values.contains(&s.as_str()) {
-                    self.push(bad_value(arg.span, s, values, desc));
+                    self.push(bad_value(arg.span, s, values, &at.column_desc(col)));
                 }
             }
             (_, Expect::Fixed(t, _, _)) => {
                 let have = self.expr_ty(arg, scope);
                 if merge(have, Ty::Known(*t)).is_none() {
-                    self.push(hint(error(
+                    let d = error(
                         code,
                         arg.span,
                         format!(
-                            "type mismatch: {what} is {}, found {}",
+                            "type mismatch: {} is {}, found {}",
+                            at.what(),
                             a_ty(Ty::Known(*t)),
                             a_ty(have)
                         ),
-                    )));
+                    );
+                    self.push(at.hint(d));
                 }
             }
             (_, Expect::Node(col)) => {
                 let have = self.expr_ty(arg, scope);
-                let origin = || (arg.span, format!("{what} is {} here", a_ty(have)));
+                let origin = || (arg.span, format!("{} is {} here", at.what(), a_ty(have)));
                 if let Err((want, o)) = self.cls.constrain(*col, have, origin) {
                     let mut d = error(
                         code,
                         arg.span,
                         format!(
-                            "type mismatch: {what} is {}, found {}",
+                            "type mismatch: {} is {}, found {}",
+                            at.what(),
                             a_ty(want),
                             a_ty(have)
                         ),
@@ -438,7 +471,7 @@ impl Infer<'_> {
                     if let Some((s, l)) = o {
                         d = d.with_related(s, l);
                     }
-                    self.push(hint(d));
+                    self.push(at.hint(d));
                 }
             }
         }
