@@ -90,7 +90,8 @@ struct Safety {
 }
 
 impl Safety {
-    fn unbound(&mut self, name: &str, span: Span, place: &str, hint: &str) {
+    fn unbound(&mut self, name: &str, span: Span, place: &dyn Fn() -> String, hint: &str) {
+        let place = place();
         if self.reported.insert(name.to_string()) {
             self.diags.push(
                 error(
@@ -120,7 +121,7 @@ impl Safety {
         &mut self,
         exprs: impl IntoIterator<Item = &'a Expr>,
         bound: &BTreeSet<String>,
-        place: &str,
+        place: &dyn Fn() -> String,
         hint: &str,
     ) {
         for e in exprs {
@@ -138,12 +139,12 @@ impl Safety {
             match l {
                 Literal::Pos(a) => {
                     let complex: Vec<&Expr> = a.args.iter().filter(|e| e.as_var().is_none()).collect();
-                    self.check_exprs(complex, bound, &format!("an argument of `{}`", a.pred), HINT);
+                    self.check_exprs(complex, bound, &|| format!("an argument of `{}`", a.pred), HINT);
                 }
                 Literal::Neg(a, _) => self.check_exprs(
                     &a.args,
                     bound,
-                    &format!("the negation of `{}`", a.pred),
+                    &|| format!("the negation of `{}`", a.pred),
                     "bind `{V}` in a positive atom before negating, or write `_` if any value will do",
                 ),
                 Literal::Cmp(c) => {
@@ -153,7 +154,7 @@ impl Safety {
                     for s in w {
                         self.wildcard(s, "a comparison");
                     }
-                    self.check_exprs([&c.lhs, &c.rhs], bound, "a comparison", HINT);
+                    self.check_exprs([&c.lhs, &c.rhs], bound, &|| "a comparison".into(), HINT);
                 }
                 Literal::Agg(g) => {
                     let mut inner = bound.clone();
@@ -162,7 +163,7 @@ impl Safety {
                         self.wildcard(g.result.span, "an aggregate's result");
                     }
                     if let Some(t) = &g.target {
-                        self.check_exprs([t], &inner, &format!("the target of `{}`", g.func.as_str()), HINT);
+                        self.check_exprs([t], &inner, &|| format!("the target of `{}`", g.func.as_str()), HINT);
                     }
                     self.body(&g.body, &inner);
                 }
@@ -189,7 +190,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     s.check_exprs(
         &c.head.args,
         &bound,
-        "the head",
+        &|| "the head".into(),
         "every variable of the head must appear in a positive atom of the body (e.g. `present({V}, T)`) or a binding `{V} = expression`",
     );
     s.body(&c.body, &bound);
