@@ -28,7 +28,7 @@
 //!   off); `related(Track, Other, T)` is optional. Recursion is allowed, but not through negation
 //!   or aggregation.
 //!
-//! [`check`] parses and checks a program and returns a [`CheckedProgram`] (typed and stratified:
+//! [`check()`] parses and checks a program and returns a [`CheckedProgram`] (typed and stratified:
 //! the engine's input) when there is no error, with every [`Diagnostic`] in source order. The codes
 //! are in [`diagnostics`] and documented with examples in `rules/DIAGNOSTICS.md`. [`parse`] and
 //! [`print_program`] convert between text and [`ast`]; [`render_human`] and [`diagnostics_json`]
@@ -140,7 +140,7 @@ pub struct CheckedProgram {
 
 pub use ast::Program;
 
-/// Options of [`check`].
+/// Options of [`check()`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CheckOptions {
     /// Report a missing `referred/2` rule as an error (true for mining; false for `scenalog run`).
@@ -155,7 +155,7 @@ impl Default for CheckOptions {
     }
 }
 
-/// What [`check`] found: the checked program when there is no error, and every diagnostic.
+/// What [`check()`] found: the checked program when there is no error, and every diagnostic.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CheckOutcome {
     /// `Some` exactly when no diagnostic is an error.

@@ -13,7 +13,7 @@ use crate::ast::{Atom, Literal};
 use crate::parser::parse_detailed;
 use crate::{strata, CheckOptions, CheckOutcome, CheckedProgram, PredKind, PredicateInfo};
 
-/// Parses and checks `source`; see [`crate::check`].
+/// Parses and checks `source`; see [`crate::check()`].
 pub fn check_source(source: &str, options: &CheckOptions) -> CheckOutcome {
     let parsed = parse_detailed(source);
     let mut diags = parsed.diagnostics;
