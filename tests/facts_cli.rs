@@ -147,3 +147,37 @@ fn facts_help_describes_the_arguments() {
         "{text}"
     );
 }
+
+#[test]
+fn facts_relation_prints_count_and_json_tuples() {
+    let log = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(["facts", log, "--relation", "in_lane", "--json"])
+        .output()
+        .expect("run scenalog");
+    assert!(out.status.success());
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON array");
+    let rows = rows.as_array().expect("array");
+    assert!(!rows.is_empty());
+    for row in rows {
+        let row = row.as_array().expect("tuple");
+        assert_eq!(row.len(), 3);
+        assert!(row[0].is_string(), "track as uuid");
+        assert!(row[1].as_u64().is_some_and(|f| f < 157), "frame index");
+        assert!(row[2].as_i64().is_some(), "lane map id");
+    }
+    let text = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(["facts", log, "--relation", "in_lane"])
+        .output()
+        .expect("run scenalog");
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains(&format!("{} tuples", rows.len())), "{text}");
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(["facts", log, "--relation", "no_such_relation"])
+        .output()
+        .expect("run scenalog");
+    assert_eq!(bad.status.code(), Some(2));
+}
