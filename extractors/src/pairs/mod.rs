@@ -29,7 +29,7 @@ pub mod spatial;
 use std::ops::Range;
 use std::sync::Arc;
 
-use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
+use scenalog_facts::relation::{RelationData, Request};
 use scenalog_facts::{Frame, Scene, TrackId};
 
 use crate::cache::Extractor;
@@ -197,34 +197,7 @@ relation_fn!(
 /// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to
 /// the log's frames.
 pub(crate) fn frame_range(q: &Query, col: usize, num_frames: usize) -> Range<Frame> {
-    let (mut lo, mut hi) = (0.0_f64, num_frames as f64);
-    for (c, k) in &q.req.constraints {
-        if *c != col {
-            continue;
-        }
-        match k {
-            Constraint::Eq(Value::Time(t)) => {
-                lo = lo.max(f64::from(*t));
-                hi = hi.min(f64::from(*t) + 1.0);
-            }
-            Constraint::Eq(Value::Int(t)) => {
-                lo = lo.max(*t as f64);
-                hi = hi.min(*t as f64 + 1.0);
-            }
-            Constraint::Lt(v) => hi = hi.min(v.ceil()),
-            Constraint::Le(v) => hi = hi.min(v.floor() + 1.0),
-            Constraint::Gt(v) => lo = lo.max(v.floor() + 1.0),
-            Constraint::Ge(v) => lo = lo.max(v.ceil()),
-            _ => {}
-        }
-    }
-    // NaN bounds (a constraint no number satisfies) leave an empty range.
-    if lo.is_nan() || hi.is_nan() || hi <= lo {
-        return 0..0;
-    }
-    let lo = lo.clamp(0.0, num_frames as f64) as Frame;
-    let hi = hi.clamp(0.0, num_frames as f64) as Frame;
-    lo..hi.max(lo)
+    q.frames(col, num_frames)
 }
 
 /// The search radius for a relation whose distance column is `col` (if any): the request's upper
