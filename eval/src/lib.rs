@@ -1,1 +1,17 @@
-//! The official Argoverse 2 scenario-mining metrics. Not built yet (issue: eval).
+//! The official Argoverse 2 scenario-mining evaluation (av2 0.3.6 on TrackEval 1.3.0), in Rust.
+//!
+//! Owns: reading (and writing) the official pickle format into a plain [`Submission`], HOTA as TrackEval
+//! computes it, and the scenario-mining metrics (HOTA-Temporal, HOTA-Track, timestamp- and log-level
+//! balanced accuracy). Does not own: mining itself, the map (the drivable-area ROI filter is not here yet).
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod hota;
+pub mod mining;
+pub mod model;
+pub mod pickle;
+
+pub use error::EvalError;
+pub use mining::{evaluate, EvalOptions, PromptHota, Report};
+pub use model::{FrameData, SeqKey, Submission};
+pub use pickle::{read_pickle, read_pickle_bytes};

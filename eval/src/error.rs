@@ -1,0 +1,24 @@
+//! The error type of the crate.
+
+/// Everything that can go wrong reading, writing or evaluating.
+#[derive(Debug)]
+pub enum EvalError {
+    /// A file could not be read or written.
+    Io(String, std::io::Error),
+    /// The pickle stream is malformed or holds something unsupported.
+    Pickle(String),
+    /// The content has the wrong shape: the message names sequence, frame and field.
+    Format(String),
+}
+
+impl std::fmt::Display for EvalError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EvalError::Io(p, e) => write!(f, "{p}: {e}"),
+            EvalError::Pickle(m) => write!(f, "pickle: {m}"),
+            EvalError::Format(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for EvalError {}

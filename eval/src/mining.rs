@@ -1,0 +1,458 @@
+//! The scenario-mining metrics: range filter, per-prompt score thresholds, HOTA-Temporal, HOTA-Track and
+//! timestamp-/log-level balanced accuracy, in the order of operations of av2 0.3.6.
+
+use crate::error::EvalError;
+use crate::hota::{self, ClassFrame, Hota};
+use crate::model::{FrameData, SeqKey, Submission};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Options of [`evaluate`].
+#[derive(Debug, Clone)]
+pub struct EvalOptions {
+    /// Objects farther than this from the ego (x-y) are dropped; 50 m officially.
+    pub max_range_m: f64,
+}
+
+impl Default for EvalOptions {
+    fn default() -> Self {
+        EvalOptions { max_range_m: 50.0 }
+    }
+}
+
+/// Per-prompt results of one HOTA variant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PromptHota {
+    /// The chosen score threshold.
+    pub threshold: f64,
+    /// max(0, best mean HOTA over the thresholds).
+    pub value: f64,
+    /// The detail at the chosen threshold.
+    pub detail: Hota,
+    /// The 10 candidate thresholds (recall 1.0 down to 0.1).
+    pub candidates: Vec<f64>,
+}
+
+/// The evaluation result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    /// Mean HOTA-Temporal over prompts.
+    pub hota_temporal: f64,
+    /// Mean HOTA-Track over prompts.
+    pub hota_track: f64,
+    /// Mean timestamp-level balanced accuracy over prompts.
+    pub timestamp_ba: f64,
+    /// Mean log-level balanced accuracy over prompts.
+    pub log_ba: f64,
+    /// Whether the predictions carried tracks (otherwise classification only, HOTA 0).
+    pub contains_tracking: bool,
+    /// HOTA-Temporal per prompt.
+    pub hota_temporal_by_prompt: BTreeMap<String, PromptHota>,
+    /// HOTA-Track per prompt.
+    pub hota_track_by_prompt: BTreeMap<String, PromptHota>,
+    /// Timestamp balanced accuracy per prompt.
+    pub timestamp_ba_by_prompt: BTreeMap<String, f64>,
+    /// Log balanced accuracy per prompt.
+    pub log_ba_by_prompt: BTreeMap<String, f64>,
+}
+
+fn ferr(msg: String) -> EvalError {
+    EvalError::Format(msg)
+}
+
+/// Checks that predictions and ground truth hold the same sequences and timestamps, in increasing order.
+fn check_alignment(
+    pred: &Submission,
+    gt: &Submission,
+    contains_tracking: bool,
+) -> Result<(), EvalError> {
+    for key in gt.sequences.keys() {
+        if !pred.sequences.contains_key(key) {
+            return Err(ferr(format!(
+                "sequence {key:?} is in the ground truth but not in the predictions"
+            )));
+        }
+    }
+    for (key, pframes) in &pred.sequences {
+        let Some(gframes) = gt.sequences.get(key) else {
+            return Err(ferr(format!(
+                "sequence {key:?} is in the predictions but not in the ground truth"
+            )));
+        };
+        for (what, frames) in [("predictions", pframes), ("ground truth", gframes)] {
+            for (i, w) in frames.windows(2).enumerate() {
+                if w[1].timestamp_ns <= w[0].timestamp_ns {
+                    return Err(ferr(format!(
+                        "{what}: sequence {key:?} frame {}: timestamp_ns {} does not follow {}",
+                        i + 1,
+                        w[1].timestamp_ns,
+                        w[0].timestamp_ns
+                    )));
+                }
+            }
+        }
+        if pframes.len() != gframes.len() {
+            return Err(ferr(format!(
+                "sequence {key:?}: {} prediction frames but {} ground-truth frames",
+                pframes.len(),
+                gframes.len()
+            )));
+        }
+        for (i, (p, g)) in pframes.iter().zip(gframes).enumerate() {
+            if p.timestamp_ns != g.timestamp_ns {
+                return Err(ferr(format!(
+                    "sequence {key:?} frame {i}: prediction timestamp_ns {} but ground truth {}",
+                    p.timestamp_ns, g.timestamp_ns
+                )));
+            }
+            if contains_tracking && p.score.is_none() && !p.is_empty() {
+                return Err(ferr(format!(
+                    "predictions: sequence {key:?} frame {i}: field \"score\" missing"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Drops objects farther than `max_range_m` from the ego in x-y (inclusive), as `filter_max_dist`.
+pub fn filter_range(sub: &mut Submission, max_range_m: f64) {
+    for frames in sub.sequences.values_mut() {
+        for f in frames {
+            let e = f.ego_translation_m;
+            let mask: Vec<bool> = f
+                .translation_m
+                .iter()
+                .map(|t| {
+                    let dx = t[0] - e[0];
+                    let dy = t[1] - e[1];
+                    (dx * dx + dy * dy).sqrt() <= max_range_m
+                })
+                .collect();
+            f.retain(&mask);
+        }
+    }
+}
+
+/// Marks every object whose track is referred in any frame as referred (`referred_full_tracks`).
+fn full_tracks(sub: &Submission) -> Submission {
+    let mut out = sub.clone();
+    for frames in out.sequences.values_mut() {
+        let referred: BTreeSet<i32> = frames
+            .iter()
+            .flat_map(|f| {
+                f.label
+                    .iter()
+                    .zip(&f.track_id)
+                    .filter(|(l, _)| **l == 0)
+                    .map(|(_, t)| *t)
+            })
+            .collect();
+        for f in frames.iter_mut() {
+            for (l, t) in f.label.iter_mut().zip(&f.track_id) {
+                if referred.contains(t) {
+                    *l = 0;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Keeps only referred objects (`classify_referred_objects`).
+fn referred_only(sub: &Submission) -> Submission {
+    let mut out = sub.clone();
+    for frames in out.sequences.values_mut() {
+        for f in frames.iter_mut() {
+            let mask: Vec<bool> = f.label.iter().map(|&l| l == 0).collect();
+            f.retain(&mask);
+        }
+    }
+    out
+}
+
+fn class_frames(frames: &[FrameData], threshold: Option<f64>) -> Vec<ClassFrame> {
+    frames
+        .iter()
+        .map(|f| {
+            let mut cf = ClassFrame::default();
+            for i in 0..f.len() {
+                if let (Some(th), Some(s)) = (threshold, &f.score) {
+                    if (s[i] as f64) < th {
+                        continue;
+                    }
+                }
+                cf.ids.push(f.track_id[i]);
+                cf.xy.push([f.translation_m[i][0], f.translation_m[i][1]]);
+            }
+            cf
+        })
+        .collect()
+}
+
+/// The 10 recall levels 1.0, 0.9, ... 0.1 as `np.linspace(0.1, 1, 10).round(12)[::-1]`.
+fn recall_levels() -> [f64; 10] {
+    let mut r = [0.0; 10];
+    let step = (1.0 - 0.1) / 9.0;
+    for (i, x) in r.iter_mut().enumerate() {
+        let v = if i == 9 { 1.0 } else { i as f64 * step + 0.1 };
+        *x = ((v * 1e12).round_ties_even()) / 1e12;
+    }
+    r.reverse();
+    r
+}
+
+/// numpy's `interp(x, xp, fp, right=0)` for increasing xp.
+fn interp(x: f64, xp: &[f64], fp: &[f64]) -> f64 {
+    let n = xp.len();
+    if x.is_nan() {
+        return x;
+    }
+    if x < xp[0] {
+        return fp[0];
+    }
+    if x > xp[n - 1] {
+        return 0.0;
+    }
+    // j with xp[j] <= x < xp[j+1], or n-1 when x == xp[n-1]
+    let j = xp.partition_point(|&v| v <= x).saturating_sub(1);
+    if j == n - 1 || xp[j] == x {
+        return fp[j];
+    }
+    let slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j]);
+    let mut r = slope * (x - xp[j]) + fp[j];
+    if r.is_nan() {
+        r = slope * (x - xp[j + 1]) + fp[j + 1];
+        if r.is_nan() && fp[j] == fp[j + 1] {
+            r = fp[j];
+        }
+    }
+    r
+}
+
+/// Candidate score thresholds of one prompt (`_calculate_score_thresholds`).
+fn score_thresholds(seqs: &[(&Vec<FrameData>, &Vec<FrameData>)]) -> Vec<f64> {
+    let mut scores: Vec<f32> = Vec::new();
+    let mut n_gt = 0usize;
+    for (g, p) in seqs {
+        for (gf, pf) in g.iter().zip(p.iter()) {
+            let gxy: Vec<[f64; 2]> = gf.translation_m.iter().map(|t| [t[0], t[1]]).collect();
+            let pxy: Vec<[f64; 2]> = pf.translation_m.iter().map(|t| [t[0], t[1]]).collect();
+            let sim = hota::similarity(&gxy, &pxy);
+            let (_, cols) = hota::max_assignment(&sim);
+            if let Some(s) = &pf.score {
+                scores.extend(cols.iter().map(|&c| s[c]));
+            }
+            n_gt += gf.len();
+        }
+    }
+    let levels = recall_levels();
+    if scores.is_empty() || n_gt == 0 {
+        return vec![0.0; 10];
+    }
+    scores.sort_by(|a, b| a.total_cmp(b));
+    scores.reverse();
+    let fp: Vec<f64> = scores.iter().map(|&s| s as f64).collect();
+    let xp: Vec<f64> = (1..=fp.len()).map(|i| i as f64 / n_gt as f64).collect();
+    let max_recall = xp[xp.len() - 1];
+    levels
+        .iter()
+        .map(|&r| {
+            let v = interp(r, &xp, &fp);
+            if r > max_recall || v.is_nan() {
+                0.0
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
+/// HOTA with threshold tuning for every prompt of referred-only data (`_tune_score_thresholds`).
+fn tune(pred: &Submission, gt: &Submission) -> BTreeMap<String, PromptHota> {
+    let mut by_prompt: BTreeMap<&str, Vec<&SeqKey>> = BTreeMap::new();
+    for k in gt.sequences.keys() {
+        by_prompt.entry(k.1.as_str()).or_default().push(k);
+    }
+    let empty = Vec::new();
+    let mut out = BTreeMap::new();
+    for (prompt, keys) in by_prompt {
+        let pairs: Vec<(&Vec<FrameData>, &Vec<FrameData>)> = keys
+            .iter()
+            .map(|k| (&gt.sequences[*k], pred.sequences.get(*k).unwrap_or(&empty)))
+            .collect();
+        let candidates = score_thresholds(&pairs);
+        let mut best: Option<(f64, f64, Hota)> = None;
+        for &th in &candidates {
+            let seqs: Vec<(Vec<ClassFrame>, Vec<ClassFrame>)> = pairs
+                .iter()
+                .map(|(g, p)| (class_frames(g, None), class_frames(p, Some(th))))
+                .collect();
+            let h = hota::hota(&seqs);
+            let m = h.mean();
+            if best.as_ref().is_none_or(|b| m > b.1) {
+                best = Some((th, m, h));
+            }
+        }
+        if let Some((threshold, m, detail)) = best {
+            out.insert(
+                prompt.to_string(),
+                PromptHota {
+                    threshold,
+                    value: m.max(0.0),
+                    detail,
+                    candidates,
+                },
+            );
+        }
+    }
+    out
+}
+
+#[derive(Default, Clone, Copy)]
+struct Confusion {
+    tp: u64,
+    fp: u64,
+    tn: u64,
+    fn_: u64,
+}
+
+fn safe_rate(n: u64, d: u64) -> f64 {
+    if d == 0 {
+        1.0
+    } else {
+        n as f64 / d as f64
+    }
+}
+
+fn ba(c: Confusion) -> f64 {
+    (safe_rate(c.tp, c.tp + c.fn_) + safe_rate(c.tn, c.tn + c.fp)) / 2.0
+}
+
+/// Timestamp- and log-level balanced accuracy per prompt (`compute_temporal_metrics`); `thresholds` filters
+/// prediction objects by score when given.
+fn temporal(
+    pred: &Submission,
+    gt: &Submission,
+    thresholds: Option<&BTreeMap<String, PromptHota>>,
+) -> (BTreeMap<String, f64>, BTreeMap<String, f64>) {
+    let mut ts: BTreeMap<String, Confusion> = BTreeMap::new();
+    let mut sc: BTreeMap<String, Confusion> = BTreeMap::new();
+    for (key, gframes) in &gt.sequences {
+        let prompt = &key.1;
+        ts.entry(prompt.clone()).or_default();
+        sc.entry(prompt.clone()).or_default();
+        let th = thresholds.and_then(|t| t.get(prompt)).map(|p| p.threshold);
+        let pframes = pred.sequences.get(key);
+        let mut any_gt = false;
+        let mut any_pred = false;
+        let mut all_ambiguous = true;
+        let mut c = Confusion::default();
+        for (j, g) in gframes.iter().enumerate() {
+            let gt_pos = match g.is_positive {
+                Some(None) => None,
+                Some(Some(b)) => Some(b),
+                None => Some(g.label.contains(&0)),
+            };
+            let p = pframes.and_then(|f| f.get(j));
+            let pred_pos = p.is_some_and(|p| {
+                p.is_positive == Some(Some(true))
+                    || p.label.iter().enumerate().any(|(i, &l)| {
+                        l == 0
+                            && match (th, &p.score) {
+                                (Some(th), Some(s)) => s[i] as f64 >= th,
+                                _ => true,
+                            }
+                    })
+            });
+            any_pred |= pred_pos;
+            let Some(gp) = gt_pos else { continue };
+            all_ambiguous = false;
+            any_gt |= gp;
+            match (gp, pred_pos) {
+                (true, true) => c.tp += 1,
+                (false, true) => c.fp += 1,
+                (true, false) => c.fn_ += 1,
+                (false, false) => c.tn += 1,
+            }
+        }
+        if all_ambiguous {
+            continue;
+        }
+        let t = ts.entry(prompt.clone()).or_default();
+        t.tp += c.tp;
+        t.fp += c.fp;
+        t.fn_ += c.fn_;
+        t.tn += c.tn;
+        let s = sc.entry(prompt.clone()).or_default();
+        match (any_pred, any_gt) {
+            (true, true) => s.tp += 1,
+            (true, false) => s.fp += 1,
+            (false, true) => s.fn_ += 1,
+            (false, false) => s.tn += 1,
+        }
+    }
+    (
+        ts.into_iter().map(|(k, c)| (k, ba(c))).collect(),
+        sc.into_iter().map(|(k, c)| (k, ba(c))).collect(),
+    )
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let v: Vec<f64> = v.collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+/// Evaluates predictions against ground truth as `av2.evaluation.scenario_mining.eval.evaluate`
+/// (objective HOTA, no drivable-area filter).
+pub fn evaluate(
+    pred: &Submission,
+    gt: &Submission,
+    opts: &EvalOptions,
+) -> Result<Report, EvalError> {
+    let contains_tracking = pred
+        .sequences
+        .values()
+        .flatten()
+        .any(|f| f.is_positive.is_none() || !f.track_id.is_empty());
+    check_alignment(pred, gt, contains_tracking)?;
+    if !contains_tracking {
+        let (ts, sc) = temporal(&referred_only(pred), &referred_only(gt), None);
+        return Ok(Report {
+            hota_temporal: 0.0,
+            hota_track: 0.0,
+            timestamp_ba: mean(ts.values().copied()),
+            log_ba: mean(sc.values().copied()),
+            contains_tracking,
+            hota_temporal_by_prompt: BTreeMap::new(),
+            hota_track_by_prompt: BTreeMap::new(),
+            timestamp_ba_by_prompt: ts,
+            log_ba_by_prompt: sc,
+        });
+    }
+    let mut p = pred.clone();
+    let mut g = gt.clone();
+    filter_range(&mut p, opts.max_range_m);
+    filter_range(&mut g, opts.max_range_m);
+    let (pr, gr) = (referred_only(&p), referred_only(&g));
+    let temporal_h = tune(&pr, &gr);
+    let (ts, sc) = temporal(&pr, &gr, Some(&temporal_h));
+    let (pf, gf) = (
+        referred_only(&full_tracks(&p)),
+        referred_only(&full_tracks(&g)),
+    );
+    let track_h = tune(&pf, &gf);
+    Ok(Report {
+        hota_temporal: mean(temporal_h.values().map(|h| h.value)),
+        hota_track: mean(track_h.values().map(|h| h.value)),
+        timestamp_ba: mean(ts.values().copied()),
+        log_ba: mean(sc.values().copied()),
+        contains_tracking,
+        hota_temporal_by_prompt: temporal_h,
+        hota_track_by_prompt: track_h,
+        timestamp_ba_by_prompt: ts,
+        log_ba_by_prompt: sc,
+    })
+}

@@ -1,0 +1,780 @@
+//! A reader for exactly the subset of Python pickle (protocol 2-5) the official scenario-mining files use,
+//! numpy arrays, dtypes and scalars included, into [`crate::Submission`].
+
+use crate::error::EvalError;
+use crate::model::{FrameData, SeqKey, Submission};
+use std::collections::BTreeMap;
+
+/// A numpy dtype as far as this reader needs it.
+#[derive(Debug, Clone, PartialEq)]
+struct Dtype {
+    /// e.g. "f8", "i4", "U31", "b1".
+    code: String,
+    /// '<', '>', '|' or '='.
+    endian: char,
+}
+
+#[derive(Debug, Clone)]
+enum Obj {
+    None,
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    Bytes(Vec<u8>),
+    Tuple(Vec<usize>),
+    List(Vec<usize>),
+    Dict(Vec<(usize, usize)>),
+    Global(String, String),
+    Dtype(Dtype),
+    /// An ndarray: dtype, shape, fortran order, raw bytes (filled by BUILD).
+    Array(Option<Dtype>, Vec<usize>, bool, Vec<u8>),
+    Scalar(Dtype, Vec<u8>),
+}
+
+struct Machine<'a> {
+    data: &'a [u8],
+    pos: usize,
+    arena: Vec<Obj>,
+    stack: Vec<usize>,
+    marks: Vec<usize>,
+    memo: Vec<Option<usize>>,
+}
+
+fn perr(msg: impl Into<String>) -> EvalError {
+    EvalError::Pickle(msg.into())
+}
+
+impl<'a> Machine<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], EvalError> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
+        match end {
+            Some(e) => {
+                let s = &self.data[self.pos..e];
+                self.pos = e;
+                Ok(s)
+            }
+            None => Err(perr(format!(
+                "truncated at byte {} (wanted {n} more bytes)",
+                self.pos
+            ))),
+        }
+    }
+    fn u8(&mut self) -> Result<u8, EvalError> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Result<u32, EvalError> {
+        let b = self.take(4)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+    fn u64(&mut self) -> Result<u64, EvalError> {
+        let b = self.take(8)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(b);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn push(&mut self, o: Obj) {
+        self.arena.push(o);
+        self.stack.push(self.arena.len() - 1);
+    }
+    fn pop(&mut self) -> Result<usize, EvalError> {
+        self.stack
+            .pop()
+            .ok_or_else(|| perr(format!("stack underflow at byte {}", self.pos)))
+    }
+    fn pop_mark(&mut self) -> Result<Vec<usize>, EvalError> {
+        let m = self
+            .marks
+            .pop()
+            .ok_or_else(|| perr(format!("no MARK at byte {}", self.pos)))?;
+        if m > self.stack.len() {
+            return Err(perr(format!("corrupt MARK at byte {}", self.pos)));
+        }
+        Ok(self.stack.split_off(m))
+    }
+    fn string(&mut self, n: usize) -> Result<String, EvalError> {
+        let at = self.pos;
+        let b = self.take(n)?;
+        String::from_utf8(b.to_vec())
+            .map_err(|_| perr(format!("invalid UTF-8 string at byte {at}")))
+    }
+    fn top_mut(&mut self) -> Result<usize, EvalError> {
+        self.stack
+            .last()
+            .copied()
+            .ok_or_else(|| perr(format!("stack underflow at byte {}", self.pos)))
+    }
+
+    fn run(&mut self) -> Result<usize, EvalError> {
+        loop {
+            let at = self.pos;
+            let op = self.u8()?;
+            match op {
+                0x80 => {
+                    let v = self.u8()?;
+                    if v > 5 {
+                        return Err(perr(format!("unsupported protocol {v}")));
+                    }
+                }
+                0x95 => {
+                    self.u64()?;
+                }
+                b'.' => return self.pop(),
+                b'}' => self.push(Obj::Dict(Vec::new())),
+                b']' => self.push(Obj::List(Vec::new())),
+                b')' => self.push(Obj::Tuple(Vec::new())),
+                0x94 => {
+                    let top = self.top_mut()?;
+                    self.memo.push(Some(top));
+                }
+                b'q' => {
+                    let i = self.u8()? as usize;
+                    self.memo_put(i)?;
+                }
+                b'r' => {
+                    let i = self.u32()? as usize;
+                    self.memo_put(i)?;
+                }
+                b'h' => {
+                    let i = self.u8()? as usize;
+                    self.memo_get(i)?;
+                }
+                b'j' => {
+                    let i = self.u32()? as usize;
+                    self.memo_get(i)?;
+                }
+                b'(' => self.marks.push(self.stack.len()),
+                0x8c => {
+                    let n = self.u8()? as usize;
+                    let s = self.string(n)?;
+                    self.push(Obj::Str(s));
+                }
+                b'X' => {
+                    let n = self.u32()? as usize;
+                    let s = self.string(n)?;
+                    self.push(Obj::Str(s));
+                }
+                0x8d => {
+                    let n = usize::try_from(self.u64()?).map_err(|_| perr("string too long"))?;
+                    let s = self.string(n)?;
+                    self.push(Obj::Str(s));
+                }
+                b'C' => {
+                    let n = self.u8()? as usize;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                b'B' => {
+                    let n = self.u32()? as usize;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                0x8e => {
+                    let n = usize::try_from(self.u64()?).map_err(|_| perr("bytes too long"))?;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                b'N' => self.push(Obj::None),
+                0x88 => self.push(Obj::Bool(true)),
+                0x89 => self.push(Obj::Bool(false)),
+                b'K' => {
+                    let v = self.u8()?;
+                    self.push(Obj::Int(v as i64));
+                }
+                b'M' => {
+                    let b = self.take(2)?;
+                    self.push(Obj::Int(u16::from_le_bytes([b[0], b[1]]) as i64));
+                }
+                b'J' => {
+                    let v = self.u32()? as i32;
+                    self.push(Obj::Int(v as i64));
+                }
+                0x8a => {
+                    let n = self.u8()? as usize;
+                    let b = self.take(n)?;
+                    if n > 8 {
+                        return Err(perr(format!("integer too large at byte {at}")));
+                    }
+                    let mut v: i64 = 0;
+                    for (i, &x) in b.iter().enumerate() {
+                        v |= (x as i64) << (8 * i);
+                    }
+                    if n > 0 && n < 8 && b[n - 1] & 0x80 != 0 {
+                        v -= 1i64 << (8 * n);
+                    }
+                    self.push(Obj::Int(v));
+                }
+                b'G' => {
+                    let b = self.take(8)?;
+                    let mut a = [0u8; 8];
+                    a.copy_from_slice(b);
+                    self.push(Obj::Float(f64::from_be_bytes(a)));
+                }
+                0x85..=0x87 => {
+                    let n = (op - 0x84) as usize;
+                    if self.stack.len() < n {
+                        return Err(perr(format!("stack underflow at byte {at}")));
+                    }
+                    let items = self.stack.split_off(self.stack.len() - n);
+                    self.push(Obj::Tuple(items));
+                }
+                b't' => {
+                    let items = self.pop_mark()?;
+                    self.push(Obj::Tuple(items));
+                }
+                b'a' => {
+                    let v = self.pop()?;
+                    let l = self.top_mut()?;
+                    match &mut self.arena[l] {
+                        Obj::List(items) => items.push(v),
+                        _ => return Err(perr(format!("APPEND to a non-list at byte {at}"))),
+                    }
+                }
+                b'e' => {
+                    let items = self.pop_mark()?;
+                    let l = self.top_mut()?;
+                    match &mut self.arena[l] {
+                        Obj::List(v) => v.extend(items),
+                        _ => return Err(perr(format!("APPENDS to a non-list at byte {at}"))),
+                    }
+                }
+                b's' | b'u' => {
+                    let items = if op == b's' {
+                        let v = self.pop()?;
+                        let k = self.pop()?;
+                        vec![k, v]
+                    } else {
+                        self.pop_mark()?
+                    };
+                    if items.len() % 2 != 0 {
+                        return Err(perr(format!("odd SETITEMS at byte {at}")));
+                    }
+                    let d = self.top_mut()?;
+                    match &mut self.arena[d] {
+                        Obj::Dict(v) => v.extend(items.chunks(2).map(|c| (c[0], c[1]))),
+                        _ => return Err(perr(format!("SETITEMS on a non-dict at byte {at}"))),
+                    }
+                }
+                0x93 => {
+                    let name = self.pop()?;
+                    let module = self.pop()?;
+                    match (&self.arena[module], &self.arena[name]) {
+                        (Obj::Str(m), Obj::Str(n)) => {
+                            let g = Obj::Global(m.clone(), n.clone());
+                            self.push(g)
+                        }
+                        _ => {
+                            return Err(perr(format!("STACK_GLOBAL without strings at byte {at}")))
+                        }
+                    }
+                }
+                b'R' => {
+                    let args = self.pop()?;
+                    let f = self.pop()?;
+                    let o = self.reduce(f, args, at)?;
+                    self.push(o);
+                }
+                b'b' => {
+                    let state = self.pop()?;
+                    let target = self.top_mut()?;
+                    self.build(target, state, at)?;
+                }
+                _ => return Err(perr(format!("unsupported opcode 0x{op:02x} at byte {at}"))),
+            }
+        }
+    }
+
+    fn memo_put(&mut self, i: usize) -> Result<(), EvalError> {
+        let top = self.top_mut()?;
+        if self.memo.len() <= i {
+            self.memo.resize(i + 1, None);
+        }
+        self.memo[i] = Some(top);
+        Ok(())
+    }
+
+    fn memo_get(&mut self, i: usize) -> Result<(), EvalError> {
+        match self.memo.get(i).copied().flatten() {
+            Some(v) => {
+                self.stack.push(v);
+                Ok(())
+            }
+            None => Err(perr(format!("memo {i} not set at byte {}", self.pos))),
+        }
+    }
+
+    fn tuple(&self, i: usize) -> Option<&Vec<usize>> {
+        match &self.arena[i] {
+            Obj::Tuple(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    fn reduce(&self, f: usize, args: usize, at: usize) -> Result<Obj, EvalError> {
+        let (module, name) = match &self.arena[f] {
+            Obj::Global(m, n) => (m.as_str(), n.as_str()),
+            _ => return Err(perr(format!("REDUCE on a non-global at byte {at}"))),
+        };
+        let args = self
+            .tuple(args)
+            .ok_or_else(|| perr(format!("REDUCE args not a tuple at byte {at}")))?;
+        let numpy_mod = matches!(module, "numpy.core.multiarray" | "numpy._core.multiarray");
+        match (module, name) {
+            ("numpy", "dtype") => match args.first().map(|&a| &self.arena[a]) {
+                Some(Obj::Str(code)) => Ok(Obj::Dtype(Dtype {
+                    code: code.clone(),
+                    endian: '=',
+                })),
+                _ => Err(perr(format!(
+                    "numpy.dtype without a type code at byte {at}"
+                ))),
+            },
+            (_, "_reconstruct") if numpy_mod => Ok(Obj::Array(None, Vec::new(), false, Vec::new())),
+            (_, "scalar") if numpy_mod => {
+                let (d, b) = match args.as_slice() {
+                    [d, b] => (&self.arena[*d], &self.arena[*b]),
+                    _ => return Err(perr(format!("numpy scalar needs 2 arguments at byte {at}"))),
+                };
+                match (d, b) {
+                    (Obj::Dtype(d), Obj::Bytes(b)) => Ok(Obj::Scalar(d.clone(), b.clone())),
+                    _ => Err(perr(format!(
+                        "numpy scalar with unexpected arguments at byte {at}"
+                    ))),
+                }
+            }
+            _ => Err(perr(format!(
+                "unsupported global {module}.{name} at byte {at}"
+            ))),
+        }
+    }
+
+    fn build(&mut self, target: usize, state: usize, at: usize) -> Result<(), EvalError> {
+        let st = self
+            .tuple(state)
+            .cloned()
+            .ok_or_else(|| perr(format!("BUILD state not a tuple at byte {at}")))?;
+        let new = match &self.arena[target] {
+            Obj::Dtype(d) => {
+                let endian = match st.get(1).map(|&i| &self.arena[i]) {
+                    Some(Obj::Str(s)) => s.chars().next().unwrap_or('='),
+                    _ => return Err(perr(format!("dtype state without byte order at byte {at}"))),
+                };
+                Obj::Dtype(Dtype {
+                    code: d.code.clone(),
+                    endian,
+                })
+            }
+            Obj::Array(..) => {
+                let [_, shape, dtype, fortran, raw] = st.as_slice() else {
+                    return Err(perr(format!(
+                        "ndarray state of {} items at byte {at}",
+                        st.len()
+                    )));
+                };
+                let shape = match &self.arena[*shape] {
+                    Obj::Tuple(v) => v
+                        .iter()
+                        .map(|&i| match self.arena[i] {
+                            Obj::Int(n) if n >= 0 => Ok(n as usize),
+                            _ => Err(perr(format!("bad ndarray shape at byte {at}"))),
+                        })
+                        .collect::<Result<Vec<_>, _>>()?,
+                    _ => return Err(perr(format!("bad ndarray shape at byte {at}"))),
+                };
+                let dtype = match &self.arena[*dtype] {
+                    Obj::Dtype(d) => d.clone(),
+                    _ => return Err(perr(format!("ndarray without dtype at byte {at}"))),
+                };
+                let fortran = matches!(self.arena[*fortran], Obj::Bool(true));
+                let raw = match &self.arena[*raw] {
+                    Obj::Bytes(b) => b.clone(),
+                    _ => {
+                        return Err(perr(format!(
+                            "ndarray data is not raw bytes (object array?) at byte {at}"
+                        )))
+                    }
+                };
+                Obj::Array(Some(dtype), shape, fortran, raw)
+            }
+            _ => return Err(perr(format!("BUILD on an unsupported object at byte {at}"))),
+        };
+        self.arena[target] = new;
+        Ok(())
+    }
+}
+
+/// Reads a scenario-mining pickle from bytes; `what` names the source in errors.
+pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalError> {
+    let mut m = Machine {
+        data,
+        pos: 0,
+        arena: Vec::new(),
+        stack: Vec::new(),
+        marks: Vec::new(),
+        memo: Vec::new(),
+    };
+    let root = m.run().map_err(|e| match e {
+        EvalError::Pickle(s) => EvalError::Pickle(format!("{what}: {s}")),
+        e => e,
+    })?;
+    Conv {
+        arena: &m.arena,
+        what,
+    }
+    .submission(root)
+}
+
+/// Reads a scenario-mining pickle file.
+pub fn read_pickle(path: &std::path::Path) -> Result<Submission, EvalError> {
+    let data = std::fs::read(path).map_err(|e| EvalError::Io(path.display().to_string(), e))?;
+    read_pickle_bytes(&data, &path.display().to_string())
+}
+
+struct Conv<'a> {
+    arena: &'a [Obj],
+    what: &'a str,
+}
+
+/// A decoded numeric array: values as f64 plus the shape.
+struct Num {
+    vals: Vec<f64>,
+    shape: Vec<usize>,
+}
+
+impl Conv<'_> {
+    fn ferr(&self, place: &str, msg: impl std::fmt::Display) -> EvalError {
+        EvalError::Format(format!("{}: {place}: {msg}", self.what))
+    }
+
+    fn submission(&self, root: usize) -> Result<Submission, EvalError> {
+        let Obj::Dict(items) = &self.arena[root] else {
+            return Err(self.ferr("top level", "expected a dict of (log_id, prompt) -> frames"));
+        };
+        let mut sequences = BTreeMap::new();
+        for &(k, v) in items {
+            let key = self.seq_key(k)?;
+            let place = format!("sequence {key:?}");
+            let Obj::List(frames) = &self.arena[v] else {
+                return Err(self.ferr(&place, "expected a list of frames"));
+            };
+            let mut out = Vec::with_capacity(frames.len());
+            for (i, &f) in frames.iter().enumerate() {
+                out.push(self.frame(f, &format!("{place} frame {i}"))?);
+            }
+            if sequences.insert(key, out).is_some() {
+                return Err(self.ferr(&place, "duplicate sequence"));
+            }
+        }
+        Ok(Submission { sequences })
+    }
+
+    fn seq_key(&self, k: usize) -> Result<SeqKey, EvalError> {
+        match &self.arena[k] {
+            Obj::Tuple(v) if v.len() == 2 => match (&self.arena[v[0]], &self.arena[v[1]]) {
+                (Obj::Str(a), Obj::Str(b)) => Ok((a.clone(), b.clone())),
+                _ => Err(self.ferr("sequence key", "expected (log_id, prompt) strings")),
+            },
+            Obj::Str(s) => parse_seq_str(s)
+                .ok_or_else(|| self.ferr("sequence key", format!("cannot parse {s:?}"))),
+            _ => Err(self.ferr("sequence key", "expected a (log_id, prompt) tuple")),
+        }
+    }
+
+    fn frame(&self, f: usize, place: &str) -> Result<FrameData, EvalError> {
+        let Obj::Dict(items) = &self.arena[f] else {
+            return Err(self.ferr(place, "expected a dict"));
+        };
+        let mut fr = FrameData::default();
+        let mut n: Option<(usize, &'static str)> = None;
+        let mut has_ts = false;
+        for &(k, v) in items {
+            let Obj::Str(key) = &self.arena[k] else {
+                return Err(self.ferr(place, "non-string key"));
+            };
+            let fp = format!("{place} field {key:?}");
+            let mut check = |len: usize, name: &'static str| -> Result<(), EvalError> {
+                match n {
+                    Some((m, other)) if m != len => {
+                        Err(self.ferr(&fp, format!("has {len} objects but {other:?} has {m}")))
+                    }
+                    _ => {
+                        n = Some((len, name));
+                        Ok(())
+                    }
+                }
+            };
+            match key.as_str() {
+                "timestamp_ns" => {
+                    fr.timestamp_ns = self
+                        .int(v)
+                        .ok_or_else(|| self.ferr(&fp, "expected an integer"))?;
+                    has_ts = true;
+                }
+                "ego_translation_m" => {
+                    let vals = self
+                        .float_list(v)
+                        .ok_or_else(|| self.ferr(&fp, "expected 3 numbers"))?;
+                    let [a, b, c] = vals.as_slice() else {
+                        return Err(self.ferr(&fp, "expected 3 numbers"));
+                    };
+                    fr.ego_translation_m = [*a, *b, *c];
+                }
+                "description" => match &self.arena[v] {
+                    Obj::Str(s) => fr.description = Some(s.clone()),
+                    Obj::None => {}
+                    _ => return Err(self.ferr(&fp, "expected a string")),
+                },
+                "is_positive" => {
+                    fr.is_positive = Some(match &self.arena[v] {
+                        Obj::None => None,
+                        Obj::Bool(b) => Some(*b),
+                        Obj::Int(i) => Some(*i != 0),
+                        Obj::Scalar(d, b) if d.code == "b1" || d.code == "?" => {
+                            Some(b.first().copied().unwrap_or(0) != 0)
+                        }
+                        _ => return Err(self.ferr(&fp, "expected True, False or None")),
+                    })
+                }
+                "translation_m" | "velocity_m_per_s" => {
+                    let a = self.num(v, &fp)?;
+                    let rows = self.rows3(&a, &fp)?;
+                    check(
+                        rows.len(),
+                        if key == "translation_m" {
+                            "translation_m"
+                        } else {
+                            "velocity_m_per_s"
+                        },
+                    )?;
+                    if key == "translation_m" {
+                        fr.translation_m = rows;
+                    } else {
+                        fr.velocity_m_per_s = rows;
+                    }
+                }
+                "size" => {
+                    let a = self.num(v, &fp)?;
+                    let rows = self.rows3(&a, &fp)?;
+                    check(rows.len(), "size")?;
+                    fr.size = rows
+                        .iter()
+                        .map(|r| [r[0] as f32, r[1] as f32, r[2] as f32])
+                        .collect();
+                }
+                "yaw" | "score" => {
+                    let a = self.num(v, &fp)?;
+                    if a.shape.len() != 1 {
+                        return Err(self.ferr(
+                            &fp,
+                            format!("expected a 1-d array, got shape {:?}", a.shape),
+                        ));
+                    }
+                    check(a.vals.len(), if key == "yaw" { "yaw" } else { "score" })?;
+                    let v32: Vec<f32> = a.vals.iter().map(|&x| x as f32).collect();
+                    if key == "yaw" {
+                        fr.yaw = v32;
+                    } else {
+                        fr.score = Some(v32);
+                    }
+                }
+                "label" | "track_id" => {
+                    let a = self.num(v, &fp)?;
+                    if a.shape.len() != 1 {
+                        return Err(self.ferr(
+                            &fp,
+                            format!("expected a 1-d array, got shape {:?}", a.shape),
+                        ));
+                    }
+                    check(
+                        a.vals.len(),
+                        if key == "label" { "label" } else { "track_id" },
+                    )?;
+                    let mut out = Vec::with_capacity(a.vals.len());
+                    for &x in &a.vals {
+                        if x.fract() != 0.0 || x < i32::MIN as f64 || x > i32::MAX as f64 {
+                            return Err(
+                                self.ferr(&fp, format!("value {x} is not a 32-bit integer"))
+                            );
+                        }
+                        out.push(x as i32);
+                    }
+                    if key == "label" {
+                        fr.label = out;
+                    } else {
+                        fr.track_id = out;
+                    }
+                }
+                "name" => {
+                    let names = self.strings(v, &fp)?;
+                    check(names.len(), "name")?;
+                    fr.name = names;
+                }
+                _ => {}
+            }
+        }
+        if !has_ts {
+            return Err(self.ferr(place, "missing field \"timestamp_ns\""));
+        }
+        if let Some((len, _)) = n {
+            let checks: [(&str, usize); 6] = [
+                ("translation_m", fr.translation_m.len()),
+                ("size", fr.size.len()),
+                ("yaw", fr.yaw.len()),
+                ("label", fr.label.len()),
+                ("name", fr.name.len()),
+                ("track_id", fr.track_id.len()),
+            ];
+            for (name, l) in checks {
+                if l != len {
+                    return Err(self.ferr(
+                        place,
+                        format!("field {name:?} missing or of length {l}, expected {len}"),
+                    ));
+                }
+            }
+        }
+        Ok(fr)
+    }
+
+    fn int(&self, v: usize) -> Option<i64> {
+        match &self.arena[v] {
+            Obj::Int(i) => Some(*i),
+            Obj::Scalar(d, b) => decode(d, b)
+                .ok()
+                .and_then(|x| x.first().copied())
+                .map(|x| x as i64),
+            _ => None,
+        }
+    }
+
+    fn float_list(&self, v: usize) -> Option<Vec<f64>> {
+        let items = match &self.arena[v] {
+            Obj::List(x) | Obj::Tuple(x) => x,
+            Obj::Array(Some(d), _, _, raw) => return decode(d, raw).ok(),
+            _ => return None,
+        };
+        items
+            .iter()
+            .map(|&i| match &self.arena[i] {
+                Obj::Float(f) => Some(*f),
+                Obj::Int(n) => Some(*n as f64),
+                Obj::Scalar(d, b) => decode(d, b).ok().and_then(|x| x.first().copied()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn num(&self, v: usize, fp: &str) -> Result<Num, EvalError> {
+        match &self.arena[v] {
+            Obj::Array(Some(d), shape, fortran, raw) => {
+                if *fortran && shape.len() > 1 {
+                    return Err(self.ferr(fp, "Fortran-order arrays are not supported"));
+                }
+                let vals = decode(d, raw).map_err(|m| self.ferr(fp, m))?;
+                let want: usize = shape.iter().product();
+                if vals.len() != want {
+                    return Err(self.ferr(fp, format!("{} values for shape {shape:?}", vals.len())));
+                }
+                Ok(Num {
+                    vals,
+                    shape: shape.clone(),
+                })
+            }
+            _ => Err(self.ferr(fp, "expected a numpy array")),
+        }
+    }
+
+    fn rows3(&self, a: &Num, fp: &str) -> Result<Vec<[f64; 3]>, EvalError> {
+        match a.shape.as_slice() {
+            [_, 3] => Ok(a.vals.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()),
+            [0] | [0, _] => Ok(Vec::new()),
+            s => Err(self.ferr(fp, format!("expected shape (N, 3), got {s:?}"))),
+        }
+    }
+
+    fn strings(&self, v: usize, fp: &str) -> Result<Vec<String>, EvalError> {
+        let Obj::Array(Some(d), shape, _, raw) = &self.arena[v] else {
+            return Err(self.ferr(fp, "expected a numpy string array"));
+        };
+        if shape.len() != 1 {
+            return Err(self.ferr(fp, format!("expected a 1-d array, got shape {shape:?}")));
+        }
+        let chars: usize = d
+            .code
+            .strip_prefix('U')
+            .and_then(|n| n.parse().ok())
+            .ok_or_else(|| self.ferr(fp, format!("expected a unicode dtype, got {:?}", d.code)))?;
+        let n = shape[0];
+        if raw.len() != n * chars * 4 {
+            return Err(self.ferr(fp, "string array data of the wrong size"));
+        }
+        let mut out = Vec::with_capacity(n);
+        for i in 0..n {
+            let mut s = String::new();
+            for c in 0..chars {
+                let o = (i * chars + c) * 4;
+                let b = [raw[o], raw[o + 1], raw[o + 2], raw[o + 3]];
+                let cp = if d.endian == '>' {
+                    u32::from_be_bytes(b)
+                } else {
+                    u32::from_le_bytes(b)
+                };
+                if cp == 0 {
+                    break;
+                }
+                s.push(char::from_u32(cp).ok_or_else(|| self.ferr(fp, "invalid code point"))?);
+            }
+            out.push(s);
+        }
+        Ok(out)
+    }
+}
+
+/// Decodes raw numeric numpy bytes to f64.
+#[allow(clippy::modulo_one)]
+fn decode(d: &Dtype, raw: &[u8]) -> Result<Vec<f64>, String> {
+    let be = d.endian == '>';
+    let code = d.code.trim_start_matches(['<', '>', '=', '|']);
+    macro_rules! dec {
+        ($t:ty, $n:expr) => {{
+            if raw.len() % $n != 0 {
+                return Err(format!(
+                    "{} bytes is not a whole number of {} values",
+                    raw.len(),
+                    code
+                ));
+            }
+            raw.chunks($n)
+                .map(|c| {
+                    let mut a = [0u8; $n];
+                    a.copy_from_slice(c);
+                    (if be {
+                        <$t>::from_be_bytes(a)
+                    } else {
+                        <$t>::from_le_bytes(a)
+                    }) as f64
+                })
+                .collect()
+        }};
+    }
+    Ok(match code {
+        "f8" => dec!(f64, 8),
+        "f4" => dec!(f32, 4),
+        "i8" => dec!(i64, 8),
+        "i4" => dec!(i32, 4),
+        "i2" => dec!(i16, 2),
+        "i1" => dec!(i8, 1),
+        "u8" => dec!(u64, 8),
+        "u4" => dec!(u32, 4),
+        "u2" => dec!(u16, 2),
+        "u1" | "b1" => dec!(u8, 1),
+        other => return Err(format!("unsupported dtype {other:?}")),
+    })
+}
+
+/// Parses the string form "('log', 'prompt')" of a sequence key.
+fn parse_seq_str(s: &str) -> Option<SeqKey> {
+    let inner = s.strip_prefix("('")?.strip_suffix("')")?;
+    let (a, b) = inner.split_once("', '")?;
+    Some((a.to_string(), b.to_string()))
+}
