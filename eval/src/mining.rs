@@ -456,3 +456,32 @@ pub fn evaluate(
         log_ba_by_prompt: sc,
     })
 }
+
+impl Report {
+    /// The report as JSON: the four headline numbers (`hota_temporal`, `hota_track`, `timestamp_ba`,
+    /// `log_ba`) and per-prompt values.
+    pub fn to_json(&self) -> serde_json::Value {
+        let hota = |m: &BTreeMap<String, PromptHota>| -> serde_json::Value {
+            m.iter()
+                .map(|(k, v)| {
+                    (
+                        k.clone(),
+                        serde_json::json!({ "value": v.value, "score_threshold": v.threshold }),
+                    )
+                })
+                .collect::<serde_json::Map<_, _>>()
+                .into()
+        };
+        serde_json::json!({
+            "hota_temporal": self.hota_temporal,
+            "hota_track": self.hota_track,
+            "timestamp_ba": self.timestamp_ba,
+            "log_ba": self.log_ba,
+            "contains_tracking": self.contains_tracking,
+            "hota_temporal_by_prompt": hota(&self.hota_temporal_by_prompt),
+            "hota_track_by_prompt": hota(&self.hota_track_by_prompt),
+            "timestamp_ba_by_prompt": self.timestamp_ba_by_prompt,
+            "log_ba_by_prompt": self.log_ba_by_prompt,
+        })
+    }
+}

@@ -1,12 +1,77 @@
-//! `scenalog eval`: not built yet.
+//! `scenalog eval`: score predictions against ground truth with the official scenario-mining metrics.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Arguments of `scenalog eval` (none yet).
-#[derive(clap::Args)]
-pub struct Args {}
+use scenalog_eval::{evaluate, read_pickle, EvalOptions};
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> ExitCode {
-    super::not_built("eval")
+/// Arguments of `scenalog eval`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Predictions (official pickle format).
+    #[arg(long)]
+    pred: PathBuf,
+    /// Ground truth (official pickle format).
+    #[arg(long)]
+    gt: PathBuf,
+    /// Objects farther than this from the ego (x-y) are not evaluated.
+    #[arg(long, default_value_t = 50.0)]
+    max_range_m: f64,
+    /// Print one JSON object (full precision) instead of text.
+    #[arg(long)]
+    json: bool,
+    /// Also print per-prompt values.
+    #[arg(long)]
+    per_prompt: bool,
+}
+
+/// Runs the subcommand: exit 0 on success, 2 on unreadable or inconsistent input.
+pub fn run(args: Args) -> ExitCode {
+    let loaded = read_pickle(&args.pred).and_then(|p| read_pickle(&args.gt).map(|g| (p, g)));
+    let (pred, gt) = match loaded {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("scenalog eval: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let opts = EvalOptions {
+        max_range_m: args.max_range_m,
+    };
+    let report = match evaluate(&pred, &gt, &opts) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("scenalog eval: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if args.json {
+        println!("{:#}", report.to_json());
+        return ExitCode::SUCCESS;
+    }
+    println!("HOTA-Temporal: {}", report.hota_temporal);
+    println!("HOTA-Track: {}", report.hota_track);
+    println!("Timestamp-level Balanced Accuracy: {}", report.timestamp_ba);
+    println!("Log-level Balanced Accuracy: {}", report.log_ba);
+    if args.per_prompt {
+        println!();
+        println!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA");
+        for (prompt, ts) in &report.timestamp_ba_by_prompt {
+            let ht = report
+                .hota_temporal_by_prompt
+                .get(prompt)
+                .map_or(0.0, |h| h.value);
+            let hk = report
+                .hota_track_by_prompt
+                .get(prompt)
+                .map_or(0.0, |h| h.value);
+            let lb = report
+                .log_ba_by_prompt
+                .get(prompt)
+                .copied()
+                .unwrap_or(f64::NAN);
+            println!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}");
+        }
+    }
+    ExitCode::SUCCESS
 }

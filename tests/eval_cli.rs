@@ -1,0 +1,66 @@
+//! `scenalog eval` on the real scenario-mining fixture.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/av2/eval")
+        .join(name)
+}
+
+fn scenalog() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+}
+
+#[test]
+fn json_headline_numbers() {
+    let out = scenalog()
+        .args(["eval", "--json", "--pred"])
+        .arg(data("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.pkl"))
+        .output()
+        .expect("run scenalog");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let close = |k: &str, want: f64| {
+        let got = v[k].as_f64().unwrap_or(f64::NAN);
+        assert!((got - want).abs() <= 1e-9, "{k}: {got} vs {want}");
+    };
+    close("hota_temporal", 0.3795501973683041);
+    close("hota_track", 0.3941392002747208);
+    close("timestamp_ba", 0.85);
+    close("log_ba", 1.0);
+}
+
+#[test]
+fn text_output_and_bad_input() {
+    let out = scenalog()
+        .args(["eval", "--per-prompt", "--pred"])
+        .arg(data("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.pkl"))
+        .output()
+        .expect("run scenalog");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("HOTA-Temporal: 0.37955"), "{text}");
+    assert!(text.contains("stopped car"), "{text}");
+
+    // A feather file is not a pickle: exit 2 with a message naming the file.
+    let out = scenalog()
+        .args(["eval", "--pred"])
+        .arg(data("combined_predictions_dev.feather"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.pkl"))
+        .output()
+        .expect("run scenalog");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("combined_predictions_dev.feather"), "{err}");
+}
