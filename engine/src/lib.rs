@@ -1,1 +1,132 @@
-//! Evaluating checked Scenalog programs with datafrog. Not built yet (issue: engine).
+//! Evaluating checked Scenalog programs: values encoded as order-preserving `u64`s in fixed-width
+//! rows, rule bodies planned into joins with early filters, semi-naive iteration per stratum,
+//! negation by an antijoin against completed lower strata, and aggregates grouped by the outer
+//! variables.
+//!
+//! This crate owns evaluation only. It does not parse or check programs (`scenalog-rules`) and
+//! does not extract relations from logs (`scenalog-extractors`): catalog relations come from a
+//! provider closure the caller passes to [`evaluate`], asked only for relations the program uses.
+#![warn(missing_docs)]
+
+mod eval;
+pub mod plan;
+pub mod value;
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::time::Duration;
+
+use scenalog_facts::relation::Value;
+
+pub use eval::evaluate;
+
+/// Why an evaluation failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EngineError {
+    /// The program uses something the engine cannot evaluate.
+    Unsupported(String),
+    /// The provider could not give a relation.
+    Provider {
+        /// The relation asked for.
+        relation: String,
+        /// The provider's message.
+        message: String,
+    },
+    /// A provided relation does not match the catalog (column count or types).
+    BadInput {
+        /// The relation.
+        relation: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A relation grew past [`Options::max_tuples`].
+    TooManyTuples {
+        /// The relation that grew.
+        relation: String,
+        /// The limit.
+        limit: usize,
+    },
+    /// The evaluation ran longer than [`Options::timeout`].
+    Timeout {
+        /// The relation being derived when time ran out.
+        relation: String,
+        /// The limit.
+        limit: Duration,
+    },
+}
+
+impl fmt::Display for EngineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EngineError::Unsupported(m) => write!(f, "cannot evaluate: {m}"),
+            EngineError::Provider { relation, message } => {
+                write!(f, "relation `{relation}` could not be provided: {message}")
+            }
+            EngineError::BadInput { relation, message } => {
+                write!(
+                    f,
+                    "relation `{relation}` as provided is malformed: {message}"
+                )
+            }
+            EngineError::TooManyTuples { relation, limit } => write!(
+                f,
+                "relation `{relation}` grew past the limit of {limit} tuples; the program \
+                 probably derives far more than intended"
+            ),
+            EngineError::Timeout { relation, limit } => write!(
+                f,
+                "evaluation ran longer than {:.1} s while deriving `{relation}`",
+                limit.as_secs_f64()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EngineError {}
+
+/// Limits of one evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Most tuples any one relation (or one rule's output in one round) may hold.
+    pub max_tuples: usize,
+    /// Longest an evaluation may run; `None` for no limit.
+    pub timeout: Option<Duration>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            max_tuples: 20_000_000,
+            timeout: None,
+        }
+    }
+}
+
+/// The result of an evaluation: every relation the program uses or defines, decoded and sorted.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Evaluation {
+    /// Tuples by relation name, each sorted (strings by text, floats by total order).
+    pub relations: BTreeMap<String, Vec<Vec<Value>>>,
+    /// Names of the relations the program's clauses define (not catalog inputs).
+    pub derived: Vec<String>,
+}
+
+impl Evaluation {
+    /// The tuples of a relation, if the program uses or defines it.
+    pub fn tuples(&self, name: &str) -> Option<&[Vec<Value>]> {
+        self.relations.get(name).map(|v| v.as_slice())
+    }
+
+    /// The number of tuples of a relation (0 when unknown).
+    pub fn size(&self, name: &str) -> usize {
+        self.relations.get(name).map_or(0, |v| v.len())
+    }
+
+    /// Sizes of every relation.
+    pub fn sizes(&self) -> BTreeMap<String, usize> {
+        self.relations
+            .iter()
+            .map(|(k, v)| (k.clone(), v.len()))
+            .collect()
+    }
+}

@@ -1,0 +1,373 @@
+//! The evaluation loop: asking the provider for catalog relations, then each stratum in order
+//! with semi-naive iteration over sorted, deduplicated fixed-width rows.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::time::Instant;
+
+use scenalog_facts::catalog::ColType;
+use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
+use scenalog_rules::ast::{Atom, ExprKind, Literal};
+use scenalog_rules::{CheckedProgram, PredKind};
+
+use crate::plan::{apply, body_lits, plan, Arg, Ctx, Plan};
+use crate::value::{cmp_value, decode_value, encode_value, Row, Symbols, WIDTH};
+use crate::{EngineError, Evaluation, Options};
+
+/// Evaluates a checked program. Catalog relations the program uses are asked from `provider`,
+/// once each, with the constants the program fixes in every use of a column as
+/// [`Constraint::Eq`]; providers may return a superset. Ground facts of the program are inputs
+/// too. Returns every used or defined relation, decoded and sorted.
+pub fn evaluate(
+    program: &CheckedProgram,
+    provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
+    options: &Options,
+) -> Result<Evaluation, EngineError> {
+    let start = Instant::now();
+    let mut symbols = Symbols::default();
+    let types: HashMap<String, Vec<ColType>> = program
+        .predicates
+        .iter()
+        .map(|(k, p)| (k.clone(), p.types.clone()))
+        .collect();
+    if let Some((name, t)) = types.iter().find(|(_, t)| t.len() > WIDTH) {
+        return Err(EngineError::Unsupported(format!(
+            "`{name}` has {} columns; at most {WIDTH} are supported",
+            t.len()
+        )));
+    }
+    let mut complete: HashMap<String, Vec<Row>> = HashMap::new();
+    for (name, info) in &program.predicates {
+        if info.kind != PredKind::Catalog {
+            continue;
+        }
+        let request = request_for(program, name);
+        let data = provider(&request).map_err(|message| EngineError::Provider {
+            relation: name.clone(),
+            message,
+        })?;
+        let rows = load(&data, name, &info.types, &mut symbols)?;
+        complete.insert(name.clone(), rows);
+    }
+    let clauses = &program.program.clauses;
+    for stratum in &program.strata {
+        let mut plans: Vec<(String, Plan)> = Vec::new();
+        for &ci in &stratum.clauses {
+            let Some(clause) = clauses.get(ci) else {
+                continue;
+            };
+            if clause.body.iter().any(|l| matches!(l, Literal::Agg(_))) {
+                return Err(EngineError::Unsupported(format!(
+                    "aggregates (in a rule for `{}`)",
+                    clause.head.pred
+                )));
+            }
+            let lits = body_lits(&clause.body);
+            let head_types = types.get(&clause.head.pred).cloned();
+            let mut ctx = Ctx {
+                types: &types,
+                complete: &complete,
+                symbols: &mut symbols,
+            };
+            let p = plan(&lits, &clause.head.args, head_types.as_deref(), &mut ctx)?;
+            plans.push((clause.head.pred.clone(), p));
+        }
+        let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
+        let derived = run_stratum(&plans, &defined, &complete, options, start)?;
+        complete.extend(derived);
+    }
+    let mut out = Evaluation::default();
+    for (name, info) in &program.predicates {
+        let rows = complete.get(name).map_or(&[][..], |r| r.as_slice());
+        let mut decoded: Vec<Vec<Value>> = rows
+            .iter()
+            .map(|r| {
+                info.types
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &ty)| decode_value(r[i], ty, &symbols))
+                    .collect()
+            })
+            .collect();
+        decoded.sort_by(|a, b| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| cmp_value(x, y))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        decoded.dedup();
+        out.relations.insert(name.clone(), decoded);
+        if info.kind == PredKind::Derived {
+            out.derived.push(name.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// The request for one catalog relation: a column fixed to the same constant in every use
+/// becomes an `Eq` constraint.
+fn request_for(program: &CheckedProgram, name: &str) -> Request {
+    let mut atoms: Vec<&Atom> = Vec::new();
+    fn collect<'a>(body: &'a [Literal], name: &str, out: &mut Vec<&'a Atom>) {
+        for l in body {
+            match l {
+                Literal::Pos(a) | Literal::Neg(a, _) if a.pred == name => out.push(a),
+                Literal::Agg(g) => collect(&g.body, name, out),
+                _ => {}
+            }
+        }
+    }
+    for c in &program.program.clauses {
+        collect(&c.body, name, &mut atoms);
+    }
+    let mut request = Request::all(name);
+    let Some(first) = atoms.first() else {
+        return request;
+    };
+    for (i, e) in first.args.iter().enumerate() {
+        let constant = |k: &ExprKind| match k {
+            ExprKind::Str(s) => Some(Value::Str(s.as_str().into())),
+            ExprKind::Int(v) => Some(Value::Int(*v)),
+            ExprKind::Float(v) => Some(Value::Float(*v)),
+            _ => None,
+        };
+        let Some(c) = constant(&e.kind) else { continue };
+        let same = atoms
+            .iter()
+            .all(|a| a.args.get(i).and_then(|x| constant(&x.kind)).as_ref() == Some(&c));
+        if same {
+            request.constraints.push((i, Constraint::Eq(c)));
+        }
+    }
+    request
+}
+
+/// Encodes a provided relation into sorted, deduplicated rows.
+fn load(
+    data: &RelationData,
+    name: &str,
+    types: &[ColType],
+    symbols: &mut Symbols,
+) -> Result<Vec<Row>, EngineError> {
+    let bad = |message: String| EngineError::BadInput {
+        relation: name.to_string(),
+        message,
+    };
+    if data.columns.len() != types.len() {
+        return Err(bad(format!(
+            "{} columns, the catalog says {}",
+            data.columns.len(),
+            types.len()
+        )));
+    }
+    let n = data.len();
+    if let Some((i, c)) = data.columns.iter().enumerate().find(|(_, c)| c.len() != n) {
+        return Err(bad(format!(
+            "column {i} has {} values, column 0 has {n}",
+            c.len()
+        )));
+    }
+    let mut rows = vec![[0u64; WIDTH]; n];
+    for (ci, (col, &ty)) in data.columns.iter().zip(types).enumerate() {
+        for (ri, row) in rows.iter_mut().enumerate() {
+            let v = col
+                .get(ri)
+                .ok_or_else(|| bad(format!("column {ci} ends early")))?;
+            row[ci] = encode_value(&v, ty, symbols)
+                .ok_or_else(|| bad(format!("column {ci}, tuple {ri}: {v:?} is not a {ty:?}")))?;
+        }
+    }
+    rows.sort_unstable();
+    rows.dedup();
+    Ok(rows)
+}
+
+/// The tuples of one relation during a stratum's iteration.
+#[derive(Default)]
+struct Rel {
+    stable: Vec<Row>,
+    delta: Vec<Row>,
+    full: Vec<Row>,
+}
+
+/// Runs one stratum to its fixpoint, semi-naively: in each round, every rule is evaluated once
+/// per atom of this stratum in its body, with that atom reading only the last round's new
+/// tuples, the atoms before it the older tuples and the atoms after it all tuples.
+fn run_stratum(
+    plans: &[(String, Plan)],
+    defined: &HashSet<&str>,
+    complete: &HashMap<String, Vec<Row>>,
+    options: &Options,
+    start: Instant,
+) -> Result<HashMap<String, Vec<Row>>, EngineError> {
+    let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::default())).collect();
+    let empty: Vec<Row> = Vec::new();
+    let mut first = true;
+    loop {
+        let mut new: BTreeMap<&str, Vec<Row>> = BTreeMap::new();
+        for (head, p) in plans {
+            let check = Limits {
+                relation: head,
+                options,
+                start,
+            };
+            let rec: Vec<usize> = p
+                .atoms
+                .iter()
+                .enumerate()
+                .filter(|(_, a)| defined.contains(a.pred.as_str()))
+                .map(|(i, _)| i)
+                .collect();
+            let out = new.entry(head.as_str()).or_default();
+            if first {
+                if !rec.is_empty() {
+                    continue;
+                }
+                let sources: Vec<&[Row]> = p
+                    .atoms
+                    .iter()
+                    .map(|a| complete.get(&a.pred).unwrap_or(&empty).as_slice())
+                    .collect();
+                run_plan(p, &sources, out, &check)?;
+                continue;
+            }
+            for &k in &rec {
+                let sources: Vec<&[Row]> = p
+                    .atoms
+                    .iter()
+                    .enumerate()
+                    .map(|(j, a)| match rels.get(a.pred.as_str()) {
+                        Some(r) if j < k => r.stable.as_slice(),
+                        Some(r) if j == k => r.delta.as_slice(),
+                        Some(r) => r.full.as_slice(),
+                        None => complete.get(&a.pred).unwrap_or(&empty).as_slice(),
+                    })
+                    .collect();
+                if sources[k].is_empty() {
+                    continue;
+                }
+                run_plan(p, &sources, out, &check)?;
+            }
+        }
+        first = false;
+        let mut changed = false;
+        for (name, rel) in rels.iter_mut() {
+            let mut fresh = new.remove(name).unwrap_or_default();
+            fresh.sort_unstable();
+            fresh.dedup();
+            fresh.retain(|r| rel.full.binary_search(r).is_err());
+            rel.stable = std::mem::take(&mut rel.full);
+            rel.full = merge(&rel.stable, &fresh);
+            if rel.full.len() > options.max_tuples {
+                return Err(EngineError::TooManyTuples {
+                    relation: name.to_string(),
+                    limit: options.max_tuples,
+                });
+            }
+            changed |= !fresh.is_empty();
+            rel.delta = fresh;
+        }
+        if !changed {
+            break;
+        }
+    }
+    Ok(rels
+        .into_iter()
+        .map(|(k, r)| (k.to_string(), r.full))
+        .collect())
+}
+
+fn merge(a: &[Row], b: &[Row]) -> Vec<Row> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] < b[j] {
+            out.push(a[i]);
+            i += 1;
+        } else {
+            out.push(b[j]);
+            j += 1;
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
+}
+
+/// What a rule evaluation checks as it produces tuples.
+pub(crate) struct Limits<'a> {
+    relation: &'a str,
+    options: &'a Options,
+    start: Instant,
+}
+
+impl Limits<'_> {
+    fn check(&self, produced: usize) -> Result<(), EngineError> {
+        if produced > self.options.max_tuples {
+            return Err(EngineError::TooManyTuples {
+                relation: self.relation.to_string(),
+                limit: self.options.max_tuples,
+            });
+        }
+        if let Some(limit) = self.options.timeout {
+            if self.start.elapsed() > limit {
+                return Err(EngineError::Timeout {
+                    relation: self.relation.to_string(),
+                    limit,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Runs a plan over one source relation per atom, appending head rows to `out`.
+pub(crate) fn run_plan(
+    p: &Plan,
+    sources: &[&[Row]],
+    out: &mut Vec<Row>,
+    limits: &Limits<'_>,
+) -> Result<(), EngineError> {
+    let mut bindings: Vec<Row> = apply(&p.start, [0u64; WIDTH]).into_iter().collect();
+    for (step, src) in p.atoms.iter().zip(sources) {
+        if bindings.is_empty() {
+            return Ok(());
+        }
+        let mut next = Vec::new();
+        let keyed = step.args.iter().any(|a| matches!(a, Arg::Key(..)));
+        if keyed {
+            let mut index: HashMap<Row, Vec<&Row>> = HashMap::new();
+            for t in src.iter().filter(|t| step.selects(t)) {
+                index.entry(step.tuple_key(t)).or_default().push(t);
+            }
+            for b in &bindings {
+                let Some(k) = step.binding_key(b) else {
+                    continue;
+                };
+                for t in index.get(&k).into_iter().flatten() {
+                    if let Some(r) = apply(&step.after, step.extend(*b, t)) {
+                        next.push(r);
+                    }
+                }
+                limits.check(next.len())?;
+            }
+        } else {
+            let matching: Vec<&Row> = src.iter().filter(|t| step.selects(t)).collect();
+            for b in &bindings {
+                for t in &matching {
+                    if let Some(r) = apply(&step.after, step.extend(*b, t)) {
+                        next.push(r);
+                    }
+                }
+                limits.check(next.len())?;
+            }
+        }
+        bindings = next;
+    }
+    for b in &bindings {
+        if let Some(r) = p.project(b) {
+            out.push(r);
+        }
+    }
+    limits.check(out.len())
+}

@@ -1,0 +1,556 @@
+//! Compiling rule bodies into join plans: atom patterns, expressions and filters, with
+//! comparisons applied as soon as their variables are bound and atoms joined in order of how
+//! many of their arguments are already bound.
+
+use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
+
+use scenalog_facts::catalog::ColType;
+use scenalog_rules::ast::{Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal};
+
+use crate::value::{decode, encode, Row, Symbols, V, WIDTH};
+use crate::EngineError;
+
+/// A compiled expression over a binding row.
+#[derive(Debug, Clone)]
+pub enum CExpr {
+    /// A bound variable's slot and type.
+    Slot(usize, ColType),
+    /// A constant.
+    Const(V),
+    /// Unary minus.
+    Neg(Box<CExpr>),
+    /// Arithmetic.
+    Bin(BinOp, Box<CExpr>, Box<CExpr>),
+    /// abs, min, max.
+    Call(Func, Vec<CExpr>),
+}
+
+impl CExpr {
+    /// Evaluates; `None` on a type error, overflow or division by zero.
+    pub fn eval(&self, row: &Row) -> Option<V> {
+        match self {
+            CExpr::Slot(s, ty) => Some(decode(row[*s], *ty)),
+            CExpr::Const(v) => Some(*v),
+            CExpr::Neg(e) => match e.eval(row)? {
+                V::Int(i) => i.checked_neg().map(V::Int),
+                V::Float(f) => Some(V::Float(-f)),
+                V::Sym(_) => None,
+            },
+            CExpr::Bin(op, a, b) => arith(*op, a.eval(row)?, b.eval(row)?),
+            CExpr::Call(f, args) => {
+                let a = args.first()?.eval(row)?;
+                match f {
+                    Func::Abs => match a {
+                        V::Int(i) => i.checked_abs().map(V::Int),
+                        V::Float(x) => Some(V::Float(x.abs())),
+                        V::Sym(_) => None,
+                    },
+                    Func::Min | Func::Max => {
+                        let b = args.get(1)?.eval(row)?;
+                        let ord = a.compare(b)?;
+                        let take_a = (ord.is_le()) == (*f == Func::Min);
+                        Some(if take_a { a } else { b })
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn arith(op: BinOp, a: V, b: V) -> Option<V> {
+    match (a, b) {
+        (V::Int(x), V::Int(y)) => match op {
+            BinOp::Add => x.checked_add(y),
+            BinOp::Sub => x.checked_sub(y),
+            BinOp::Mul => x.checked_mul(y),
+            BinOp::Div => x.checked_div(y),
+        }
+        .map(V::Int),
+        (V::Sym(_), _) | (_, V::Sym(_)) => None,
+        (a, b) => {
+            let (x, y) = (to_f(a), to_f(b));
+            let r = match op {
+                BinOp::Add => x + y,
+                BinOp::Sub => x - y,
+                BinOp::Mul => x * y,
+                BinOp::Div => x / y,
+            };
+            r.is_finite().then_some(V::Float(r))
+        }
+    }
+}
+
+fn to_f(v: V) -> f64 {
+    match v {
+        V::Int(i) => i as f64,
+        V::Float(f) => f,
+        V::Sym(_) => f64::NAN,
+    }
+}
+
+/// A check or computation on a binding row.
+#[derive(Debug, Clone)]
+pub enum Filter {
+    /// A comparison that must hold.
+    Cmp(CmpOp, CExpr, CExpr),
+    /// `X = expr` binding a new slot.
+    Bind(usize, CExpr, ColType),
+    /// A negated atom: the key built from the row must not be in the set.
+    Neg(Vec<KeyArg>, Rc<HashSet<Row>>),
+}
+
+/// How a negated atom's argument is computed from a binding row.
+#[derive(Debug, Clone)]
+pub enum KeyArg {
+    /// A value computed from the binding (encoded to the column's type).
+    Val(CExpr, ColType),
+    /// A wildcard: zero in both the key and the stored projection.
+    Wild,
+}
+
+/// Applies filters in order; `None` if one fails.
+pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
+    for f in filters {
+        match f {
+            Filter::Cmp(op, a, b) => {
+                let ord = a.eval(&row)?.compare(b.eval(&row)?)?;
+                let ok = match op {
+                    CmpOp::Lt => ord.is_lt(),
+                    CmpOp::Le => ord.is_le(),
+                    CmpOp::Gt => ord.is_gt(),
+                    CmpOp::Ge => ord.is_ge(),
+                    CmpOp::Eq => ord.is_eq(),
+                    CmpOp::Ne => ord.is_ne(),
+                };
+                if !ok {
+                    return None;
+                }
+            }
+            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(&row)?, *ty)?,
+            Filter::Neg(args, set) => {
+                let key = neg_key(args, &row)?;
+                if set.contains(&key) {
+                    return None;
+                }
+            }
+        }
+    }
+    Some(row)
+}
+
+fn neg_key(args: &[KeyArg], row: &Row) -> Option<Row> {
+    let mut key = [0u64; WIDTH];
+    for (i, a) in args.iter().enumerate() {
+        if let KeyArg::Val(e, ty) = a {
+            key[i] = match encode(e.eval(row)?, *ty) {
+                Some(k) => k,
+                // A value that cannot be stored in the column is in no tuple: the negation holds.
+                None => return Some([u64::MAX; WIDTH]),
+            };
+        }
+    }
+    Some(key)
+}
+
+/// An atom argument relative to what is bound before the atom is joined.
+#[derive(Debug, Clone)]
+pub enum Arg {
+    /// Must equal this encoded constant.
+    Const(u64),
+    /// Must equal a value computed from the binding (a join key).
+    Key(CExpr, ColType),
+    /// Binds a new slot.
+    New(usize),
+    /// Must equal the column that first bound this slot in the same atom.
+    Same(usize),
+    /// Ignored.
+    Wild,
+}
+
+/// One atom to join.
+#[derive(Debug, Clone)]
+pub struct AtomStep {
+    /// The predicate.
+    pub pred: String,
+    /// One per column.
+    pub args: Vec<Arg>,
+    /// Filters to apply after this atom is joined.
+    pub after: Vec<Filter>,
+}
+
+impl AtomStep {
+    /// Whether a stored tuple passes the atom's constants and repeated variables.
+    pub fn selects(&self, t: &Row) -> bool {
+        self.args.iter().enumerate().all(|(i, a)| match a {
+            Arg::Const(c) => t[i] == *c,
+            Arg::Same(slot) => self
+                .args
+                .iter()
+                .position(|b| matches!(b, Arg::New(s) if s == slot))
+                .is_some_and(|j| t[j] == t[i]),
+            _ => true,
+        })
+    }
+
+    /// The binding row extended with the atom's new variables.
+    pub fn extend(&self, mut b: Row, t: &Row) -> Row {
+        for (i, a) in self.args.iter().enumerate() {
+            if let Arg::New(s) = a {
+                b[*s] = t[i];
+            }
+        }
+        b
+    }
+
+    /// The join key of a stored tuple (its key columns).
+    pub fn tuple_key(&self, t: &Row) -> Row {
+        let mut k = [0u64; WIDTH];
+        let mut n = 0;
+        for (i, a) in self.args.iter().enumerate() {
+            if matches!(a, Arg::Key(..)) {
+                k[n] = t[i];
+                n += 1;
+            }
+        }
+        k
+    }
+
+    /// The join key computed from a binding row; `None` if a value does not fit its column.
+    pub fn binding_key(&self, b: &Row) -> Option<Row> {
+        let mut k = [0u64; WIDTH];
+        let mut n = 0;
+        for a in &self.args {
+            if let Arg::Key(e, ty) = a {
+                k[n] = encode(e.eval(b)?, *ty)?;
+                n += 1;
+            }
+        }
+        Some(k)
+    }
+}
+
+/// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Filters before any atom (bodies without atoms, constant comparisons).
+    pub start: Vec<Filter>,
+    /// Atoms in join order, each with the filters that become ready after it.
+    pub atoms: Vec<AtomStep>,
+    /// The output row: one expression per column, with its type.
+    pub head: Vec<(CExpr, ColType)>,
+}
+
+impl Plan {
+    /// The output row of a complete binding.
+    pub fn project(&self, b: &Row) -> Option<Row> {
+        let mut out = [0u64; WIDTH];
+        for (i, (e, ty)) in self.head.iter().enumerate() {
+            out[i] = encode(e.eval(b)?, *ty)?;
+        }
+        Some(out)
+    }
+}
+
+/// What the planner needs to know about the program's relations.
+pub struct Ctx<'a> {
+    /// Column types by predicate.
+    pub types: &'a HashMap<String, Vec<ColType>>,
+    /// Completed relations (for negation sets).
+    pub complete: &'a HashMap<String, Vec<Row>>,
+    /// Symbols.
+    pub symbols: &'a mut Symbols,
+}
+
+/// Variables collected from expressions.
+pub fn expr_vars<'e>(e: &'e Expr, out: &mut Vec<&'e str>) {
+    match &e.kind {
+        ExprKind::Var(v) => out.push(v),
+        ExprKind::Neg(a) => expr_vars(a, out),
+        ExprKind::Binary(_, a, b) => {
+            expr_vars(a, out);
+            expr_vars(b, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| expr_vars(a, out)),
+        _ => {}
+    }
+}
+
+struct Scope {
+    slots: HashMap<String, (usize, ColType)>,
+}
+
+impl Scope {
+    fn bound(&self, e: &Expr) -> bool {
+        let mut vs = Vec::new();
+        expr_vars(e, &mut vs);
+        vs.iter().all(|v| self.slots.contains_key(*v))
+    }
+
+    fn new_slot(&mut self, name: &str, ty: ColType) -> Result<usize, EngineError> {
+        let s = self.slots.len();
+        if s >= WIDTH {
+            return Err(EngineError::Unsupported(format!(
+                "a rule has more than {WIDTH} variables"
+            )));
+        }
+        self.slots.insert(name.to_string(), (s, ty));
+        Ok(s)
+    }
+}
+
+fn compile_expr(e: &Expr, scope: &Scope, symbols: &mut Symbols) -> Result<CExpr, EngineError> {
+    Ok(match &e.kind {
+        ExprKind::Var(v) => {
+            let (s, ty) = scope.slots.get(v).ok_or_else(|| {
+                EngineError::Unsupported(format!("variable `{v}` used before it is bound"))
+            })?;
+            CExpr::Slot(*s, *ty)
+        }
+        ExprKind::Wildcard => {
+            return Err(EngineError::Unsupported("`_` in an expression".to_string()))
+        }
+        ExprKind::Str(s) => CExpr::Const(V::Sym(symbols.intern(s))),
+        ExprKind::Int(i) => CExpr::Const(V::Int(*i)),
+        ExprKind::Float(f) => CExpr::Const(V::Float(*f)),
+        ExprKind::Neg(a) => CExpr::Neg(Box::new(compile_expr(a, scope, symbols)?)),
+        ExprKind::Binary(op, a, b) => CExpr::Bin(
+            *op,
+            Box::new(compile_expr(a, scope, symbols)?),
+            Box::new(compile_expr(b, scope, symbols)?),
+        ),
+        ExprKind::Call(f, args) => CExpr::Call(
+            *f,
+            args.iter()
+                .map(|a| compile_expr(a, scope, symbols))
+                .collect::<Result<_, _>>()?,
+        ),
+    })
+}
+
+/// The type of an expression's value.
+pub fn expr_type(e: &CExpr) -> ColType {
+    match e {
+        CExpr::Slot(_, t) => *t,
+        CExpr::Const(V::Int(_)) => ColType::Int,
+        CExpr::Const(V::Float(_)) => ColType::Float,
+        CExpr::Const(V::Sym(_)) => ColType::Str,
+        CExpr::Neg(a) => expr_type(a),
+        CExpr::Bin(_, a, b) => join_types(expr_type(a), expr_type(b)),
+        CExpr::Call(_, args) => match args.as_slice() {
+            [a, b, ..] => join_types(expr_type(a), expr_type(b)),
+            [a] => expr_type(a),
+            [] => ColType::Int,
+        },
+    }
+}
+
+fn join_types(a: ColType, b: ColType) -> ColType {
+    match (a, b) {
+        (ColType::Float, _) | (_, ColType::Float) => ColType::Float,
+        (ColType::Time, _) | (_, ColType::Time) => ColType::Time,
+        (t, _) => t,
+    }
+}
+
+/// A body literal the planner schedules (aggregates are rewritten to atoms beforehand).
+pub enum BodyLit<'a> {
+    /// A positive atom.
+    Pos(&'a Atom),
+    /// A negated atom.
+    Neg(&'a Atom),
+    /// A comparison or binding.
+    Cmp(CmpOp, &'a Expr, &'a Expr),
+}
+
+/// Collects the positive, negated and comparison literals of a body (aggregates excluded).
+pub fn body_lits(body: &[Literal]) -> Vec<BodyLit<'_>> {
+    body.iter()
+        .filter_map(|l| match l {
+            Literal::Pos(a) => Some(BodyLit::Pos(a)),
+            Literal::Neg(a, _) => Some(BodyLit::Neg(a)),
+            Literal::Cmp(c) => Some(BodyLit::Cmp(c.op, &c.lhs, &c.rhs)),
+            Literal::Agg(_) => None,
+        })
+        .collect()
+}
+
+/// Plans a body and a head (output expressions; `head_types` gives the output column types,
+/// `None` to infer them from the expressions).
+pub fn plan(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+) -> Result<Plan, EngineError> {
+    let mut scope = Scope {
+        slots: HashMap::new(),
+    };
+    let mut done = vec![false; lits.len()];
+    let mut start = Vec::new();
+    let mut atoms: Vec<AtomStep> = Vec::new();
+    loop {
+        // Ready filters first (comparisons, bindings, negations).
+        let mut progress = true;
+        while progress {
+            progress = false;
+            for (i, l) in lits.iter().enumerate() {
+                if done[i] {
+                    continue;
+                }
+                let f = match l {
+                    BodyLit::Cmp(op, a, b) => {
+                        if scope.bound(a) && scope.bound(b) {
+                            Some(Filter::Cmp(
+                                *op,
+                                compile_expr(a, &scope, ctx.symbols)?,
+                                compile_expr(b, &scope, ctx.symbols)?,
+                            ))
+                        } else if *op == CmpOp::Eq {
+                            let (var, e) = match (a.as_var(), b.as_var()) {
+                                (Some(v), _) if !scope.slots.contains_key(v) && scope.bound(b) => {
+                                    (v, b)
+                                }
+                                (_, Some(v)) if !scope.slots.contains_key(v) && scope.bound(a) => {
+                                    (v, a)
+                                }
+                                _ => continue,
+                            };
+                            let ce = compile_expr(e, &scope, ctx.symbols)?;
+                            let ty = expr_type(&ce);
+                            let s = scope.new_slot(var, ty)?;
+                            Some(Filter::Bind(s, ce, ty))
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Neg(a) => {
+                        let ready = a
+                            .args
+                            .iter()
+                            .all(|e| matches!(e.kind, ExprKind::Wildcard) || scope.bound(e));
+                        if ready {
+                            Some(neg_filter(a, &scope, ctx)?)
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Pos(_) => None,
+                };
+                if let Some(f) = f {
+                    done[i] = true;
+                    progress = true;
+                    match atoms.last_mut() {
+                        Some(a) => a.after.push(f),
+                        None => start.push(f),
+                    }
+                }
+            }
+        }
+        // Next atom: the one with most bound or constant arguments.
+        let mut best: Option<(usize, usize)> = None;
+        for (i, l) in lits.iter().enumerate() {
+            if let (false, BodyLit::Pos(a)) = (done[i], l) {
+                let score = a
+                    .args
+                    .iter()
+                    .filter(|e| !matches!(e.kind, ExprKind::Wildcard) && scope.bound(e))
+                    .count();
+                if best.is_none_or(|(_, s)| score > s) {
+                    best = Some((i, score));
+                }
+            }
+        }
+        let Some((i, _)) = best else { break };
+        done[i] = true;
+        let BodyLit::Pos(a) = lits[i] else { break };
+        let types = ctx.types.get(&a.pred).cloned().unwrap_or_default();
+        if types.len() != a.args.len() {
+            return Err(EngineError::Unsupported(format!(
+                "`{}` used with {} arguments but has {} columns",
+                a.pred,
+                a.args.len(),
+                types.len()
+            )));
+        }
+        let mut args = Vec::new();
+        for (e, &ty) in a.args.iter().zip(&types) {
+            let arg = match &e.kind {
+                ExprKind::Wildcard => Arg::Wild,
+                ExprKind::Var(v) => match scope.slots.get(v) {
+                    Some(&(s, _)) if args.iter().any(|x| matches!(x, Arg::New(n) if *n == s)) => {
+                        Arg::Same(s)
+                    }
+                    Some(_) => Arg::Key(compile_expr(e, &scope, ctx.symbols)?, ty),
+                    None => Arg::New(scope.new_slot(v, ty)?),
+                },
+                _ if scope.bound(e) => {
+                    let ce = compile_expr(e, &scope, ctx.symbols)?;
+                    match ce {
+                        CExpr::Const(c) => match encode(c, ty) {
+                            Some(c) => Arg::Const(c),
+                            None => Arg::Const(u64::MAX),
+                        },
+                        ce => Arg::Key(ce, ty),
+                    }
+                }
+                _ => {
+                    return Err(EngineError::Unsupported(format!(
+                        "an expression argument of `{}` uses a variable bound nowhere before it",
+                        a.pred
+                    )))
+                }
+            };
+            args.push(arg);
+        }
+        atoms.push(AtomStep {
+            pred: a.pred.clone(),
+            args,
+            after: Vec::new(),
+        });
+    }
+    if let Some(i) = done.iter().position(|d| !d) {
+        let _ = i;
+        return Err(EngineError::Unsupported(
+            "a rule body whose variables cannot all be bound".to_string(),
+        ));
+    }
+    let mut out = Vec::new();
+    for (i, e) in head.iter().enumerate() {
+        let ce = compile_expr(e, &scope, ctx.symbols)?;
+        let ty = match head_types {
+            Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+            None => expr_type(&ce),
+        };
+        out.push((ce, ty));
+    }
+    Ok(Plan {
+        start,
+        atoms,
+        head: out,
+    })
+}
+
+fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, EngineError> {
+    let types = ctx.types.get(&a.pred).cloned().unwrap_or_default();
+    let mut args = Vec::new();
+    for (e, &ty) in a.args.iter().zip(&types) {
+        args.push(match e.kind {
+            ExprKind::Wildcard => KeyArg::Wild,
+            _ => KeyArg::Val(compile_expr(e, scope, ctx.symbols)?, ty),
+        });
+    }
+    let mut set = HashSet::new();
+    if let Some(rows) = ctx.complete.get(&a.pred) {
+        for r in rows {
+            let mut k = *r;
+            for (i, x) in args.iter().enumerate() {
+                if matches!(x, KeyArg::Wild) {
+                    k[i] = 0;
+                }
+            }
+            set.insert(k);
+        }
+    }
+    Ok(Filter::Neg(args, Rc::new(set)))
+}

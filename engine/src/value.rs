@@ -1,0 +1,212 @@
+//! Order-preserving encoding of values into `u64`, the runtime values of expressions, and the
+//! per-evaluation symbol table.
+
+use std::cmp::Ordering;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use scenalog_facts::catalog::ColType;
+use scenalog_facts::map::LaneId;
+use scenalog_facts::relation::Value;
+use scenalog_facts::scene::TrackId;
+
+/// Widest row the engine evaluates (relation arity and variables per rule).
+pub const WIDTH: usize = 12;
+
+/// One tuple or one rule's variable bindings: fixed width, no heap allocation.
+pub type Row = [u64; WIDTH];
+
+const SIGN: u64 = 1 << 63;
+
+/// Encodes an integer so that unsigned order equals signed order.
+pub fn enc_int(i: i64) -> u64 {
+    (i as u64) ^ SIGN
+}
+
+/// Inverse of [`enc_int`].
+pub fn dec_int(u: u64) -> i64 {
+    (u ^ SIGN) as i64
+}
+
+/// Encodes a float so that unsigned order equals the float total order (-0.0 as 0.0).
+pub fn enc_float(f: f64) -> u64 {
+    let f = if f == 0.0 { 0.0 } else { f };
+    let bits = f.to_bits();
+    if bits & SIGN != 0 {
+        !bits
+    } else {
+        bits | SIGN
+    }
+}
+
+/// Inverse of [`enc_float`].
+pub fn dec_float(u: u64) -> f64 {
+    if u & SIGN != 0 {
+        f64::from_bits(u & !SIGN)
+    } else {
+        f64::from_bits(!u)
+    }
+}
+
+/// Strings interned for one evaluation.
+#[derive(Debug, Default, Clone)]
+pub struct Symbols {
+    ids: HashMap<Arc<str>, u64>,
+    names: Vec<Arc<str>>,
+}
+
+impl Symbols {
+    /// The id of `s`, interning it if new.
+    pub fn intern(&mut self, s: &str) -> u64 {
+        if let Some(&id) = self.ids.get(s) {
+            return id;
+        }
+        let id = self.names.len() as u64;
+        let a: Arc<str> = Arc::from(s);
+        self.names.push(a.clone());
+        self.ids.insert(a, id);
+        id
+    }
+
+    /// The id of an `Arc<str>` (no copy of the text when new).
+    pub fn intern_arc(&mut self, s: &Arc<str>) -> u64 {
+        if let Some(&id) = self.ids.get(s) {
+            return id;
+        }
+        let id = self.names.len() as u64;
+        self.names.push(s.clone());
+        self.ids.insert(s.clone(), id);
+        id
+    }
+
+    /// The string of an id.
+    pub fn name(&self, id: u64) -> Arc<str> {
+        self.names
+            .get(id as usize)
+            .cloned()
+            .unwrap_or_else(|| Arc::from("?"))
+    }
+}
+
+/// A value while evaluating expressions: numbers, or an opaque symbol (track, lane, string).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum V {
+    /// Integer or time.
+    Int(i64),
+    /// Float.
+    Float(f64),
+    /// Track, lane or interned string: compared by identity.
+    Sym(u64),
+}
+
+impl V {
+    fn as_f64(self) -> Option<f64> {
+        match self {
+            V::Int(i) => Some(i as f64),
+            V::Float(f) => Some(f),
+            V::Sym(_) => None,
+        }
+    }
+
+    /// Compares two values: numerically across int and float, by identity for symbols.
+    pub fn compare(self, other: V) -> Option<Ordering> {
+        match (self, other) {
+            (V::Int(a), V::Int(b)) => Some(a.cmp(&b)),
+            (V::Sym(a), V::Sym(b)) => Some(a.cmp(&b)),
+            (a, b) => a.as_f64()?.partial_cmp(&b.as_f64()?),
+        }
+    }
+}
+
+/// Decodes an encoded column value into an expression value.
+pub fn decode(raw: u64, ty: ColType) -> V {
+    match ty {
+        ColType::Track | ColType::Lane | ColType::Str => V::Sym(raw),
+        ColType::Time => V::Int(raw as i64),
+        ColType::Int => V::Int(dec_int(raw)),
+        ColType::Float => V::Float(dec_float(raw)),
+    }
+}
+
+/// Encodes an expression value into a column of type `ty`; `None` when it does not fit
+/// (a negative time, a fractional value in an int column, a number in a symbol column).
+pub fn encode(v: V, ty: ColType) -> Option<u64> {
+    match (ty, v) {
+        (ColType::Track | ColType::Lane | ColType::Str, V::Sym(s)) => Some(s),
+        (ColType::Time, V::Int(i)) => u32::try_from(i).ok().map(u64::from),
+        (ColType::Int, V::Int(i)) => Some(enc_int(i)),
+        (ColType::Float, V::Float(f)) if !f.is_nan() => Some(enc_float(f)),
+        (ColType::Float, V::Int(i)) => Some(enc_float(i as f64)),
+        (ColType::Time | ColType::Int, V::Float(f)) if f.fract() == 0.0 => {
+            encode(V::Int(f as i64), ty)
+        }
+        _ => None,
+    }
+}
+
+/// Encodes an input value into a column of type `ty`.
+pub fn encode_value(v: &Value, ty: ColType, symbols: &mut Symbols) -> Option<u64> {
+    match (ty, v) {
+        (ColType::Track, Value::Track(t)) => Some(u64::from(t.0)),
+        (ColType::Lane, Value::Lane(l)) => Some(enc_int(l.0)),
+        (ColType::Str, Value::Str(s)) => Some(symbols.intern_arc(s)),
+        (_, Value::Time(t)) => encode(V::Int(i64::from(*t)), ty),
+        (_, Value::Int(i)) => encode(V::Int(*i), ty),
+        (_, Value::Float(f)) => encode(V::Float(*f), ty),
+        _ => None,
+    }
+}
+
+/// Decodes a stored value of a column of type `ty`.
+pub fn decode_value(raw: u64, ty: ColType, symbols: &Symbols) -> Value {
+    match ty {
+        ColType::Track => Value::Track(TrackId(raw as u32)),
+        ColType::Time => Value::Time(raw as u32),
+        ColType::Lane => Value::Lane(LaneId(dec_int(raw))),
+        ColType::Str => Value::Str(symbols.name(raw)),
+        ColType::Float => Value::Float(dec_float(raw)),
+        ColType::Int => Value::Int(dec_int(raw)),
+    }
+}
+
+/// Total order on decoded values (strings by text, floats by total order).
+pub fn cmp_value(a: &Value, b: &Value) -> Ordering {
+    fn rank(v: &Value) -> u8 {
+        match v {
+            Value::Track(_) => 0,
+            Value::Time(_) => 1,
+            Value::Lane(_) => 2,
+            Value::Str(_) => 3,
+            Value::Float(_) => 4,
+            Value::Int(_) => 5,
+        }
+    }
+    match (a, b) {
+        (Value::Track(x), Value::Track(y)) => x.cmp(y),
+        (Value::Time(x), Value::Time(y)) => x.cmp(y),
+        (Value::Lane(x), Value::Lane(y)) => x.cmp(y),
+        (Value::Str(x), Value::Str(y)) => x.cmp(y),
+        (Value::Float(x), Value::Float(y)) => x.total_cmp(y),
+        (Value::Int(x), Value::Int(y)) => x.cmp(y),
+        _ => rank(a).cmp(&rank(b)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn float_and_int_encodings_preserve_order() {
+        let fs = [-1e9, -2.5, -0.0, 0.0, 1e-9, 3.0, 1e300];
+        for w in fs.windows(2) {
+            assert!(enc_float(w[0]) <= enc_float(w[1]), "{w:?}");
+            assert_eq!(dec_float(enc_float(w[1])), w[1]);
+        }
+        let is = [i64::MIN, -5, 0, 7, i64::MAX];
+        for w in is.windows(2) {
+            assert!(enc_int(w[0]) < enc_int(w[1]));
+            assert_eq!(dec_int(enc_int(w[0])), w[0]);
+        }
+    }
+}

@@ -1,0 +1,204 @@
+//! Hand-written cases for each feature of the engine, and regression tests for the two datafrog
+//! 2.0.1 defects the engine avoids.
+
+use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
+use scenalog_facts::relation::{RelationData, Request, Value};
+use scenalog_rules::{check, CheckOptions};
+
+fn run_with(src: &str, options: &Options) -> Result<Evaluation, EngineError> {
+    let outcome = check(
+        src,
+        &CheckOptions {
+            require_referred: false,
+        },
+    );
+    let Some(program) = outcome.program else {
+        panic!("program does not check: {:?}", outcome.diagnostics);
+    };
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        Err(format!("no catalog here (asked for {})", r.name))
+    };
+    evaluate(&program, &mut provider, options)
+}
+
+fn run(src: &str) -> Evaluation {
+    match run_with(src, &Options::default()) {
+        Ok(e) => e,
+        Err(e) => panic!("evaluation failed: {e}"),
+    }
+}
+
+fn ints(e: &Evaluation, rel: &str) -> Vec<Vec<i64>> {
+    e.tuples(rel)
+        .unwrap_or_default()
+        .iter()
+        .map(|t| {
+            t.iter()
+                .map(|v| match v {
+                    Value::Int(i) => *i,
+                    Value::Time(t) => i64::from(*t),
+                    other => panic!("not an int: {other:?}"),
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn transitive_closure_of_a_chain() {
+    let mut src = String::from(
+        ".decl edge(X: int, Y: int)\n.decl path(X: int, Y: int)\n\
+         path(X, Y) :- edge(X, Y).\npath(X, Z) :- path(X, Y), edge(Y, Z).\n",
+    );
+    for i in 0..30 {
+        src.push_str(&format!("edge({i}, {}).\n", i + 1));
+    }
+    let e = run(&src);
+    // 31 nodes in a chain: 31 * 30 / 2 pairs.
+    assert_eq!(e.size("path"), 465);
+    assert_eq!(e.size("edge"), 30);
+    let p = ints(&e, "path");
+    assert_eq!(p[0], vec![0, 1]);
+    assert_eq!(p[p.len() - 1], vec![29, 30]);
+    assert!(e.derived.contains(&"path".to_string()));
+}
+
+#[test]
+fn negation_against_a_lower_stratum() {
+    let src = ".decl node(X: int)\n.decl edge(X: int, Y: int)\n.decl reach(X: int)\n.decl unreached(X: int)\n\
+        node(1). node(2). node(3). node(4).\nedge(1, 2). edge(2, 3).\n\
+        reach(1).\nreach(Y) :- reach(X), edge(X, Y).\n\
+        unreached(X) :- node(X), !reach(X).\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "reach"), vec![vec![1], vec![2], vec![3]]);
+    assert_eq!(ints(&e, "unreached"), vec![vec![4]]);
+}
+
+#[test]
+fn negation_with_wildcards_and_constants() {
+    let src = ".decl p(X: int, Y: int)\n.decl q(X: int)\n.decl r(X: int)\n.decl s(X: int)\n\
+        p(1, 10). p(2, 20). q(1). q(2). q(3).\n\
+        r(X) :- q(X), !p(X, _).\n\
+        s(X) :- q(X), !p(X, 20).\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "r"), vec![vec![3]]);
+    assert_eq!(ints(&e, "s"), vec![vec![1], vec![3]]);
+}
+
+#[test]
+fn comparisons_arithmetic_and_bindings() {
+    let src = ".decl v(X: int, Y: float)\n.decl big(X: int)\n.decl twice(X: int, Z: int)\n.decl neg(X: float)\n\
+        v(1, -2.5). v(2, 0.5). v(3, 4.0).\n\
+        big(X) :- v(X, Y), Y > 0.0, X != 3.\n\
+        twice(X, Z) :- v(X, _), Z = X * 2 + 1.\n\
+        neg(Y) :- v(_, Y), Y < 0.0.\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "big"), vec![vec![2]]);
+    assert_eq!(ints(&e, "twice"), vec![vec![1, 3], vec![2, 5], vec![3, 7]]);
+    assert_eq!(e.tuples("neg"), Some(&[vec![Value::Float(-2.5)]][..]));
+}
+
+#[test]
+fn sustained_runs_by_t_plus_one_recursion() {
+    // run(X, S, T): X is fast at every frame from S to T.
+    let src = ".decl fast(X: int, T: int)\n.decl run(X: int, S: int, T: int)\n\
+        fast(1, 0). fast(1, 1). fast(1, 2). fast(1, 5). fast(2, 3).\n\
+        run(X, T, T) :- fast(X, T).\n\
+        run(X, S, U) :- run(X, S, T), U = T + 1, fast(X, U).\n";
+    let e = run(src);
+    assert_eq!(
+        ints(&e, "run"),
+        vec![
+            vec![1, 0, 0],
+            vec![1, 0, 1],
+            vec![1, 0, 2],
+            vec![1, 1, 1],
+            vec![1, 1, 2],
+            vec![1, 2, 2],
+            vec![1, 5, 5],
+            vec![2, 3, 3]
+        ]
+    );
+}
+
+#[test]
+fn strings_sort_by_text_and_repeated_variables_select() {
+    let src = ".decl n(X: string, Y: string)\n.decl same(X: string)\n\
+        n(\"b\", \"b\"). n(\"a\", \"c\"). n(\"c\", \"c\").\n\
+        same(X) :- n(X, X).\n";
+    let e = run(src);
+    let s: Vec<String> = e
+        .tuples("same")
+        .unwrap_or_default()
+        .iter()
+        .map(|t| format!("{:?}", t[0]))
+        .collect();
+    assert_eq!(s, vec!["Str(\"b\")", "Str(\"c\")"]);
+}
+
+#[test]
+fn a_relation_that_grows_past_the_limit_is_named() {
+    let src = ".decl n(X: int)\nn(0).\nn(Y) :- n(X), Y = X + 1.\n";
+    let options = Options {
+        max_tuples: 1000,
+        timeout: None,
+    };
+    match run_with(src, &options) {
+        Err(EngineError::TooManyTuples { relation, limit }) => {
+            assert_eq!(relation, "n");
+            assert_eq!(limit, 1000);
+        }
+        other => panic!("expected a limit error, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_timeout_is_reported_with_the_relation() {
+    let src = ".decl n(X: int)\nn(0).\nn(Y) :- n(X), Y = X + 1.\n";
+    let options = Options {
+        max_tuples: usize::MAX,
+        timeout: Some(std::time::Duration::from_millis(50)),
+    };
+    match run_with(src, &options) {
+        Err(EngineError::Timeout { relation, .. }) => assert_eq!(relation, "n"),
+        other => panic!("expected a timeout, got {other:?}"),
+    }
+}
+
+/// datafrog 2.0.1: `Relation::from_antijoin` yields nothing even when tuples have no match.
+#[test]
+fn datafrog_from_antijoin_returns_nothing_but_the_engine_negates() {
+    let input = datafrog::Relation::from_vec(vec![(1u32, 10u32), (2, 20), (3, 30)]);
+    let remove = datafrog::Relation::from_vec(vec![2u32]);
+    let out = datafrog::Relation::from_antijoin(&input, &remove, |&k, &v| (k, v));
+    // The correct answer would be [(1, 10), (3, 30)].
+    assert_eq!(out.elements.len(), 0, "datafrog's antijoin was fixed");
+    let src = ".decl p(X: int, Y: int)\n.decl rm(X: int)\n.decl out(X: int, Y: int)\n\
+        p(1, 10). p(2, 20). p(3, 30). rm(2).\nout(X, Y) :- p(X, Y), !rm(X).\n";
+    assert_eq!(ints(&run(src), "out"), vec![vec![1, 10], vec![3, 30]]);
+}
+
+/// datafrog 2.0.1: a leapjoin made only of filters (no proposing leaper) panics.
+#[test]
+fn datafrog_all_filter_leapjoin_panics_but_the_engine_filters() {
+    let result = std::panic::catch_unwind(|| {
+        let mut iteration = datafrog::Iteration::new();
+        let source = iteration.variable::<(u32, u32)>("source");
+        source.extend(vec![(1u32, 1u32), (2, 3)]);
+        let out = iteration.variable::<(u32, u32)>("out");
+        let banned = datafrog::Relation::from_vec(vec![(2u32, 3u32)]);
+        let allowed = datafrog::Relation::from_vec(vec![(1u32, 1u32), (2, 3)]);
+        while iteration.changed() {
+            let not_banned = datafrog::FilterAnti::from(&banned, |&(k, v): &(u32, u32)| (k, v));
+            let known = datafrog::FilterWith::from(&allowed, |&(k, v): &(u32, u32)| (k, v));
+            out.from_leapjoin(&source, (not_banned, known), |&(k, v), _: &()| (k, v));
+        }
+    });
+    assert!(
+        result.is_err(),
+        "datafrog's all-filter leapjoin no longer panics"
+    );
+    let src = ".decl s(X: int, Y: int)\n.decl banned(X: int)\n.decl out(X: int, Y: int)\n\
+        s(1, 1). s(2, 3). banned(2).\nout(X, Y) :- s(X, Y), !banned(X).\n";
+    assert_eq!(ints(&run(src), "out"), vec![vec![1, 1]]);
+}
