@@ -1,0 +1,95 @@
+//! `scenalog run` end to end: tuples as facts, JSON, sizes, limits, catalog use, exit codes.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+fn scenalog(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run scenalog");
+    if let Some(mut pipe) = child.stdin.take() {
+        let _ = pipe.write_all(stdin.as_bytes());
+    }
+    child.wait_with_output().expect("wait for scenalog")
+}
+
+const TC: &str = "edge(1, 2). edge(2, 3). edge(3, 4). label(1, \"a b\"). w(1, 2.5). w(2, 3.0).\n\
+path(X, Y) :- edge(X, Y).\n\
+path(X, Z) :- path(X, Y), edge(Y, Z).\n\
+leaf(X) :- edge(_, X), !edge(X, _).\n";
+
+#[test]
+fn prints_requested_relations_as_sorted_facts() {
+    let out = scenalog(
+        &[
+            "run", "-", "--print", "path", "--print", "leaf", "--print", "label", "--print", "w",
+        ],
+        TC,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "path(1, 2).\npath(1, 3).\npath(1, 4).\npath(2, 3).\npath(2, 4).\npath(3, 4).\n\
+         leaf(4).\nlabel(1, \"a b\").\nw(1, 2.5).\nw(2, 3.0).\n"
+    );
+}
+
+#[test]
+fn sizes_without_print_and_json() {
+    let out = scenalog(&["run", "-"], TC);
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("path: 6"), "{text}");
+    assert!(text.contains("leaf: 1"), "{text}");
+
+    let out = scenalog(
+        &["run", "-", "--json", "--print", "leaf", "--print", "label"],
+        TC,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["leaf"], serde_json::json!([[4]]));
+    assert_eq!(v["label"], serde_json::json!([[1, "a b"]]));
+}
+
+#[test]
+fn limits_stop_with_the_relation_named() {
+    let out = scenalog(
+        &["run", "-", "--max-tuples", "500"],
+        "n(0).\nn(Y) :- n(X), Y = X + 1.\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`n`"), "{err}");
+}
+
+#[test]
+fn check_errors_catalog_use_and_unreadable_files() {
+    let out = scenalog(&["run", "-"], "p(X) :- q(X.\n");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(!out.stderr.is_empty());
+
+    let out = scenalog(
+        &["run", "-"],
+        "referred(V, T) :- category(V, \"BUS\"), present(V, T).\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`category`") && err.contains("log"), "{err}");
+
+    let out = scenalog(&["run", "/nonexistent/x.dl"], "");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/x.dl"));
+
+    let out = scenalog(&["run", "-", "--print", "nope"], TC);
+    assert_eq!(out.status.code(), Some(1));
+}
