@@ -10,8 +10,10 @@ pub mod hota;
 pub mod mining;
 pub mod model;
 pub mod pickle;
+pub mod pickle_write;
 
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
 pub use pickle::{read_pickle, read_pickle_bytes};
+pub use pickle_write::{pickle_bytes, write_pickle};

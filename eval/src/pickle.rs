@@ -38,7 +38,7 @@ struct Machine<'a> {
     arena: Vec<Obj>,
     stack: Vec<usize>,
     marks: Vec<usize>,
-    memo: Vec<Option<usize>>,
+    memo: std::collections::HashMap<usize, usize>,
 }
 
 fn perr(msg: impl Into<String>) -> EvalError {
@@ -125,7 +125,8 @@ impl<'a> Machine<'a> {
                 b')' => self.push(Obj::Tuple(Vec::new())),
                 0x94 => {
                     let top = self.top_mut()?;
-                    self.memo.push(Some(top));
+                    let n = self.memo.len();
+                    self.memo.insert(n, top);
                 }
                 b'q' => {
                     let i = self.u8()? as usize;
@@ -286,15 +287,12 @@ impl<'a> Machine<'a> {
 
     fn memo_put(&mut self, i: usize) -> Result<(), EvalError> {
         let top = self.top_mut()?;
-        if self.memo.len() <= i {
-            self.memo.resize(i + 1, None);
-        }
-        self.memo[i] = Some(top);
+        self.memo.insert(i, top);
         Ok(())
     }
 
     fn memo_get(&mut self, i: usize) -> Result<(), EvalError> {
-        match self.memo.get(i).copied().flatten() {
+        match self.memo.get(&i).copied() {
             Some(v) => {
                 self.stack.push(v);
                 Ok(())
@@ -411,7 +409,7 @@ pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalErro
         arena: Vec::new(),
         stack: Vec::new(),
         marks: Vec::new(),
-        memo: Vec::new(),
+        memo: Default::default(),
     };
     let root = m.run().map_err(|e| match e {
         EvalError::Pickle(s) => EvalError::Pickle(format!("{what}: {s}")),
@@ -639,10 +637,7 @@ impl Conv<'_> {
     fn int(&self, v: usize) -> Option<i64> {
         match &self.arena[v] {
             Obj::Int(i) => Some(*i),
-            Obj::Scalar(d, b) => decode(d, b)
-                .ok()
-                .and_then(|x| x.first().copied())
-                .map(|x| x as i64),
+            Obj::Scalar(d, b) => scalar_i64(d, b),
             _ => None,
         }
     }
@@ -671,8 +666,8 @@ impl Conv<'_> {
                     return Err(self.ferr(fp, "Fortran-order arrays are not supported"));
                 }
                 let vals = decode(d, raw).map_err(|m| self.ferr(fp, m))?;
-                let want: usize = shape.iter().product();
-                if vals.len() != want {
+                let want = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+                if want != Some(vals.len()) {
                     return Err(self.ferr(fp, format!("{} values for shape {shape:?}", vals.len())));
                 }
                 Ok(Num {
@@ -705,7 +700,7 @@ impl Conv<'_> {
             .and_then(|n| n.parse().ok())
             .ok_or_else(|| self.ferr(fp, format!("expected a unicode dtype, got {:?}", d.code)))?;
         let n = shape[0];
-        if raw.len() != n * chars * 4 {
+        if n.checked_mul(chars).and_then(|x| x.checked_mul(4)) != Some(raw.len()) {
             return Err(self.ferr(fp, "string array data of the wrong size"));
         }
         let mut out = Vec::with_capacity(n);
@@ -727,6 +722,33 @@ impl Conv<'_> {
             out.push(s);
         }
         Ok(out)
+    }
+}
+
+/// An integer numpy scalar, exactly (timestamps exceed f64 precision).
+fn scalar_i64(d: &Dtype, b: &[u8]) -> Option<i64> {
+    let code = d.code.trim_start_matches(['<', '>', '=', '|']);
+    let be = d.endian == '>';
+    let mut a = [0u8; 8];
+    match (code, b.len()) {
+        ("i8" | "u8", 8) => {
+            a.copy_from_slice(b);
+            let v = if be {
+                u64::from_be_bytes(a)
+            } else {
+                u64::from_le_bytes(a)
+            };
+            if code == "i8" {
+                Some(v as i64)
+            } else {
+                i64::try_from(v).ok()
+            }
+        }
+        _ => decode(d, b)
+            .ok()
+            .and_then(|x| x.first().copied())
+            .filter(|x| x.fract() == 0.0)
+            .map(|x| x as i64),
     }
 }
 

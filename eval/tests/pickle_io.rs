@@ -1,0 +1,153 @@
+//! Pickle round trips and bad-input errors on the real fixture.
+
+use scenalog_eval::{
+    evaluate, pickle_bytes, read_pickle, read_pickle_bytes, write_pickle, EvalOptions,
+};
+use std::path::PathBuf;
+use std::process::Command;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/eval")
+        .join(name)
+}
+
+#[test]
+fn written_pickle_reads_back_identically() {
+    for file in ["combined_predictions_dev.pkl", "combined_gt_dev.pkl"] {
+        let sub = read_pickle(&data(file)).expect("read");
+        let bytes = pickle_bytes(&sub);
+        let back = read_pickle_bytes(&bytes, "written").expect("read back");
+        assert_eq!(back, sub, "{file}");
+    }
+}
+
+fn numpy_python() -> bool {
+    Command::new("python3")
+        .args(["-c", "import numpy"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Python's `pickle.load` reads what we write and finds the same structure (keys, types, dtypes, values)
+/// as in the official file. Skipped (with a note) when python3 with numpy is not available.
+#[test]
+fn python_loads_written_pickle_with_the_same_structure() {
+    if !numpy_python() {
+        eprintln!("note: python3 with numpy not available; skipping the Python round trip");
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    for file in ["combined_predictions_dev.pkl", "combined_gt_dev.pkl"] {
+        let sub = read_pickle(&data(file)).expect("read");
+        let out = dir.path().join(file);
+        write_pickle(&sub, &out).expect("write");
+        let script = r#"
+import pickle, sys, warnings
+import numpy as np
+warnings.simplefilter("ignore")
+a = pickle.load(open(sys.argv[1], "rb"))
+b = pickle.load(open(sys.argv[2], "rb"))
+assert list(a.keys()) == list(b.keys()) or sorted(a.keys()) == sorted(b.keys()), "keys"
+for k in a:
+    fa, fb = a[k], b[k]
+    assert len(fa) == len(fb), (k, "frames")
+    for x, y in zip(fa, fb):
+        assert set(x.keys()) == set(y.keys()), (k, set(x.keys()) ^ set(y.keys()))
+        for f in x:
+            u, v = x[f], y[f]
+            assert type(u) == type(v), (k, f, type(u), type(v))
+            if isinstance(u, np.ndarray):
+                assert u.dtype == v.dtype and u.shape == v.shape, (k, f, u.dtype, v.dtype, u.shape, v.shape)
+                assert np.array_equal(u, v), (k, f)
+            elif isinstance(u, list):
+                assert [type(t) for t in u] == [type(t) for t in v] and u == v, (k, f)
+            else:
+                assert u == v, (k, f, repr(u), repr(v))
+print("ok")
+"#;
+        let o = Command::new("python3")
+            .args(["-c", script])
+            .arg(data(file))
+            .arg(&out)
+            .output()
+            .expect("python3");
+        assert!(
+            o.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), "ok");
+    }
+}
+
+#[test]
+fn truncated_and_foreign_pickles_are_errors() {
+    let bytes = std::fs::read(data("combined_gt_dev.pkl")).expect("read");
+    for cut in [0, 1, 2, 11, 100, 5000, bytes.len() / 2, bytes.len() - 1] {
+        let e = read_pickle_bytes(&bytes[..cut], "cut").expect_err("truncated must fail");
+        assert!(e.to_string().contains("cut"), "{e}");
+    }
+    let feather = std::fs::read(data("combined_gt_dev.feather")).expect("read");
+    let e = read_pickle_bytes(&feather, "feather").expect_err("foreign");
+    assert!(e.to_string().contains("unsupported opcode"), "{e}");
+    // every single-byte corruption of the header region errors or parses, never panics
+    for i in 0..400 {
+        let mut b = bytes.clone();
+        b[i] ^= 0x5a;
+        let _ = read_pickle_bytes(&b, "corrupt");
+    }
+}
+
+#[test]
+fn inconsistent_submissions_name_the_place() {
+    let gt = read_pickle(&data("combined_gt_dev.pkl")).expect("read");
+    let pred = read_pickle(&data("combined_predictions_dev.pkl")).expect("read");
+    let opts = EvalOptions::default();
+    let key = (
+        "3bffdcff-c3a7-38b6-a0f2-64196d130958".to_string(),
+        "stopped car".to_string(),
+    );
+
+    let mut p = pred.clone();
+    p.sequences.remove(&key);
+    let e = evaluate(&p, &gt, &opts)
+        .expect_err("missing sequence")
+        .to_string();
+    assert!(
+        e.contains("stopped car") && e.contains("not in the predictions"),
+        "{e}"
+    );
+
+    let mut g = gt.clone();
+    g.sequences.remove(&key);
+    let e = evaluate(&pred, &g, &opts)
+        .expect_err("extra sequence")
+        .to_string();
+    assert!(e.contains("not in the ground truth"), "{e}");
+
+    let mut p = pred.clone();
+    p.sequences.get_mut(&key).unwrap()[3].score = None;
+    let e = evaluate(&p, &gt, &opts)
+        .expect_err("missing score")
+        .to_string();
+    assert!(e.contains("frame 3") && e.contains("score"), "{e}");
+
+    let mut p = pred.clone();
+    p.sequences.get_mut(&key).unwrap().swap(4, 5);
+    let e = evaluate(&p, &gt, &opts)
+        .expect_err("out of order")
+        .to_string();
+    assert!(e.contains("frame 5") && e.contains("timestamp_ns"), "{e}");
+
+    // mismatched array lengths in a pickle: shorten one frame's yaw and write it out
+    let mut p = pred.clone();
+    p.sequences.get_mut(&key).unwrap()[7].yaw.pop();
+    let e = read_pickle_bytes(&pickle_bytes(&p), "bad.pkl")
+        .expect_err("mismatched lengths")
+        .to_string();
+    assert!(
+        e.contains("stopped car") && e.contains("frame 7") && e.contains("yaw"),
+        "{e}"
+    );
+}
