@@ -55,18 +55,18 @@ pub fn evaluate(
             let Some(clause) = clauses.get(ci) else {
                 continue;
             };
-            if clause.body.iter().any(|l| matches!(l, Literal::Agg(_))) {
-                return Err(EngineError::Unsupported(format!(
-                    "aggregates (in a rule for `{}`)",
-                    clause.head.pred
-                )));
-            }
             let lits = body_lits(&clause.body);
             let head_types = types.get(&clause.head.pred).cloned();
+            let limits = Limits {
+                relation: &clause.head.pred,
+                options,
+                start,
+            };
             let mut ctx = Ctx {
                 types: &types,
                 complete: &complete,
                 symbols: &mut symbols,
+                limits: &limits,
             };
             let p = plan(&lits, &clause.head.args, head_types.as_deref(), &mut ctx)?;
             plans.push((clause.head.pred.clone(), p));

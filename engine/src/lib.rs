@@ -9,7 +9,7 @@
 #![warn(missing_docs)]
 
 mod eval;
-pub mod plan;
+mod plan;
 pub mod value;
 
 use std::collections::BTreeMap;

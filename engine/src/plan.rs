@@ -6,8 +6,11 @@ use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use scenalog_facts::catalog::ColType;
-use scenalog_rules::ast::{Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal};
+use scenalog_rules::ast::{
+    AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Span,
+};
 
+use crate::eval::{run_plan, Limits};
 use crate::value::{decode, encode, Row, Symbols, V, WIDTH};
 use crate::EngineError;
 
@@ -98,6 +101,18 @@ pub enum Filter {
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
     Neg(Vec<KeyArg>, Rc<HashSet<Row>>),
+    /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
+    /// a group with no binding gets the default (0 for count and sum, none for min and max).
+    Agg {
+        /// Slots of the grouping variables.
+        group: Vec<usize>,
+        /// Encoded result by group key.
+        table: Rc<HashMap<Row, u64>>,
+        /// Result of an empty group.
+        default: Option<u64>,
+        /// Slot receiving the result.
+        out: usize,
+    },
 }
 
 /// How a negated atom's argument is computed from a binding row.
@@ -133,6 +148,21 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                 if set.contains(&key) {
                     return None;
                 }
+            }
+            Filter::Agg {
+                group,
+                table,
+                default,
+                out,
+            } => {
+                let mut key = [0u64; WIDTH];
+                for (i, s) in group.iter().enumerate() {
+                    key[i] = row[*s];
+                }
+                row[*out] = match table.get(&key) {
+                    Some(v) => *v,
+                    None => (*default)?,
+                };
             }
         }
     }
@@ -260,6 +290,8 @@ pub struct Ctx<'a> {
     pub complete: &'a HashMap<String, Vec<Row>>,
     /// Symbols.
     pub symbols: &'a mut Symbols,
+    /// Limits for evaluating aggregate bodies.
+    pub limits: &'a Limits<'a>,
 }
 
 /// Variables collected from expressions.
@@ -361,16 +393,18 @@ pub enum BodyLit<'a> {
     Neg(&'a Atom),
     /// A comparison or binding.
     Cmp(CmpOp, &'a Expr, &'a Expr),
+    /// An aggregate over completed relations.
+    Agg(&'a Aggregate),
 }
 
-/// Collects the positive, negated and comparison literals of a body (aggregates excluded).
+/// Collects the literals of a body.
 pub fn body_lits(body: &[Literal]) -> Vec<BodyLit<'_>> {
     body.iter()
-        .filter_map(|l| match l {
-            Literal::Pos(a) => Some(BodyLit::Pos(a)),
-            Literal::Neg(a, _) => Some(BodyLit::Neg(a)),
-            Literal::Cmp(c) => Some(BodyLit::Cmp(c.op, &c.lhs, &c.rhs)),
-            Literal::Agg(_) => None,
+        .map(|l| match l {
+            Literal::Pos(a) => BodyLit::Pos(a),
+            Literal::Neg(a, _) => BodyLit::Neg(a),
+            Literal::Cmp(c) => BodyLit::Cmp(c.op, &c.lhs, &c.rhs),
+            Literal::Agg(g) => BodyLit::Agg(g),
         })
         .collect()
 }
@@ -387,6 +421,26 @@ pub fn plan(
         slots: HashMap::new(),
     };
     let mut done = vec![false; lits.len()];
+    let mut outer: HashSet<&str> = HashSet::new();
+    {
+        let mut vs = Vec::new();
+        for e in head {
+            expr_vars(e, &mut vs);
+        }
+        for l in lits {
+            match l {
+                BodyLit::Pos(a) | BodyLit::Neg(a) => {
+                    a.args.iter().for_each(|e| expr_vars(e, &mut vs))
+                }
+                BodyLit::Cmp(_, a, b) => {
+                    expr_vars(a, &mut vs);
+                    expr_vars(b, &mut vs);
+                }
+                BodyLit::Agg(g) => expr_vars(&g.result, &mut vs),
+            }
+        }
+        outer.extend(vs);
+    }
     let mut start = Vec::new();
     let mut atoms: Vec<AtomStep> = Vec::new();
     loop {
@@ -431,6 +485,26 @@ pub fn plan(
                             .all(|e| matches!(e.kind, ExprKind::Wildcard) || scope.bound(e));
                         if ready {
                             Some(neg_filter(a, &scope, ctx)?)
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Agg(g) => {
+                        let group: Vec<&str> = agg_vars(g)
+                            .into_iter()
+                            .filter(|v| outer.contains(v))
+                            .collect();
+                        if group.iter().all(|v| scope.slots.contains_key(*v)) {
+                            let (f, extra) = agg_filter(g, &group, &mut scope, ctx)?;
+                            if let Some(x) = extra {
+                                match atoms.last_mut() {
+                                    Some(a) => a.after.push(f),
+                                    None => start.push(f),
+                                }
+                                Some(x)
+                            } else {
+                                Some(f)
+                            }
                         } else {
                             None
                         }
@@ -553,4 +627,172 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
         }
     }
     Ok(Filter::Neg(args, Rc::new(set)))
+}
+
+/// Named variables of an aggregate's body, in order of first occurrence.
+fn agg_vars(g: &Aggregate) -> Vec<&str> {
+    let mut vs = Vec::new();
+    fn lit_vars<'e>(l: &'e Literal, vs: &mut Vec<&'e str>) {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| expr_vars(e, vs)),
+            Literal::Cmp(c) => {
+                expr_vars(&c.lhs, vs);
+                expr_vars(&c.rhs, vs);
+            }
+            Literal::Agg(g) => {
+                expr_vars(&g.result, vs);
+                g.body.iter().for_each(|l| lit_vars(l, vs));
+            }
+        }
+    }
+    g.body.iter().for_each(|l| lit_vars(l, &mut vs));
+    if let Some(t) = &g.target {
+        expr_vars(t, &mut vs);
+    }
+    let mut seen = HashSet::new();
+    vs.retain(|v| seen.insert(*v));
+    vs
+}
+
+fn var_expr(name: &str) -> Expr {
+    Expr {
+        kind: ExprKind::Var(name.to_string()),
+        span: Span::default(),
+    }
+}
+
+/// Evaluates an aggregate's body over the completed relations and returns the filter that
+/// looks its result up by group, plus a comparison when the result is not a fresh variable.
+fn agg_filter(
+    g: &Aggregate,
+    group: &[&str],
+    scope: &mut Scope,
+    ctx: &mut Ctx<'_>,
+) -> Result<(Filter, Option<Filter>), EngineError> {
+    let lits = body_lits(&g.body);
+    let mut head: Vec<Expr> = group.iter().map(|v| var_expr(v)).collect();
+    let g_len = head.len();
+    if matches!(g.func, AggFunc::Count | AggFunc::Sum) {
+        for v in agg_vars(g) {
+            if !group.contains(&v) {
+                head.push(var_expr(v));
+            }
+        }
+    }
+    if g.func != AggFunc::Count {
+        match &g.target {
+            Some(t) => head.push(t.clone()),
+            None => {
+                return Err(EngineError::Unsupported(format!(
+                    "`{}` without a target expression",
+                    g.func.as_str()
+                )))
+            }
+        }
+    }
+    if head.len() > WIDTH {
+        return Err(EngineError::Unsupported(format!(
+            "an aggregate with more than {WIDTH} variables"
+        )));
+    }
+    let inner = plan(&lits, &head, None, ctx)?;
+    let empty = Vec::new();
+    let sources: Vec<&[Row]> = inner
+        .atoms
+        .iter()
+        .map(|a| ctx.complete.get(&a.pred).unwrap_or(&empty).as_slice())
+        .collect();
+    let mut rows = Vec::new();
+    run_plan(&inner, &sources, &mut rows, ctx.limits)?;
+    rows.sort_unstable();
+    rows.dedup();
+    let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
+    let out_ty = match g.func {
+        AggFunc::Count => ColType::Int,
+        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
+        AggFunc::Sum => ColType::Int,
+        AggFunc::Min | AggFunc::Max => target_ty,
+    };
+    let last = head.len() - 1;
+    let mut acc: HashMap<Row, V> = HashMap::new();
+    for r in &rows {
+        let mut key = [0u64; WIDTH];
+        key[..g_len].copy_from_slice(&r[..g_len]);
+        let x = decode(r[last], target_ty);
+        let slot = acc.entry(key);
+        match g.func {
+            AggFunc::Count => {
+                let e = slot.or_insert(V::Int(0));
+                if let V::Int(n) = e {
+                    *n += 1;
+                }
+            }
+            AggFunc::Sum => {
+                let e = slot.or_insert(if out_ty == ColType::Float {
+                    V::Float(0.0)
+                } else {
+                    V::Int(0)
+                });
+                *e = match (*e, x) {
+                    (V::Int(a), V::Int(b)) => V::Int(a.saturating_add(b)),
+                    (V::Float(a), V::Float(b)) => V::Float(a + b),
+                    (V::Float(a), V::Int(b)) => V::Float(a + b as f64),
+                    (a, _) => a,
+                };
+            }
+            AggFunc::Min | AggFunc::Max => {
+                let want = if g.func == AggFunc::Min {
+                    std::cmp::Ordering::Less
+                } else {
+                    std::cmp::Ordering::Greater
+                };
+                slot.and_modify(|e| {
+                    if x.compare(*e) == Some(want) {
+                        *e = x;
+                    }
+                })
+                .or_insert(x);
+            }
+        }
+    }
+    let mut table = HashMap::new();
+    for (k, v) in acc {
+        if let Some(u) = encode(v, out_ty) {
+            table.insert(k, u);
+        }
+    }
+    let default = match g.func {
+        AggFunc::Count => encode(V::Int(0), ColType::Int),
+        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
+        AggFunc::Sum => encode(V::Int(0), ColType::Int),
+        AggFunc::Min | AggFunc::Max => None,
+    };
+    let group_slots = group
+        .iter()
+        .map(|v| scope.slots.get(*v).map(|s| s.0))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| EngineError::Unsupported("an aggregate's group is unbound".into()))?;
+    let fresh = match g.result.as_var() {
+        Some(v) if !scope.slots.contains_key(v) => Some(v),
+        _ => None,
+    };
+    let out = match fresh {
+        Some(v) => scope.new_slot(v, out_ty)?,
+        None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
+    };
+    let f = Filter::Agg {
+        group: group_slots,
+        table: Rc::new(table),
+        default,
+        out,
+    };
+    if fresh.is_some() {
+        return Ok((f, None));
+    }
+    let cmp = Filter::Cmp(
+        CmpOp::Eq,
+        compile_expr(&g.result, scope, ctx.symbols)?,
+        CExpr::Slot(out, out_ty),
+    );
+    Ok((f, Some(cmp)))
 }

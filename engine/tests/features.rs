@@ -202,3 +202,28 @@ fn datafrog_all_filter_leapjoin_panics_but_the_engine_filters() {
         s(1, 1). s(2, 3). banned(2).\nout(X, Y) :- s(X, Y), !banned(X).\n";
     assert_eq!(ints(&run(src), "out"), vec![vec![1, 1]]);
 }
+
+#[test]
+fn count_groups_by_outer_variables_and_counts_empty_groups_as_zero() {
+    let src = ".decl node(X: int)\n.decl edge(X: int, Y: int)\n.decl degree(X: int, N: int)\n.decl total(N: int)\n\
+        node(1). node(2). node(3).\nedge(1, 2). edge(1, 3). edge(2, 3). edge(2, 3).\n\
+        degree(X, N) :- node(X), N = count : { edge(X, Y) }.\n\
+        total(N) :- N = count : { edge(_, Y) }.\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "degree"), vec![vec![1, 2], vec![2, 1], vec![3, 0]]);
+    // Distinct bindings of the named variable Y: 2 and 3.
+    assert_eq!(ints(&e, "total"), vec![vec![2]]);
+}
+
+#[test]
+fn min_max_and_sum_per_group() {
+    let src = ".decl d(X: int, V: int)\n.decl k(X: int)\n.decl lo(X: int, M: int)\n.decl hi(X: int, M: int)\n.decl s(X: int, M: int)\n\
+        k(1). k(2). k(3).\nd(1, 5). d(1, -2). d(1, 9). d(2, 4).\n\
+        lo(X, M) :- k(X), M = min V : { d(X, V) }.\n\
+        hi(X, M) :- k(X), M = max V : { d(X, V) }.\n\
+        s(X, M) :- k(X), M = sum V : { d(X, V) }.\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "lo"), vec![vec![1, -2], vec![2, 4]]);
+    assert_eq!(ints(&e, "hi"), vec![vec![1, 9], vec![2, 4]]);
+    assert_eq!(ints(&e, "s"), vec![vec![1, 12], vec![2, 4], vec![3, 0]]);
+}
