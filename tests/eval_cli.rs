@@ -52,15 +52,31 @@ fn text_output_and_bad_input() {
     assert!(text.contains("HOTA-Temporal: 0.37955"), "{text}");
     assert!(text.contains("stopped car"), "{text}");
 
-    // A feather file is not a pickle: exit 2 with a message naming the file.
+    // Arrow tables are read too and give the same numbers.
+    let out = scenalog()
+        .args(["eval", "--json", "--pred"])
+        .arg(data("combined_predictions_dev.feather"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.feather"))
+        .output()
+        .expect("run scenalog");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert!((v["hota_track"].as_f64().unwrap_or(0.0) - 0.3941392002747208).abs() <= 1e-9);
+
+    // A file that is neither: exit 2 with a message naming the file.
     let out = scenalog()
         .args(["eval", "--pred"])
-        .arg(data("combined_predictions_dev.feather"))
+        .arg(data("../README.md"))
         .arg("--gt")
         .arg(data("combined_gt_dev.pkl"))
         .output()
         .expect("run scenalog");
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("combined_predictions_dev.feather"), "{err}");
+    assert!(err.contains("README.md"), "{err}");
 }

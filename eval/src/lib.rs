@@ -5,6 +5,7 @@
 //! balanced accuracy). Does not own: mining itself, the map (the drivable-area ROI filter is not here yet).
 #![warn(missing_docs)]
 
+pub mod arrow_table;
 pub mod error;
 pub mod hota;
 pub mod mining;
@@ -12,6 +13,7 @@ pub mod model;
 pub mod pickle;
 pub mod pickle_write;
 
+pub use arrow_table::{read_any, read_table, write_table};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};

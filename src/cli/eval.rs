@@ -3,15 +3,15 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use scenalog_eval::{evaluate, read_pickle, EvalOptions};
+use scenalog_eval::{evaluate, read_any, EvalOptions};
 
 /// Arguments of `scenalog eval`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Predictions (official pickle format).
+    /// Predictions: official pickle or long Arrow table.
     #[arg(long)]
     pred: PathBuf,
-    /// Ground truth (official pickle format).
+    /// Ground truth: official pickle or long Arrow table.
     #[arg(long)]
     gt: PathBuf,
     /// Objects farther than this from the ego (x-y) are not evaluated.
@@ -27,7 +27,7 @@ pub struct Args {
 
 /// Runs the subcommand: exit 0 on success, 2 on unreadable or inconsistent input.
 pub fn run(args: Args) -> ExitCode {
-    let loaded = read_pickle(&args.pred).and_then(|p| read_pickle(&args.gt).map(|g| (p, g)));
+    let loaded = read_any(&args.pred).and_then(|p| read_any(&args.gt).map(|g| (p, g)));
     let (pred, gt) = match loaded {
         Ok(x) => x,
         Err(e) => {
