@@ -133,41 +133,69 @@ pub fn filter_range(sub: &mut Submission, max_range_m: f64) {
     }
 }
 
-/// Marks every object whose track is referred in any frame as referred (`referred_full_tracks`).
-fn full_tracks(sub: &Submission) -> Submission {
-    let mut out = sub.clone();
-    for frames in out.sequences.values_mut() {
-        let referred: BTreeSet<i32> = frames
-            .iter()
-            .flat_map(|f| {
-                f.label
-                    .iter()
-                    .zip(&f.track_id)
-                    .filter(|(l, _)| **l == 0)
-                    .map(|(_, t)| *t)
-            })
-            .collect();
-        for f in frames.iter_mut() {
-            for (l, t) in f.label.iter_mut().zip(&f.track_id) {
-                if referred.contains(t) {
-                    *l = 0;
-                }
+/// Copies of the frames holding only the objects `keep(frame, object)` selects.
+fn select(frames: &[FrameData], keep: impl Fn(&FrameData, usize) -> bool) -> Vec<FrameData> {
+    frames
+        .iter()
+        .map(|f| {
+            let idx: Vec<usize> = (0..f.len()).filter(|&i| keep(f, i)).collect();
+            FrameData {
+                timestamp_ns: f.timestamp_ns,
+                ego_translation_m: f.ego_translation_m,
+                description: None,
+                translation_m: idx.iter().map(|&i| f.translation_m[i]).collect(),
+                size: idx.iter().filter_map(|&i| f.size.get(i).copied()).collect(),
+                yaw: idx.iter().filter_map(|&i| f.yaw.get(i).copied()).collect(),
+                velocity_m_per_s: Vec::new(),
+                label: idx.iter().map(|&i| f.label[i]).collect(),
+                name: Vec::new(),
+                track_id: idx.iter().map(|&i| f.track_id[i]).collect(),
+                score: f
+                    .score
+                    .as_ref()
+                    .map(|s| idx.iter().map(|&i| s[i]).collect()),
+                is_positive: f.is_positive,
             }
-        }
-    }
-    out
+        })
+        .collect()
 }
 
-/// Keeps only referred objects (`classify_referred_objects`).
-fn referred_only(sub: &Submission) -> Submission {
-    let mut out = sub.clone();
-    for frames in out.sequences.values_mut() {
-        for f in frames.iter_mut() {
-            let mask: Vec<bool> = f.label.iter().map(|&l| l == 0).collect();
-            f.retain(&mask);
-        }
-    }
-    out
+fn in_range(f: &FrameData, i: usize, max_range_m: f64) -> bool {
+    let e = f.ego_translation_m;
+    let t = f.translation_m[i];
+    let dx = t[0] - e[0];
+    let dy = t[1] - e[1];
+    (dx * dx + dy * dy).sqrt() <= max_range_m
+}
+
+/// The referred objects within range (`filter_max_dist` then `classify_referred_objects`); with
+/// `full_tracks`, every in-range object of a track referred in any in-range frame (`referred_full_tracks`).
+fn referred(sub: &Submission, max_range_m: f64, full_tracks: bool) -> Submission {
+    let sequences = sub
+        .sequences
+        .iter()
+        .map(|(k, frames)| {
+            let out = if full_tracks {
+                let ids: BTreeSet<i32> = frames
+                    .iter()
+                    .flat_map(|f| {
+                        (0..f.len())
+                            .filter(move |&i| f.label[i] == 0 && in_range(f, i, max_range_m))
+                            .map(move |i| f.track_id[i])
+                    })
+                    .collect();
+                select(frames, |f, i| {
+                    ids.contains(&f.track_id[i]) && in_range(f, i, max_range_m)
+                })
+            } else {
+                select(frames, |f, i| {
+                    f.label[i] == 0 && in_range(f, i, max_range_m)
+                })
+            };
+            (k.clone(), out)
+        })
+        .collect();
+    Submission { sequences }
 }
 
 fn class_frames(frames: &[FrameData], threshold: Option<f64>) -> Vec<ClassFrame> {
@@ -419,7 +447,11 @@ pub fn evaluate(
         .any(|f| f.is_positive.is_none() || !f.track_id.is_empty());
     check_alignment(pred, gt, contains_tracking)?;
     if !contains_tracking {
-        let (ts, sc) = temporal(&referred_only(pred), &referred_only(gt), None);
+        let (ts, sc) = temporal(
+            &referred(pred, f64::INFINITY, false),
+            &referred(gt, f64::INFINITY, false),
+            None,
+        );
         return Ok(Report {
             hota_temporal: 0.0,
             hota_track: 0.0,
@@ -432,17 +464,11 @@ pub fn evaluate(
             log_ba_by_prompt: sc,
         });
     }
-    let mut p = pred.clone();
-    let mut g = gt.clone();
-    filter_range(&mut p, opts.max_range_m);
-    filter_range(&mut g, opts.max_range_m);
-    let (pr, gr) = (referred_only(&p), referred_only(&g));
+    let r = opts.max_range_m;
+    let (pr, gr) = (referred(pred, r, false), referred(gt, r, false));
     let temporal_h = tune(&pr, &gr);
     let (ts, sc) = temporal(&pr, &gr, Some(&temporal_h));
-    let (pf, gf) = (
-        referred_only(&full_tracks(&p)),
-        referred_only(&full_tracks(&g)),
-    );
+    let (pf, gf) = (referred(pred, r, true), referred(gt, r, true));
     let track_h = tune(&pf, &gf);
     Ok(Report {
         hota_temporal: mean(temporal_h.values().map(|h| h.value)),
