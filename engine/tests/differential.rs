@@ -100,12 +100,10 @@ fn gen(rng: &mut Rng) -> Gen {
     }
     let dom = 3 + rng.below(4) as i64;
     let mut facts = Vec::new();
-    for p in 0..3 {
+    for (p, &a) in arity.iter().enumerate().take(3) {
         let n = 1 + rng.below(10);
         for _ in 0..n {
-            let t = (0..arity[p])
-                .map(|_| rng.below(dom as usize) as i64)
-                .collect();
+            let t = (0..a).map(|_| rng.below(dom as usize) as i64).collect();
             facts.push((p, t));
         }
     }
