@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
-use scenalog_rules::ast::{Atom, ExprKind, Literal};
+use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::plan::{apply, body_lits, plan, Arg, Ctx, Plan};
@@ -104,42 +104,126 @@ pub fn evaluate(
     Ok(out)
 }
 
-/// The request for one catalog relation: a column fixed to the same constant in every use
-/// becomes an `Eq` constraint.
+/// The request for one catalog relation: a constraint holds for the request when every use of
+/// the relation in the program implies it. A use implies `Eq` for a column given as a constant,
+/// `Category` for a column whose variable the same body also passes to a positive
+/// `category(V, "…")` atom, and a bound for a numeric column whose variable the same body
+/// compares with a number.
 fn request_for(program: &CheckedProgram, name: &str) -> Request {
-    let mut atoms: Vec<&Atom> = Vec::new();
-    fn collect<'a>(body: &'a [Literal], name: &str, out: &mut Vec<&'a Atom>) {
+    let types: &[ColType] = program
+        .predicates
+        .get(name)
+        .map_or(&[], |p| p.types.as_slice());
+    let mut uses: Vec<Vec<(usize, Constraint)>> = Vec::new();
+    fn collect(
+        body: &[Literal],
+        name: &str,
+        types: &[ColType],
+        out: &mut Vec<Vec<(usize, Constraint)>>,
+    ) {
         for l in body {
             match l {
-                Literal::Pos(a) | Literal::Neg(a, _) if a.pred == name => out.push(a),
-                Literal::Agg(g) => collect(&g.body, name, out),
+                Literal::Pos(a) | Literal::Neg(a, _) if a.pred == name => {
+                    out.push(use_constraints(a, body, types))
+                }
+                Literal::Agg(g) => collect(&g.body, name, types, out),
                 _ => {}
             }
         }
     }
     for c in &program.program.clauses {
-        collect(&c.body, name, &mut atoms);
+        collect(&c.body, name, types, &mut uses);
     }
     let mut request = Request::all(name);
-    let Some(first) = atoms.first() else {
+    let Some((first, rest)) = uses.split_first() else {
         return request;
     };
-    for (i, e) in first.args.iter().enumerate() {
-        let constant = |k: &ExprKind| match k {
-            ExprKind::Str(s) => Some(Value::Str(s.as_str().into())),
-            ExprKind::Int(v) => Some(Value::Int(*v)),
-            ExprKind::Float(v) => Some(Value::Float(*v)),
-            _ => None,
-        };
-        let Some(c) = constant(&e.kind) else { continue };
-        let same = atoms
-            .iter()
-            .all(|a| a.args.get(i).and_then(|x| constant(&x.kind)).as_ref() == Some(&c));
-        if same {
-            request.constraints.push((i, Constraint::Eq(c)));
+    request.constraints = first
+        .iter()
+        .filter(|c| rest.iter().all(|u| u.contains(c)))
+        .cloned()
+        .collect();
+    request
+}
+
+/// A literal constant as a value of a column of type `ty`, when it is one.
+fn constant(e: &ExprKind, ty: ColType) -> Option<Value> {
+    match (e, ty) {
+        (ExprKind::Str(s), ColType::Str) => Some(Value::Str(s.as_str().into())),
+        (ExprKind::Int(v), ColType::Int) => Some(Value::Int(*v)),
+        (ExprKind::Int(v), ColType::Float) => Some(Value::Float(*v as f64)),
+        (ExprKind::Float(v), ColType::Float) => Some(Value::Float(*v)),
+        (ExprKind::Int(v), ColType::Time) => u32::try_from(*v).ok().map(Value::Time),
+        _ => None,
+    }
+}
+
+fn number(e: &ExprKind) -> Option<f64> {
+    match e {
+        ExprKind::Int(v) => Some(*v as f64),
+        ExprKind::Float(v) => Some(*v),
+        _ => None,
+    }
+}
+
+/// The constraints one use of a relation implies (see [`request_for`]).
+fn use_constraints(a: &Atom, body: &[Literal], types: &[ColType]) -> Vec<(usize, Constraint)> {
+    let mut out = Vec::new();
+    for (i, (e, &ty)) in a.args.iter().zip(types).enumerate() {
+        if let Some(c) = constant(&e.kind, ty) {
+            out.push((i, Constraint::Eq(c)));
+            continue;
+        }
+        let Some(var) = e.as_var() else { continue };
+        for l in body {
+            match l {
+                Literal::Pos(c)
+                    if c.pred == "category" && ty == ColType::Track && !std::ptr::eq(c, a) =>
+                {
+                    if let [x, cat] = c.args.as_slice() {
+                        if let (Some(v), ExprKind::Str(s)) = (x.as_var(), &cat.kind) {
+                            if v == var {
+                                out.push((i, Constraint::Category(s.as_str().into())));
+                            }
+                        }
+                    }
+                }
+                Literal::Cmp(c) if matches!(ty, ColType::Float | ColType::Int | ColType::Time) => {
+                    let (op, n) = match (c.lhs.as_var(), c.rhs.as_var()) {
+                        (Some(v), _) if v == var => match number(&c.rhs.kind) {
+                            Some(n) => (c.op, n),
+                            None => continue,
+                        },
+                        (_, Some(v)) if v == var => match number(&c.lhs.kind) {
+                            Some(n) => (flip(c.op), n),
+                            None => continue,
+                        },
+                        _ => continue,
+                    };
+                    let bound = match op {
+                        CmpOp::Lt => Constraint::Lt(n),
+                        CmpOp::Le => Constraint::Le(n),
+                        CmpOp::Gt => Constraint::Gt(n),
+                        CmpOp::Ge => Constraint::Ge(n),
+                        CmpOp::Eq | CmpOp::Ne => continue,
+                    };
+                    out.push((i, bound));
+                }
+                _ => {}
+            }
         }
     }
-    request
+    out
+}
+
+fn flip(op: CmpOp) -> CmpOp {
+    match op {
+        CmpOp::Lt => CmpOp::Gt,
+        CmpOp::Le => CmpOp::Ge,
+        CmpOp::Gt => CmpOp::Lt,
+        CmpOp::Ge => CmpOp::Le,
+        other => other,
+    }
 }
 
 /// Encodes a provided relation into sorted, deduplicated rows.

@@ -227,3 +227,88 @@ fn min_max_and_sum_per_group() {
     assert_eq!(ints(&e, "hi"), vec![vec![1, 9], vec![2, 4]]);
     assert_eq!(ints(&e, "s"), vec![vec![1, 12], vec![2, 4], vec![3, 0]]);
 }
+
+#[test]
+fn provider_is_asked_only_for_used_relations_with_the_constraints_the_program_fixes() {
+    use scenalog_facts::relation::{Column, Constraint};
+    use scenalog_facts::scene::TrackId;
+    let src = "fast_bus(X, T) :- category(X, \"BUS\"), speed(X, T, S), S > 10.0.\n\
+        referred(X, T) :- fast_bus(X, T).\n";
+    let outcome = check(src, &CheckOptions::default());
+    let Some(program) = outcome.program else {
+        panic!("{:?}", outcome.diagnostics);
+    };
+    let mut asked: Vec<Request> = Vec::new();
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        asked.push(r.clone());
+        // A superset of what is needed: the engine must still filter.
+        match r.name.as_str() {
+            "category" => Ok(RelationData {
+                name: r.name.clone(),
+                columns: vec![
+                    Column::Track(vec![TrackId(1), TrackId(2)]),
+                    Column::Str(vec!["BUS".into(), "PEDESTRIAN".into()]),
+                ],
+            }),
+            "speed" => Ok(RelationData {
+                name: r.name.clone(),
+                columns: vec![
+                    Column::Track(vec![TrackId(1), TrackId(1), TrackId(2)]),
+                    Column::Time(vec![0, 1, 0]),
+                    Column::Float(vec![12.0, 3.0, 20.0]),
+                ],
+            }),
+            other => Err(format!("unexpected request for {other}")),
+        }
+    };
+    let e = match evaluate(&program, &mut provider, &Options::default()) {
+        Ok(e) => e,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(
+        e.tuples("fast_bus"),
+        Some(&[vec![Value::Track(TrackId(1)), Value::Time(0)]][..])
+    );
+    let names: Vec<&str> = asked.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names, vec!["category", "speed"]);
+    assert_eq!(
+        asked[0].constraints,
+        vec![(1, Constraint::Eq(Value::Str("BUS".into())))]
+    );
+    assert_eq!(
+        asked[1].constraints,
+        vec![
+            (0, Constraint::Category("BUS".into())),
+            (2, Constraint::Gt(10.0))
+        ]
+    );
+}
+
+#[test]
+fn malformed_provided_relations_are_named() {
+    use scenalog_facts::relation::Column;
+    let src = "s(X, T) :- speed(X, T, _).\nreferred(X, T) :- s(X, T).\n";
+    let outcome = check(src, &CheckOptions::default());
+    let Some(program) = outcome.program else {
+        panic!("{:?}", outcome.diagnostics);
+    };
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        Ok(RelationData {
+            name: r.name.clone(),
+            columns: vec![Column::Int(vec![1])],
+        })
+    };
+    match evaluate(&program, &mut provider, &Options::default()) {
+        Err(EngineError::BadInput { relation, .. }) => assert_eq!(relation, "speed"),
+        other => panic!("expected a bad-input error, got {other:?}"),
+    }
+    let mut failing =
+        |_: &Request| -> Result<RelationData, String> { Err("log missing".to_string()) };
+    match evaluate(&program, &mut failing, &Options::default()) {
+        Err(EngineError::Provider { relation, message }) => {
+            assert_eq!(relation, "speed");
+            assert_eq!(message, "log missing");
+        }
+        other => panic!("expected a provider error, got {other:?}"),
+    }
+}
