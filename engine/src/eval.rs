@@ -10,6 +10,7 @@ use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::plan::{apply, body_lits, plan, Arg, Ctx, Plan};
+use crate::prove::{Provenance, Stamp};
 use crate::value::{cmp_value, decode_value, encode_value, Row, Symbols, WIDTH};
 use crate::{EngineError, Evaluation, Options};
 
@@ -49,8 +50,11 @@ pub fn evaluate(
         complete.insert(name.clone(), rows);
     }
     let clauses = &program.program.clauses;
-    for stratum in &program.strata {
+    let mut stamps: HashMap<String, HashMap<Row, Stamp>> = HashMap::new();
+    let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
+    for (si, stratum) in program.strata.iter().enumerate() {
         let mut plans: Vec<(String, Plan)> = Vec::new();
+        let mut clause_of: Vec<usize> = Vec::new();
         for &ci in &stratum.clauses {
             let Some(clause) = clauses.get(ci) else {
                 continue;
@@ -70,10 +74,35 @@ pub fn evaluate(
             };
             let p = plan(&lits, &clause.head.args, head_types.as_deref(), &mut ctx)?;
             plans.push((clause.head.pred.clone(), p));
+            clause_of.push(ci);
         }
         let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
-        let derived = run_stratum(&plans, &defined, &complete, options, start)?;
+        let mut stamp = |name: &str, row: Row, round: usize, plan: usize| {
+            stamps.entry(name.to_string()).or_default().insert(
+                row,
+                Stamp {
+                    stratum: si,
+                    round,
+                    clause: clause_of.get(plan).copied().unwrap_or(usize::MAX),
+                },
+            );
+        };
+        let stamper: Option<&mut Stamper<'_>> = if options.provenance {
+            Some(&mut stamp)
+        } else {
+            None
+        };
+        let derived = run_stratum(&plans, &defined, &complete, options, start, stamper)?;
         complete.extend(derived);
+        if options.provenance {
+            all_plans.push(
+                plans
+                    .into_iter()
+                    .zip(&clause_of)
+                    .map(|((h, p), &c)| (h, p, c))
+                    .collect(),
+            );
+        }
     }
     let mut out = Evaluation::default();
     for (name, info) in &program.predicates {
@@ -100,6 +129,20 @@ pub fn evaluate(
         if info.kind == PredKind::Derived {
             out.derived.push(name.clone());
         }
+    }
+    if options.provenance {
+        out.provenance = Some(std::sync::Arc::new(Provenance {
+            types,
+            symbols,
+            rels: complete,
+            stamps,
+            plans: all_plans,
+            strata: program
+                .strata
+                .iter()
+                .map(|s| s.predicates.clone())
+                .collect(),
+        }));
     }
     Ok(out)
 }
@@ -226,6 +269,9 @@ fn flip(op: CmpOp) -> CmpOp {
     }
 }
 
+/// Records a new tuple's relation, row, round and plan index.
+type Stamper<'a> = dyn FnMut(&str, Row, usize, usize) + 'a;
+
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
     data: &RelationData,
@@ -283,13 +329,17 @@ fn run_stratum(
     complete: &HashMap<String, Vec<Row>>,
     options: &Options,
     start: Instant,
+    mut stamper: Option<&mut Stamper<'_>>,
 ) -> Result<HashMap<String, Vec<Row>>, EngineError> {
     let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::default())).collect();
     let empty: Vec<Row> = Vec::new();
     let mut first = true;
+    let mut round = 0;
     loop {
         let mut new: BTreeMap<&str, Vec<Row>> = BTreeMap::new();
-        for (head, p) in plans {
+        // With provenance: the first plan that produced each row this round.
+        let mut origin: HashMap<(&str, Row), usize> = HashMap::new();
+        for (pi, (head, p)) in plans.iter().enumerate() {
             let check = Limits {
                 relation: head,
                 options,
@@ -303,6 +353,7 @@ fn run_stratum(
                 .map(|(i, _)| i)
                 .collect();
             let out = new.entry(head.as_str()).or_default();
+            let before = out.len();
             if first {
                 if !rec.is_empty() {
                     continue;
@@ -313,6 +364,11 @@ fn run_stratum(
                     .map(|a| complete.get(&a.pred).unwrap_or(&empty).as_slice())
                     .collect();
                 run_plan(p, &sources, out, &check)?;
+                if stamper.is_some() {
+                    for r in &out[before..] {
+                        origin.entry((head.as_str(), *r)).or_insert(pi);
+                    }
+                }
                 continue;
             }
             for &k in &rec {
@@ -332,6 +388,11 @@ fn run_stratum(
                 }
                 run_plan(p, &sources, out, &check)?;
             }
+            if stamper.is_some() {
+                for r in &out[before..] {
+                    origin.entry((head.as_str(), *r)).or_insert(pi);
+                }
+            }
         }
         first = false;
         let mut changed = false;
@@ -349,11 +410,22 @@ fn run_stratum(
                 });
             }
             changed |= !fresh.is_empty();
+            if let Some(st) = stamper.as_mut() {
+                for r in &fresh {
+                    st(
+                        name,
+                        *r,
+                        round,
+                        origin.get(&(*name, *r)).copied().unwrap_or(usize::MAX),
+                    );
+                }
+            }
             rel.delta = fresh;
         }
         if !changed {
             break;
         }
+        round += 1;
     }
     Ok(rels
         .into_iter()

@@ -10,6 +10,7 @@
 
 mod eval;
 mod plan;
+mod prove;
 pub mod value;
 
 use std::collections::BTreeMap;
@@ -19,6 +20,7 @@ use std::time::Duration;
 use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
+pub use prove::{Proof, Stamp};
 
 /// Why an evaluation failed.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,6 +93,8 @@ pub struct Options {
     pub max_tuples: usize,
     /// Longest an evaluation may run; `None` for no limit.
     pub timeout: Option<Duration>,
+    /// Stamp every derived tuple so [`Evaluation::prove`] can answer (off by default).
+    pub provenance: bool,
 }
 
 impl Default for Options {
@@ -98,17 +102,26 @@ impl Default for Options {
         Options {
             max_tuples: 20_000_000,
             timeout: None,
+            provenance: false,
         }
     }
 }
 
 /// The result of an evaluation: every relation the program uses or defines, decoded and sorted.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Evaluation {
     /// Tuples by relation name, each sorted (strings by text, floats by total order).
     pub relations: BTreeMap<String, Vec<Vec<Value>>>,
     /// Names of the relations the program's clauses define (not catalog inputs).
     pub derived: Vec<String>,
+    /// Stamps and plans for proofs, with [`Options::provenance`].
+    pub(crate) provenance: Option<std::sync::Arc<prove::Provenance>>,
+}
+
+impl PartialEq for Evaluation {
+    fn eq(&self, other: &Self) -> bool {
+        self.relations == other.relations && self.derived == other.derived
+    }
 }
 
 impl Evaluation {
@@ -120,6 +133,18 @@ impl Evaluation {
     /// The number of tuples of a relation (0 when unknown).
     pub fn size(&self, name: &str) -> usize {
         self.relations.get(name).map_or(0, |v| v.len())
+    }
+
+    /// When and by which clause a derived tuple was first derived (with provenance on).
+    pub fn stamp(&self, relation: &str, tuple: &[Value]) -> Option<Stamp> {
+        self.provenance.as_ref()?.stamp(relation, tuple)
+    }
+
+    /// A derivation tree of a tuple whose leaves are input facts (catalog tuples, or ground
+    /// facts of the program), built by re-running the stamping clause over tuples of earlier
+    /// rounds only. `None` when the tuple is not in the relation or provenance was off.
+    pub fn prove(&self, relation: &str, tuple: &[Value]) -> Option<Proof> {
+        self.provenance.as_ref()?.prove(relation, tuple)
     }
 
     /// Sizes of every relation.

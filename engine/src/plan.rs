@@ -3,7 +3,7 @@
 //! many of their arguments are already bound.
 
 use std::collections::{HashMap, HashSet};
-use std::rc::Rc;
+use std::sync::Arc;
 
 use scenalog_facts::catalog::ColType;
 use scenalog_rules::ast::{
@@ -100,14 +100,14 @@ pub enum Filter {
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
-    Neg(Vec<KeyArg>, Rc<HashSet<Row>>),
+    Neg(Vec<KeyArg>, Arc<HashSet<Row>>),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
     /// a group with no binding gets the default (0 for count and sum, none for min and max).
     Agg {
         /// Slots of the grouping variables.
         group: Vec<usize>,
         /// Encoded result by group key.
-        table: Rc<HashMap<Row, u64>>,
+        table: Arc<HashMap<Row, u64>>,
         /// Result of an empty group.
         default: Option<u64>,
         /// Slot receiving the result.
@@ -626,7 +626,7 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             set.insert(k);
         }
     }
-    Ok(Filter::Neg(args, Rc::new(set)))
+    Ok(Filter::Neg(args, Arc::new(set)))
 }
 
 /// Named variables of an aggregate's body, in order of first occurrence.
@@ -782,7 +782,7 @@ fn agg_filter(
     };
     let f = Filter::Agg {
         group: group_slots,
-        table: Rc::new(table),
+        table: Arc::new(table),
         default,
         out,
     };

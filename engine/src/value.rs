@@ -79,6 +79,11 @@ impl Symbols {
         id
     }
 
+    /// The id of `s` if it was interned.
+    pub fn lookup(&self, s: &str) -> Option<u64> {
+        self.ids.get(s).copied()
+    }
+
     /// The string of an id.
     pub fn name(&self, id: u64) -> Arc<str> {
         self.names

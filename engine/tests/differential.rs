@@ -406,6 +406,42 @@ fn naive(g: &Gen) -> Db {
     db
 }
 
+/// With provenance on, the results are the same and every derived tuple has a proof whose
+/// nodes are all tuples of their relations and whose leaves are ground facts.
+fn check_proofs(
+    case: usize,
+    program: &scenalog_rules::CheckedProgram,
+    plain: &scenalog_engine::Evaluation,
+    text: &str,
+) {
+    let mut provider =
+        |r: &Request| -> Result<RelationData, String> { Err(format!("asked for {}", r.name)) };
+    let options = Options {
+        provenance: true,
+        ..Options::default()
+    };
+    let eval = match evaluate(program, &mut provider, &options) {
+        Ok(e) => e,
+        Err(e) => panic!("case {case}: {e}\n{text}"),
+    };
+    assert_eq!(&eval, plain, "case {case}: provenance changed the results");
+    fn valid(p: &scenalog_engine::Proof, eval: &scenalog_engine::Evaluation) -> bool {
+        let present = eval
+            .tuples(&p.relation)
+            .is_some_and(|ts| ts.contains(&p.tuple));
+        let leaf_is_fact = !p.children.is_empty() || p.clause.is_some();
+        present && leaf_is_fact && p.children.iter().all(|c| valid(c, eval))
+    }
+    for name in &NAMES[3..] {
+        for t in eval.tuples(name).unwrap_or_default() {
+            match eval.prove(name, t) {
+                Some(p) => assert!(valid(&p, &eval), "case {case}: bad proof {p:?}\n{text}"),
+                None => panic!("case {case}: no proof of {name}{t:?}\n{text}"),
+            }
+        }
+    }
+}
+
 #[test]
 fn engine_matches_the_naive_evaluator_on_random_programs() {
     let mut rng = Rng(0x5eed_cafe_f00d_0001);
@@ -453,6 +489,9 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
             if p >= 3 && !got.is_empty() {
                 nonempty += 1;
             }
+        }
+        if case % 4 == 0 {
+            check_proofs(case, &program, &eval, &text);
         }
         with_neg += usize::from(text.contains(", !"));
         with_agg += usize::from(text.contains("count") || text.contains("min "));

@@ -142,6 +142,7 @@ fn a_relation_that_grows_past_the_limit_is_named() {
     let options = Options {
         max_tuples: 1000,
         timeout: None,
+        provenance: false,
     };
     match run_with(src, &options) {
         Err(EngineError::TooManyTuples { relation, limit }) => {
@@ -158,6 +159,7 @@ fn a_timeout_is_reported_with_the_relation() {
     let options = Options {
         max_tuples: usize::MAX,
         timeout: Some(std::time::Duration::from_millis(50)),
+        provenance: false,
     };
     match run_with(src, &options) {
         Err(EngineError::Timeout { relation, .. }) => assert_eq!(relation, "n"),
@@ -311,4 +313,83 @@ fn malformed_provided_relations_are_named() {
         }
         other => panic!("expected a provider error, got {other:?}"),
     }
+}
+
+fn proved(src: &str) -> Evaluation {
+    let options = Options {
+        provenance: true,
+        ..Options::default()
+    };
+    match run_with(src, &options) {
+        Ok(e) => e,
+        Err(e) => panic!("evaluation failed: {e}"),
+    }
+}
+
+fn show(p: &scenalog_engine::Proof, depth: usize, out: &mut String) {
+    let args: Vec<String> = p.tuple.iter().map(|v| format!("{v:?}")).collect();
+    out.push_str(&format!(
+        "{}{}({}) by {:?}\n",
+        "  ".repeat(depth),
+        p.relation,
+        args.join(", "),
+        p.clause
+    ));
+    for c in &p.children {
+        show(c, depth + 1, out);
+    }
+}
+
+#[test]
+fn proofs_of_recursive_tuples_bottom_out_in_ground_facts() {
+    let src = ".decl edge(X: int, Y: int)\n.decl path(X: int, Y: int)\n\
+        edge(1, 2). edge(2, 3). edge(3, 4). edge(1, 4).\n\
+        path(X, Y) :- edge(X, Y).\npath(X, Z) :- path(X, Y), edge(Y, Z).\n";
+    let e = proved(src);
+    let p = match e.prove("path", &[Value::Int(1), Value::Int(3)]) {
+        Some(p) => p,
+        None => panic!("no proof"),
+    };
+    let mut text = String::new();
+    show(&p, 0, &mut text);
+    // Clauses 0-3 are the edge facts, 4 and 5 the rules.
+    // path(1,3) <- path(1,2) <- edge(1,2) (fact, clause 0); edge(2,3) (fact, clause 1).
+    assert_eq!(
+        text,
+        "path(Int(1), Int(3)) by Some(5)\n  path(Int(1), Int(2)) by Some(4)\n    \
+         edge(Int(1), Int(2)) by Some(0)\n  edge(Int(2), Int(3)) by Some(1)\n"
+    );
+    assert_eq!(p.height(), 2);
+    // path(1, 4) holds directly from edge(1, 4): round 0, height 1.
+    let direct = e.prove("path", &[Value::Int(1), Value::Int(4)]);
+    assert_eq!(direct.map(|p| p.height()), Some(1));
+    let stamp = e.stamp("path", &[Value::Int(1), Value::Int(4)]);
+    assert_eq!(stamp.map(|s| (s.round, s.clause)), Some((0, 4)));
+    assert!(e.prove("path", &[Value::Int(4), Value::Int(1)]).is_none());
+    // Without provenance there are no proofs.
+    assert!(run(src)
+        .prove("path", &[Value::Int(1), Value::Int(3)])
+        .is_none());
+}
+
+#[test]
+fn proofs_through_negation_bindings_and_t_plus_one() {
+    let src =
+        ".decl fast(X: int, T: int)\n.decl stopped(X: int)\n.decl run(X: int, S: int, T: int)\n\
+        .decl moving_run(X: int, S: int, T: int)\n\
+        fast(1, 0). fast(1, 1). fast(1, 2). stopped(2). fast(2, 0).\n\
+        run(X, T, T) :- fast(X, T).\n\
+        run(X, S, U) :- run(X, S, T), U = T + 1, fast(X, U).\n\
+        moving_run(X, S, T) :- run(X, S, T), !stopped(X).\n";
+    let e = proved(src);
+    let p = match e.prove("moving_run", &[Value::Int(1), Value::Int(0), Value::Int(2)]) {
+        Some(p) => p,
+        None => panic!("no proof"),
+    };
+    // moving_run <- run(1,0,2) <- run(1,0,1) <- run(1,0,0) <- fast(1,0).
+    assert_eq!(p.height(), 4);
+    assert_eq!(p.children.len(), 1);
+    assert!(e
+        .prove("moving_run", &[Value::Int(2), Value::Int(0), Value::Int(0)])
+        .is_none());
 }
