@@ -40,9 +40,9 @@ pub struct Hota {
 }
 
 impl Hota {
-    /// Mean HOTA over the alphas.
+    /// Mean HOTA over the alphas, summed in numpy's order (8 running partial sums, then the rest).
     pub fn mean(&self) -> f64 {
-        self.hota.iter().sum::<f64>() / 19.0
+        np_sum(&self.hota) / 19.0
     }
 }
 
@@ -219,8 +219,11 @@ fn eval_sequence(gt: &[ClassFrame], tr: &[ClassFrame]) -> SeqRes {
 /// HOTA for one class over sequences (each a pair of aligned gt/tracker frame lists), combined as TrackEval's
 /// `COMBINED_SEQ`.
 #[allow(clippy::needless_range_loop)]
-pub fn hota(seqs: &[(Vec<ClassFrame>, Vec<ClassFrame>)]) -> Hota {
-    let res: Vec<SeqRes> = seqs.iter().map(|(g, t)| eval_sequence(g, t)).collect();
+pub fn hota<G: AsRef<[ClassFrame]>>(seqs: &[(G, Vec<ClassFrame>)]) -> Hota {
+    let res: Vec<SeqRes> = seqs
+        .iter()
+        .map(|(g, t)| eval_sequence(g.as_ref(), t))
+        .collect();
     let mut h = Hota {
         tp: [0.0; 19],
         fn_: [0.0; 19],
@@ -244,4 +247,27 @@ pub fn hota(seqs: &[(Vec<ClassFrame>, Vec<ClassFrame>)]) -> Hota {
         h.hota[a] = (h.det_a[a] * h.ass_a[a]).sqrt();
     }
     h
+}
+
+/// numpy's pairwise sum for fewer than 128 values: 8 partial sums over blocks of 8, combined pairwise, then
+/// the remainder added in order.
+pub fn np_sum(v: &[f64]) -> f64 {
+    if v.len() < 8 {
+        return v.iter().fold(0.0, |a, &x| a + x);
+    }
+    let mut r = [0.0f64; 8];
+    r.copy_from_slice(&v[..8]);
+    let blocks = v.len() - v.len() % 8;
+    let mut i = 8;
+    while i < blocks {
+        for j in 0..8 {
+            r[j] += v[i + j];
+        }
+        i += 8;
+    }
+    let mut res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+    for &x in &v[blocks..] {
+        res += x;
+    }
+    res
 }

@@ -4,6 +4,7 @@
 use crate::error::EvalError;
 use crate::hota::{self, ClassFrame, Hota};
 use crate::model::{FrameData, SeqKey, Submission};
+use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Options of [`evaluate`].
@@ -302,38 +303,43 @@ fn tune(pred: &Submission, gt: &Submission) -> BTreeMap<String, PromptHota> {
         by_prompt.entry(k.1.as_str()).or_default().push(k);
     }
     let empty = Vec::new();
-    let mut out = BTreeMap::new();
-    for (prompt, keys) in by_prompt {
-        let pairs: Vec<(&Vec<FrameData>, &Vec<FrameData>)> = keys
-            .iter()
-            .map(|k| (&gt.sequences[*k], pred.sequences.get(*k).unwrap_or(&empty)))
-            .collect();
-        let candidates = score_thresholds(&pairs);
-        let mut best: Option<(f64, f64, Hota)> = None;
-        for &th in &candidates {
-            let seqs: Vec<(Vec<ClassFrame>, Vec<ClassFrame>)> = pairs
+    let work: Vec<(&str, Vec<&SeqKey>)> = by_prompt.into_iter().collect();
+    work.into_par_iter()
+        .filter_map(|(prompt, keys)| {
+            let pairs: Vec<(&Vec<FrameData>, &Vec<FrameData>)> = keys
                 .iter()
-                .map(|(g, p)| (class_frames(g, None), class_frames(p, Some(th))))
+                .map(|k| (&gt.sequences[*k], pred.sequences.get(*k).unwrap_or(&empty)))
                 .collect();
-            let h = hota::hota(&seqs);
-            let m = h.mean();
-            if best.as_ref().is_none_or(|b| m > b.1) {
-                best = Some((th, m, h));
+            let candidates = score_thresholds(&pairs);
+            let gt_frames: Vec<Vec<ClassFrame>> =
+                pairs.iter().map(|(g, _)| class_frames(g, None)).collect();
+            let mut best: Option<(f64, f64, Hota)> = None;
+            for &th in &candidates {
+                let seqs: Vec<(&[ClassFrame], Vec<ClassFrame>)> = pairs
+                    .iter()
+                    .zip(&gt_frames)
+                    .map(|((_, p), g)| (g.as_slice(), class_frames(p, Some(th))))
+                    .collect();
+                let h = hota::hota(&seqs);
+                let m = h.mean();
+                // np.argmax: the first maximum wins
+                if best.as_ref().is_none_or(|b| m > b.1) {
+                    best = Some((th, m, h));
+                }
             }
-        }
-        if let Some((threshold, m, detail)) = best {
-            out.insert(
-                prompt.to_string(),
-                PromptHota {
-                    threshold,
-                    value: m.max(0.0),
-                    detail,
-                    candidates,
-                },
-            );
-        }
-    }
-    out
+            best.map(|(threshold, m, detail)| {
+                (
+                    prompt.to_string(),
+                    PromptHota {
+                        threshold,
+                        value: m.max(0.0),
+                        detail,
+                        candidates,
+                    },
+                )
+            })
+        })
+        .collect()
 }
 
 #[derive(Default, Clone, Copy)]
@@ -430,7 +436,7 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }
-    v.iter().sum::<f64>() / v.len() as f64
+    hota::np_sum(&v) / v.len() as f64
 }
 
 /// Evaluates predictions against ground truth as `av2.evaluation.scenario_mining.eval.evaluate`
