@@ -101,6 +101,8 @@ pub enum Filter {
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
     Neg(Vec<KeyArg>, Arc<HashSet<Row>>),
+    /// An aggregate run for each binding (see [`Correlated`]), writing its result to a slot.
+    AggRun(Arc<Correlated>, usize),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
     /// a group with no binding gets the default (0 for count and sum, none for min and max).
     Agg {
@@ -149,6 +151,7 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                     return None;
                 }
             }
+            Filter::AggRun(c, out) => row[*out] = c.run(&row)?,
             Filter::Agg {
                 group,
                 table,
@@ -417,9 +420,23 @@ pub fn plan(
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
 ) -> Result<Plan, EngineError> {
+    plan_seeded(lits, head, head_types, ctx, &[])
+}
+
+/// [`plan`] with variables already bound, in slots `0..seed.len()`.
+fn plan_seeded(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+    seed: &[(&str, ColType)],
+) -> Result<Plan, EngineError> {
     let mut scope = Scope {
         slots: HashMap::new(),
     };
+    for (v, ty) in seed {
+        scope.new_slot(v, *ty)?;
+    }
     let mut done = vec![false; lits.len()];
     let mut outer: HashSet<&str> = HashSet::new();
     {
@@ -661,6 +678,121 @@ fn var_expr(name: &str) -> Expr {
     }
 }
 
+/// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group.
+fn fold(
+    func: AggFunc,
+    rows: &[Row],
+    g_len: usize,
+    last: usize,
+    target_ty: ColType,
+    out_ty: ColType,
+) -> HashMap<Row, u64> {
+    let mut acc: HashMap<Row, V> = HashMap::new();
+    for r in rows {
+        let mut key = [0u64; WIDTH];
+        key[..g_len].copy_from_slice(&r[..g_len]);
+        let x = decode(r[last], target_ty);
+        let slot = acc.entry(key);
+        match func {
+            AggFunc::Count => {
+                let e = slot.or_insert(V::Int(0));
+                if let V::Int(n) = e {
+                    *n += 1;
+                }
+            }
+            AggFunc::Sum => {
+                let e = slot.or_insert(if out_ty == ColType::Float {
+                    V::Float(0.0)
+                } else {
+                    V::Int(0)
+                });
+                *e = match (*e, x) {
+                    (V::Int(a), V::Int(b)) => V::Int(a.saturating_add(b)),
+                    (V::Float(a), V::Float(b)) => V::Float(a + b),
+                    (V::Float(a), V::Int(b)) => V::Float(a + b as f64),
+                    (a, _) => a,
+                };
+            }
+            AggFunc::Min | AggFunc::Max => {
+                let want = if func == AggFunc::Min {
+                    std::cmp::Ordering::Less
+                } else {
+                    std::cmp::Ordering::Greater
+                };
+                slot.and_modify(|e| {
+                    if x.compare(*e) == Some(want) {
+                        *e = x;
+                    }
+                })
+                .or_insert(x);
+            }
+        }
+    }
+    let mut table = HashMap::new();
+    for (k, v) in acc {
+        if let Some(u) = encode(v, out_ty) {
+            table.insert(k, u);
+        }
+    }
+    table
+}
+
+/// An aggregate whose body uses outer variables only in comparisons or expressions: its body
+/// is run for each outer binding, with the group variables bound first.
+#[derive(Debug)]
+pub struct Correlated {
+    plan: Plan,
+    /// Per inner atom: its selected tuples by join key.
+    indexes: Vec<HashMap<Row, Vec<Row>>>,
+    group: Vec<usize>,
+    func: AggFunc,
+    g_len: usize,
+    last: usize,
+    target_ty: ColType,
+    out_ty: ColType,
+    default: Option<u64>,
+}
+
+impl Correlated {
+    fn run(&self, outer: &Row) -> Option<u64> {
+        let mut start = [0u64; WIDTH];
+        for (i, s) in self.group.iter().enumerate() {
+            start[i] = outer[*s];
+        }
+        let mut bindings: Vec<Row> = apply(&self.plan.start, start).into_iter().collect();
+        for (step, index) in self.plan.atoms.iter().zip(&self.indexes) {
+            let mut next = Vec::new();
+            for b in &bindings {
+                let Some(k) = step.binding_key(b) else {
+                    continue;
+                };
+                for t in index.get(&k).into_iter().flatten() {
+                    next.extend(apply(&step.after, step.extend(*b, t)));
+                }
+            }
+            bindings = next;
+        }
+        let mut rows: Vec<Row> = bindings
+            .iter()
+            .filter_map(|b| self.plan.project(b))
+            .collect();
+        rows.sort_unstable();
+        rows.dedup();
+        let table = fold(
+            self.func,
+            &rows,
+            self.g_len,
+            self.last,
+            self.target_ty,
+            self.out_ty,
+        );
+        match table.into_values().next() {
+            Some(v) => Some(v),
+            None => self.default,
+        }
+    }
+}
+
 /// Evaluates an aggregate's body over the completed relations and returns the filter that
 /// looks its result up by group, plus a comparison when the result is not a fresh variable.
 fn agg_filter(
@@ -695,6 +827,15 @@ fn agg_filter(
             "an aggregate with more than {WIDTH} variables"
         )));
     }
+    let mut in_atoms = Vec::new();
+    for l in &lits {
+        if let BodyLit::Pos(a) = l {
+            a.args.iter().for_each(|e| expr_vars(e, &mut in_atoms));
+        }
+    }
+    if !group.iter().all(|v| in_atoms.contains(v)) {
+        return correlated(g, group, head, g_len, scope, ctx);
+    }
     let inner = plan(&lits, &head, None, ctx)?;
     let empty = Vec::new();
     let sources: Vec<&[Row]> = inner
@@ -713,54 +854,7 @@ fn agg_filter(
         AggFunc::Sum => ColType::Int,
         AggFunc::Min | AggFunc::Max => target_ty,
     };
-    let last = head.len() - 1;
-    let mut acc: HashMap<Row, V> = HashMap::new();
-    for r in &rows {
-        let mut key = [0u64; WIDTH];
-        key[..g_len].copy_from_slice(&r[..g_len]);
-        let x = decode(r[last], target_ty);
-        let slot = acc.entry(key);
-        match g.func {
-            AggFunc::Count => {
-                let e = slot.or_insert(V::Int(0));
-                if let V::Int(n) = e {
-                    *n += 1;
-                }
-            }
-            AggFunc::Sum => {
-                let e = slot.or_insert(if out_ty == ColType::Float {
-                    V::Float(0.0)
-                } else {
-                    V::Int(0)
-                });
-                *e = match (*e, x) {
-                    (V::Int(a), V::Int(b)) => V::Int(a.saturating_add(b)),
-                    (V::Float(a), V::Float(b)) => V::Float(a + b),
-                    (V::Float(a), V::Int(b)) => V::Float(a + b as f64),
-                    (a, _) => a,
-                };
-            }
-            AggFunc::Min | AggFunc::Max => {
-                let want = if g.func == AggFunc::Min {
-                    std::cmp::Ordering::Less
-                } else {
-                    std::cmp::Ordering::Greater
-                };
-                slot.and_modify(|e| {
-                    if x.compare(*e) == Some(want) {
-                        *e = x;
-                    }
-                })
-                .or_insert(x);
-            }
-        }
-    }
-    let mut table = HashMap::new();
-    for (k, v) in acc {
-        if let Some(u) = encode(v, out_ty) {
-            table.insert(k, u);
-        }
-    }
+    let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty);
     let default = match g.func {
         AggFunc::Count => encode(V::Int(0), ColType::Int),
         AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
@@ -786,6 +880,85 @@ fn agg_filter(
         default,
         out,
     };
+    if fresh.is_some() {
+        return Ok((f, None));
+    }
+    let cmp = Filter::Cmp(
+        CmpOp::Eq,
+        compile_expr(&g.result, scope, ctx.symbols)?,
+        CExpr::Slot(out, out_ty),
+    );
+    Ok((f, Some(cmp)))
+}
+
+/// Plans a correlated aggregate (see [`Correlated`]).
+fn correlated(
+    g: &Aggregate,
+    group: &[&str],
+    head: Vec<Expr>,
+    g_len: usize,
+    scope: &mut Scope,
+    ctx: &mut Ctx<'_>,
+) -> Result<(Filter, Option<Filter>), EngineError> {
+    let lits = body_lits(&g.body);
+    let mut seed = Vec::new();
+    let mut group_slots = Vec::new();
+    for v in group {
+        let (s, ty) = *scope
+            .slots
+            .get(*v)
+            .ok_or_else(|| EngineError::Unsupported("an aggregate's group is unbound".into()))?;
+        seed.push((*v, ty));
+        group_slots.push(s);
+    }
+    let inner = plan_seeded(&lits, &head, None, ctx, &seed)?;
+    let empty = Vec::new();
+    let indexes = inner
+        .atoms
+        .iter()
+        .map(|step| {
+            let mut index: HashMap<Row, Vec<Row>> = HashMap::new();
+            for t in ctx.complete.get(&step.pred).unwrap_or(&empty) {
+                if step.selects(t) {
+                    index.entry(step.tuple_key(t)).or_default().push(*t);
+                }
+            }
+            index
+        })
+        .collect();
+    let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
+    let out_ty = match g.func {
+        AggFunc::Count => ColType::Int,
+        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
+        AggFunc::Sum => ColType::Int,
+        AggFunc::Min | AggFunc::Max => target_ty,
+    };
+    let default = match g.func {
+        AggFunc::Count => encode(V::Int(0), ColType::Int),
+        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
+        AggFunc::Sum => encode(V::Int(0), ColType::Int),
+        AggFunc::Min | AggFunc::Max => None,
+    };
+    let c = Correlated {
+        plan: inner,
+        indexes,
+        group: group_slots,
+        func: g.func,
+        g_len,
+        last: head.len() - 1,
+        target_ty,
+        out_ty,
+        default,
+    };
+    let fresh = match g.result.as_var() {
+        Some(v) if !scope.slots.contains_key(v) => Some(v),
+        _ => None,
+    };
+    let out = match fresh {
+        Some(v) => scope.new_slot(v, out_ty)?,
+        None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
+    };
+    let f = Filter::AggRun(Arc::new(c), out);
     if fresh.is_some() {
         return Ok((f, None));
     }

@@ -393,3 +393,27 @@ fn proofs_through_negation_bindings_and_t_plus_one() {
         .prove("moving_run", &[Value::Int(2), Value::Int(0), Value::Int(0)])
         .is_none());
 }
+
+#[test]
+fn correlated_aggregates_use_outer_variables_in_comparisons() {
+    // The fastest speed within one frame either side of each frame.
+    let src = ".decl sp(X: int, T: int, S: float)\n.decl at(X: int, T: int)\n.decl fastest(X: int, T: int, M: float)\n\
+        .decl around(X: int, T: int, N: int)\n\
+        sp(1, 0, 1.0). sp(1, 1, 5.0). sp(1, 2, 2.0). sp(1, 3, 0.5). at(1, 0). at(1, 3). at(1, 9).\n\
+        fastest(X, T, M) :- at(X, T), M = max S : { sp(X, T2, S), T2 >= T - 1, T2 <= T + 1 }.\n\
+        around(X, T, N) :- at(X, T), N = count : { sp(X, T2, _), T2 >= T - 1, T2 <= T + 1 }.\n";
+    let e = run(src);
+    assert_eq!(
+        e.tuples("fastest"),
+        Some(
+            &[
+                vec![Value::Int(1), Value::Int(0), Value::Float(5.0)],
+                vec![Value::Int(1), Value::Int(3), Value::Float(2.0)]
+            ][..]
+        )
+    );
+    assert_eq!(
+        ints(&e, "around"),
+        vec![vec![1, 0, 2], vec![1, 3, 2], vec![1, 9, 0]]
+    );
+}
