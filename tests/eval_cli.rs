@@ -80,3 +80,57 @@ fn text_output_and_bad_input() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("README.md"), "{err}");
 }
+
+#[test]
+fn out_writes_official_json_files() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = scenalog()
+        .args(["eval", "--pred"])
+        .arg(data("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.pkl"))
+        .arg("--out")
+        .arg(dir.path())
+        .output()
+        .expect("run scenalog");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (ours, official) in [
+        (
+            "temporal_metrics.json",
+            "official_noroi_temporal_metrics.json",
+        ),
+        (
+            "spatiotemporal_metrics.json",
+            "official_noroi_spatiotemporal_metrics.json",
+        ),
+    ] {
+        let read = |p: PathBuf| -> serde_json::Value {
+            serde_json::from_str(&std::fs::read_to_string(&p).expect("read")).expect("json")
+        };
+        let got = read(dir.path().join(ours));
+        let want = read(data("expected").join(official));
+        let want = want.as_object().expect("object");
+        assert_eq!(got.as_object().expect("object").len(), want.len(), "{ours}");
+        for (k, w) in want {
+            match w {
+                serde_json::Value::Object(m) => {
+                    for (p, v) in m {
+                        let g = got[k][p].as_f64().unwrap_or(f64::NAN);
+                        assert!(
+                            (g - v.as_f64().unwrap()).abs() <= 1e-9,
+                            "{ours} {k} {p}: {g}"
+                        );
+                    }
+                }
+                v => {
+                    let g = got[k].as_f64().unwrap_or(f64::NAN);
+                    assert!((g - v.as_f64().unwrap()).abs() <= 1e-9, "{ours} {k}: {g}");
+                }
+            }
+        }
+    }
+}

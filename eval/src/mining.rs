@@ -517,3 +517,28 @@ impl Report {
         })
     }
 }
+
+impl Report {
+    /// The official output files' content: (`temporal_metrics.json`, `spatiotemporal_metrics.json`, the
+    /// latter only when the predictions carried tracks).
+    pub fn official_json(&self) -> (serde_json::Value, Option<serde_json::Value>) {
+        let temporal = serde_json::json!({
+            "timestamp_balanced_accuracy_class_avg": self.timestamp_ba,
+            "scenario_balanced_accuracy_class_avg": self.log_ba,
+            "timestamp_balanced_accuracy_by_class": self.timestamp_ba_by_prompt,
+            "scenario_balanced_accuracy_by_class": self.log_ba_by_prompt,
+        });
+        let by = |m: &BTreeMap<String, PromptHota>| -> BTreeMap<String, f64> {
+            m.iter().map(|(k, v)| (k.clone(), v.value)).collect()
+        };
+        let spatio = self.contains_tracking.then(|| {
+            serde_json::json!({
+                "hota_temporal_class_avg": self.hota_temporal,
+                "hota_track_class_avg": self.hota_track,
+                "hota_temporal_by_class": by(&self.hota_temporal_by_prompt),
+                "hota_track_by_class": by(&self.hota_track_by_prompt),
+            })
+        });
+        (temporal, spatio)
+    }
+}

@@ -23,6 +23,9 @@ pub struct Args {
     /// Also print per-prompt values.
     #[arg(long)]
     per_prompt: bool,
+    /// Write `temporal_metrics.json` and `spatiotemporal_metrics.json` (as the official code) into this directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 /// Runs the subcommand: exit 0 on success, 2 on unreadable or inconsistent input.
@@ -45,6 +48,22 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if let Some(dir) = &args.out {
+        let (temporal, spatio) = report.official_json();
+        let mut files = vec![("temporal_metrics.json", temporal)];
+        if let Some(s) = spatio {
+            files.push(("spatiotemporal_metrics.json", s));
+        }
+        let written = std::fs::create_dir_all(dir).and_then(|()| {
+            files
+                .iter()
+                .try_for_each(|(name, v)| std::fs::write(dir.join(name), format!("{v:#}\n")))
+        });
+        if let Err(e) = written {
+            eprintln!("scenalog eval: {}: {e}", dir.display());
+            return ExitCode::from(2);
+        }
+    }
     if args.json {
         println!("{:#}", report.to_json());
         return ExitCode::SUCCESS;
