@@ -73,6 +73,25 @@ fn check_alignment(
             )));
         }
     }
+    for (what, sub) in [("predictions", pred), ("ground truth", gt)] {
+        for (key, frames) in &sub.sequences {
+            for (i, f) in frames.iter().enumerate() {
+                let n = f.translation_m.len();
+                let lens = [
+                    ("label", f.label.len()),
+                    ("track_id", f.track_id.len()),
+                    ("score", f.score.as_ref().map_or(n, |s| s.len())),
+                ];
+                for (field, l) in lens {
+                    if l != n {
+                        return Err(ferr(format!(
+                            "{what}: sequence {key:?} frame {i}: field {field:?} has {l} entries but translation_m has {n}"
+                        )));
+                    }
+                }
+            }
+        }
+    }
     for (key, pframes) in &pred.sequences {
         let Some(gframes) = gt.sequences.get(key) else {
             return Err(ferr(format!(

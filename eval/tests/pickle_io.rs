@@ -140,6 +140,14 @@ fn inconsistent_submissions_name_the_place() {
         .to_string();
     assert!(e.contains("frame 5") && e.contains("timestamp_ns"), "{e}");
 
+    // a frame built in code with mismatched arrays is an error, not a panic
+    let mut p = pred.clone();
+    p.sequences.get_mut(&key).unwrap()[2].track_id.pop();
+    let e = evaluate(&p, &gt, &opts)
+        .expect_err("mismatched")
+        .to_string();
+    assert!(e.contains("frame 2") && e.contains("track_id"), "{e}");
+
     // mismatched array lengths in a pickle: shorten one frame's yaw and write it out
     let mut p = pred.clone();
     p.sequences.get_mut(&key).unwrap()[7].yaw.pop();
