@@ -9,7 +9,7 @@ use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
-use crate::plan::{apply, body_lits, plan, Arg, Ctx, Plan};
+use crate::plan::{apply, body_lits, plan, Arg, AtomStep, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
 use crate::value::{cmp_value, decode_value, encode_value, Row, Symbols, WIDTH};
 use crate::{EngineError, Evaluation, Options};
@@ -333,6 +333,23 @@ fn run_stratum(
 ) -> Result<HashMap<String, Vec<Row>>, EngineError> {
     let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::default())).collect();
     let empty: Vec<Row> = Vec::new();
+    // Join indexes of atoms over relations complete before this stratum, built once.
+    let prebuilt: Vec<Vec<Option<Index>>> = plans
+        .iter()
+        .map(|(_, p)| {
+            p.atoms
+                .iter()
+                .map(|a| {
+                    let keyed = a.args.iter().any(|x| matches!(x, Arg::Key(..)));
+                    if keyed && !defined.contains(a.pred.as_str()) {
+                        Some(build_index(a, complete.get(&a.pred).unwrap_or(&empty)))
+                    } else {
+                        None
+                    }
+                })
+                .collect()
+        })
+        .collect();
     let mut first = true;
     let mut round = 0;
     loop {
@@ -386,7 +403,7 @@ fn run_stratum(
                 if sources[k].is_empty() {
                     continue;
                 }
-                run_plan(p, &sources, out, &check)?;
+                run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
             }
             if stamper.is_some() {
                 for r in &out[before..] {
@@ -484,23 +501,56 @@ pub(crate) fn run_plan(
     out: &mut Vec<Row>,
     limits: &Limits<'_>,
 ) -> Result<(), EngineError> {
+    run_plan_indexed(p, sources, &[], out, limits)
+}
+
+/// The positions in `src` of the tuples an atom selects, by join key.
+pub(crate) type Index = HashMap<Row, Vec<u32>>;
+
+/// Builds the join index of one atom over its source.
+pub(crate) fn build_index(step: &AtomStep, src: &[Row]) -> Index {
+    let mut index: Index = HashMap::new();
+    for (i, t) in src.iter().enumerate() {
+        if step.selects(t) {
+            index.entry(step.tuple_key(t)).or_default().push(i as u32);
+        }
+    }
+    index
+}
+
+/// [`run_plan`] with join indexes already built for some atoms (those whose relation does not
+/// change while a stratum iterates), so they are not rebuilt every round.
+pub(crate) fn run_plan_indexed(
+    p: &Plan,
+    sources: &[&[Row]],
+    prebuilt: &[Option<Index>],
+    out: &mut Vec<Row>,
+    limits: &Limits<'_>,
+) -> Result<(), EngineError> {
     let mut bindings: Vec<Row> = apply(&p.start, [0u64; WIDTH]).into_iter().collect();
-    for (step, src) in p.atoms.iter().zip(sources) {
+    for (j, (step, src)) in p.atoms.iter().zip(sources).enumerate() {
         if bindings.is_empty() {
             return Ok(());
         }
         let mut next = Vec::new();
         let keyed = step.args.iter().any(|a| matches!(a, Arg::Key(..)));
         if keyed {
-            let mut index: HashMap<Row, Vec<&Row>> = HashMap::new();
-            for t in src.iter().filter(|t| step.selects(t)) {
-                index.entry(step.tuple_key(t)).or_default().push(t);
-            }
+            let built;
+            let index = match prebuilt.get(j) {
+                Some(Some(ix)) => ix,
+                _ => {
+                    built = build_index(step, src);
+                    &built
+                }
+            };
             for b in &bindings {
                 let Some(k) = step.binding_key(b) else {
                     continue;
                 };
-                for t in index.get(&k).into_iter().flatten() {
+                for &i in index.get(&k).into_iter().flatten() {
+                    let Some(t) = src.get(i as usize) else {
+                        continue;
+                    };
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
                         next.push(r);
                     }
