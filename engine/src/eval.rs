@@ -315,9 +315,59 @@ fn load(
 /// The tuples of one relation during a stratum's iteration.
 #[derive(Default)]
 struct Rel {
-    stable: Vec<Row>,
+    /// Older tuples in sorted batches, merged geometrically (each tuple is copied O(log n)
+    /// times over the whole iteration, not once per round).
+    batches: Vec<Vec<Row>>,
+    /// The last round's new tuples, sorted.
     delta: Vec<Row>,
-    full: Vec<Row>,
+}
+
+impl Rel {
+    fn contains(&self, r: &Row) -> bool {
+        self.delta.binary_search(r).is_ok()
+            || self.batches.iter().any(|b| b.binary_search(r).is_ok())
+    }
+
+    fn len(&self) -> usize {
+        self.delta.len() + self.batches.iter().map(|b| b.len()).sum::<usize>()
+    }
+
+    fn stable(&self) -> Vec<&[Row]> {
+        self.batches.iter().map(|b| b.as_slice()).collect()
+    }
+
+    fn full(&self) -> Vec<&[Row]> {
+        let mut v = self.stable();
+        v.push(&self.delta);
+        v
+    }
+
+    /// Moves the delta into the batches and makes `fresh` the delta.
+    fn advance(&mut self, fresh: Vec<Row>) {
+        let old = std::mem::replace(&mut self.delta, fresh);
+        if !old.is_empty() {
+            self.batches.push(old);
+        }
+        while self.batches.len() >= 2 {
+            let n = self.batches.len();
+            if self.batches[n - 2].len() > 2 * self.batches[n - 1].len() {
+                break;
+            }
+            let (Some(b), Some(a)) = (self.batches.pop(), self.batches.pop()) else {
+                break;
+            };
+            self.batches.push(merge(&a, &b));
+        }
+    }
+
+    fn into_sorted(mut self) -> Vec<Row> {
+        self.advance(Vec::new());
+        let mut all = Vec::new();
+        for b in self.batches {
+            all = merge(&all, &b);
+        }
+        all
+    }
 }
 
 /// Runs one stratum to its fixpoint, semi-naively: in each round, every rule is evaluated once
@@ -342,7 +392,7 @@ fn run_stratum(
                 .map(|a| {
                     let keyed = a.args.iter().any(|x| matches!(x, Arg::Key(..)));
                     if keyed && !defined.contains(a.pred.as_str()) {
-                        Some(build_index(a, complete.get(&a.pred).unwrap_or(&empty)))
+                        Some(build_index(a, &[complete.get(&a.pred).unwrap_or(&empty)]))
                     } else {
                         None
                     }
@@ -375,12 +425,12 @@ fn run_stratum(
                 if !rec.is_empty() {
                     continue;
                 }
-                let sources: Vec<&[Row]> = p
+                let sources: Vec<Vec<&[Row]>> = p
                     .atoms
                     .iter()
-                    .map(|a| complete.get(&a.pred).unwrap_or(&empty).as_slice())
+                    .map(|a| vec![complete.get(&a.pred).unwrap_or(&empty).as_slice()])
                     .collect();
-                run_plan(p, &sources, out, &check)?;
+                run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
                 if stamper.is_some() {
                     for r in &out[before..] {
                         origin.entry((head.as_str(), *r)).or_insert(pi);
@@ -389,18 +439,18 @@ fn run_stratum(
                 continue;
             }
             for &k in &rec {
-                let sources: Vec<&[Row]> = p
+                let sources: Vec<Vec<&[Row]>> = p
                     .atoms
                     .iter()
                     .enumerate()
                     .map(|(j, a)| match rels.get(a.pred.as_str()) {
-                        Some(r) if j < k => r.stable.as_slice(),
-                        Some(r) if j == k => r.delta.as_slice(),
-                        Some(r) => r.full.as_slice(),
-                        None => complete.get(&a.pred).unwrap_or(&empty).as_slice(),
+                        Some(r) if j < k => r.stable(),
+                        Some(r) if j == k => vec![r.delta.as_slice()],
+                        Some(r) => r.full(),
+                        None => vec![complete.get(&a.pred).unwrap_or(&empty).as_slice()],
                     })
                     .collect();
-                if sources[k].is_empty() {
+                if sources[k].iter().all(|s| s.is_empty()) {
                     continue;
                 }
                 run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
@@ -417,10 +467,8 @@ fn run_stratum(
             let mut fresh = new.remove(name).unwrap_or_default();
             fresh.sort_unstable();
             fresh.dedup();
-            fresh.retain(|r| rel.full.binary_search(r).is_err());
-            rel.stable = std::mem::take(&mut rel.full);
-            rel.full = merge(&rel.stable, &fresh);
-            if rel.full.len() > options.max_tuples {
+            fresh.retain(|r| !rel.contains(r));
+            if rel.len() + fresh.len() > options.max_tuples {
                 return Err(EngineError::TooManyTuples {
                     relation: name.to_string(),
                     limit: options.max_tuples,
@@ -437,7 +485,7 @@ fn run_stratum(
                     );
                 }
             }
-            rel.delta = fresh;
+            rel.advance(fresh);
         }
         if !changed {
             break;
@@ -446,7 +494,7 @@ fn run_stratum(
     }
     Ok(rels
         .into_iter()
-        .map(|(k, r)| (k.to_string(), r.full))
+        .map(|(k, r)| (k.to_string(), r.into_sorted()))
         .collect())
 }
 
@@ -501,18 +549,24 @@ pub(crate) fn run_plan(
     out: &mut Vec<Row>,
     limits: &Limits<'_>,
 ) -> Result<(), EngineError> {
-    run_plan_indexed(p, sources, &[], out, limits)
+    let parts: Vec<Vec<&[Row]>> = sources.iter().map(|s| vec![*s]).collect();
+    run_plan_indexed(p, &parts, &[], out, limits)
 }
 
-/// The positions in `src` of the tuples an atom selects, by join key.
-pub(crate) type Index = HashMap<Row, Vec<u32>>;
+/// The positions (part, index) in a source of the tuples an atom selects, by join key.
+pub(crate) type Index = HashMap<Row, Vec<(u32, u32)>>;
 
-/// Builds the join index of one atom over its source.
-pub(crate) fn build_index(step: &AtomStep, src: &[Row]) -> Index {
+/// Builds the join index of one atom over its source's parts.
+pub(crate) fn build_index(step: &AtomStep, parts: &[&[Row]]) -> Index {
     let mut index: Index = HashMap::new();
-    for (i, t) in src.iter().enumerate() {
-        if step.selects(t) {
-            index.entry(step.tuple_key(t)).or_default().push(i as u32);
+    for (pi, part) in parts.iter().enumerate() {
+        for (i, t) in part.iter().enumerate() {
+            if step.selects(t) {
+                index
+                    .entry(step.tuple_key(t))
+                    .or_default()
+                    .push((pi as u32, i as u32));
+            }
         }
     }
     index
@@ -522,7 +576,7 @@ pub(crate) fn build_index(step: &AtomStep, src: &[Row]) -> Index {
 /// change while a stratum iterates), so they are not rebuilt every round.
 pub(crate) fn run_plan_indexed(
     p: &Plan,
-    sources: &[&[Row]],
+    sources: &[Vec<&[Row]>],
     prebuilt: &[Option<Index>],
     out: &mut Vec<Row>,
     limits: &Limits<'_>,
@@ -547,8 +601,8 @@ pub(crate) fn run_plan_indexed(
                 let Some(k) = step.binding_key(b) else {
                     continue;
                 };
-                for &i in index.get(&k).into_iter().flatten() {
-                    let Some(t) = src.get(i as usize) else {
+                for &(part, i) in index.get(&k).into_iter().flatten() {
+                    let Some(t) = src.get(part as usize).and_then(|p| p.get(i as usize)) else {
                         continue;
                     };
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
@@ -558,7 +612,11 @@ pub(crate) fn run_plan_indexed(
                 limits.check(next.len())?;
             }
         } else {
-            let matching: Vec<&Row> = src.iter().filter(|t| step.selects(t)).collect();
+            let matching: Vec<&Row> = src
+                .iter()
+                .flat_map(|p| p.iter())
+                .filter(|t| step.selects(t))
+                .collect();
             for b in &bindings {
                 for t in &matching {
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
