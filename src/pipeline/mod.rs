@@ -1,6 +1,9 @@
 //! The mining pipeline: joining extraction, evaluation and scoring for `mine` and `explain`.
 //!
-//! Only the output stage exists so far ([`tracks`]: dilation, 2 Hz frames, the related-object
-//! range); `mine` wires it once the engine and the evaluation crates land (issue 7).
+//! [`scenario`] reads and checks a program and evaluates it on a log with the extractors as the
+//! engine's provider; [`tracks`] turns derived tuples into labelled output frames (dilation, 2 Hz
+//! frames, the related-object range); [`predictions`] turns those into the evaluation's data model.
 
+pub mod predictions;
+pub mod scenario;
 pub mod tracks;

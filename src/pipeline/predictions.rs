@@ -1,0 +1,53 @@
+//! Labelled frames of one (log, description) pair as a prediction sequence in the evaluation's
+//! data model (the official pickle's fields).
+
+use scenalog_eval::FrameData;
+use scenalog_facts::Scene;
+
+use super::tracks::{Label, LabelledFrame};
+
+/// The name the benchmark gives each label.
+pub fn label_name(label: Label) -> &'static str {
+    match label {
+        Label::Referred => "REFERRED_OBJECT",
+        Label::Related => "RELATED_OBJECT",
+        Label::Other => "OTHER_OBJECT",
+    }
+}
+
+/// One prediction frame per labelled frame: every annotated object with its city-frame box,
+/// label, track id (the scene's track index) and score 1.0 (rules give no confidence).
+pub fn to_frames(scene: &Scene, description: &str, frames: &[LabelledFrame]) -> Vec<FrameData> {
+    frames
+        .iter()
+        .filter_map(|lf| {
+            let timestamp_ns = scene.timeline.ns(lf.frame)?;
+            let ego = scene.ego_poses.get(lf.frame as usize)?.translation.vector;
+            let mut out = FrameData {
+                timestamp_ns,
+                ego_translation_m: [ego.x, ego.y, ego.z],
+                description: Some(description.to_string()),
+                score: Some(Vec::with_capacity(lf.objects.len())),
+                ..FrameData::default()
+            };
+            for &(track, label) in &lf.objects {
+                let Some(b) = scene.track(track).box_at(lf.frame) else {
+                    continue;
+                };
+                let c = b.city_center();
+                out.translation_m.push([c.x, c.y, c.z]);
+                out.size
+                    .push([b.size[0] as f32, b.size[1] as f32, b.size[2] as f32]);
+                out.yaw.push(b.city_yaw() as f32);
+                out.velocity_m_per_s.push([0.0; 3]);
+                out.label.push(label as i32);
+                out.name.push(label_name(label).to_string());
+                out.track_id.push(track.0 as i32);
+                if let Some(s) = &mut out.score {
+                    s.push(1.0);
+                }
+            }
+            Some(out)
+        })
+        .collect()
+}

@@ -1,0 +1,78 @@
+//! A scenario program read from a file and checked, and its evaluation on one log's scene with
+//! the extractors as the engine's provider. Shared by `mine` and `explain`.
+
+use std::path::{Path, PathBuf};
+
+use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
+use scenalog_extractors::cache::Extractor;
+use scenalog_facts::relation::{RelationData, Request};
+use scenalog_rules::{check, render_human, CheckOptions, CheckedProgram};
+
+/// A checked scenario program and where it came from.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// The file it was read from.
+    pub path: PathBuf,
+    /// The file's stem (`stopped_car` for `stopped_car.dl`), used in tables.
+    pub name: String,
+    /// The program's `// description:` comment, or its name with `_` as spaces when it has none:
+    /// the prompt its predictions are keyed by.
+    pub description: String,
+    /// The source text.
+    pub source: String,
+    /// The checked program.
+    pub program: CheckedProgram,
+}
+
+/// Reads and checks a scenario program. The error is printable as is: it names the file and,
+/// when the program does not check, carries the rendered diagnostics.
+pub fn load_scenario(path: &Path) -> Result<Scenario, String> {
+    let source = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    scenario_from_source(path, source)
+}
+
+/// Checks a scenario program given as text (`path` names it in messages and tables).
+pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, String> {
+    let outcome = check(&source, &CheckOptions::default());
+    let display = path.display().to_string();
+    let Some(program) = outcome.program else {
+        return Err(format!(
+            "`{display}` does not check:\n{}",
+            render_human(&outcome.diagnostics, &source, &display, false)
+        ));
+    };
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| display.clone());
+    let description = program
+        .program
+        .description
+        .clone()
+        .filter(|d| !d.is_empty())
+        .unwrap_or_else(|| name.replace('_', " "));
+    Ok(Scenario {
+        path: path.to_path_buf(),
+        name,
+        description,
+        source,
+        program,
+    })
+}
+
+/// Evaluates a checked program on one scene, asking the extractor (and its per-scene cache) for
+/// exactly the catalog relations the program uses.
+pub fn evaluate_on(
+    extractor: &Extractor<'_>,
+    program: &CheckedProgram,
+    options: &Options,
+) -> Result<Evaluation, EngineError> {
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        extractor
+            .extract(r)
+            .map(|d| (*d).clone())
+            .map_err(|e| e.to_string())
+    };
+    evaluate(program, &mut provider, options)
+}
