@@ -11,6 +11,7 @@
 mod eval;
 mod plan;
 mod prove;
+mod why_not;
 pub mod value;
 
 use std::collections::BTreeMap;
@@ -21,6 +22,11 @@ use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
 pub use prove::{Proof, Stamp};
+pub use why_not::{
+    explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,
+    Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError, MAX_BINDINGS,
+    MAX_EXAMPLES, MAX_NESTING,
+};
 
 /// Why an evaluation failed.
 #[derive(Debug, Clone, PartialEq)]
@@ -145,6 +151,17 @@ impl Evaluation {
     /// rounds only. `None` when the tuple is not in the relation or provenance was off.
     pub fn prove(&self, relation: &str, tuple: &[Value]) -> Option<Proof> {
         self.provenance.as_ref()?.prove(relation, tuple)
+    }
+
+    /// Why `relation(tuple)` is not derived (or which clause derives it): see [`why_not()`].
+    /// `program` must be the program this evaluation ran.
+    pub fn why_not(
+        &self,
+        program: &scenalog_rules::CheckedProgram,
+        relation: &str,
+        tuple: &[Value],
+    ) -> Result<WhyNot, WhyNotError> {
+        why_not::why_not(program, self, relation, tuple)
     }
 
     /// Sizes of every relation.
