@@ -2,7 +2,8 @@
 //!
 //! Owns: reading (and writing) the official pickle format into a plain [`Submission`], HOTA as TrackEval
 //! computes it, and the scenario-mining metrics (HOTA-Temporal, HOTA-Track, timestamp- and log-level
-//! balanced accuracy). Does not own: mining itself, the map (the drivable-area ROI filter is not here yet).
+//! balanced accuracy), and the optional drivable-area ROI filter ([`roi`], rasters built from each log's vector
+//! map). Does not own: mining itself, or any other use of the map.
 #![warn(missing_docs)]
 
 pub mod arrow_table;
@@ -12,6 +13,7 @@ pub mod mining;
 pub mod model;
 pub mod pickle;
 pub mod pickle_write;
+pub mod roi;
 
 pub use arrow_table::{read_any, read_table, write_table};
 pub use error::EvalError;
@@ -19,3 +21,4 @@ pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
 pub use pickle::{read_pickle, read_pickle_bytes};
 pub use pickle_write::{pickle_bytes, write_pickle};
+pub use roi::{RoiMaps, RoiRaster};

@@ -1,22 +1,31 @@
 //! The scenario-mining metrics: range filter, per-prompt score thresholds, HOTA-Temporal, HOTA-Track and
-//! timestamp-/log-level balanced accuracy, in the order of operations of av2 0.3.6.
+//! timestamp-/log-level balanced accuracy, in the order of operations of av2 0.3.6. With
+//! [`EvalOptions::roi`], objects outside the drivable-area ROI are dropped after the range filter, as
+//! the official `filter_drivable_area` (tracking submissions only).
 
 use crate::error::EvalError;
 use crate::hota::{self, ClassFrame, Hota};
 use crate::model::{FrameData, SeqKey, Submission};
+use crate::roi::{RoiMaps, RoiRaster};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 
 /// Options of [`evaluate`].
 #[derive(Debug, Clone)]
 pub struct EvalOptions {
     /// Objects farther than this from the ego (x-y) are dropped; 50 m officially.
     pub max_range_m: f64,
+    /// The drivable-area ROI of every log (the official `--dataset_dir`); `None` evaluates without it.
+    pub roi: Option<Arc<RoiMaps>>,
 }
 
 impl Default for EvalOptions {
     fn default() -> Self {
-        EvalOptions { max_range_m: 50.0 }
+        EvalOptions {
+            max_range_m: 50.0,
+            roi: None,
+        }
     }
 }
 
@@ -153,6 +162,22 @@ pub fn filter_range(sub: &mut Submission, max_range_m: f64) {
     }
 }
 
+/// Drops objects with no box corner in the drivable-area ROI of their log, as `filter_drivable_area`.
+/// Errors when a log has no raster or a frame lacks sizes or yaws.
+pub fn filter_roi(sub: &mut Submission, maps: &RoiMaps) -> Result<(), EvalError> {
+    check_roi_sub("submission", sub, maps)?;
+    for (key, frames) in sub.sequences.iter_mut() {
+        let Some(r) = maps.get(&key.0) else { continue };
+        for f in frames {
+            let mask: Vec<bool> = (0..f.len())
+                .map(|i| r.box_in_roi(f.translation_m[i], f.size[i], f.yaw[i]))
+                .collect();
+            f.retain(&mask);
+        }
+    }
+    Ok(())
+}
+
 /// Copies of the frames holding only the objects `keep(frame, object)` selects.
 fn select(frames: &[FrameData], keep: impl Fn(&FrameData, usize) -> bool) -> Vec<FrameData> {
     frames
@@ -180,37 +205,50 @@ fn select(frames: &[FrameData], keep: impl Fn(&FrameData, usize) -> bool) -> Vec
         .collect()
 }
 
-fn in_range(f: &FrameData, i: usize, max_range_m: f64) -> bool {
+/// Whether object `i` survives the range filter and, when given, the ROI filter.
+fn kept(f: &FrameData, i: usize, max_range_m: f64, roi: Option<&RoiRaster>) -> bool {
     let e = f.ego_translation_m;
     let t = f.translation_m[i];
     let dx = t[0] - e[0];
     let dy = t[1] - e[1];
-    (dx * dx + dy * dy).sqrt() <= max_range_m
+    if (dx * dx + dy * dy).sqrt() > max_range_m {
+        return false;
+    }
+    match roi {
+        // sizes and yaws were checked to be present when the ROI is on
+        Some(r) => r.box_in_roi(t, f.size[i], f.yaw[i]),
+        None => true,
+    }
 }
 
-/// The referred objects within range (`filter_max_dist` then `classify_referred_objects`); with
-/// `full_tracks`, every in-range object of a track referred in any in-range frame (`referred_full_tracks`).
-fn referred(sub: &Submission, max_range_m: f64, full_tracks: bool) -> Submission {
+/// The referred objects kept by the filters (`filter_max_dist`, `filter_drivable_area`, then
+/// `classify_referred_objects`); with `full_tracks`, every kept object of a track referred in any kept
+/// object (`referred_full_tracks`).
+fn referred(
+    sub: &Submission,
+    max_range_m: f64,
+    roi: Option<&RoiMaps>,
+    full_tracks: bool,
+) -> Submission {
     let sequences = sub
         .sequences
         .iter()
         .map(|(k, frames)| {
+            let r = roi.and_then(|m| m.get(&k.0));
             let out = if full_tracks {
                 let ids: BTreeSet<i32> = frames
                     .iter()
                     .flat_map(|f| {
                         (0..f.len())
-                            .filter(move |&i| f.label[i] == 0 && in_range(f, i, max_range_m))
+                            .filter(move |&i| f.label[i] == 0 && kept(f, i, max_range_m, r))
                             .map(move |i| f.track_id[i])
                     })
                     .collect();
                 select(frames, |f, i| {
-                    ids.contains(&f.track_id[i]) && in_range(f, i, max_range_m)
+                    ids.contains(&f.track_id[i]) && kept(f, i, max_range_m, r)
                 })
             } else {
-                select(frames, |f, i| {
-                    f.label[i] == 0 && in_range(f, i, max_range_m)
-                })
+                select(frames, |f, i| f.label[i] == 0 && kept(f, i, max_range_m, r))
             };
             (k.clone(), out)
         })
@@ -458,8 +496,36 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     hota::np_sum(&v) / v.len() as f64
 }
 
+/// Checks that every log has an ROI raster and every frame the box sizes and yaws the ROI test needs.
+fn check_roi_inputs(pred: &Submission, gt: &Submission, maps: &RoiMaps) -> Result<(), EvalError> {
+    check_roi_sub("ground truth", gt, maps)?;
+    check_roi_sub("predictions", pred, maps)
+}
+
+fn check_roi_sub(what: &str, sub: &Submission, maps: &RoiMaps) -> Result<(), EvalError> {
+    for (key, frames) in &sub.sequences {
+        if maps.get(&key.0).is_none() {
+            return Err(ferr(format!(
+                    "{what}: sequence {key:?}: log {} has no drivable-area map (not in the dataset directory)",
+                    key.0
+                )));
+        }
+        for (i, f) in frames.iter().enumerate() {
+            let n = f.translation_m.len();
+            for (field, l) in [("size", f.size.len()), ("yaw", f.yaw.len())] {
+                if l != n {
+                    return Err(ferr(format!(
+                            "{what}: sequence {key:?} frame {i}: field {field:?} has {l} entries but translation_m has {n} (the ROI filter needs it)"
+                        )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Evaluates predictions against ground truth as `av2.evaluation.scenario_mining.eval.evaluate`
-/// (objective HOTA, no drivable-area filter).
+/// (objective HOTA; the drivable-area filter when [`EvalOptions::roi`] is given).
 pub fn evaluate(
     pred: &Submission,
     gt: &Submission,
@@ -473,8 +539,8 @@ pub fn evaluate(
     check_alignment(pred, gt, contains_tracking)?;
     if !contains_tracking {
         let (ts, sc) = temporal(
-            &referred(pred, f64::INFINITY, false),
-            &referred(gt, f64::INFINITY, false),
+            &referred(pred, f64::INFINITY, None, false),
+            &referred(gt, f64::INFINITY, None, false),
             None,
         );
         return Ok(Report {
@@ -490,10 +556,14 @@ pub fn evaluate(
         });
     }
     let r = opts.max_range_m;
-    let (pr, gr) = (referred(pred, r, false), referred(gt, r, false));
+    let roi = opts.roi.as_deref();
+    if let Some(maps) = roi {
+        check_roi_inputs(pred, gt, maps)?;
+    }
+    let (pr, gr) = (referred(pred, r, roi, false), referred(gt, r, roi, false));
     let temporal_h = tune(&pr, &gr);
     let (ts, sc) = temporal(&pr, &gr, Some(&temporal_h));
-    let (pf, gf) = (referred(pred, r, true), referred(gt, r, true));
+    let (pf, gf) = (referred(pred, r, roi, true), referred(gt, r, roi, true));
     let track_h = tune(&pf, &gf);
     Ok(Report {
         hota_temporal: mean(temporal_h.values().map(|h| h.value)),

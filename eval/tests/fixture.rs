@@ -1,12 +1,37 @@
 //! Reproduces the official numbers in tests/data/av2/eval/expected/ on the real fixture.
 
-use scenalog_eval::{evaluate, read_pickle, EvalOptions, Submission};
+use scenalog_eval::{evaluate, read_pickle, EvalOptions, RoiMaps, Submission};
 use std::path::PathBuf;
+use std::sync::{Arc, OnceLock};
 
 fn data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../tests/data/av2/eval")
         .join(name)
+}
+
+/// The ROI rasters of the fixture's logs, built once per test binary from tests/data/av2/logs.
+fn roi_maps() -> Arc<RoiMaps> {
+    static MAPS: OnceLock<Arc<RoiMaps>> = OnceLock::new();
+    MAPS.get_or_init(|| {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/av2/logs");
+        let (pred, gt) = load();
+        let ids: Vec<String> = gt
+            .sequences
+            .keys()
+            .chain(pred.sequences.keys())
+            .map(|k| k.0.clone())
+            .collect();
+        Arc::new(RoiMaps::load(&dir, ids.iter().map(|s| s.as_str())).expect("roi maps"))
+    })
+    .clone()
+}
+
+fn opts(roi: bool) -> EvalOptions {
+    EvalOptions {
+        roi: roi.then(roi_maps),
+        ..EvalOptions::default()
+    }
 }
 
 fn load() -> (Submission, Submission) {
@@ -82,27 +107,93 @@ fn range_filter_counts_match() {
 }
 
 #[test]
+fn range_and_roi_filter_counts_match() {
+    let (mut pred, mut gt) = load();
+    let maps = roi_maps();
+    for sub in [&mut pred, &mut gt] {
+        scenalog_eval::mining::filter_range(sub, 50.0);
+        scenalog_eval::mining::filter_roi(sub, &maps).expect("roi filter");
+    }
+    let counts = expected("scenario_mining_filter_counts.json");
+    for (file, sub) in [
+        ("combined_gt_dev.pkl", &gt),
+        ("combined_predictions_dev.pkl", &pred),
+    ] {
+        for (key, frames) in &sub.sequences {
+            let name = format!("('{}', '{}')", key.0, key.1);
+            let c = &counts[file][&name];
+            let per_frame: Vec<u64> = frames.iter().map(|f| f.len() as u64).collect();
+            let want: Vec<u64> = c["objects_per_frame_after_50m_and_roi"]
+                .as_array()
+                .expect("per-frame counts")
+                .iter()
+                .map(|v| v.as_u64().expect("count"))
+                .collect();
+            assert_eq!(per_frame, want, "{file} {name} per frame");
+            let total: u64 = per_frame.iter().sum();
+            let referred: usize = frames
+                .iter()
+                .map(|f| f.label.iter().filter(|&&l| l == 0).count())
+                .sum();
+            assert_eq!(total, c["objects_after_50m_and_roi"].as_u64().unwrap());
+            assert_eq!(
+                referred as u64,
+                c["referred_after_50m_and_roi"].as_u64().unwrap(),
+                "{file} {name}"
+            );
+            // the ROI drops something in this fixture
+            assert!(total < c["objects_after_50m"].as_u64().unwrap());
+        }
+    }
+}
+
+/// The rasters equal the official ones in size, placement and cell counts.
+#[test]
+fn roi_rasters_match() {
+    let maps = roi_maps();
+    let exp = expected("scenario_mining_expected_results.json");
+    let rasters = exp["roi_rasters"].as_object().expect("roi_rasters");
+    assert_eq!(rasters.len(), 2);
+    let int = |v: &serde_json::Value| v.as_i64().expect("integer");
+    for (log, e) in rasters {
+        let r = maps.get(log).expect("raster of the log");
+        let b: Vec<i64> = e["bounds_xmin_ymin_xmax_ymax"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(int)
+            .collect();
+        assert_eq!(r.bounds().to_vec(), b, "{log} bounds");
+        let shape = &e["da_shape_h_w"];
+        assert_eq!(
+            (r.shape().0 as i64, r.shape().1 as i64),
+            (int(&shape[0]), int(&shape[1])),
+            "{log} shape"
+        );
+        assert_eq!(r.drivable_cells() as i64, int(&e["da_ones"]), "{log} da");
+        assert_eq!(r.roi_cells() as i64, int(&e["roi_ones"]), "{log} roi");
+        assert_eq!(r.polygons() as i64, int(&e["n_drivable_areas"]), "{log}");
+        let sim = &e["da_Sim2"];
+        assert_eq!(sim["s"].as_f64(), Some(scenalog_eval::roi::CELLS_PER_M));
+        assert_eq!((int(&sim["t"][0]), int(&sim["t"][1])), (-b[0], -b[1]));
+    }
+}
+
+#[test]
 fn headline_numbers_without_roi() {
     let (pred, gt) = load();
-    let r = evaluate(&pred, &gt, &EvalOptions::default()).expect("evaluate");
-    let exp = expected("scenario_mining_expected_results.json");
-    let v = &exp["variants"]["base|no_roi"];
-    close(
-        r.hota_temporal,
-        v["hota_temporal"].as_f64().unwrap(),
-        "hota_temporal",
-    );
-    close(
-        r.hota_track,
-        v["hota_track"].as_f64().unwrap(),
-        "hota_track",
-    );
-    close(
-        r.timestamp_ba,
-        v["timestamp_ba"].as_f64().unwrap(),
-        "timestamp_ba",
-    );
-    close(r.log_ba, v["scenario_ba"].as_f64().unwrap(), "log_ba");
+    let r = evaluate(&pred, &gt, &opts(false)).expect("evaluate");
+    check_headline(&r, &variant("base|no_roi"), "base|no_roi");
+}
+
+#[test]
+fn headline_numbers_with_roi() {
+    let (pred, gt) = load();
+    let r = evaluate(&pred, &gt, &opts(true)).expect("evaluate");
+    check_headline(&r, &variant("base|roi"), "base|roi");
+    // the filter matters here: the two differ
+    let without = evaluate(&pred, &gt, &opts(false)).expect("evaluate");
+    assert!((r.hota_temporal - without.hota_temporal).abs() > 1e-3);
 }
 
 fn arr(v: &serde_json::Value) -> Vec<f64> {
@@ -113,26 +204,50 @@ fn arr(v: &serde_json::Value) -> Vec<f64> {
         .collect()
 }
 
-#[test]
-fn per_prompt_thresholds_and_per_alpha_detail_without_roi() {
+/// Chosen thresholds, tuned values and per-alpha detail of both HOTA variants, and the official JSON
+/// files, with (`roi`) or without the drivable-area filter.
+fn check_per_prompt(roi: bool) {
     let (pred, gt) = load();
-    let r = evaluate(&pred, &gt, &EvalOptions::default()).expect("evaluate");
+    let r = evaluate(&pred, &gt, &opts(roi)).expect("evaluate");
     let detail = expected("scenario_mining_hota_detail.json");
-    let spatio = expected("official_noroi_spatiotemporal_metrics.json");
-    let temporal = expected("official_noroi_temporal_metrics.json");
+    let tag = if roi { "roi" } else { "noroi" };
+    let spatio = expected(&format!("official_{tag}_spatiotemporal_metrics.json"));
+    let temporal = expected(&format!("official_{tag}_temporal_metrics.json"));
+    let prefix = if roi { "roi" } else { "no_roi" };
+    close(
+        r.hota_temporal,
+        spatio["hota_temporal_class_avg"].as_f64().unwrap(),
+        "hota_temporal_class_avg",
+    );
+    close(
+        r.hota_track,
+        spatio["hota_track_class_avg"].as_f64().unwrap(),
+        "hota_track_class_avg",
+    );
+    close(
+        r.timestamp_ba,
+        temporal["timestamp_balanced_accuracy_class_avg"]
+            .as_f64()
+            .unwrap(),
+        "timestamp ba avg",
+    );
+    close(
+        r.log_ba,
+        temporal["scenario_balanced_accuracy_class_avg"]
+            .as_f64()
+            .unwrap(),
+        "log ba avg",
+    );
     for (variant, by_prompt, spatio_key) in [
         (
-            "no_roi|hota_temporal",
+            "hota_temporal",
             &r.hota_temporal_by_prompt,
             "hota_temporal_by_class",
         ),
-        (
-            "no_roi|hota_track",
-            &r.hota_track_by_prompt,
-            "hota_track_by_class",
-        ),
+        ("hota_track", &r.hota_track_by_prompt, "hota_track_by_class"),
     ] {
-        let exp = detail[variant].as_object().expect("variant");
+        let variant = format!("{prefix}|{variant}");
+        let exp = detail[&variant].as_object().expect("variant");
         assert_eq!(exp.len(), by_prompt.len());
         for (prompt, e) in exp {
             let got = &by_prompt[prompt];
@@ -153,6 +268,11 @@ fn per_prompt_thresholds_and_per_alpha_detail_without_roi() {
                 &format!("{what} official json"),
             );
             let d = &got.detail;
+            close(
+                d.mean(),
+                e["hota_mean_over_alphas"].as_f64().unwrap(),
+                &format!("{what} mean over alphas"),
+            );
             for (field, vals) in [
                 ("HOTA", &d.hota),
                 ("DetA", &d.det_a),
@@ -163,6 +283,7 @@ fn per_prompt_thresholds_and_per_alpha_detail_without_roi() {
                 ("HOTA_FP", &d.fp),
             ] {
                 let want = arr(&e[field]);
+                assert_eq!(vals.len(), 19);
                 assert_eq!(want.len(), 19);
                 for (a, (g, w)) in vals.iter().zip(&want).enumerate() {
                     close(*g, *w, &format!("{what} {field}[{a}]"));
@@ -190,6 +311,16 @@ fn per_prompt_thresholds_and_per_alpha_detail_without_roi() {
             &format!("log BA {prompt}"),
         );
     }
+}
+
+#[test]
+fn per_prompt_thresholds_and_per_alpha_detail_without_roi() {
+    check_per_prompt(false);
+}
+
+#[test]
+fn per_prompt_thresholds_and_per_alpha_detail_with_roi() {
+    check_per_prompt(true);
 }
 
 fn variant(name: &str) -> serde_json::Value {
@@ -227,8 +358,11 @@ fn perfect_predictions_score_one() {
     for f in pred.sequences.values_mut().flatten() {
         f.score = Some(vec![1.0; f.len()]);
     }
-    let r = evaluate(&pred, &gt, &EvalOptions::default()).expect("evaluate");
-    check_headline(&r, &variant("perfect|no_roi"), "perfect");
+    for roi in [false, true] {
+        let r = evaluate(&pred, &gt, &opts(roi)).expect("evaluate");
+        let name = format!("perfect|{}", if roi { "roi" } else { "no_roi" });
+        check_headline(&r, &variant(&name), &name);
+    }
 }
 
 /// Classification-only predictions: each frame carries only `is_positive` (referred object present).
@@ -278,13 +412,12 @@ fn gt_with_is_positive(gt: &Submission) -> Submission {
 fn classification_only_variants() {
     let (pred, gt) = load();
     let cls = classification_only(&gt, false);
-    let r = evaluate(&cls, &gt, &EvalOptions::default()).expect("evaluate");
-    assert!(!r.contains_tracking);
-    check_headline(
-        &r,
-        &variant("classification_only|no_roi"),
-        "classification_only",
-    );
+    for (roi, tag) in [(false, "no_roi"), (true, "roi")] {
+        let r = evaluate(&cls, &gt, &opts(roi)).expect("evaluate");
+        assert!(!r.contains_tracking);
+        let name = format!("classification_only|{tag}");
+        check_headline(&r, &variant(&name), &name);
+    }
 
     let gtp = gt_with_is_positive(&gt);
     let counts =
@@ -296,25 +429,21 @@ fn classification_only_variants() {
         assert_eq!(n(Some(false)), c["False"].as_u64().unwrap(), "{k:?} False");
         assert_eq!(n(None), c["None"].as_u64().unwrap(), "{k:?} None");
     }
-    let r = evaluate(&pred, &gtp, &EvalOptions::default()).expect("evaluate");
-    check_headline(
-        &r,
-        &variant("gt_with_is_positive|no_roi"),
-        "gt_with_is_positive",
-    );
-    let r = evaluate(&cls, &gtp, &EvalOptions::default()).expect("evaluate");
-    check_headline(
-        &r,
-        &variant("gt_with_is_positive+classification_only|no_roi"),
-        "gt_is_positive+cls",
-    );
+    for (roi, tag) in [(false, "no_roi"), (true, "roi")] {
+        let r = evaluate(&pred, &gtp, &opts(roi)).expect("evaluate");
+        let name = format!("gt_with_is_positive|{tag}");
+        check_headline(&r, &variant(&name), &name);
+        let r = evaluate(&cls, &gtp, &opts(roi)).expect("evaluate");
+        let name = format!("gt_with_is_positive+classification_only|{tag}");
+        check_headline(&r, &variant(&name), &name);
+    }
 
     let even = classification_only(&gt, true);
     let all = expected("scenario_mining_expected_results.json");
     for (gt_variant, g) in [("gt_legacy", &gt), ("gt_with_is_positive", &gtp)] {
         let v = &all["variants_classification_even_frames"]
             [format!("classification_even_frames|{gt_variant}")];
-        let r = evaluate(&even, g, &EvalOptions::default()).expect("evaluate");
+        let r = evaluate(&even, g, &opts(false)).expect("evaluate");
         check_headline(&r, v, gt_variant);
         for (prompt, want) in v["by_class"]["timestamp_balanced_accuracy_by_class"]
             .as_object()
