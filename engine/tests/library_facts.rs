@@ -1,0 +1,620 @@
+//! The scenario library (`rules/library/*.dl`) on synthetic *fact scenes*: every program that
+//! `library.rs` and `real_logs.rs` do not already test, with at least one case that stages what
+//! the program's description means (and must be found exactly) and near-misses that violate one
+//! condition of the description (and must find nothing, or less).
+//!
+//! A fact scene is written as Datalog ground facts of catalog relations, e.g.
+//! `category(1, "BOX_TRUCK"). accel(1, 10, 1.5).`, parsed with the rule language's parser (the
+//! AST only: the checker rightly refuses programs that define catalog relations), converted to
+//! columns with the catalog's types (a track column takes an integer track id, a time column a
+//! frame, a lane column an integer lane id) and served to the engine as the provider. The
+//! harness completes the facts as the extractors would: a category fact also gives the
+//! super-categories ("VEHICLE" for vehicle categories, "ANY" for every track), and an
+//! "EGO_VEHICLE" track is `ego`. It applies every constraint of the engine's requests, as the
+//! extractors do, so a constraint the engine derives wrongly loses a staged match and fails
+//! here. Every track a fact mentions must have a category, so a scene cannot silently leave
+//! one out.
+//!
+//! The facts are written from the descriptions and the catalog's documentation, not from the
+//! rules, so a rule that does not mean its description fails its test.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use scenalog_engine::{evaluate, Options};
+use scenalog_facts::catalog::{self, ColType};
+use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
+use scenalog_facts::scene::is_vehicle_category;
+use scenalog_facts::{LaneId, TrackId};
+use scenalog_rules::ast::{Clause, Expr, ExprKind};
+use scenalog_rules::{check, parse, CheckOptions, CheckedProgram, Severity};
+
+// ---- harness ----------------------------------------------------------------------------------
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn program(name: &str) -> CheckedProgram {
+    let path = root().join("rules/library").join(format!("{name}.dl"));
+    let src = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    match check(&src, &CheckOptions::default()).program {
+        Some(p) => p,
+        None => panic!("{name}.dl does not check"),
+    }
+}
+
+/// A number literal, possibly negated.
+fn number(e: &Expr) -> Option<f64> {
+    match &e.kind {
+        ExprKind::Int(v) => Some(*v as f64),
+        ExprKind::Float(v) => Some(*v),
+        ExprKind::Neg(inner) => number(inner).map(|v| -v),
+        _ => None,
+    }
+}
+
+/// An integer literal, possibly negated.
+fn integer(e: &Expr) -> Option<i64> {
+    match &e.kind {
+        ExprKind::Int(v) => Some(*v),
+        ExprKind::Neg(inner) => integer(inner).map(|v| -v),
+        _ => None,
+    }
+}
+
+/// One fact argument as a value of a column of type `ty`.
+fn value(e: &Expr, ty: ColType, fact: &str) -> Value {
+    let v = match ty {
+        ColType::Track => integer(e)
+            .and_then(|v| u32::try_from(v).ok())
+            .map(|v| Value::Track(TrackId(v))),
+        ColType::Time => integer(e)
+            .and_then(|v| u32::try_from(v).ok())
+            .map(Value::Time),
+        ColType::Lane => integer(e).map(|v| Value::Lane(LaneId(v))),
+        ColType::Int => integer(e).map(Value::Int),
+        ColType::Float => number(e).map(Value::Float),
+        ColType::Str => match &e.kind {
+            ExprKind::Str(s) => Some(Value::Str(s.as_str().into())),
+            _ => None,
+        },
+    };
+    v.unwrap_or_else(|| panic!("fact `{fact}`: argument {:?} is not a {ty}", e.kind))
+}
+
+/// The catalog relations of a fact scene, completed as the extractors would.
+struct Facts {
+    rows: BTreeMap<String, Vec<Vec<Value>>>,
+    categories: BTreeMap<TrackId, BTreeSet<String>>,
+}
+
+impl Facts {
+    fn parse(src: &str) -> Facts {
+        let (prog, diags) = parse(src);
+        if let Some(d) = diags.iter().find(|d| d.severity == Severity::Error) {
+            panic!("fact scene does not parse: {} in\n{src}", d.message);
+        }
+        let mut rows: BTreeMap<String, Vec<Vec<Value>>> = BTreeMap::new();
+        let mut push = |name: &str, row: Vec<Value>| {
+            let rel = rows.entry(name.to_string()).or_default();
+            if !rel.contains(&row) {
+                rel.push(row);
+            }
+        };
+        for Clause { head, body, span } in &prog.clauses {
+            let text = &src[span.start..span.end];
+            assert!(body.is_empty(), "not a ground fact: `{text}`");
+            let spec = catalog::relation(&head.pred)
+                .unwrap_or_else(|| panic!("`{text}`: `{}` is not in the catalog", head.pred));
+            assert_eq!(spec.arity(), head.args.len(), "`{text}`: wrong arity");
+            let row: Vec<Value> = head
+                .args
+                .iter()
+                .zip(spec.types())
+                .map(|(e, ty)| value(e, ty, text))
+                .collect();
+            if let (true, [Value::Track(x), Value::Str(c)]) = (spec.name == "category", &row[..]) {
+                if is_vehicle_category(c) {
+                    push(
+                        "category",
+                        vec![Value::Track(*x), Value::Str("VEHICLE".into())],
+                    );
+                }
+                push("category", vec![Value::Track(*x), Value::Str("ANY".into())]);
+                if &**c == "EGO_VEHICLE" {
+                    push("ego", vec![Value::Track(*x)]);
+                }
+            }
+            push(spec.name, row);
+        }
+        let mut categories: BTreeMap<TrackId, BTreeSet<String>> = BTreeMap::new();
+        for r in rows.get("category").into_iter().flatten() {
+            if let [Value::Track(x), Value::Str(c)] = &r[..] {
+                categories.entry(*x).or_default().insert(c.to_string());
+            }
+        }
+        for (name, rel) in &rows {
+            for r in rel {
+                for v in r {
+                    if let Value::Track(t) = v {
+                        assert!(
+                            categories.contains_key(t),
+                            "track {} in `{name}` has no category fact",
+                            t.0
+                        );
+                    }
+                }
+            }
+        }
+        Facts { rows, categories }
+    }
+
+    fn holds(&self, v: &Value, c: &Constraint) -> bool {
+        let num = match v {
+            Value::Float(x) => Some(*x),
+            Value::Int(x) => Some(*x as f64),
+            Value::Time(x) => Some(f64::from(*x)),
+            _ => None,
+        };
+        match c {
+            Constraint::Eq(w) => v == w,
+            Constraint::Category(cat) => match v {
+                Value::Track(t) => self.categories.get(t).is_some_and(|cs| cs.contains(&**cat)),
+                _ => panic!("category constraint on a non-track value {v:?}"),
+            },
+            Constraint::Lt(b) => num.is_some_and(|x| x < *b),
+            Constraint::Le(b) => num.is_some_and(|x| x <= *b),
+            Constraint::Gt(b) => num.is_some_and(|x| x > *b),
+            Constraint::Ge(b) => num.is_some_and(|x| x >= *b),
+        }
+    }
+
+    /// The rows of the requested relation that satisfy every constraint, as columns.
+    fn provide(&self, r: &Request) -> Result<RelationData, String> {
+        let spec = catalog::relation(&r.name)
+            .ok_or_else(|| format!("`{}` is not in the catalog", r.name))?;
+        let mut columns: Vec<Column> = spec.types().into_iter().map(Column::empty).collect();
+        let kept = self.rows.get(&r.name).into_iter().flatten().filter(|row| {
+            r.constraints
+                .iter()
+                .all(|(i, c)| row.get(*i).is_some_and(|v| self.holds(v, c)))
+        });
+        for row in kept {
+            for (col, v) in columns.iter_mut().zip(row) {
+                match (col, v) {
+                    (Column::Track(c), Value::Track(x)) => c.push(*x),
+                    (Column::Time(c), Value::Time(x)) => c.push(*x),
+                    (Column::Lane(c), Value::Lane(x)) => c.push(*x),
+                    (Column::Str(c), Value::Str(x)) => c.push(x.clone()),
+                    (Column::Float(c), Value::Float(x)) => c.push(*x),
+                    (Column::Int(c), Value::Int(x)) => c.push(*x),
+                    (c, v) => return Err(format!("{}: {v:?} in a {} column", r.name, c.ty())),
+                }
+            }
+        }
+        Ok(RelationData {
+            name: r.name.clone(),
+            columns,
+        })
+    }
+}
+
+/// What a program found: `referred` as (track, frame), `related` as (track, other, frame).
+#[derive(Debug, PartialEq, Default)]
+struct Found {
+    referred: BTreeSet<(u32, u32)>,
+    related: BTreeSet<(u32, u32, u32)>,
+}
+
+fn track(v: &Value) -> u32 {
+    match v {
+        Value::Track(t) => t.0,
+        other => panic!("not a track: {other:?}"),
+    }
+}
+
+fn frame(v: &Value) -> u32 {
+    match v {
+        Value::Time(t) => *t,
+        other => panic!("not a time: {other:?}"),
+    }
+}
+
+/// Evaluates library program `name` on the fact scene `facts`.
+fn run(name: &str, facts: &str) -> Found {
+    let p = program(name);
+    let facts = Facts::parse(facts);
+    let mut provider = |r: &Request| facts.provide(r);
+    let ev =
+        evaluate(&p, &mut provider, &Options::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let referred = ev
+        .tuples("referred")
+        .unwrap_or_default()
+        .iter()
+        .map(|t| (track(&t[0]), frame(&t[1])))
+        .collect();
+    let related = ev
+        .tuples("related")
+        .unwrap_or_default()
+        .iter()
+        .map(|t| (track(&t[0]), track(&t[1]), frame(&t[2])))
+        .collect();
+    Found { referred, related }
+}
+
+/// Asserts that `name` finds exactly `referred` and `related` on `facts`.
+#[track_caller]
+fn finds(name: &str, facts: &str, referred: &[(u32, u32)], related: &[(u32, u32, u32)]) {
+    let want = Found {
+        referred: referred.iter().copied().collect(),
+        related: related.iter().copied().collect(),
+    };
+    assert_eq!(run(name, facts), want, "{name} on\n{facts}");
+}
+
+/// Asserts that `name` finds nothing on `facts`.
+#[track_caller]
+fn nothing(name: &str, facts: &str) {
+    finds(name, facts, &[], &[]);
+}
+
+/// `base` with `from` replaced by `to`; `from` must occur in `base`.
+#[track_caller]
+fn swap(base: &str, from: &str, to: &str) -> String {
+    assert!(base.contains(from), "`{from}` is not in\n{base}");
+    base.replace(from, to)
+}
+
+// ---- accelerating / braking -------------------------------------------------------------------
+
+#[test]
+fn accelerating_truck() {
+    let name = "accelerating_truck";
+    // A box truck accelerating at 1.5 m/s² at frame 10, coasting at frame 11; a car
+    // accelerating hard.
+    let base = r#"
+        category(1, "BOX_TRUCK"). accel(1, 10, 1.5). accel(1, 11, 0.2).
+        category(2, "REGULAR_VEHICLE"). accel(2, 10, 3.0).
+    "#;
+    finds(name, base, &[(1, 10)], &[]);
+    // A tractor unit and a plain truck are trucks too.
+    finds(name, &swap(base, "BOX_TRUCK", "TRUCK_CAB"), &[(1, 10)], &[]);
+    finds(name, &swap(base, "BOX_TRUCK", "TRUCK"), &[(1, 10)], &[]);
+    // Just below the reliable-acceleration threshold of 1 m/s².
+    nothing(name, &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, 0.95)"));
+}
+
+#[test]
+fn accelerating_vehicle_changing_lanes_right() {
+    let name = "accelerating_vehicle_changing_lanes_right";
+    // A car changing lanes to the right at frames 20-21 while accelerating at 1.2 m/s²
+    // (frame 20) and cruising (frame 21).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        lane_change(1, 20, "right"). lane_change(1, 21, "right").
+        accel(1, 20, 1.2). accel(1, 21, 0.0).
+    "#;
+    finds(name, base, &[(1, 20)], &[]);
+    // The same manoeuvre to the left.
+    nothing(
+        name,
+        &swap(
+            base,
+            "\"right\"). lane_change(1, 21, \"right\")",
+            "\"left\"). lane_change(1, 21, \"left\")",
+        ),
+    );
+    // Accelerating, but not changing lanes at that frame.
+    nothing(name, &swap(base, "lane_change(1, 20, \"right\").", ""));
+    // A pedestrian "changing lanes" is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+}
+
+#[test]
+fn braking_vehicle() {
+    let name = "braking_vehicle";
+    // A bus braking at -1.5 m/s² at frame 5; the ego braking as hard.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). accel(0, 5, -1.5).
+        category(1, "BUS"). accel(1, 5, -1.5). accel(1, 6, -0.3).
+    "#;
+    finds(name, base, &[(1, 5)], &[]);
+    // Decelerating gently (-0.9 m/s²) is not reliably braking.
+    nothing(name, &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, -0.9)"));
+    // Accelerating is not braking.
+    nothing(name, &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, 1.5)"));
+    // A braking cyclist is not a vehicle.
+    nothing(name, &swap(base, "\"BUS\"", "\"BICYCLIST\""));
+}
+
+#[test]
+fn high_lateral_acceleration() {
+    let name = "high_lateral_acceleration";
+    // A car swerving: +2.5 m/s² (left) at frame 3, -2.2 m/s² (right) at frame 4, 1.0 at 5.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        lat_accel(1, 3, 2.5). lat_accel(1, 4, -2.2). lat_accel(1, 5, 1.0).
+    "#;
+    finds(name, base, &[(1, 3), (1, 4)], &[]);
+    // Just under 2 m/s² either way.
+    nothing(
+        name,
+        &swap(
+            &swap(base, "lat_accel(1, 3, 2.5)", "lat_accel(1, 3, 1.9)"),
+            "lat_accel(1, 4, -2.2)",
+            "lat_accel(1, 4, -1.9)",
+        ),
+    );
+}
+
+#[test]
+fn vehicle_accelerating_more_than_two_meters_per_second() {
+    let name = "vehicle_accelerating_more_than_two_meters_per_second";
+    // A motorcycle at 2.3 m/s² (frame 1) and exactly 2 (frame 2); a pedestrian at 3.
+    let base = r#"
+        category(1, "MOTORCYCLE"). accel(1, 1, 2.3). accel(1, 2, 2.0).
+        category(2, "PEDESTRIAN"). accel(2, 1, 3.0).
+    "#;
+    finds(name, base, &[(1, 1)], &[]);
+    // 1.9 m/s²: not more than two.
+    nothing(name, &swap(base, "accel(1, 1, 2.3)", "accel(1, 1, 1.9)"));
+}
+
+#[test]
+fn vehicle_accelerating_on_intersection() {
+    let name = "vehicle_accelerating_on_intersection";
+    // A car accelerating at 1.5 m/s² at frames 7 (on the intersection) and 8 (past it).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        accel(1, 7, 1.5). accel(1, 8, 1.5). on_intersection(1, 7).
+    "#;
+    finds(name, base, &[(1, 7)], &[]);
+    // On the intersection but merely cruising.
+    nothing(name, &swap(base, "accel(1, 7, 1.5)", "accel(1, 7, 0.5)"));
+    // Accelerating, but the intersection is never reached.
+    nothing(name, &swap(base, "on_intersection(1, 7).", ""));
+}
+
+#[test]
+fn vehicle_braking_heavily() {
+    let name = "vehicle_braking_heavily";
+    // A truck at -3.5 m/s² (frame 2) and -2 m/s² (frame 3).
+    let base = r#"
+        category(1, "TRUCK"). accel(1, 2, -3.5). accel(1, 3, -2.0).
+    "#;
+    finds(name, base, &[(1, 2)], &[]);
+    // -2.9 m/s² is braking but not heavily.
+    nothing(name, &swap(base, "-3.5", "-2.9"));
+    // A dog stopping short is not a vehicle.
+    nothing(name, &swap(base, "TRUCK", "DOG"));
+}
+
+#[test]
+fn vehicle_braking_at_pedestrian_crossing() {
+    let name = "vehicle_braking_at_pedestrian_crossing";
+    // A car braking at -2 m/s² with its box 1.5 m from a crosswalk at frame 4; braking as
+    // hard far from any crosswalk at frame 9.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        accel(1, 4, -2.0). at_crosswalk(1, 4, 1.5).
+        accel(1, 9, -2.0). at_crosswalk(1, 9, 25.0).
+    "#;
+    finds(name, base, &[(1, 4)], &[]);
+    // At the crosswalk but not braking.
+    nothing(name, &swap(base, "accel(1, 4, -2.0)", "accel(1, 4, -0.5)"));
+    // Braking 2.5 m from the crosswalk: not at it.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(1, 4, 1.5)", "at_crosswalk(1, 4, 2.5)"),
+    );
+}
+
+// ---- lane changes -----------------------------------------------------------------------------
+
+#[test]
+fn bicyclist_changing_lanes_to_the_right() {
+    let name = "bicyclist_changing_lanes_to_the_right";
+    // A bicyclist moving right at frames 30-31.
+    let base = r#"
+        category(1, "BICYCLIST"). lane_change(1, 30, "right"). lane_change(1, 31, "right").
+    "#;
+    finds(name, base, &[(1, 30), (1, 31)], &[]);
+    // To the left instead.
+    nothing(name, &base.replace("\"right\"", "\"left\""));
+    // A car changing lanes right is not a bicyclist.
+    nothing(name, &swap(base, "BICYCLIST", "REGULAR_VEHICLE"));
+}
+
+#[test]
+fn box_truck_changing_lanes_to_the_left() {
+    let name = "box_truck_changing_lanes_to_the_left";
+    // A box truck moving left at frame 12.
+    let base = r#"category(1, "BOX_TRUCK"). lane_change(1, 12, "left")."#;
+    finds(name, base, &[(1, 12)], &[]);
+    // To the right instead.
+    nothing(name, &swap(base, "\"left\"", "\"right\""));
+    // A semi's tractor is not a box truck.
+    nothing(name, &swap(base, "BOX_TRUCK", "TRUCK_CAB"));
+}
+
+#[test]
+fn bus_changing_lanes() {
+    let name = "bus_changing_lanes";
+    // A bus moving left at frame 3, an articulated bus right at frame 8, a school bus left
+    // at frame 9.
+    let base = r#"
+        category(1, "BUS"). lane_change(1, 3, "left").
+        category(2, "ARTICULATED_BUS"). lane_change(2, 8, "right").
+        category(3, "SCHOOL_BUS"). lane_change(3, 9, "left").
+    "#;
+    finds(name, base, &[(1, 3), (2, 8), (3, 9)], &[]);
+    // A truck changing lanes is not a bus.
+    finds(
+        name,
+        &swap(base, "ARTICULATED_BUS", "TRUCK"),
+        &[(1, 3), (3, 9)],
+        &[],
+    );
+}
+
+#[test]
+fn vehicle_changing_lanes_to_the_right() {
+    let name = "vehicle_changing_lanes_to_the_right";
+    // A car moving right at frame 40, the ego moving right at frame 40 too.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). lane_change(0, 40, "right").
+        category(1, "REGULAR_VEHICLE"). lane_change(1, 40, "right").
+    "#;
+    finds(name, base, &[(1, 40)], &[]);
+    // The car moving left instead.
+    nothing(
+        name,
+        &swap(
+            base,
+            "lane_change(1, 40, \"right\")",
+            "lane_change(1, 40, \"left\")",
+        ),
+    );
+}
+
+#[test]
+fn vehicle_changing_lanes_on_intersection() {
+    let name = "vehicle_changing_lanes_on_intersection";
+    // A car changing lanes left at frames 5 (on the intersection) and 6 (past it).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). lane_change(1, 5, "left"). lane_change(1, 6, "left").
+        on_intersection(1, 5).
+    "#;
+    finds(name, base, &[(1, 5)], &[]);
+    // Either direction counts.
+    finds(name, &base.replace("\"left\"", "\"right\""), &[(1, 5)], &[]);
+    // On the intersection, staying in lane.
+    nothing(name, &swap(base, "lane_change(1, 5, \"left\").", ""));
+}
+
+#[test]
+fn left_lane_change_while_there_is_a_vehicle_to_the_left() {
+    let name = "left_lane_change_while_there_is_a_vehicle_to_the_left";
+    // Car 1 changes lanes left at frame 10 with car 2 on its left, 1.5 m from its box and
+    // overlapping its length (Lat 0).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
+        lane_change(1, 10, "left").
+        direction(1, 2, 10, "left", 1.5, 0.0).
+    "#;
+    finds(name, base, &[(1, 10)], &[(1, 2, 10)]);
+    // The other car is on its right.
+    nothing(name, &swap(base, "\"left\", 1.5", "\"right\", 1.5"));
+    // Changing lanes right, away from it.
+    nothing(
+        name,
+        &swap(
+            base,
+            "lane_change(1, 10, \"left\")",
+            "lane_change(1, 10, \"right\")",
+        ),
+    );
+    // The left neighbour is a pedestrian on the sidewalk, not a vehicle.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"REGULAR_VEHICLE\")",
+            "category(2, \"PEDESTRIAN\")",
+        ),
+    );
+    // Far to the left (8 m): the gap is free.
+    nothing(name, &swap(base, "1.5, 0.0", "8.0, 0.0"));
+}
+
+// ---- speed, stopped vs parked -----------------------------------------------------------------
+
+#[test]
+fn vehicle_moving_at_crawling_speed() {
+    let name = "vehicle_moving_at_crawling_speed";
+    // A car at 1.5 m/s (frame 1), 0.2 m/s (frame 2, stopped) and 8 m/s (frame 3).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). speed(1, 1, 1.5). speed(1, 2, 0.2). speed(1, 3, 8.0).
+        category(2, "PEDESTRIAN"). speed(2, 1, 1.5).
+    "#;
+    finds(name, base, &[(1, 1)], &[]);
+    // Just above walking pace.
+    nothing(name, &swap(base, "speed(1, 1, 1.5)", "speed(1, 1, 3.1)"));
+}
+
+#[test]
+fn regular_vehicles_that_are_stopped_or_nearly_stopped() {
+    let name = "regular_vehicles_that_are_stopped_or_nearly_stopped";
+    // A car stopped at a light (0 m/s, frame 1), creeping (0.8 m/s, frame 2), moving off
+    // (4 m/s, frame 3); its track moves overall, so it is not parked.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). speed(1, 1, 0.0). speed(1, 2, 0.8). speed(1, 3, 4.0).
+    "#;
+    finds(name, base, &[(1, 1), (1, 2)], &[]);
+    // 1.2 m/s is not nearly stopped.
+    finds(
+        name,
+        &swap(base, "speed(1, 2, 0.8)", "speed(1, 2, 1.2)"),
+        &[(1, 1)],
+        &[],
+    );
+    // A stopped bus is not a regular vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
+}
+
+#[test]
+fn object_that_has_not_moved() {
+    let name = "object_that_has_not_moved";
+    // A parked car and a bollard that never move, a pedestrian who walks away; all present
+    // at frames 0-1.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). stationary(1). present(1, 0). present(1, 1).
+        category(2, "BOLLARD"). stationary(2). present(2, 0). present(2, 1).
+        category(3, "PEDESTRIAN"). present(3, 0). present(3, 1).
+    "#;
+    finds(name, base, &[(1, 0), (1, 1), (2, 0), (2, 1)], &[]);
+    // The car drives off at some point: its track is not stationary.
+    finds(
+        name,
+        &swap(base, "stationary(1).", ""),
+        &[(2, 0), (2, 1)],
+        &[],
+    );
+}
+
+#[test]
+fn vehicle_stopped_at_intersection() {
+    let name = "vehicle_stopped_at_intersection";
+    // A car waiting on an intersection at 0.2 m/s over frames 0-30, on the intersection at
+    // frames 10 and 20 (each has a whole second of history either side); it drives away
+    // later, so it is not parked.
+    let mut base = String::from(
+        r#"category(1, "REGULAR_VEHICLE"). on_intersection(1, 10). on_intersection(1, 20)."#,
+    );
+    for f in 0..=30 {
+        base.push_str(&format!(" speed(1, {f}, 0.2)."));
+    }
+    finds(name, &base, &[(1, 10), (1, 20)], &[]);
+    // It moves at 0.6 m/s at frame 25: within a second of frame 20, not of frame 10.
+    finds(
+        name,
+        &swap(&base, "speed(1, 25, 0.2)", "speed(1, 25, 0.6)"),
+        &[(1, 10)],
+        &[],
+    );
+    // At frame 31 it is more than a second after frame 20: both still stopped.
+    let later = format!("{base} speed(1, 31, 5.0).");
+    finds(name, &later, &[(1, 10), (1, 20)], &[]);
+    // Parked on the intersection (stationary): not "stopped".
+    nothing(name, &format!("{base} stationary(1)."));
+    // Stopped, but not on an intersection.
+    nothing(
+        name,
+        &swap(
+            &swap(&base, "on_intersection(1, 10).", ""),
+            "on_intersection(1, 20).",
+            "",
+        ),
+    );
+}
