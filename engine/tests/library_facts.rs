@@ -9,11 +9,12 @@
 //! columns with the catalog's types (a track column takes an integer track id, a time column a
 //! frame, a lane column an integer lane id) and served to the engine as the provider. The
 //! harness completes the facts as the extractors would: a category fact also gives the
-//! super-categories ("VEHICLE" for vehicle categories, "ANY" for every track), and an
-//! "EGO_VEHICLE" track is `ego`. It applies every constraint of the engine's requests, as the
-//! extractors do, so a constraint the engine derives wrongly loses a staged match and fails
-//! here. Every track a fact mentions must have a category, so a scene cannot silently leave
-//! one out.
+//! super-categories ("VEHICLE" for vehicle categories, "ANY" for every track), an "EGO_VEHICLE"
+//! track is `ego`, and the symmetric pair relations `near` and `heading_relative` are given in
+//! both orders (a scene states each pair once). It applies every constraint of the engine's
+//! requests, as the extractors do, so a constraint the engine derives wrongly loses a staged
+//! match and fails here. Every track a fact mentions must have a category, so a scene cannot
+//! silently leave one out.
 //!
 //! The facts are written from the descriptions and the catalog's documentation, not from the
 //! rules, so a rule that does not mean its description fails its test.
@@ -125,6 +126,11 @@ impl Facts {
                 if &**c == "EGO_VEHICLE" {
                     push("ego", vec![Value::Track(*x)]);
                 }
+            }
+            if spec.name == "near" || spec.name == "heading_relative" {
+                let mut mirror = row.clone();
+                mirror.swap(0, 1);
+                push(spec.name, mirror);
             }
             push(spec.name, row);
         }
@@ -617,4 +623,348 @@ fn vehicle_stopped_at_intersection() {
             "",
         ),
     );
+}
+
+// ---- turns ------------------------------------------------------------------------------------
+
+#[test]
+fn passenger_vehicle_turning_left_at_intersection() {
+    let name = "passenger_vehicle_turning_left_at_intersection";
+    // A car turning left at frames 20-21, on the intersection at both.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        turning(1, 20, "left"). turning(1, 21, "left").
+        on_intersection(1, 20). on_intersection(1, 21).
+    "#;
+    finds(name, base, &[(1, 20), (1, 21)], &[]);
+    // Turning right instead.
+    nothing(name, &base.replace("\"left\"", "\"right\""));
+    // Turning left into a driveway, off any intersection.
+    nothing(
+        name,
+        &base.replace("on_intersection(1, 20). on_intersection(1, 21).", ""),
+    );
+    // A bus is not a passenger vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
+}
+
+#[test]
+fn vehicle_making_a_right_turn() {
+    let name = "vehicle_making_a_right_turn";
+    // A truck turning right at frame 15; the ego turning right at the same time.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). turning(0, 15, "right").
+        category(1, "TRUCK"). turning(1, 15, "right").
+    "#;
+    finds(name, base, &[(1, 15)], &[]);
+    // The truck turns left.
+    nothing(
+        name,
+        &swap(
+            base,
+            "turning(1, 15, \"right\")",
+            "turning(1, 15, \"left\")",
+        ),
+    );
+    // A cyclist turning right is not a vehicle.
+    nothing(name, &swap(base, "TRUCK", "BICYCLIST"));
+}
+
+#[test]
+fn vehicle_turning_right_at_stop_sign() {
+    let name = "vehicle_turning_right_at_stop_sign";
+    // A car at stop sign 9 at frames 10-12, then turning right at frames 40 and 62 (50
+    // frames, 5 s, after it last was at the sign) and 63 (51 frames after).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(9, "STOP_SIGN").
+        at_stop_sign(1, 9, 10). at_stop_sign(1, 9, 11). at_stop_sign(1, 9, 12).
+        turning(1, 40, "right"). turning(1, 62, "right"). turning(1, 63, "right").
+    "#;
+    finds(name, base, &[(1, 40), (1, 62)], &[(1, 9, 40), (1, 9, 62)]);
+    // Turning left after the stop sign.
+    nothing(name, &base.replace("\"right\"", "\"left\""));
+    // Turning right before ever reaching the stop sign (frames 1-3), no sign after.
+    let before = r#"
+        category(1, "REGULAR_VEHICLE"). category(9, "STOP_SIGN").
+        turning(1, 1, "right"). turning(1, 2, "right"). turning(1, 3, "right").
+        at_stop_sign(1, 9, 10).
+    "#;
+    nothing(name, before);
+    // A bicyclist at the sign and turning is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BICYCLIST"));
+}
+
+#[test]
+fn vehicle_turning_right_with_pedestrian_in_front() {
+    let name = "vehicle_turning_right_with_pedestrian_in_front";
+    // A car turning right at frame 8 with a pedestrian 6 m ahead, 1 m outside its side.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN").
+        turning(1, 8, "right").
+        direction(1, 2, 8, "forward", 6.0, 1.0).
+    "#;
+    finds(name, base, &[(1, 8)], &[(1, 2, 8)]);
+    // The pedestrian is behind the car.
+    nothing(name, &swap(base, "\"forward\"", "\"backward\""));
+    // Too far ahead (12 m).
+    nothing(name, &swap(base, "6.0, 1.0", "12.0, 1.0"));
+    // Ahead but well off the car's path (4 m outside its side).
+    nothing(name, &swap(base, "6.0, 1.0", "6.0, 4.0"));
+    // The car is turning left.
+    nothing(name, &swap(base, "\"right\"", "\"left\""));
+    // A traffic cone in front is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"CONSTRUCTION_CONE\")",
+        ),
+    );
+}
+
+#[test]
+fn vehicle_turning_left_while_pedestrian_crosses_at_crosswalk() {
+    let name = "vehicle_turning_left_while_pedestrian_crosses_at_crosswalk";
+    // A car turning left at frame 30 while a pedestrian on a crosswalk (box overlapping it)
+    // crosses in front of it.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN").
+        turning(1, 30, "left").
+        crossing(1, 2, 30, "forward").
+        at_crosswalk(2, 30, 0.0).
+    "#;
+    finds(name, base, &[(1, 30)], &[(1, 2, 30)]);
+    // The pedestrian crosses 4 m away from any crosswalk (jaywalking).
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(2, 30, 0.0)", "at_crosswalk(2, 30, 4.0)"),
+    );
+    // The car turns right.
+    nothing(name, &swap(base, "\"left\"", "\"right\""));
+    // The pedestrian passes behind the car, not in front of it.
+    nothing(name, &swap(base, "\"forward\"", "\"backward\""));
+    // A cyclist on the crosswalk is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"BICYCLIST\")",
+        ),
+    );
+}
+
+// ---- intersections ----------------------------------------------------------------------------
+
+#[test]
+fn any_object_within_5_meters_of_an_intersection() {
+    let name = "any_object_within_5_meters_of_an_intersection";
+    // A pedestrian 4 m from an intersection (frame 1), a car on it (frame 1), a cone 7 m away;
+    // the ego on it too.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). near_intersection(0, 1, 0.0).
+        category(1, "PEDESTRIAN"). near_intersection(1, 1, 4.0).
+        category(2, "REGULAR_VEHICLE"). near_intersection(2, 1, 0.0).
+        category(3, "CONSTRUCTION_CONE"). near_intersection(3, 1, 7.0).
+    "#;
+    finds(name, base, &[(1, 1), (2, 1)], &[]);
+    // The pedestrian 5.5 m away.
+    finds(
+        name,
+        &swap(
+            base,
+            "near_intersection(1, 1, 4.0)",
+            "near_intersection(1, 1, 5.5)",
+        ),
+        &[(2, 1)],
+        &[],
+    );
+}
+
+#[test]
+fn bicycle_on_intersection() {
+    let name = "bicycle_on_intersection";
+    // A bicyclist and a parked bicycle on an intersection at frame 4, a car too.
+    let base = r#"
+        category(1, "BICYCLIST"). on_intersection(1, 4).
+        category(2, "BICYCLE"). on_intersection(2, 4).
+        category(3, "REGULAR_VEHICLE"). on_intersection(3, 4).
+    "#;
+    finds(name, base, &[(1, 4), (2, 4)], &[]);
+    // A motorcyclist is not a bicycle.
+    finds(
+        name,
+        &swap(base, "BICYCLIST", "MOTORCYCLIST"),
+        &[(2, 4)],
+        &[],
+    );
+}
+
+#[test]
+fn school_bus_on_intersection() {
+    let name = "school_bus_on_intersection";
+    // A school bus on an intersection at frame 2 (not at frame 3); a city bus on it.
+    let base = r#"
+        category(1, "SCHOOL_BUS"). on_intersection(1, 2). present(1, 3).
+        category(2, "BUS"). on_intersection(2, 2).
+    "#;
+    finds(name, base, &[(1, 2)], &[]);
+    // The school bus waits before the intersection.
+    nothing(name, &swap(base, "on_intersection(1, 2).", ""));
+}
+
+// ---- stop signs -------------------------------------------------------------------------------
+
+#[test]
+fn active_vehicle_at_stop_sign() {
+    let name = "active_vehicle_at_stop_sign";
+    // A car in stop sign 9's lane, facing it, at frames 3-4; it drives on later.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(9, "STOP_SIGN").
+        at_stop_sign(1, 9, 3). at_stop_sign(1, 9, 4).
+    "#;
+    finds(name, base, &[(1, 3), (1, 4)], &[(1, 9, 3), (1, 9, 4)]);
+    // A car parked at the sign for the whole log is not active.
+    nothing(name, &format!("{base} stationary(1)."));
+    // A bicyclist at the sign is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BICYCLIST"));
+}
+
+#[test]
+fn pedestrian_near_stop_sign() {
+    let name = "pedestrian_near_stop_sign";
+    // A pedestrian 3 m from a stop sign's box at frame 6, 8 m at frame 7.
+    let base = r#"
+        category(1, "PEDESTRIAN"). category(9, "STOP_SIGN").
+        near(1, 9, 6, 3.0). near(1, 9, 7, 8.0).
+    "#;
+    finds(name, base, &[(1, 6)], &[(1, 9, 6)]);
+    // 5.5 m away at frame 6 too.
+    nothing(
+        name,
+        &swap(base, "near(1, 9, 6, 3.0)", "near(1, 9, 6, 5.5)"),
+    );
+    // Next to a sign that is not a stop sign.
+    nothing(name, &swap(base, "STOP_SIGN", "SIGN"));
+}
+
+#[test]
+fn vehicle_stopped_at_a_stop_sign() {
+    let name = "vehicle_stopped_at_a_stop_sign";
+    // A car at stop sign 9 at frames 10-12: arriving (3 m/s), stopped (0.1 m/s), leaving
+    // (0.6 m/s).
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(9, "STOP_SIGN").
+        at_stop_sign(1, 9, 10). at_stop_sign(1, 9, 11). at_stop_sign(1, 9, 12).
+        speed(1, 10, 3.0). speed(1, 11, 0.1). speed(1, 12, 0.6).
+    "#;
+    finds(name, base, &[(1, 11)], &[(1, 9, 11)]);
+    // Stopped at frame 11 but elsewhere, not at the sign.
+    nothing(name, &swap(base, "at_stop_sign(1, 9, 11).", ""));
+    // Rolling through at 0.6 m/s.
+    nothing(name, &swap(base, "speed(1, 11, 0.1)", "speed(1, 11, 0.6)"));
+}
+
+// ---- lanes ------------------------------------------------------------------------------------
+
+#[test]
+fn bicyclist_riding_in_vehicle_lane() {
+    let name = "bicyclist_riding_in_vehicle_lane";
+    // Lane 100 is a vehicle lane, lane 200 a bike lane. A bicyclist rides at 4 m/s in lane
+    // 100 at frame 1 and in lane 200 at frame 2.
+    let base = r#"
+        lane_type(100, "VEHICLE"). lane_type(200, "BIKE").
+        category(1, "BICYCLIST").
+        in_lane(1, 1, 100). speed(1, 1, 4.0).
+        in_lane(1, 2, 200). speed(1, 2, 4.0).
+    "#;
+    finds(name, base, &[(1, 1)], &[]);
+    // Standing with the bike (0.2 m/s) in the vehicle lane: not riding.
+    nothing(name, &swap(base, "speed(1, 1, 4.0)", "speed(1, 1, 0.2)"));
+    // A car in the vehicle lane is not a bicyclist.
+    nothing(name, &swap(base, "BICYCLIST", "REGULAR_VEHICLE"));
+}
+
+#[test]
+fn stationary_vehicle_blocking_bike_lane() {
+    let name = "stationary_vehicle_blocking_bike_lane";
+    // A delivery truck standing (0.1 m/s) in bike lane 200 at frame 5, driving (6 m/s) in
+    // it at frame 6; a car standing in vehicle lane 100 at frame 5.
+    let base = r#"
+        lane_type(100, "VEHICLE"). lane_type(200, "BIKE").
+        category(1, "BOX_TRUCK"). in_lane(1, 5, 200). speed(1, 5, 0.1).
+        in_lane(1, 6, 200). speed(1, 6, 6.0).
+        category(2, "REGULAR_VEHICLE"). in_lane(2, 5, 100). speed(2, 5, 0.0).
+    "#;
+    finds(name, base, &[(1, 5)], &[]);
+    // Moving slowly (0.6 m/s) through the bike lane is not standing in it.
+    nothing(name, &swap(base, "speed(1, 5, 0.1)", "speed(1, 5, 0.6)"));
+    // A bicyclist standing in the bike lane is not a vehicle blocking it.
+    nothing(name, &swap(base, "BOX_TRUCK", "BICYCLIST"));
+}
+
+#[test]
+fn car_driving_in_bus_lane() {
+    let name = "car_driving_in_bus_lane";
+    // A car at 8 m/s in bus lane 300 at frame 1, in vehicle lane 100 at frame 2.
+    let base = r#"
+        lane_type(100, "VEHICLE"). lane_type(300, "BUS").
+        category(1, "REGULAR_VEHICLE").
+        in_lane(1, 1, 300). speed(1, 1, 8.0). in_lane(1, 2, 100). speed(1, 2, 8.0).
+    "#;
+    finds(name, base, &[(1, 1)], &[]);
+    // Parked in the bus lane (0 m/s): not driving.
+    nothing(name, &swap(base, "speed(1, 1, 8.0)", "speed(1, 1, 0.0)"));
+    // A bus in the bus lane is not a car.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
+}
+
+#[test]
+fn bus_in_bus_lane() {
+    let name = "bus_in_bus_lane";
+    // A city bus in bus lane 300 at frame 1 and vehicle lane 100 at frame 2; a car in the bus
+    // lane at frame 1. (Like most of the library's bus programs, this one means the BUS
+    // category only; `bus_changing_lanes` and `bus_with_another_bus_in_its_lane` also count
+    // articulated and school buses.)
+    let base = r#"
+        lane_type(100, "VEHICLE"). lane_type(300, "BUS").
+        category(1, "BUS"). in_lane(1, 1, 300). in_lane(1, 2, 100).
+        category(2, "REGULAR_VEHICLE"). in_lane(2, 1, 300).
+    "#;
+    finds(name, base, &[(1, 1)], &[]);
+    // The bus lane is a bike lane instead.
+    nothing(name, &swap(base, "lane_type(300, \"BUS\")", "lane_type(300, \"BIKE\")"));
+    // The bus is in no lane at frame 1 (in a depot).
+    nothing(name, &swap(base, "in_lane(1, 1, 300).", ""));
+}
+
+#[test]
+fn bus_with_another_bus_in_its_lane() {
+    let name = "bus_with_another_bus_in_its_lane";
+    // A bus and an articulated bus in the same lane at frame 3 (each in the other's).
+    let base = r#"
+        category(1, "BUS"). category(2, "ARTICULATED_BUS").
+        same_lane(1, 2, 3). same_lane(2, 1, 3).
+    "#;
+    finds(name, base, &[(1, 3), (2, 3)], &[(1, 2, 3), (2, 1, 3)]);
+    // The other is a truck.
+    nothing(name, &swap(base, "ARTICULATED_BUS", "TRUCK"));
+    // One bus alone: `same_lane` of a bus with itself is not another bus.
+    nothing(name, r#"category(1, "BUS"). same_lane(1, 1, 3)."#);
+}
+
+#[test]
+fn truck_sharing_a_lane_with_another_truck() {
+    let name = "truck_sharing_a_lane_with_another_truck";
+    // A box truck and a tractor unit in one lane at frame 3.
+    let base = r#"
+        category(1, "BOX_TRUCK"). category(2, "TRUCK_CAB").
+        same_lane(1, 2, 3). same_lane(2, 1, 3).
+    "#;
+    finds(name, base, &[(1, 3), (2, 3)], &[(1, 2, 3), (2, 1, 3)]);
+    // The other is a bus.
+    nothing(name, &swap(base, "TRUCK_CAB", "BUS"));
+    // A truck alone.
+    nothing(name, r#"category(1, "TRUCK"). same_lane(1, 1, 3)."#);
 }
