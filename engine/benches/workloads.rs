@@ -1,18 +1,26 @@
-//! The same workloads three ways: the engine from rule text, hand-written datafrog, and Ascent.
-//! Every variant's tuple count is asserted equal before anything is timed.
+//! The same workloads three ways: the engine from rule text, hand-written datafrog, and Ascent,
+//! plus the engine with provenance on. Every variant's tuple counts are asserted equal before
+//! anything is timed.
+//!
+//! `SCENALOG_BENCH_PROFILE=NAME[,prov]` runs only the engine on workload `NAME` a few times and
+//! exits (for `valgrind --tool=callgrind`); otherwise the criterion suite runs.
 
 use std::collections::HashSet;
 
-use criterion::{criterion_group, criterion_main, Criterion};
-use datafrog::{Iteration, Relation};
-use scenalog_engine::{evaluate, Options};
+use criterion::{BenchmarkGroup, Criterion};
+use datafrog::{Iteration, Relation, RelationLeaper, ValueFilter};
+use scenalog_engine::{evaluate, Evaluation, Options};
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-/// Chain length for transitive closure (the issue's 2,000 gives ~2M tuples; see README).
-const CHAIN: u32 = 500;
+/// Chain length for transitive closure.
+const CHAIN: u32 = 2000;
 /// Random graph: nodes, edges.
 const GRAPH: (u32, usize) = (2000, 4000);
+/// Random tree for same-generation: nodes.
+const TREE: u32 = 2000;
+/// Spatio-temporal scene: objects, frames (10 Hz), lanes.
+const SCENE: (i32, i32, i32) = (100, 150, 8);
 
 fn lcg(seed: &mut u64) -> u32 {
     *seed = seed
@@ -41,15 +49,43 @@ fn random_graph(nodes: u32, edges: usize) -> Vec<(u32, u32)> {
     v
 }
 
-fn program(facts: &str, rules: &str) -> CheckedProgram {
-    let src = format!("{facts}{rules}");
+/// A random recursive tree as `(child, parent)`: node `i`'s parent is uniform among `0..i`.
+fn random_tree(nodes: u32) -> Vec<(u32, u32)> {
+    let mut seed = 7;
+    (1..nodes).map(|i| (i, lcg(&mut seed) % i)).collect()
+}
+
+/// Object positions `(object, frame, x in decimetres, lane)`: each object drives at its own
+/// speed on one lane and changes to a neighbouring lane once.
+fn scene() -> Vec<(i32, i32, i32, i32)> {
+    let (objects, frames, lanes) = SCENE;
+    let mut seed = 3;
+    let mut out = Vec::new();
+    for o in 0..objects {
+        let x0 = (lcg(&mut seed) % 3000) as i32;
+        let v = 8 + (lcg(&mut seed) % 5) as i32;
+        let lane = (lcg(&mut seed) % lanes as u32) as i32;
+        let switch = (lcg(&mut seed) % frames as u32) as i32;
+        let other = if lane == 0 { 1 } else { lane - 1 };
+        for t in 0..frames {
+            let l = if t < switch { lane } else { other };
+            out.push((o, t, x0 + v * t, l));
+        }
+    }
+    out
+}
+
+fn program(src: &str) -> CheckedProgram {
     let out = check(
-        &src,
+        src,
         &CheckOptions {
             require_referred: false,
         },
     );
-    out.program.expect("benchmark program checks")
+    match out.program {
+        Some(p) => p,
+        None => panic!("benchmark program does not check: {:?}", out.diagnostics),
+    }
 }
 
 fn facts(name: &str, edges: &[(u32, u32)]) -> String {
@@ -60,19 +96,25 @@ fn facts(name: &str, edges: &[(u32, u32)]) -> String {
     s
 }
 
-fn engine_count(p: &CheckedProgram, rel: &str) -> usize {
+fn engine_run(p: &CheckedProgram, provenance: bool) -> Evaluation {
     let mut provider = |r: &Request| -> Result<RelationData, String> { Err(r.name.clone()) };
     let opts = Options {
         max_tuples: 100_000_000,
         timeout: None,
-        ..Options::default()
+        provenance,
     };
-    evaluate(p, &mut provider, &opts)
-        .expect("evaluates")
-        .size(rel)
+    match evaluate(p, &mut provider, &opts) {
+        Ok(e) => e,
+        Err(e) => panic!("benchmark program fails: {e}"),
+    }
 }
 
-fn datafrog_tc(edges: &[(u32, u32)]) -> usize {
+fn engine_counts(p: &CheckedProgram, rels: &[&str], provenance: bool) -> Vec<usize> {
+    let e = engine_run(p, provenance);
+    rels.iter().map(|r| e.size(r)).collect()
+}
+
+fn datafrog_tc(edges: &[(u32, u32)]) -> Relation<(u32, u32)> {
     let mut it = Iteration::new();
     let edge_by_src: Relation<(u32, u32)> = edges.iter().copied().collect();
     let path = it.variable::<(u32, u32)>("path");
@@ -82,25 +124,104 @@ fn datafrog_tc(edges: &[(u32, u32)]) -> usize {
         path_by_dst.from_map(&path, |&(x, y)| (y, x));
         path.from_join(&path_by_dst, &edge_by_src, |_, &x, &z| (x, z));
     }
-    path.complete().len()
+    path.complete()
 }
 
 /// `keep(X, Y) :- path(X, Y), !blocked(Y).` over a closure, with our own antijoin by sorted lookup.
-fn datafrog_antijoin(edges: &[(u32, u32)], blocked: &[u32]) -> usize {
-    let mut it = Iteration::new();
-    let edge_by_src: Relation<(u32, u32)> = edges.iter().copied().collect();
-    let path = it.variable::<(u32, u32)>("path");
-    let path_by_dst = it.variable::<(u32, u32)>("path_by_dst");
-    path.extend(edges.iter().copied());
-    while it.changed() {
-        path_by_dst.from_map(&path, |&(x, y)| (y, x));
-        path.from_join(&path_by_dst, &edge_by_src, |_, &x, &z| (x, z));
-    }
-    let path = path.complete();
+fn datafrog_antijoin(edges: &[(u32, u32)], blocked: &[u32]) -> Vec<usize> {
+    let path = datafrog_tc(edges);
     let blocked: Relation<u32> = blocked.iter().copied().collect();
-    path.iter()
+    let keep: Relation<(u32, u32)> = path
+        .iter()
         .filter(|(_, y)| blocked.elements.binary_search(y).is_err())
-        .count()
+        .copied()
+        .collect();
+    vec![path.len(), keep.len()]
+}
+
+/// Same generation: `sg(X, Y) :- parent(X, P), parent(Y, P), X != Y.` and
+/// `sg(X, Y) :- parent(X, A), sg(A, B), parent(Y, B).`
+fn datafrog_sg(tree: &[(u32, u32)]) -> usize {
+    let parent_by_p: Relation<(u32, u32)> = tree.iter().map(|&(c, p)| (p, c)).collect();
+    let mut it = Iteration::new();
+    let sg = it.variable::<(u32, u32)>("sg");
+    let sg_b_x = it.variable::<(u32, u32)>("sg_b_x");
+    let base: Relation<(u32, u32)> =
+        Relation::from_join(&parent_by_p, &parent_by_p, |_, &x, &y| (x, y));
+    sg.extend(base.iter().copied().filter(|(x, y)| x != y));
+    while it.changed() {
+        // sg(A, B), parent(X, A) -> (B, X)
+        sg_b_x.from_join(&sg, &parent_by_p, |_, &b, &x| (b, x));
+        // (B, X), parent(Y, B) -> sg(X, Y)
+        sg.from_join(&sg_b_x, &parent_by_p, |_, &x, &y| (x, y));
+    }
+    sg.complete().len()
+}
+
+type Pos = (i32, i32, i32, i32);
+
+/// The spatio-temporal workload by hand: counts of near, follow, start, run, sustained, alone.
+fn datafrog_st(pos: &[Pos]) -> Vec<usize> {
+    let pos: Relation<Pos> = pos.iter().copied().collect();
+    let by_t: Relation<(i32, (i32, i32, i32))> =
+        Relation::from_map(&pos, |&(o, t, x, l)| (t, (o, x, l)));
+    let by_tl: Relation<((i32, i32), (i32, i32))> =
+        Relation::from_map(&pos, |&(o, t, x, l)| ((t, l), (o, x)));
+    let near: Relation<(i32, i32, i32)> = Relation::from_leapjoin(
+        &pos,
+        (
+            by_t.extend_with(|&(_, t, _, _)| t),
+            ValueFilter::from(|&(a, _, xa, la): &Pos, &(b, xb, lb): &(i32, i32, i32)| {
+                a != b && (xa - xb).abs() < 100 && (la - lb).abs() <= 1
+            }),
+        ),
+        |&(a, t, _, _), &(b, _, _)| (a, b, t),
+    );
+    let follow: Relation<(i32, i32, i32)> = Relation::from_leapjoin(
+        &pos,
+        (
+            by_tl.extend_with(|&(_, t, _, l)| (t, l)),
+            ValueFilter::from(|&(_, _, xa, _): &Pos, &(_, xb): &(i32, i32)| {
+                xb > xa && xb - xa < 300
+            }),
+        ),
+        |&(a, t, _, _), &(b, _)| (a, b, t),
+    );
+    let start: Relation<(i32, i32, i32)> = follow
+        .iter()
+        .filter(|&&(a, b, t)| follow.elements.binary_search(&(a, b, t - 1)).is_err())
+        .copied()
+        .collect();
+    let follow_keyed: Relation<((i32, i32, i32), ())> = Relation::from_map(&follow, |&k| (k, ()));
+    // run(A, B, S, T) kept as ((A, B, T + 1), S): keyed by the frame that extends it.
+    let mut it = Iteration::new();
+    let run = it.variable::<((i32, i32, i32), i32)>("run");
+    run.extend(start.iter().map(|&(a, b, s)| ((a, b, s + 1), s)));
+    while it.changed() {
+        run.from_join(&run, &follow_keyed, |&(a, b, u), &s, &()| {
+            ((a, b, u + 1), s)
+        });
+    }
+    let run = run.complete();
+    let sustained: Relation<(i32, i32, i32)> = run
+        .iter()
+        .filter(|&&((_, _, next), s)| next - 1 - s >= 20)
+        .map(|&((a, b, _), s)| (a, b, s))
+        .collect();
+    let has_near: Relation<(i32, i32)> = Relation::from_map(&near, |&(a, _, t)| (a, t));
+    let alone: Relation<(i32, i32)> = pos
+        .iter()
+        .map(|&(a, t, _, _)| (a, t))
+        .filter(|k| has_near.elements.binary_search(k).is_err())
+        .collect();
+    vec![
+        near.len(),
+        follow.len(),
+        start.len(),
+        run.len(),
+        sustained.len(),
+        alone.len(),
+    ]
 }
 
 ascent::ascent! {
@@ -122,6 +243,35 @@ ascent::ascent! {
     keep(x, y) <-- path(x, y), !blocked(y);
 }
 
+ascent::ascent! {
+    struct AscentSg;
+    relation parent(u32, u32);
+    relation sg(u32, u32);
+    sg(x, y) <-- parent(x, p), parent(y, p), if x != y;
+    sg(x, y) <-- parent(x, a), sg(a, b), parent(y, b);
+}
+
+ascent::ascent! {
+    struct AscentSt;
+    relation pos(i32, i32, i32, i32);
+    relation near(i32, i32, i32);
+    relation follow(i32, i32, i32);
+    relation start(i32, i32, i32);
+    relation run(i32, i32, i32, i32);
+    relation sustained(i32, i32, i32);
+    relation has_near(i32, i32);
+    relation alone(i32, i32);
+    near(a, b, t) <-- pos(a, t, xa, la), pos(b, t, xb, lb),
+        if a != b && (xa - xb).abs() < 100 && (la - lb).abs() <= 1;
+    follow(a, b, t) <-- pos(a, t, xa, l), pos(b, t, xb, l), if xb > xa && xb - xa < 300;
+    start(a, b, t) <-- follow(a, b, t), !follow(a, b, t - 1);
+    run(a, b, s, s) <-- start(a, b, s);
+    run(a, b, s, u) <-- run(a, b, s, t), let u = t + 1, follow(a, b, u);
+    sustained(a, b, s) <-- run(a, b, s, t), if t - s >= 20;
+    has_near(a, t) <-- near(a, _, t);
+    alone(a, t) <-- pos(a, t, _, _), !has_near(a, t);
+}
+
 fn ascent_tc(edges: &[(u32, u32)]) -> usize {
     let mut p = AscentTc {
         edge: edges.to_vec(),
@@ -131,70 +281,191 @@ fn ascent_tc(edges: &[(u32, u32)]) -> usize {
     p.path.len()
 }
 
-fn ascent_anti(edges: &[(u32, u32)], blocked: &[u32]) -> usize {
+fn ascent_anti(edges: &[(u32, u32)], blocked: &[u32]) -> Vec<usize> {
     let mut p = AscentAnti {
         edge: edges.to_vec(),
         blocked: blocked.iter().map(|&b| (b,)).collect(),
         ..Default::default()
     };
     p.run();
-    p.keep.len()
+    vec![p.path.len(), p.keep.len()]
 }
 
-const TC_RULES: &str = ".decl path(A: int, B: int)\npath(X, Y) :- edge(X, Y).\npath(X, Z) :- path(X, Y), edge(Y, Z).\n";
-
-fn bench_tc(c: &mut Criterion, name: &str, edges: &[(u32, u32)]) {
-    let p = program(&facts("edge", edges), TC_RULES);
-    let n = datafrog_tc(edges);
-    assert_eq!(engine_count(&p, "path"), n, "{name}: engine vs datafrog");
-    assert_eq!(ascent_tc(edges), n, "{name}: ascent vs datafrog");
-    eprintln!("{name}: {n} tuples");
-    let mut g = c.benchmark_group(name);
-    g.sample_size(10);
-    g.bench_function("engine", |b| b.iter(|| engine_count(&p, "path")));
-    g.bench_function("datafrog", |b| b.iter(|| datafrog_tc(edges)));
-    g.bench_function("ascent", |b| b.iter(|| ascent_tc(edges)));
-    g.finish();
+fn ascent_sg(tree: &[(u32, u32)]) -> usize {
+    let mut p = AscentSg {
+        parent: tree.to_vec(),
+        ..Default::default()
+    };
+    p.run();
+    p.sg.len()
 }
 
-fn workloads(c: &mut Criterion) {
-    bench_tc(c, "tc_chain", &chain(CHAIN));
-    bench_tc(c, "tc_random", &random_graph(GRAPH.0, GRAPH.1));
+fn ascent_st(pos: &[Pos]) -> Vec<usize> {
+    let mut p = AscentSt {
+        pos: pos.to_vec(),
+        ..Default::default()
+    };
+    p.run();
+    vec![
+        p.near.len(),
+        p.follow.len(),
+        p.start.len(),
+        p.run.len(),
+        p.sustained.len(),
+        p.alone.len(),
+    ]
+}
+
+const TC_RULES: &str = ".decl path(A: int, B: int)\npath(X, Y) :- edge(X, Y).\n\
+                        path(X, Z) :- path(X, Y), edge(Y, Z).\n";
+
+const SG_RULES: &str = ".decl sg(A: int, B: int)\n\
+                        sg(X, Y) :- parent(X, P), parent(Y, P), X != Y.\n\
+                        sg(X, Y) :- parent(X, A), sg(A, B), parent(Y, B).\n";
+
+const ST_RULES: &str = "\
+.decl close(A: int, B: int, T: int)
+close(A, B, T) :- pos(A, T, XA, LA), pos(B, T, XB, LB), A != B, abs(XA - XB) < 100, abs(LA - LB) <= 1.
+.decl behind(A: int, B: int, T: int)
+behind(A, B, T) :- pos(A, T, XA, L), pos(B, T, XB, L), XB > XA, XB - XA < 300.
+.decl run_start(A: int, B: int, T: int)
+run_start(A, B, T) :- behind(A, B, T), !behind(A, B, T - 1).
+.decl run(A: int, B: int, S: int, T: int)
+run(A, B, S, S) :- run_start(A, B, S).
+run(A, B, S, U) :- run(A, B, S, T), U = T + 1, behind(A, B, U).
+.decl sustained(A: int, B: int, S: int)
+sustained(A, B, S) :- run(A, B, S, T), T - S >= 20.
+.decl has_close(A: int, T: int)
+has_close(A, T) :- close(A, _, T).
+.decl alone(A: int, T: int)
+alone(A, T) :- pos(A, T, _, _), !has_close(A, T).
+";
+
+const ST_RELS: [&str; 6] = ["close", "behind", "run_start", "run", "sustained", "alone"];
+
+/// One workload: its program, the relations counted, and the two hand-written variants.
+struct Workload {
+    name: &'static str,
+    program: CheckedProgram,
+    rels: Vec<&'static str>,
+    datafrog: Box<dyn Fn() -> Vec<usize>>,
+    ascent: Box<dyn Fn() -> Vec<usize>>,
+}
+
+fn workloads() -> Vec<Workload> {
+    let mut out = Vec::new();
+    for (name, edges) in [
+        ("tc_chain", chain(CHAIN)),
+        ("tc_random", random_graph(GRAPH.0, GRAPH.1)),
+    ] {
+        let e1 = edges.clone();
+        let e2 = edges.clone();
+        out.push(Workload {
+            name,
+            program: program(&format!("{}{TC_RULES}", facts("edge", &edges))),
+            rels: vec!["path"],
+            datafrog: Box::new(move || vec![datafrog_tc(&e1).len()]),
+            ascent: Box::new(move || vec![ascent_tc(&e2)]),
+        });
+    }
 
     let edges = random_graph(GRAPH.0, GRAPH.1);
     let blocked: Vec<u32> = (0..GRAPH.0).filter(|i| i % 3 == 0).collect();
-    let mut f = facts("edge", &edges);
-    f.push_str(".decl blocked(A: int)\n");
+    let mut src = facts("edge", &edges);
+    src.push_str(".decl blocked(A: int)\n");
     for b in &blocked {
-        f.push_str(&format!("blocked({b}).\n"));
+        src.push_str(&format!("blocked({b}).\n"));
     }
-    let p = program(
-        &f,
-        &format!("{TC_RULES}.decl keep(A: int, B: int)\nkeep(X, Y) :- path(X, Y), !blocked(Y).\n"),
-    );
-    let n = datafrog_antijoin(&edges, &blocked);
-    assert_eq!(engine_count(&p, "keep"), n, "antijoin: engine vs datafrog");
-    assert_eq!(
-        ascent_anti(&edges, &blocked),
-        n,
-        "antijoin: ascent vs datafrog"
-    );
-    eprintln!("antijoin: {n} tuples");
-    let mut g = c.benchmark_group("antijoin");
-    g.sample_size(10);
-    g.bench_function("engine", |b| b.iter(|| engine_count(&p, "keep")));
-    g.bench_function("datafrog", |b| {
-        b.iter(|| datafrog_antijoin(&edges, &blocked))
+    src.push_str(TC_RULES);
+    src.push_str(".decl keep(A: int, B: int)\nkeep(X, Y) :- path(X, Y), !blocked(Y).\n");
+    let (e1, b1, e2, b2) = (edges.clone(), blocked.clone(), edges, blocked);
+    out.push(Workload {
+        name: "antijoin",
+        program: program(&src),
+        rels: vec!["path", "keep"],
+        datafrog: Box::new(move || datafrog_antijoin(&e1, &b1)),
+        ascent: Box::new(move || ascent_anti(&e2, &b2)),
     });
-    g.bench_function("ascent", |b| b.iter(|| ascent_anti(&edges, &blocked)));
-    g.finish();
+
+    let tree = random_tree(TREE);
+    let (t1, t2) = (tree.clone(), tree.clone());
+    out.push(Workload {
+        name: "same_generation",
+        program: program(&format!("{}{SG_RULES}", facts("parent", &tree))),
+        rels: vec!["sg"],
+        datafrog: Box::new(move || vec![datafrog_sg(&t1)]),
+        ascent: Box::new(move || vec![ascent_sg(&t2)]),
+    });
+
+    let pos = scene();
+    let mut src = String::from(".decl pos(O: int, T: int, X: int, L: int)\n");
+    for (o, t, x, l) in &pos {
+        src.push_str(&format!("pos({o}, {t}, {x}, {l}).\n"));
+    }
+    src.push_str(ST_RULES);
+    let (p1, p2) = (pos.clone(), pos);
+    out.push(Workload {
+        name: "spatio_temporal",
+        program: program(&src),
+        rels: ST_RELS.to_vec(),
+        datafrog: Box::new(move || datafrog_st(&p1)),
+        ascent: Box::new(move || ascent_st(&p2)),
+    });
+    out
 }
 
-criterion_group! {
-    name = benches;
-    config = Criterion::default()
-        .warm_up_time(std::time::Duration::from_millis(500))
-        .measurement_time(std::time::Duration::from_secs(3));
-    targets = workloads
+fn bench(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, w: &Workload) {
+    g.bench_function("engine", |b| {
+        b.iter(|| engine_counts(&w.program, &w.rels, false))
+    });
+    g.bench_function("engine_provenance", |b| {
+        b.iter(|| engine_counts(&w.program, &w.rels, true))
+    });
+    g.bench_function("datafrog", |b| b.iter(|| (w.datafrog)()));
+    g.bench_function("ascent", |b| b.iter(|| (w.ascent)()));
 }
-criterion_main!(benches);
+
+fn main() {
+    let all = workloads();
+    if let Ok(spec) = std::env::var("SCENALOG_BENCH_PROFILE") {
+        let (name, prov) = match spec.split_once(',') {
+            Some((n, p)) => (n.to_string(), p == "prov"),
+            None => (spec, false),
+        };
+        let Some(w) = all.iter().find(|w| w.name == name) else {
+            panic!("no workload {name}");
+        };
+        for _ in 0..3 {
+            eprintln!("{name}: {:?}", engine_counts(&w.program, &w.rels, prov));
+        }
+        return;
+    }
+    for w in &all {
+        let want = (w.datafrog)();
+        assert_eq!(
+            engine_counts(&w.program, &w.rels, false),
+            want,
+            "{}: engine vs datafrog",
+            w.name
+        );
+        assert_eq!(
+            engine_counts(&w.program, &w.rels, true),
+            want,
+            "{}: engine with provenance vs datafrog",
+            w.name
+        );
+        assert_eq!((w.ascent)(), want, "{}: ascent vs datafrog", w.name);
+        eprintln!("{}: {:?} tuples ({:?})", w.name, want, w.rels);
+    }
+    let mut c = Criterion::default()
+        .warm_up_time(std::time::Duration::from_millis(300))
+        .measurement_time(std::time::Duration::from_secs(2))
+        .sample_size(10)
+        .configure_from_args();
+    for w in &all {
+        let mut g = c.benchmark_group(w.name);
+        bench(&mut g, w);
+        g.finish();
+    }
+    c.final_summary();
+}

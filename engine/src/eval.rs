@@ -11,7 +11,7 @@ use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::plan::{apply, body_lits, plan, Arg, AtomStep, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
-use crate::value::{cmp_value, decode_value, encode_value, Row, Symbols, WIDTH};
+use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
 use crate::{EngineError, Evaluation, Options};
 
 /// Evaluates a checked program. Catalog relations the program uses are asked from `provider`,
@@ -50,7 +50,7 @@ pub fn evaluate(
         complete.insert(name.clone(), rows);
     }
     let clauses = &program.program.clauses;
-    let mut stamps: HashMap<String, HashMap<Row, Stamp>> = HashMap::new();
+    let mut stamps: HashMap<String, FastMap<Row, Stamp>> = HashMap::new();
     let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
         let mut plans: Vec<(String, Plan)> = Vec::new();
@@ -117,14 +117,17 @@ pub fn evaluate(
                     .collect()
             })
             .collect();
-        decoded.sort_by(|a, b| {
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| cmp_value(x, y))
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        decoded.dedup();
+        // Rows are sorted and distinct in encoded order, which is value order for every type
+        // but strings (interned in order of first sight): only those need sorting again.
+        if info.types.contains(&ColType::Str) {
+            decoded.sort_by(|a, b| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| cmp_value(x, y))
+                    .find(|o| o.is_ne())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            });
+        }
         out.relations.insert(name.clone(), decoded);
         if info.kind == PredKind::Derived {
             out.derived.push(name.clone());
@@ -322,10 +325,40 @@ struct Rel {
     delta: Vec<Row>,
 }
 
+/// The part of a sorted slice after every element less than `x` (exponential then binary
+/// search from the front, so a sorted sequence of probes walks each batch once).
+fn skip_below<'a>(mut s: &'a [Row], x: &Row) -> &'a [Row] {
+    if s.first().is_some_and(|f| f < x) {
+        let mut step = 1;
+        while step < s.len() && s[step] < *x {
+            s = &s[step..];
+            step <<= 1;
+        }
+        step >>= 1;
+        while step > 0 {
+            if step < s.len() && s[step] < *x {
+                s = &s[step..];
+            }
+            step >>= 1;
+        }
+        s = &s[1..];
+    }
+    s
+}
+
 impl Rel {
-    fn contains(&self, r: &Row) -> bool {
-        self.delta.binary_search(r).is_ok()
-            || self.batches.iter().any(|b| b.binary_search(r).is_ok())
+    /// Removes from `fresh` (sorted, distinct) the rows already in the relation.
+    fn remove_known(&self, fresh: &mut Vec<Row>) {
+        for b in self.batches.iter().chain(std::iter::once(&self.delta)) {
+            let mut s = b.as_slice();
+            fresh.retain(|x| {
+                s = skip_below(s, x);
+                s.first() != Some(x)
+            });
+            if fresh.is_empty() {
+                return;
+            }
+        }
     }
 
     fn len(&self) -> usize {
@@ -405,7 +438,7 @@ fn run_stratum(
     loop {
         let mut new: BTreeMap<&str, Vec<Row>> = BTreeMap::new();
         // With provenance: the first plan that produced each row this round.
-        let mut origin: HashMap<(&str, Row), usize> = HashMap::new();
+        let mut origin: FastMap<(&str, Row), usize> = FastMap::default();
         for (pi, (head, p)) in plans.iter().enumerate() {
             let check = Limits {
                 relation: head,
@@ -467,7 +500,7 @@ fn run_stratum(
             let mut fresh = new.remove(name).unwrap_or_default();
             fresh.sort_unstable();
             fresh.dedup();
-            fresh.retain(|r| !rel.contains(r));
+            rel.remove_known(&mut fresh);
             if rel.len() + fresh.len() > options.max_tuples {
                 return Err(EngineError::TooManyTuples {
                     relation: name.to_string(),
@@ -554,11 +587,11 @@ pub(crate) fn run_plan(
 }
 
 /// The positions (part, index) in a source of the tuples an atom selects, by join key.
-pub(crate) type Index = HashMap<Row, Vec<(u32, u32)>>;
+pub(crate) type Index = FastMap<Row, Vec<(u32, u32)>>;
 
 /// Builds the join index of one atom over its source's parts.
 pub(crate) fn build_index(step: &AtomStep, parts: &[&[Row]]) -> Index {
-    let mut index: Index = HashMap::new();
+    let mut index: Index = FastMap::default();
     for (pi, part) in parts.iter().enumerate() {
         for (i, t) in part.iter().enumerate() {
             if step.selects(t) {

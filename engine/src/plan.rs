@@ -11,7 +11,7 @@ use scenalog_rules::ast::{
 };
 
 use crate::eval::{run_plan, Limits};
-use crate::value::{decode, encode, Row, Symbols, V, WIDTH};
+use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
 use crate::EngineError;
 
 /// A compiled expression over a binding row.
@@ -100,7 +100,7 @@ pub enum Filter {
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
-    Neg(Vec<KeyArg>, Arc<HashSet<Row>>),
+    Neg(Vec<KeyArg>, Arc<FastSet<Row>>),
     /// An aggregate run for each binding (see [`Correlated`]), writing its result to a slot.
     AggRun(Arc<Correlated>, usize),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
@@ -109,7 +109,7 @@ pub enum Filter {
         /// Slots of the grouping variables.
         group: Vec<usize>,
         /// Encoded result by group key.
-        table: Arc<HashMap<Row, u64>>,
+        table: Arc<FastMap<Row, u64>>,
         /// Result of an empty group.
         default: Option<u64>,
         /// Slot receiving the result.
@@ -631,7 +631,7 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             _ => KeyArg::Val(compile_expr(e, scope, ctx.symbols)?, ty),
         });
     }
-    let mut set = HashSet::new();
+    let mut set = FastSet::default();
     if let Some(rows) = ctx.complete.get(&a.pred) {
         for r in rows {
             let mut k = *r;
@@ -686,8 +686,8 @@ fn fold(
     last: usize,
     target_ty: ColType,
     out_ty: ColType,
-) -> HashMap<Row, u64> {
-    let mut acc: HashMap<Row, V> = HashMap::new();
+) -> FastMap<Row, u64> {
+    let mut acc: FastMap<Row, V> = FastMap::default();
     for r in rows {
         let mut key = [0u64; WIDTH];
         key[..g_len].copy_from_slice(&r[..g_len]);
@@ -728,7 +728,7 @@ fn fold(
             }
         }
     }
-    let mut table = HashMap::new();
+    let mut table = FastMap::default();
     for (k, v) in acc {
         if let Some(u) = encode(v, out_ty) {
             table.insert(k, u);
@@ -743,7 +743,7 @@ fn fold(
 pub struct Correlated {
     plan: Plan,
     /// Per inner atom: its selected tuples by join key.
-    indexes: Vec<HashMap<Row, Vec<Row>>>,
+    indexes: Vec<FastMap<Row, Vec<Row>>>,
     group: Vec<usize>,
     func: AggFunc,
     g_len: usize,
@@ -917,7 +917,7 @@ fn correlated(
         .atoms
         .iter()
         .map(|step| {
-            let mut index: HashMap<Row, Vec<Row>> = HashMap::new();
+            let mut index: FastMap<Row, Vec<Row>> = FastMap::default();
             for t in ctx.complete.get(&step.pred).unwrap_or(&empty) {
                 if step.selects(t) {
                     index.entry(step.tuple_key(t)).or_default().push(*t);

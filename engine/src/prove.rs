@@ -8,7 +8,7 @@ use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
 use crate::plan::{apply, Plan};
-use crate::value::{decode_value, encode, Row, Symbols, V, WIDTH};
+use crate::value::{decode_value, encode, FastMap, Row, Symbols, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,7 +52,7 @@ pub(crate) struct Provenance {
     pub(crate) types: HashMap<String, Vec<ColType>>,
     pub(crate) symbols: Symbols,
     pub(crate) rels: HashMap<String, Vec<Row>>,
-    pub(crate) stamps: HashMap<String, HashMap<Row, Stamp>>,
+    pub(crate) stamps: HashMap<String, FastMap<Row, Stamp>>,
     /// Per stratum: head, plan and clause index.
     pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
     /// Per stratum: the predicates it defines.

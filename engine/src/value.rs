@@ -2,7 +2,8 @@
 //! per-evaluation symbol table.
 
 use std::cmp::Ordering;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Arc;
 
 use scenalog_facts::catalog::ColType;
@@ -17,6 +18,63 @@ pub const WIDTH: usize = 12;
 pub type Row = [u64; WIDTH];
 
 const SIGN: u64 = 1 << 63;
+
+/// A fast, non-cryptographic hasher for rows of encoded values (multiply-rotate per 64-bit
+/// word). The keys are the engine's own encoded tuples, not attacker-controlled input, so
+/// SipHash's flood resistance buys nothing and costs most of a join's lookup time.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct RowHasher(u64);
+
+impl RowHasher {
+    #[inline]
+    fn add(&mut self, w: u64) {
+        self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for RowHasher {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for c in &mut chunks {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(c);
+            self.add(u64::from_le_bytes(w));
+        }
+        let rest = chunks.remainder();
+        if !rest.is_empty() {
+            let mut w = [0u8; 8];
+            w[..rest.len()].copy_from_slice(rest);
+            self.add(u64::from_le_bytes(w));
+        }
+    }
+
+    #[inline]
+    fn write_u64(&mut self, i: u64) {
+        self.add(i);
+    }
+
+    #[inline]
+    fn write_u32(&mut self, i: u32) {
+        self.add(u64::from(i));
+    }
+
+    #[inline]
+    fn write_usize(&mut self, i: usize) {
+        self.add(i as u64);
+    }
+
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A hash map keyed by rows (or other small keys), hashed with [`RowHasher`].
+pub type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<RowHasher>>;
+
+/// A hash set of rows, hashed with [`RowHasher`].
+pub type FastSet<K> = HashSet<K, BuildHasherDefault<RowHasher>>;
 
 /// Encodes an integer so that unsigned order equals signed order.
 pub fn enc_int(i: i64) -> u64 {
