@@ -934,7 +934,10 @@ fn bus_in_bus_lane() {
     "#;
     finds(name, base, &[(1, 1)], &[]);
     // The bus lane is a bike lane instead.
-    nothing(name, &swap(base, "lane_type(300, \"BUS\")", "lane_type(300, \"BIKE\")"));
+    nothing(
+        name,
+        &swap(base, "lane_type(300, \"BUS\")", "lane_type(300, \"BIKE\")"),
+    );
     // The bus is in no lane at frame 1 (in a depot).
     nothing(name, &swap(base, "in_lane(1, 1, 300).", ""));
 }
@@ -967,4 +970,307 @@ fn truck_sharing_a_lane_with_another_truck() {
     nothing(name, &swap(base, "TRUCK_CAB", "BUS"));
     // A truck alone.
     nothing(name, r#"category(1, "TRUCK"). same_lane(1, 1, 3)."#);
+}
+
+// ---- directions around the ego ----------------------------------------------------------------
+
+#[test]
+fn bus_within_5_meters_to_either_side_of_ego_vehicle() {
+    let name = "bus_within_5_meters_to_either_side_of_ego_vehicle";
+    // At frame 2 a bus 3 m to the ego's left and another 4 m to its right.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "BUS"). category(2, "BUS").
+        direction(0, 1, 2, "left", 3.0, 0.0).
+        direction(0, 2, 2, "right", 4.0, 1.0).
+    "#;
+    finds(name, base, &[(1, 2), (2, 2)], &[(1, 0, 2), (2, 0, 2)]);
+    // The right bus 6 m away.
+    finds(
+        name,
+        &swap(base, "\"right\", 4.0", "\"right\", 6.0"),
+        &[(1, 2)],
+        &[(1, 0, 2)],
+    );
+    // The left bus is ahead instead, 3 m from the ego's front.
+    finds(
+        name,
+        &swap(base, "\"left\", 3.0", "\"forward\", 3.0"),
+        &[(2, 2)],
+        &[(2, 0, 2)],
+    );
+    // A truck beside the ego is not a bus.
+    finds(
+        name,
+        &swap(base, "category(1, \"BUS\")", "category(1, \"TRUCK\")"),
+        &[(2, 2)],
+        &[(2, 0, 2)],
+    );
+}
+
+#[test]
+fn motorcycle_or_pedestrian_within_5_meters_to_the_right_of_the_ego_vehicle() {
+    let name = "motorcycle_or_pedestrian_within_5_meters_to_the_right_of_the_ego_vehicle";
+    // At frame 1, a motorcycle 4 m and a pedestrian 2 m to the ego's right.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "MOTORCYCLE"). category(2, "PEDESTRIAN").
+        direction(0, 1, 1, "right", 4.0, 0.0).
+        direction(0, 2, 1, "right", 2.0, 3.0).
+    "#;
+    finds(name, base, &[(1, 1), (2, 1)], &[(1, 0, 1), (2, 0, 1)]);
+    // The motorcycle 5.5 m away.
+    finds(
+        name,
+        &swap(base, "4.0, 0.0", "5.5, 0.0"),
+        &[(2, 1)],
+        &[(2, 0, 1)],
+    );
+    // The pedestrian on the ego's left.
+    finds(
+        name,
+        &swap(base, "\"right\", 2.0", "\"left\", 2.0"),
+        &[(1, 1)],
+        &[(1, 0, 1)],
+    );
+    // A bicyclist is neither.
+    finds(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"BICYCLIST\")",
+        ),
+        &[(1, 1)],
+        &[(1, 0, 1)],
+    );
+}
+
+#[test]
+fn moving_bicycle_directly_to_the_left_of_the_ego_vehicle() {
+    let name = "moving_bicycle_directly_to_the_left_of_the_ego_vehicle";
+    // At frame 3 a bicyclist riding at 5 m/s 1.5 m to the ego's left, alongside it (its
+    // centre between the ego's ends, Lat 0).
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "BICYCLIST").
+        direction(0, 1, 3, "left", 1.5, 0.0). speed(1, 3, 5.0).
+    "#;
+    finds(name, base, &[(1, 3)], &[(1, 0, 3)]);
+    // Left of the ego but 2 m past its front end: not directly beside it.
+    nothing(name, &swap(base, "1.5, 0.0", "1.5, 2.0"));
+    // A parked bicycle there (0 m/s).
+    nothing(name, &swap(base, "speed(1, 3, 5.0)", "speed(1, 3, 0.0)"));
+    // On the ego's right.
+    nothing(name, &swap(base, "\"left\"", "\"right\""));
+}
+
+#[test]
+fn moving_pedestrian_within_3_meters_to_the_left_of_ego_vehicle() {
+    let name = "moving_pedestrian_within_3_meters_to_the_left_of_ego_vehicle";
+    // At frame 4 a pedestrian walking (1.4 m/s) 2 m to the ego's left.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN").
+        direction(0, 1, 4, "left", 2.0, 1.0). speed(1, 4, 1.4).
+    "#;
+    finds(name, base, &[(1, 4)], &[(1, 0, 4)]);
+    // 3.5 m away.
+    nothing(name, &swap(base, "2.0, 1.0", "3.5, 1.0"));
+    // Standing still (0.1 m/s).
+    nothing(name, &swap(base, "speed(1, 4, 1.4)", "speed(1, 4, 0.1)"));
+    // On the right.
+    nothing(name, &swap(base, "\"left\"", "\"right\""));
+}
+
+#[test]
+fn semi_truck_within_30_meters_ahead_of_ego_vehicle() {
+    let name = "semi_truck_within_30_meters_ahead_of_ego_vehicle";
+    // At frame 5 a tractor unit 20 m ahead of the ego in its lane (Lat 0).
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "TRUCK_CAB").
+        direction(0, 1, 5, "forward", 20.0, 0.0).
+    "#;
+    finds(name, base, &[(1, 5)], &[(1, 0, 5)]);
+    // 31 m ahead.
+    nothing(name, &swap(base, "20.0, 0.0", "31.0, 0.0"));
+    // 20 m behind.
+    nothing(name, &swap(base, "\"forward\"", "\"backward\""));
+    // A box truck is not a semi.
+    nothing(name, &swap(base, "TRUCK_CAB", "BOX_TRUCK"));
+}
+
+#[test]
+fn vehicle_facing_the_ego_vehicle() {
+    let name = "vehicle_facing_the_ego_vehicle";
+    // At frame 6 an oncoming car 20 m away with the ego on its forward axis.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE").
+        facing(1, 0, 6). heading_relative(1, 0, 6, "opposite"). near(1, 0, 6, 20.0).
+    "#;
+    finds(name, base, &[(1, 6)], &[(1, 0, 6)]);
+    // Oncoming but pointed past the ego (the ego off its forward axis).
+    nothing(name, &swap(base, "facing(1, 0, 6).", ""));
+    // Facing the ego from 35 m.
+    nothing(
+        name,
+        &swap(base, "near(1, 0, 6, 20.0)", "near(1, 0, 6, 35.0)"),
+    );
+    // A pedestrian facing the ego is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+}
+
+#[test]
+fn ego_with_vehicles_on_both_sides() {
+    let name = "ego_with_vehicles_on_both_sides";
+    // At frame 7 a car 1 m to the ego's left and a bus 2 m to its right.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "BUS").
+        direction(0, 1, 7, "left", 1.0, 0.0).
+        direction(0, 2, 7, "right", 2.0, 0.0).
+    "#;
+    finds(name, base, &[(0, 7)], &[(0, 1, 7), (0, 2, 7)]);
+    // The bus is a lane and more away (3.5 m).
+    nothing(name, &swap(base, "\"right\", 2.0", "\"right\", 3.5"));
+    // Both vehicles on the left.
+    nothing(name, &swap(base, "\"right\", 2.0", "\"left\", 2.0"));
+    // A pedestrian on the right is not a vehicle.
+    nothing(
+        name,
+        &swap(base, "category(2, \"BUS\")", "category(2, \"PEDESTRIAN\")"),
+    );
+}
+
+#[test]
+fn two_active_vehicles_behind_ego() {
+    let name = "two_active_vehicles_behind_ego";
+    // At frame 8 two driving cars behind the ego, 5 m and 12 m from its box.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
+        direction(0, 1, 8, "backward", 5.0, 0.0).
+        direction(0, 2, 8, "backward", 12.0, 0.0).
+    "#;
+    finds(name, base, &[(1, 8), (2, 8)], &[(1, 0, 8), (2, 0, 8)]);
+    // The second 16 m behind: only one within 15 m.
+    nothing(name, &swap(base, "12.0", "16.0"));
+    // The second is parked for the whole log: not active.
+    nothing(name, &format!("{base} stationary(2)."));
+    // The second is ahead of the ego.
+    nothing(name, &swap(base, "\"backward\", 12.0", "\"forward\", 12.0"));
+}
+
+#[test]
+fn pedestrians_over_30_meters_away() {
+    let name = "pedestrians_over_30_meters_away";
+    // At frame 9 a pedestrian 35 m from the ego, another 10 m from it.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN").
+        near(0, 1, 9, 35.0). near(0, 2, 9, 10.0).
+    "#;
+    finds(name, base, &[(1, 9)], &[]);
+    // The first at 29 m.
+    nothing(name, &swap(base, "35.0", "29.0"));
+    // A car 35 m away is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(1, \"PEDESTRIAN\")",
+            "category(1, \"REGULAR_VEHICLE\")",
+        ),
+    );
+}
+
+// ---- groups -----------------------------------------------------------------------------------
+
+#[test]
+fn group_of_pedestrians_ahead_of_the_ego_vehicle() {
+    let name = "group_of_pedestrians_ahead_of_the_ego_vehicle";
+    // At frame 10 three pedestrians 15-18 m ahead of the ego, within 3 m of its path.
+    let base = r#"
+        category(0, "EGO_VEHICLE").
+        category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN"). category(3, "PEDESTRIAN").
+        direction(0, 1, 10, "forward", 15.0, 0.0).
+        direction(0, 2, 10, "forward", 16.0, 1.0).
+        direction(0, 3, 10, "forward", 18.0, 3.0).
+    "#;
+    finds(name, base, &[(1, 10), (2, 10), (3, 10)], &[]);
+    // The third is behind the ego: two are not a group.
+    nothing(name, &swap(base, "\"forward\", 18.0", "\"backward\", 18.0"));
+    // The third is 8 m off to the side, on the sidewalk.
+    nothing(name, &swap(base, "18.0, 3.0", "18.0, 8.0"));
+    // The third is a dog.
+    nothing(
+        name,
+        &swap(base, "category(3, \"PEDESTRIAN\")", "category(3, \"DOG\")"),
+    );
+}
+
+#[test]
+fn multiple_motorcycles_ahead_of_the_ego_vehicle() {
+    let name = "multiple_motorcycles_ahead_of_the_ego_vehicle";
+    // At frame 11 two motorcycles ahead of the ego (10 m and 40 m).
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "MOTORCYCLE"). category(2, "MOTORCYCLE").
+        direction(0, 1, 11, "forward", 10.0, 0.0).
+        direction(0, 2, 11, "forward", 40.0, 2.0).
+    "#;
+    finds(name, base, &[(1, 11), (2, 11)], &[]);
+    // The second behind the ego.
+    nothing(name, &swap(base, "\"forward\", 40.0", "\"backward\", 40.0"));
+    // The second is a bicycle.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"MOTORCYCLE\")",
+            "category(2, \"BICYCLE\")",
+        ),
+    );
+}
+
+#[test]
+fn multiple_pedestrians_near_a_vehicle() {
+    let name = "multiple_pedestrians_near_a_vehicle";
+    // At frame 12 two pedestrians 1 m and 4 m from a parked car's box.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN"). category(3, "PEDESTRIAN").
+        near(1, 2, 12, 1.0). near(1, 3, 12, 4.0). near(2, 3, 12, 2.5).
+    "#;
+    finds(name, base, &[(1, 12)], &[(1, 2, 12), (1, 3, 12)]);
+    // The second 5.5 m away: one pedestrian is not multiple.
+    nothing(
+        name,
+        &swap(base, "near(1, 3, 12, 4.0)", "near(1, 3, 12, 5.5)"),
+    );
+    // The "vehicle" is a bollard.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BOLLARD"));
+}
+
+#[test]
+fn multiple_pedestrians_crossing_ahead() {
+    let name = "multiple_pedestrians_crossing_ahead";
+    // At frame 13 two pedestrians crossing in front of the ego.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN").
+        crossing(0, 1, 13, "forward"). crossing(0, 2, 13, "forward").
+    "#;
+    finds(name, base, &[(1, 13), (2, 13)], &[]);
+    // The second crosses behind the ego.
+    nothing(
+        name,
+        &swap(
+            base,
+            "crossing(0, 2, 13, \"forward\")",
+            "crossing(0, 2, 13, \"backward\")",
+        ),
+    );
+    // The second crosses a frame later: never two at once.
+    nothing(
+        name,
+        &swap(base, "crossing(0, 2, 13,", "crossing(0, 2, 14,"),
+    );
+    // Two pedestrians crossing in front of another car, not the ego.
+    let other = r#"
+        category(0, "EGO_VEHICLE"). category(5, "REGULAR_VEHICLE").
+        category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN").
+        crossing(5, 1, 13, "forward"). crossing(5, 2, 13, "forward").
+    "#;
+    nothing(name, other);
 }
