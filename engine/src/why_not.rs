@@ -1398,11 +1398,17 @@ impl<'a> Cx<'a> {
     /// The tuples of `rel` agreeing with one of the patterns on the most determined columns,
     /// then nearest on the differing numeric ones.
     fn near_misses(&self, rel: &str, patterns: &[Vec<Option<Value>>]) -> Vec<NearMiss> {
-        let mut scored: Vec<(usize, f64, NearMiss)> = Vec::new();
+        // Score: columns that agree (more first; on a tie, agreeing on earlier columns first,
+        // as the subject of a relation comes first), then distance on the numeric ones.
+        type Score = (usize, u64, f64);
+        let better =
+            |a: &Score, b: &Score| b.0.cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.total_cmp(&b.2));
+        let mut scored: Vec<(Score, NearMiss)> = Vec::new();
         for t in self.tuples(rel) {
-            let mut best: Option<(usize, f64, Vec<usize>)> = None;
+            let mut best: Option<(Score, Vec<usize>)> = None;
             for p in patterns {
                 let mut same = 0;
+                let mut mask = 0u64;
                 let mut dist = 0.0;
                 let mut differs = Vec::new();
                 for (c, want) in p.iter().enumerate() {
@@ -1411,6 +1417,7 @@ impl<'a> Cx<'a> {
                     };
                     if key(w) == key(x) {
                         same += 1;
+                        mask |= 1u64 << (63 - c.min(63));
                     } else {
                         differs.push(c);
                         if let (Some(a), Some(b)) = (num(w), num(x)) {
@@ -1421,17 +1428,17 @@ impl<'a> Cx<'a> {
                 if same == 0 && !differs.is_empty() {
                     continue;
                 }
-                let better = best
+                let score = (same, mask, dist);
+                if best
                     .as_ref()
-                    .is_none_or(|(s, d, _)| same > *s || (same == *s && dist < *d));
-                if better {
-                    best = Some((same, dist, differs));
+                    .is_none_or(|(b, _)| better(&score, b) == Ordering::Less)
+                {
+                    best = Some((score, differs));
                 }
             }
-            if let Some((same, dist, differs)) = best {
+            if let Some((score, differs)) = best {
                 scored.push((
-                    same,
-                    dist,
+                    score,
                     NearMiss {
                         tuple: t.clone(),
                         differs,
@@ -1439,13 +1446,9 @@ impl<'a> Cx<'a> {
                 ));
             }
         }
-        scored.sort_by(|a, b| {
-            b.0.cmp(&a.0)
-                .then(a.1.total_cmp(&b.1))
-                .then_with(|| cmp_tuple(&a.2.tuple, &b.2.tuple))
-        });
+        scored.sort_by(|a, b| better(&a.0, &b.0).then_with(|| cmp_tuple(&a.1.tuple, &b.1.tuple)));
         scored.truncate(MAX_EXAMPLES);
-        scored.into_iter().map(|(_, _, m)| m).collect()
+        scored.into_iter().map(|(_, m)| m).collect()
     }
 
     /// The grounded derivation of a proof node.

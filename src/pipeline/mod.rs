@@ -4,6 +4,7 @@
 //! engine's provider; [`tracks`] turns derived tuples into labelled output frames (dilation, 2 Hz
 //! frames, the related-object range); [`predictions`] turns those into the evaluation's data model.
 
+pub mod explain;
 pub mod predictions;
 pub mod scenario;
 pub mod tracks;

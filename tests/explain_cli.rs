@@ -1,0 +1,349 @@
+//! End-to-end tests of `scenalog explain` on the real logs: a known match of the stopped-car
+//! scenario (the track found from the log's own `speed`, `category` and `stationary` facts),
+//! known non-matches with `--why-not` (a moving vehicle fails `S < 0.5` with its speed; a
+//! parked one fails `!stationary(V)`), the JSON shape, and bad inputs.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value as Json;
+
+const STOPPED: &str = "rules/library/stopped_car.dl";
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn logs() -> Vec<PathBuf> {
+    let dir = root().join("tests/data/av2/logs");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Runs the binary: (exit code, stdout, stderr).
+fn scenalog(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run scenalog: {e}"));
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn relation(log: &Path, name: &str) -> Vec<Vec<Json>> {
+    let log = log.to_string_lossy();
+    let (code, out, err) = scenalog(&["facts", &log, "--relation", name, "--json"]);
+    assert_eq!(code, 0, "facts --relation {name}: {err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("facts json for {name}: {e}"))
+}
+
+/// What the tests need to know about one log, from `scenalog facts`.
+struct LogFacts {
+    /// Speed per (uuid, frame).
+    speed: BTreeMap<String, BTreeMap<u64, f64>>,
+    vehicles: BTreeSet<String>,
+    stationary: BTreeSet<String>,
+    seconds: BTreeMap<u64, f64>,
+}
+
+fn facts(log: &Path) -> LogFacts {
+    let mut speed: BTreeMap<String, BTreeMap<u64, f64>> = BTreeMap::new();
+    for r in relation(log, "speed") {
+        if let (Some(u), Some(t), Some(s)) = (r[0].as_str(), r[1].as_u64(), r[2].as_f64()) {
+            speed.entry(u.to_string()).or_default().insert(t, s);
+        }
+    }
+    let vehicles = relation(log, "category")
+        .into_iter()
+        .filter(|r| r[1].as_str() == Some("VEHICLE"))
+        .filter_map(|r| r[0].as_str().map(str::to_string))
+        .collect();
+    let stationary = relation(log, "stationary")
+        .into_iter()
+        .filter_map(|r| r[0].as_str().map(str::to_string))
+        .collect();
+    let seconds = relation(log, "seconds")
+        .into_iter()
+        .filter_map(|r| Some((r[0].as_u64()?, r[1].as_f64()?)))
+        .collect();
+    LogFacts {
+        speed,
+        vehicles,
+        stationary,
+        seconds,
+    }
+}
+
+/// A stopped car by the rule's own definition, computed from the log's facts: a vehicle, not
+/// stationary, with some frame of speed < 0.5. Returns (log, uuid, frames where it is stopped).
+fn stopped_car() -> (PathBuf, LogFacts, String, Vec<(u64, f64)>) {
+    for log in logs() {
+        let f = facts(&log);
+        let found = f
+            .vehicles
+            .iter()
+            .filter(|u| !f.stationary.contains(*u) && !u.starts_with("ego"))
+            .find_map(|u| {
+                let slow: Vec<(u64, f64)> = f
+                    .speed
+                    .get(u)?
+                    .iter()
+                    .filter(|(_, s)| **s < 0.5)
+                    .map(|(t, s)| (*t, *s))
+                    .collect();
+                (!slow.is_empty()).then(|| (u.clone(), slow))
+            });
+        if let Some((u, slow)) = found {
+            return (log, f, u, slow);
+        }
+    }
+    panic!("no log has a stopped car by the facts");
+}
+
+/// A moving vehicle: not stationary and never below 0.5 m/s.
+fn moving_car(f: &LogFacts) -> Option<(String, u64, f64)> {
+    f.vehicles
+        .iter()
+        .filter(|u| !f.stationary.contains(*u))
+        .find_map(|u| {
+            let sp = f.speed.get(u)?;
+            if sp.values().all(|s| *s >= 0.5) && sp.len() > 10 {
+                let (t, s) = sp.iter().nth(sp.len() / 2)?;
+                Some((u.clone(), *t, *s))
+            } else {
+                None
+            }
+        })
+}
+
+#[test]
+fn a_stopped_car_is_explained_with_its_speed_and_rule() {
+    let (log, f, uuid, slow) = stopped_car();
+    let log_s = log.to_string_lossy();
+    let (code, out, err) = scenalog(&[
+        "explain", "--rules", STOPPED, "--log", &log_s, "--track", &uuid,
+    ]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    // Referred exactly in the frames where its speed is below 0.5.
+    assert!(
+        out.contains(&format!("is referred in {} frame", slow.len())),
+        "{out}"
+    );
+    let (first, s) = slow[0];
+    let secs = f.seconds[&first];
+    assert!(
+        out.contains(&format!("at {secs:.1} s (frame {first}): referred")),
+        "{out}"
+    );
+    assert!(out.contains("Proof:"), "{out}");
+    // The rule's source text, each body fact with its value.
+    assert!(out.contains("S < 0.5,"), "{out}");
+    assert!(out.contains(&uuid[..8]), "{out}");
+    assert!(
+        out.contains(&format!("speed = {s:.2} m/s < 0.5")),
+        "expected speed {s:.2}:\n{out}"
+    );
+    assert!(out.contains("is a") || out.contains("\"VEHICLE\""), "{out}");
+    assert!(out.contains("no stationary("), "{out}");
+    assert!(!out.contains("Why not:"), "{out}");
+}
+
+#[test]
+fn a_moving_car_is_not_referred_and_why_not_names_the_comparison_and_its_value() {
+    let (log, f, _, _) = stopped_car();
+    let Some((uuid, t, s)) = moving_car(&f) else {
+        panic!("no moving vehicle in {}", log.display());
+    };
+    let log_s = log.to_string_lossy();
+    let at = format!("{}", f.seconds[&t]);
+    let (code, out, err) = scenalog(&[
+        "explain",
+        "--rules",
+        STOPPED,
+        "--log",
+        &log_s,
+        "--track",
+        &uuid,
+        "--at",
+        &at,
+        "--why-not",
+    ]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    assert!(out.contains("is referred in 0 frames"), "{out}");
+    assert!(out.contains(&format!("(frame {t}): NOT referred")), "{out}");
+    assert!(out.contains("Why not:"), "{out}");
+    assert!(out.contains("✗ S < 0.5"), "{out}");
+    assert!(
+        out.contains(&format!("speed = {s:.2} m/s < 0.5  is false")),
+        "expected speed {s:.2}:\n{out}"
+    );
+    // The literals before it held.
+    assert!(out.contains("✓ category(V, \"VEHICLE\")"), "{out}");
+    assert!(out.contains("✓ speed(V, T, S)"), "{out}");
+}
+
+#[test]
+fn a_parked_car_fails_the_negation_and_the_report_is_automatic() {
+    let mut checked = 0;
+    for log in logs() {
+        let f = facts(&log);
+        let Some(uuid) = f.vehicles.iter().find(|u| {
+            f.stationary.contains(*u)
+                && f.speed
+                    .get(*u)
+                    .is_some_and(|s| s.values().any(|v| *v < 0.5))
+        }) else {
+            continue;
+        };
+        let log_s = log.to_string_lossy();
+        // No --why-not: not referred anywhere, so the report comes by itself.
+        let (code, out, err) = scenalog(&[
+            "explain", "--rules", STOPPED, "--log", &log_s, "--track", uuid,
+        ]);
+        assert_eq!(code, 0, "{err}\n{out}");
+        assert!(out.contains("Why not:"), "{out}");
+        assert!(out.contains("is referred in 0 frames"), "{out}");
+        // At a slow frame the comparison holds and the negation fails.
+        let (t, _) = f.speed[uuid]
+            .iter()
+            .find(|(_, v)| **v < 0.5)
+            .map(|(t, v)| (*t, *v))
+            .unwrap_or_default();
+        let at = format!("{}", f.seconds[&t]);
+        let (code, out, err) = scenalog(&[
+            "explain", "--rules", STOPPED, "--log", &log_s, "--track", uuid, "--at", &at,
+        ]);
+        assert_eq!(code, 0, "{err}\n{out}");
+        assert!(out.contains("✓ S < 0.5"), "{out}");
+        assert!(out.contains("✗ !stationary(V)"), "{out}");
+        assert!(out.contains(&format!("stationary({}", &uuid[..8])), "{out}");
+        assert!(out.contains(") holds"), "{out}");
+        checked += 1;
+        break;
+    }
+    assert_eq!(checked, 1, "no log has a parked vehicle with a slow frame");
+}
+
+#[test]
+fn json_output_has_the_documented_shape() {
+    let (log, f, uuid, slow) = stopped_car();
+    let log_s = log.to_string_lossy();
+    let (code, out, err) = scenalog(&[
+        "explain", "--rules", STOPPED, "--log", &log_s, "--track", &uuid, "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: Json = serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"));
+    assert_eq!(j["track"]["uuid"], Json::from(uuid.clone()));
+    assert_eq!(j["referred"], Json::Bool(true));
+    assert_eq!(j["referred_frames"], Json::from(slow.len()));
+    assert_eq!(j["frame"], Json::from(slow[0].0));
+    assert!((j["seconds"].as_f64().unwrap_or(f64::NAN) - f.seconds[&slow[0].0]).abs() < 1e-9);
+    assert_eq!(j["why_not"], Json::Null);
+    let proof = &j["proof"];
+    assert_eq!(proof["relation"], "referred");
+    assert!(proof["clause"]["text"]
+        .as_str()
+        .is_some_and(|t| t.starts_with("referred(V, T)")));
+    assert_eq!(proof["binding"]["V"], Json::from(uuid.clone()));
+    let kinds: Vec<&str> = proof["body"]
+        .as_array()
+        .map(|b| b.iter().filter_map(|x| x["kind"].as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(kinds, vec!["atom", "atom", "comparison", "absent"]);
+    let cmp = &proof["body"][2];
+    assert_eq!(cmp["op"], "<");
+    assert!((cmp["lhs"].as_f64().unwrap_or(f64::NAN) - slow[0].1).abs() < 1e-9);
+    assert_eq!(cmp["rhs"].as_f64(), Some(0.5));
+    assert_eq!(proof["body"][1]["relation"], "speed");
+    assert_eq!(proof["body"][3]["relation"], "stationary");
+
+    // A non-match: the why-not report with the failing literal and its values.
+    let Some((moving, t, s)) = moving_car(&f) else {
+        panic!("no moving vehicle");
+    };
+    let at = format!("{}", f.seconds[&t]);
+    let (code, out, err) = scenalog(&[
+        "explain", "--rules", STOPPED, "--log", &log_s, "--track", &moving, "--at", &at, "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: Json = serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"));
+    assert_eq!(j["referred"], Json::Bool(false));
+    assert_eq!(j["proof"], Json::Null);
+    let w = &j["why_not"];
+    assert_eq!(w["holds"], Json::Bool(false));
+    assert_eq!(w["closest_clause"], Json::from(0));
+    let a = &w["attempts"][0];
+    assert_eq!(a["outcome"], "fails");
+    assert_eq!(a["failure"]["literal"], "S < 0.5");
+    assert_eq!(a["failure"]["step"]["body"], Json::from(2));
+    assert_eq!(a["failure"]["binding_count"], Json::from(1));
+    let r = &a["failure"]["reason"];
+    assert_eq!(r["kind"], "comparison");
+    assert!((r["values"][0]["lhs"].as_f64().unwrap_or(f64::NAN) - s).abs() < 1e-9);
+    assert_eq!(r["values"][0]["binding"]["T"], Json::from(t));
+}
+
+#[test]
+fn bad_inputs_are_clear_errors() {
+    let log = logs().remove(0);
+    let log_s = log.to_string_lossy();
+    // Unknown track.
+    let (code, _, err) = scenalog(&[
+        "explain",
+        "--rules",
+        STOPPED,
+        "--log",
+        &log_s,
+        "--track",
+        "not-a-track",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no track `not-a-track`"), "{err}");
+    // Unreadable log.
+    let (code, _, err) = scenalog(&[
+        "explain",
+        "--rules",
+        STOPPED,
+        "--log",
+        "tests/data/no-such-log",
+        "--track",
+        "x",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no-such-log"), "{err}");
+    // Unreadable rules.
+    let (code, _, err) = scenalog(&[
+        "explain",
+        "--rules",
+        "rules/library/no_such.dl",
+        "--log",
+        &log_s,
+        "--track",
+        "x",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no_such.dl"), "{err}");
+    // Rules that do not check: diagnostics, exit 1.
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let bad = dir.path().join("bad.dl");
+    std::fs::write(&bad, "referred(V, T) :- speeed(V, T, S), S < 0.5.\n")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let bad_s = bad.to_string_lossy();
+    let (code, _, err) = scenalog(&[
+        "explain", "--rules", &bad_s, "--log", &log_s, "--track", "x",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("does not check"), "{err}");
+    assert!(err.contains("speeed"), "{err}");
+    assert!(err.contains("speed"), "{err}");
+}
