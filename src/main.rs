@@ -4,8 +4,6 @@
 //! [`cli`] and returns the process exit code.
 
 mod cli;
-// Not called by a subcommand until `mine` lands; its unit tests run meanwhile.
-#[allow(dead_code)]
 mod pipeline;
 
 use std::process::ExitCode;

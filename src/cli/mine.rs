@@ -1,12 +1,502 @@
-//! `scenalog mine`: not built yet.
+//! `scenalog mine`: run scenario programs over logs and write predictions.
+//!
+//! `scenalog mine --rules R.dl… --logs DIR… --out OUT` evaluates every program on every log and
+//! writes, under OUT: `predictions.pkl` (the official pickle, keyed `(log_id, description)`),
+//! `predictions.feather` (the long Arrow table), `matches.json` (one entry per referred track),
+//! `summary.json`, `scored.pkl` with `--gt` (the scored sequences' predictions), and one pickle and record per (log, program) pair under `pairs/` (what
+//! `--resume` skips). `--rules` takes files or directories of `.dl` files; `--logs` takes log
+//! directories or directories of logs.
+//!
+//! With no `--rules`, `--logs` or `--descriptions`, it mines the scenario library over the
+//! bundled sample logs and scores the two fixture prompts against the bundled ground truth.
+//!
+//! `--eval-timestamps FILE.json` gives the output timestamps per log as a JSON object
+//! `{"<log_id>": [timestamp_ns, …], …}` (each an annotation timestamp of that log); logs not in
+//! it get every 5th frame from the first, which are the benchmark's 2 Hz timestamps.
+//!
+//! `--gt G` scores the run at the end: only sequences in both the predictions and G are scored;
+//! predictions for (log, description) pairs not in G are written but not scored, and G's
+//! sequences the run did not mine are left out of the score.
+//!
+//! Exit code: 0 when everything ran; 1 when a log, program, synthesis or the scoring failed
+//! (the rest ran and was written); 2 when the arguments or inputs are unusable.
 
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// Arguments of `scenalog mine` (none yet).
+use crate::cli::synth::{synth_config, SynthArgs};
+use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
+use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions};
+use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
+use crate::pipeline::summary::{render_score, render_table, score};
+
+/// Where the workspace was built: the bundled library and sample logs are found from here.
+const MANIFEST_DIR: &str = env!("CARGO_MANIFEST_DIR");
+/// The scenario library, relative to the workspace.
+const LIBRARY: &str = "rules/library";
+/// The bundled sample logs, relative to the workspace.
+const SAMPLE_LOGS: &str = "tests/data/av2/logs";
+/// The bundled ground truth of the sample logs, relative to the workspace.
+const SAMPLE_GT: &str = "tests/data/av2/eval/combined_gt_dev.pkl";
+
+/// Arguments of `scenalog mine` (boxed: they are many, and the command enum stays small).
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The options.
+    #[command(flatten)]
+    pub options: Box<Options>,
+}
+
+/// What `scenalog mine` prints on standard output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// A table of matched tracks per program and log, the time per stage, the score.
+    Text,
+    /// One JSON object: `matches` (log, description, track, category, first/last second),
+    /// `failures`, and `score` (null without ground truth).
+    Json,
+}
+
+/// The options of `scenalog mine`.
+#[derive(clap::Args)]
+pub struct Options {
+    /// Rule programs: `.dl` files, or directories of them [default: the scenario library].
+    #[arg(long, value_name = "R.dl", num_args = 1..)]
+    pub rules: Vec<PathBuf>,
+    /// Log directories, or directories of logs [default: the bundled sample logs].
+    #[arg(long, value_name = "DIR", num_args = 1..)]
+    pub logs: Vec<PathBuf>,
+    /// Output directory [default: target/scenalog-mine in the workspace, else ./scenalog-out].
+    #[arg(long, value_name = "OUT")]
+    pub out: Option<PathBuf>,
+    /// Also synthesize a program for every description of this file (one a line) with the LLM,
+    /// into OUT/programs (reusing programs already there and the completion cache), and mine them.
+    #[arg(long, value_name = "FILE.txt")]
+    pub descriptions: Option<PathBuf>,
+    /// Skip (log, program) pairs an earlier run into the same OUT already wrote.
+    #[arg(long)]
+    pub resume: bool,
+    /// Worker threads [default: one per core].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// What to print on standard output.
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub format: Format,
+    /// Ground truth (official pickle or Arrow table) to score the run against at the end.
+    #[arg(long, value_name = "G")]
+    pub gt: Option<PathBuf>,
+    /// Output timestamps per log: a JSON object {"<log_id>": [timestamp_ns, …]}.
+    #[arg(long, value_name = "FILE.json")]
+    pub eval_timestamps: Option<PathBuf>,
+    /// Most tuples one relation may hold in one evaluation (a program past it fails on that log).
+    #[arg(long, default_value_t = 20_000_000, value_name = "N")]
+    pub max_tuples: usize,
+    /// Descriptions synthesized at once with `--descriptions`.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub jobs: u32,
+    /// The LLM server, the cache and the prompt (for `--descriptions`).
+    #[command(flatten, next_help_heading = "Synthesis (--descriptions)")]
+    pub synth: SynthArgs,
+}
+
+fn fail(message: impl std::fmt::Display) -> ExitCode {
+    eprintln!("scenalog mine: {message}");
+    ExitCode::from(2)
+}
+
+/// A bundled path: under the workspace the binary was built from, else under the current
+/// directory; `None` when neither exists.
+fn bundled(rel: &str) -> Option<PathBuf> {
+    [Path::new(MANIFEST_DIR).join(rel), PathBuf::from(rel)]
+        .into_iter()
+        .find(|p| p.exists())
+}
+
+fn default_out() -> PathBuf {
+    let target = Path::new(MANIFEST_DIR).join("target");
+    if target.is_dir() {
+        target.join("scenalog-mine")
+    } else {
+        PathBuf::from("scenalog-out")
+    }
+}
 
 /// Runs the subcommand.
-pub fn run(_args: Args) -> ExitCode {
-    super::not_built("mine")
+pub fn run(args: Args) -> ExitCode {
+    let args = *args.options;
+    let no_arguments = args.rules.is_empty() && args.logs.is_empty() && args.descriptions.is_none();
+    let rule_paths = if args.rules.is_empty() && args.descriptions.is_none() {
+        match bundled(LIBRARY) {
+            Some(p) => vec![p],
+            None => {
+                return fail(format!(
+                    "no --rules given and the scenario library is not in {MANIFEST_DIR}/{LIBRARY} \
+                     or ./{LIBRARY}"
+                ))
+            }
+        }
+    } else {
+        args.rules.clone()
+    };
+    let log_paths = if args.logs.is_empty() {
+        match bundled(SAMPLE_LOGS) {
+            Some(p) => vec![p],
+            None => {
+                return fail(format!(
+                    "no --logs given and the sample logs are not in {MANIFEST_DIR}/{SAMPLE_LOGS} \
+                     or ./{SAMPLE_LOGS}"
+                ))
+            }
+        }
+    } else {
+        args.logs.clone()
+    };
+    let gt_path = match &args.gt {
+        Some(g) => Some(g.clone()),
+        None if no_arguments => bundled(SAMPLE_GT),
+        None => None,
+    };
+    let out = args.out.clone().unwrap_or_else(default_out);
+
+    // Everything that can make the run pointless is checked before it starts.
+    let gt = match &gt_path {
+        Some(p) => match scenalog_eval::read_any(p) {
+            Ok(g) => Some(g),
+            Err(e) => return fail(format!("--gt: {e}")),
+        },
+        None => None,
+    };
+    let timestamps = match &args.eval_timestamps {
+        Some(p) => match read_timestamps(p) {
+            Ok(t) => t,
+            Err(e) => return fail(e),
+        },
+        None => BTreeMap::new(),
+    };
+    let files = match rule_files(&rule_paths) {
+        Ok(f) => f,
+        Err(e) => return fail(e),
+    };
+    let (logs, mut log_problems) = match log_dirs(&log_paths) {
+        Ok(l) => l,
+        Err(e) => return fail(e),
+    };
+    if let Err(e) = std::fs::create_dir_all(&out) {
+        return fail(format!(
+            "cannot create output directory `{}`: {e}",
+            out.display()
+        ));
+    }
+
+    let mut failures: Vec<String> = Vec::new();
+    let mut loaded: Vec<(PathBuf, Result<Scenario, String>)> = files
+        .into_iter()
+        .map(|p| {
+            let s = load_scenario(&p);
+            (p, s)
+        })
+        .collect();
+    if let Some(file) = &args.descriptions {
+        match synthesize(file, &out, &args) {
+            Ok((programs, problems)) => {
+                loaded.extend(programs.into_iter().map(|(p, s)| {
+                    let s = scenario_from_source(&p, s);
+                    (p, s)
+                }));
+                failures.extend(problems);
+            }
+            Err(e) => return fail(e),
+        }
+    }
+    let scenarios = scenarios_of(loaded, &mut failures);
+    for f in &failures {
+        eprintln!("scenalog mine: {f}");
+    }
+    for f in &log_problems {
+        eprintln!("scenalog mine: {f}");
+    }
+    if scenarios.is_empty() {
+        eprintln!("scenalog mine: no program to mine");
+        return ExitCode::from(if failures.is_empty() { 2 } else { 1 });
+    }
+    if logs.is_empty() {
+        eprintln!("scenalog mine: no log to mine");
+        return ExitCode::from(if log_problems.is_empty() { 2 } else { 1 });
+    }
+    let options = RunOptions {
+        out: out.clone(),
+        resume: args.resume,
+        timestamps,
+        threads: args.threads.map(|n| n as usize),
+        engine: scenalog_engine::Options {
+            max_tuples: args.max_tuples,
+            ..scenalog_engine::Options::default()
+        },
+        progress: true,
+    };
+    let report = match run_mining(&scenarios, &logs, &options) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    for (log, e) in &report.log_failures {
+        log_problems.push(format!("log {log}: {e}"));
+    }
+    let pair_failures: Vec<String> = report
+        .pairs
+        .iter()
+        .filter_map(|p| match &p.status {
+            PairStatus::Failed(e) => Some(e.clone()),
+            _ => None,
+        })
+        .collect();
+
+    let mut score_failed = false;
+    let scored = match &gt {
+        Some(g) => match score(&report.submission, g) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("scenalog mine: scoring against the ground truth failed: {e}");
+                score_failed = true;
+                None
+            }
+        },
+        None => None,
+    };
+    if let Some(s) = &scored {
+        let path = out.join(SCORED_PICKLE);
+        if let Err(e) = scenalog_eval::write_pickle(&s.predictions, &path) {
+            eprintln!("scenalog mine: {e}");
+            score_failed = true;
+        }
+    }
+    let any_failed = report.any_failed() || !failures.is_empty() || !log_problems.is_empty();
+
+    match args.format {
+        Format::Json => {
+            let all_failures: Vec<&String> = failures
+                .iter()
+                .chain(&log_problems)
+                .chain(&pair_failures)
+                .collect();
+            let value = serde_json::json!({
+                "out": out.display().to_string(),
+                "matches": report.matches(),
+                "failures": all_failures,
+                "score": scored.as_ref().map(|s| s.report.to_json()),
+            });
+            match serde_json::to_string_pretty(&value) {
+                Ok(text) => println!("{text}"),
+                Err(e) => return fail(format!("cannot encode the summary: {e}")),
+            }
+        }
+        Format::Text => {
+            print!("{}", render_table(&report, &scenarios, &logs));
+            let all = failures.len() + log_problems.len() + pair_failures.len();
+            if all > 0 {
+                println!("\nfailed ({all}):");
+                for f in failures.iter().chain(&log_problems).chain(&pair_failures) {
+                    println!("  {}", f.lines().next().unwrap_or_default());
+                }
+            }
+            println!(
+                "\nwrote {} (official pickle), {} (Arrow table), {} (one entry per matched \
+                 track) in {}",
+                PREDICTIONS_PICKLE,
+                PREDICTIONS_TABLE,
+                MATCHES_JSON,
+                out.display()
+            );
+            match (&scored, &gt_path) {
+                (Some(s), Some(p)) => {
+                    println!("\nscore against {}:", p.display());
+                    print!("{}", render_score(s));
+                }
+                (None, Some(p)) if !score_failed => println!(
+                    "\nnot scored: no mined (log, description) pair is in {}",
+                    p.display()
+                ),
+                _ => {}
+            }
+        }
+    }
+    if any_failed || score_failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Reads `--eval-timestamps`: `{"<log_id>": [timestamp_ns, …], …}`.
+fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("--eval-timestamps: cannot read `{}`: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| {
+        format!(
+            "--eval-timestamps: `{}`: expected a JSON object mapping log ids to lists of \
+             integer timestamps (ns): {e}",
+            path.display()
+        )
+    })
+}
+
+/// The `.dl` files named by `--rules`: files as given, directories' `.dl` files sorted by name.
+fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| format!("--rules: cannot read directory `{}`: {e}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "dl"))
+                .collect();
+            files.sort();
+            if files.is_empty() {
+                return Err(format!("--rules: no .dl file in `{}`", p.display()));
+            }
+            out.extend(files);
+        } else if p.is_file() {
+            out.push(p.clone());
+        } else {
+            return Err(format!("--rules: `{}` does not exist", p.display()));
+        }
+    }
+    Ok(out)
+}
+
+/// Whether a directory looks like one AV2 log (rather than a directory of logs).
+fn is_log_dir(p: &Path) -> bool {
+    p.join("city_SE3_egovehicle.feather").exists()
+        || p.join("annotations.feather").exists()
+        || p.join("annotations_with_ego.feather").exists()
+        || p.join("map").is_dir()
+}
+
+/// The logs named by `--logs` (a log directory, or a directory whose subdirectories are logs,
+/// sorted by name), and the duplicates left out (same log id twice).
+fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), String> {
+    let mut dirs = Vec::new();
+    for p in paths {
+        if !p.is_dir() {
+            return Err(format!("--logs: `{}` is not a directory", p.display()));
+        }
+        if is_log_dir(p) {
+            dirs.push(p.clone());
+            continue;
+        }
+        let mut subs: Vec<PathBuf> = std::fs::read_dir(p)
+            .map_err(|e| format!("--logs: cannot read directory `{}`: {e}", p.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|d| {
+                d.is_dir()
+                    && !d
+                        .file_name()
+                        .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+            })
+            .collect();
+        subs.sort();
+        if subs.is_empty() {
+            return Err(format!(
+                "--logs: `{}` is neither a log directory nor a directory of logs",
+                p.display()
+            ));
+        }
+        dirs.extend(subs);
+    }
+    let mut seen = BTreeSet::new();
+    let mut logs = Vec::new();
+    let mut problems = Vec::new();
+    for d in dirs {
+        let log = LogInput::new(d);
+        if seen.insert(log.log_id.clone()) {
+            logs.push(log);
+        } else {
+            problems.push(format!(
+                "log `{}`: a log with id {} is already in the run; left out",
+                log.dir.display(),
+                log.log_id
+            ));
+        }
+    }
+    Ok((logs, problems))
+}
+
+/// Checks every program; those that do not check, and those whose description another program
+/// already has (predictions are keyed by it), are failures. Names are made unique (`name-2`…)
+/// so every pair has its own files.
+fn scenarios_of(
+    loaded: Vec<(PathBuf, Result<Scenario, String>)>,
+    failures: &mut Vec<String>,
+) -> Vec<Scenario> {
+    let mut out: Vec<Scenario> = Vec::new();
+    let mut names = BTreeSet::new();
+    let mut descriptions: BTreeMap<String, String> = BTreeMap::new();
+    for (path, scenario) in loaded {
+        let mut s = match scenario {
+            Ok(s) => s,
+            Err(e) => {
+                failures.push(e);
+                continue;
+            }
+        };
+        if let Some(other) = descriptions.get(&s.description) {
+            failures.push(format!(
+                "`{}`: its description {:?} is already that of `{other}`; left out",
+                path.display(),
+                s.description
+            ));
+            continue;
+        }
+        descriptions.insert(s.description.clone(), path.display().to_string());
+        let base = s.name.clone();
+        let mut n = 1;
+        while !names.insert(s.name.clone()) {
+            n += 1;
+            s.name = format!("{base}-{n}");
+        }
+        out.push(s);
+    }
+    out
+}
+
+/// Synthesized programs (their file and text) and the descriptions that gave none.
+type Synthesized = (Vec<(PathBuf, String)>, Vec<String>);
+
+/// Synthesizes the descriptions of `file` into OUT/programs (see `scenalog synth
+/// --descriptions`): the programs that check clean, and a failure per description that did not.
+fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synthesized, String> {
+    let config = synth_config(&args.synth, Some(out.join(".llm-cache")))?;
+    let dir = out.join("programs");
+    let report =
+        scenalog_synth::programs_for_descriptions(file, &dir, config, args.jobs as usize, true)
+            .map_err(|e| format!("--descriptions: {e}"))?;
+    eprintln!("scenalog mine: synthesis: {}", report.summary);
+    let mut programs = Vec::new();
+    let mut problems = Vec::new();
+    for item in report.items {
+        use scenalog_synth::ItemStatus;
+        match (&item.status, item.program) {
+            (ItemStatus::Clean { .. } | ItemStatus::Resumed, Some(p)) => {
+                programs.push((item.path, p))
+            }
+            (ItemStatus::Failed, _) => problems.push(format!(
+                "synthesis of {:?} gave no clean program; the last attempt is in `{}`",
+                item.description,
+                item.path.display()
+            )),
+            (ItemStatus::Unreachable { error }, _) => problems.push(format!(
+                "synthesis of {:?}: the LLM could not be reached: {error}",
+                item.description
+            )),
+            (ItemStatus::Skipped, _) => problems.push(format!(
+                "synthesis of {:?}: not attempted, the LLM could not be reached",
+                item.description
+            )),
+            (_, None) => problems.push(format!(
+                "synthesis of {:?} gave no program",
+                item.description
+            )),
+        }
+    }
+    Ok((programs, problems))
 }

@@ -2,9 +2,14 @@
 //!
 //! [`scenario`] reads and checks a program and evaluates it on a log with the extractors as the
 //! engine's provider; [`tracks`] turns derived tuples into labelled output frames (dilation, 2 Hz
-//! frames, the related-object range); [`predictions`] turns those into the evaluation's data model.
+//! frames, the related-object range); [`predictions`] turns those into the evaluation's data model;
+//! [`run`] mines every (log, program) pair of a run in parallel and writes what [`output`]
+//! describes; [`summary`] renders a run for a person and scores it against ground truth.
 
 pub mod explain;
+pub mod output;
 pub mod predictions;
+pub mod run;
 pub mod scenario;
+pub mod summary;
 pub mod tracks;

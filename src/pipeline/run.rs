@@ -1,0 +1,577 @@
+//! A mining run: every (log, program) pair evaluated, turned into prediction tracks and written.
+//!
+//! Logs run in parallel (rayon), and so do the programs of one log, which share one
+//! [`Extractor`] (its per-scene cache computes each relation once for all of them). Results are
+//! gathered by index, so the output is the same whatever the thread count. A log that cannot be
+//! read, or a program that fails on a log, is reported and skipped; the rest of the run goes on.
+//! Each finished pair is written at once under `OUT/pairs/` (see [`super::output`]), so with
+//! `resume` a rerun skips what a crashed or interrupted one finished.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use scenalog_engine::Options;
+use scenalog_eval::{FrameData, Submission};
+use scenalog_extractors::cache::Extractor;
+use scenalog_facts::relation::Value;
+use scenalog_facts::{Frame, Scene, TrackId};
+
+use super::output::{self, Match, PairRecord};
+use super::predictions::to_frames;
+use super::scenario::{evaluate_on, Scenario};
+use super::tracks::{eval_frames, label_frames};
+
+/// One log to mine: its directory and its id (the directory's name).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LogInput {
+    /// The log directory.
+    pub dir: PathBuf,
+    /// The log id.
+    pub log_id: String,
+}
+
+impl LogInput {
+    /// A log directory; its id is the directory's name.
+    pub fn new(dir: PathBuf) -> LogInput {
+        let log_id = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| dir.display().to_string());
+        LogInput { dir, log_id }
+    }
+}
+
+/// How to run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The output directory.
+    pub out: PathBuf,
+    /// Skip pairs whose record under `OUT/pairs/` matches this run (same program text, same
+    /// description, same output timestamps).
+    pub resume: bool,
+    /// Output timestamps per log id; logs not listed get every 5th frame from the first.
+    pub timestamps: BTreeMap<String, Vec<i64>>,
+    /// Threads (`None`: rayon's default, one per core).
+    pub threads: Option<usize>,
+    /// The engine's limits.
+    pub engine: Options,
+    /// Draw a progress bar (only when stderr is a terminal).
+    pub progress: bool,
+}
+
+/// How one pair ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PairStatus {
+    /// Evaluated and written in this run.
+    Done,
+    /// Already written by an earlier run (`resume`).
+    Resumed,
+    /// Could not be evaluated or written: the reason.
+    Failed(String),
+}
+
+/// One (log, program) pair's outcome.
+#[derive(Debug, Clone)]
+pub struct PairResult {
+    /// The log id.
+    pub log_id: String,
+    /// The program's index in the run's scenarios.
+    pub scenario: usize,
+    /// How it ended.
+    pub status: PairStatus,
+    /// The prediction frames (empty when failed).
+    pub frames: Vec<FrameData>,
+    /// The referred tracks.
+    pub matches: Vec<Match>,
+    /// Time spent extracting and evaluating.
+    pub evaluate: Duration,
+    /// Time spent turning tuples into frames.
+    pub tracks: Duration,
+    /// Time spent writing the pair's files.
+    pub write: Duration,
+}
+
+/// Times per stage, summed over threads (and the run's wall-clock time).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Timings {
+    /// Reading logs.
+    pub load: Duration,
+    /// Extracting relations and evaluating programs.
+    pub evaluate: Duration,
+    /// Dilation, labelling and building prediction frames.
+    pub tracks: Duration,
+    /// Writing the per-pair files and the run's outputs.
+    pub write: Duration,
+    /// Wall-clock time of the whole run.
+    pub wall: Duration,
+}
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct RunReport {
+    /// One per (log, program), logs in input order, programs in input order within a log.
+    pub pairs: Vec<PairResult>,
+    /// Logs that could not be read (or whose output timestamps do not fit), with the reason.
+    pub log_failures: Vec<(String, String)>,
+    /// The run's predictions, keyed `(log_id, description)` (finished pairs only).
+    pub submission: Submission,
+    /// Times per stage.
+    pub timings: Timings,
+    /// The number of threads used.
+    pub threads: usize,
+}
+
+impl RunReport {
+    /// Whether any log or pair failed.
+    pub fn any_failed(&self) -> bool {
+        !self.log_failures.is_empty()
+            || self
+                .pairs
+                .iter()
+                .any(|p| matches!(p.status, PairStatus::Failed(_)))
+    }
+
+    /// Every match of every finished pair, in pair order.
+    pub fn matches(&self) -> Vec<&Match> {
+        self.pairs.iter().flat_map(|p| &p.matches).collect()
+    }
+}
+
+/// Runs every scenario on every log and writes the outputs under `options.out`. Errors only
+/// when the run's own outputs cannot be written or the thread pool cannot be made; a log or
+/// pair that fails is in the report.
+pub fn run(
+    scenarios: &[Scenario],
+    logs: &[LogInput],
+    options: &RunOptions,
+) -> Result<RunReport, String> {
+    let start = Instant::now();
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = options.threads {
+        builder = builder.num_threads(n.max(1));
+    }
+    let pool = builder
+        .build()
+        .map_err(|e| format!("cannot start the thread pool: {e}"))?;
+    std::fs::create_dir_all(&options.out).map_err(|e| {
+        format!(
+            "cannot create output directory `{}`: {e}",
+            options.out.display()
+        )
+    })?;
+    let total = (logs.len() * scenarios.len()) as u64;
+    let bar = if options.progress && std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(total);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:30} {pos}/{len} pairs {elapsed} {wide_msg}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let load_time = Mutex::new(Duration::ZERO);
+    let per_log: Vec<(Vec<PairResult>, Option<String>)> = pool.install(|| {
+        logs.par_iter()
+            .map(|log| {
+                let (pairs, failure, load) = mine_log(log, scenarios, options, &bar);
+                if let Ok(mut t) = load_time.lock() {
+                    *t += load;
+                }
+                (pairs, failure)
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let mut pairs = Vec::with_capacity(total as usize);
+    let mut log_failures = Vec::new();
+    for (log, (p, failure)) in logs.iter().zip(per_log) {
+        pairs.extend(p);
+        if let Some(f) = failure {
+            log_failures.push((log.log_id.clone(), f));
+        }
+    }
+    let mut submission = Submission::default();
+    for p in &pairs {
+        if !matches!(p.status, PairStatus::Failed(_)) {
+            submission.sequences.insert(
+                (p.log_id.clone(), scenarios[p.scenario].description.clone()),
+                p.frames.clone(),
+            );
+        }
+    }
+    let write_start = Instant::now();
+    scenalog_eval::write_pickle(&submission, &options.out.join(output::PREDICTIONS_PICKLE))
+        .map_err(|e| e.to_string())?;
+    scenalog_eval::write_table(&submission, &options.out.join(output::PREDICTIONS_TABLE))
+        .map_err(|e| e.to_string())?;
+    let matches: Vec<&Match> = pairs.iter().flat_map(|p| &p.matches).collect();
+    output::write_json(&options.out.join(output::MATCHES_JSON), &matches)?;
+    let mut timings = Timings {
+        load: load_time.into_inner().unwrap_or_else(|e| e.into_inner()),
+        ..Timings::default()
+    };
+    for p in &pairs {
+        timings.evaluate += p.evaluate;
+        timings.tracks += p.tracks;
+        timings.write += p.write;
+    }
+    let mut report = RunReport {
+        pairs,
+        log_failures,
+        submission,
+        timings,
+        threads: pool.current_num_threads(),
+    };
+    report.timings.write += write_start.elapsed();
+    report.timings.wall = start.elapsed();
+    output::write_json(
+        &options.out.join(output::SUMMARY_JSON),
+        &summary_json(&report, scenarios),
+    )?;
+    Ok(report)
+}
+
+/// `summary.json`: the stage times, the failed logs and every pair's status.
+fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value {
+    let t = &report.timings;
+    let pairs: Vec<serde_json::Value> = report
+        .pairs
+        .iter()
+        .map(|p| {
+            let (status, error) = match &p.status {
+                PairStatus::Done => ("done", None),
+                PairStatus::Resumed => ("resumed", None),
+                PairStatus::Failed(e) => ("failed", Some(e.clone())),
+            };
+            serde_json::json!({
+                "log_id": p.log_id,
+                "program": scenarios[p.scenario].name,
+                "description": scenarios[p.scenario].description,
+                "status": status,
+                "error": error,
+                "matches": p.matches.len(),
+                "evaluate_s": p.evaluate.as_secs_f64(),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "threads": report.threads,
+        "seconds": {
+            "load": t.load.as_secs_f64(),
+            "extract_evaluate": t.evaluate.as_secs_f64(),
+            "tracks": t.tracks.as_secs_f64(),
+            "write": t.write.as_secs_f64(),
+            "wall": t.wall.as_secs_f64(),
+        },
+        "failed_logs": report.log_failures.iter()
+            .map(|(l, e)| serde_json::json!({"log_id": l, "error": e}))
+            .collect::<Vec<_>>(),
+        "pairs": pairs,
+    })
+}
+
+/// A pair's earlier result, when `resume` is on and its record matches this run.
+fn resumed(
+    log: &LogInput,
+    scenario: &Scenario,
+    index: usize,
+    options: &RunOptions,
+) -> Option<PairResult> {
+    if !options.resume {
+        return None;
+    }
+    let (pkl, json) = output::pair_paths(&options.out, &log.log_id, &scenario.name);
+    let record = output::read_record(&json)?;
+    let timestamps = options.timestamps.get(&log.log_id);
+    if record.log_id != log.log_id
+        || record.description != scenario.description
+        || record.source != scenario.source
+        || record.timestamps.as_ref() != timestamps
+    {
+        return None;
+    }
+    let sub = scenalog_eval::read_pickle(&pkl).ok()?;
+    let key = (log.log_id.clone(), scenario.description.clone());
+    let frames = sub.sequences.get(&key)?.clone();
+    Some(PairResult {
+        log_id: log.log_id.clone(),
+        scenario: index,
+        status: PairStatus::Resumed,
+        frames,
+        matches: record.matches,
+        evaluate: Duration::ZERO,
+        tracks: Duration::ZERO,
+        write: Duration::ZERO,
+    })
+}
+
+fn failed(log: &LogInput, index: usize, reason: String) -> PairResult {
+    PairResult {
+        log_id: log.log_id.clone(),
+        scenario: index,
+        status: PairStatus::Failed(reason),
+        frames: Vec::new(),
+        matches: Vec::new(),
+        evaluate: Duration::ZERO,
+        tracks: Duration::ZERO,
+        write: Duration::ZERO,
+    }
+}
+
+/// Mines one log with every scenario: the pairs (in scenario order), the log's own failure if it
+/// could not be read, and the time spent reading it.
+fn mine_log(
+    log: &LogInput,
+    scenarios: &[Scenario],
+    options: &RunOptions,
+    bar: &indicatif::ProgressBar,
+) -> (Vec<PairResult>, Option<String>, Duration) {
+    let mut slots: Vec<Option<PairResult>> = scenarios
+        .iter()
+        .enumerate()
+        .map(|(i, s)| resumed(log, s, i, options))
+        .collect();
+    let resumed_count = slots.iter().filter(|s| s.is_some()).count();
+    bar.inc(resumed_count as u64);
+    if resumed_count == scenarios.len() {
+        return (slots.into_iter().flatten().collect(), None, Duration::ZERO);
+    }
+    let t0 = Instant::now();
+    let scene = scenalog_facts::load_scene(&log.dir)
+        .map_err(|e| format!("cannot read log `{}`: {e}", log.dir.display()));
+    let load = t0.elapsed();
+    let frames = scene.and_then(|scene| {
+        let frames = output_frames(&scene, options.timestamps.get(&log.log_id))?;
+        Ok((scene, frames))
+    });
+    let (scene, frames) = match frames {
+        Ok(x) => x,
+        Err(e) => {
+            bar.suspend(|| eprintln!("scenalog mine: {e}"));
+            let pairs = slots
+                .into_iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    s.unwrap_or_else(|| {
+                        bar.inc(1);
+                        failed(log, i, e.clone())
+                    })
+                })
+                .collect();
+            return (pairs, Some(e), load);
+        }
+    };
+    let extractor = Extractor::new(&scene);
+    let pending: Vec<usize> = (0..scenarios.len())
+        .filter(|&i| slots[i].is_none())
+        .collect();
+    let done: Vec<PairResult> = pending
+        .par_iter()
+        .map(|&i| {
+            let s = &scenarios[i];
+            bar.set_message(format!("{} on {}", s.name, short_id(&log.log_id)));
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                mine_pair(log, &scene, &extractor, s, i, &frames, options)
+            }))
+            .unwrap_or_else(|_| {
+                failed(
+                    log,
+                    i,
+                    format!("program `{}` panicked on log {}", s.name, log.log_id),
+                )
+            });
+            if let PairStatus::Failed(e) = &r.status {
+                bar.suspend(|| eprintln!("scenalog mine: {e}"));
+            }
+            bar.inc(1);
+            r
+        })
+        .collect();
+    for (i, r) in pending.into_iter().zip(done) {
+        slots[i] = Some(r);
+    }
+    (slots.into_iter().flatten().collect(), None, load)
+}
+
+/// The first 8 characters of a log id, for messages and tables.
+pub fn short_id(log_id: &str) -> &str {
+    log_id.get(..8).unwrap_or(log_id)
+}
+
+/// The frames predictions are emitted at: the given timestamps (each must be a frame of the
+/// log), or every 5th frame from the first.
+fn output_frames(scene: &Scene, given: Option<&Vec<i64>>) -> Result<Vec<Frame>, String> {
+    let Some(given) = given else {
+        return Ok(eval_frames(scene));
+    };
+    let mut frames = Vec::with_capacity(given.len());
+    for &ns in given {
+        let f = scene.timeline.frame_of(ns).ok_or_else(|| {
+            format!(
+                "--eval-timestamps: {ns} is not an annotation timestamp of log {}",
+                scene.log_id
+            )
+        })?;
+        frames.push(f);
+    }
+    frames.sort_unstable();
+    frames.dedup();
+    Ok(frames)
+}
+
+/// Evaluates one program on one log and writes the pair's files.
+fn mine_pair(
+    log: &LogInput,
+    scene: &Scene,
+    extractor: &Extractor<'_>,
+    scenario: &Scenario,
+    index: usize,
+    frames: &[Frame],
+    options: &RunOptions,
+) -> PairResult {
+    let t0 = Instant::now();
+    let evaluation = match evaluate_on(extractor, &scenario.program, &options.engine) {
+        Ok(e) => e,
+        Err(e) => {
+            return failed(
+                log,
+                index,
+                format!(
+                    "program `{}` failed on log {}: {e}",
+                    scenario.name, log.log_id
+                ),
+            )
+        }
+    };
+    let evaluate = t0.elapsed();
+    let t1 = Instant::now();
+    let referred = referred_tuples(&evaluation);
+    let related = related_tuples(&evaluation);
+    let labelled = label_frames(scene, &referred, &related, frames);
+    let frames = to_frames(scene, &scenario.description, &labelled);
+    let matches = matches_of(scene, scenario, &referred, &related);
+    let tracks = t1.elapsed();
+    let t2 = Instant::now();
+    let written = write_pair(log, scenario, &frames, &matches, options);
+    let write = t2.elapsed();
+    let status = match written {
+        Ok(()) => PairStatus::Done,
+        Err(e) => PairStatus::Failed(e),
+    };
+    PairResult {
+        log_id: log.log_id.clone(),
+        scenario: index,
+        status,
+        frames,
+        matches,
+        evaluate,
+        tracks,
+        write,
+    }
+}
+
+fn write_pair(
+    log: &LogInput,
+    scenario: &Scenario,
+    frames: &[FrameData],
+    matches: &[Match],
+    options: &RunOptions,
+) -> Result<(), String> {
+    let (pkl, json) = output::pair_paths(&options.out, &log.log_id, &scenario.name);
+    if let Some(dir) = pkl.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create directory `{}`: {e}", dir.display()))?;
+    }
+    let mut sub = Submission::default();
+    sub.sequences.insert(
+        (log.log_id.clone(), scenario.description.clone()),
+        frames.to_vec(),
+    );
+    scenalog_eval::write_pickle(&sub, &pkl).map_err(|e| e.to_string())?;
+    let record = PairRecord {
+        log_id: log.log_id.clone(),
+        description: scenario.description.clone(),
+        program: scenario.name.clone(),
+        source: scenario.source.clone(),
+        timestamps: options.timestamps.get(&log.log_id).cloned(),
+        matches: matches.to_vec(),
+    };
+    output::write_json(&json, &record)
+}
+
+/// `referred(Track, Time)` tuples.
+fn referred_tuples(e: &scenalog_engine::Evaluation) -> Vec<(TrackId, Frame)> {
+    e.tuples("referred")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(v), Value::Time(f)] => Some((*v, *f)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// `related(Track, Other, Time)` tuples.
+fn related_tuples(e: &scenalog_engine::Evaluation) -> Vec<(TrackId, TrackId, Frame)> {
+    e.tuples("related")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(v), Value::Track(o), Value::Time(f)] => Some((*v, *o, *f)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// One [`Match`] per referred track, in track order (tracks are sorted by uuid).
+fn matches_of(
+    scene: &Scene,
+    scenario: &Scenario,
+    referred: &[(TrackId, Frame)],
+    related: &[(TrackId, TrackId, Frame)],
+) -> Vec<Match> {
+    let mut frames: BTreeMap<TrackId, BTreeSet<Frame>> = BTreeMap::new();
+    for &(t, f) in referred {
+        frames.entry(t).or_default().insert(f);
+    }
+    let mut rel: BTreeMap<TrackId, BTreeSet<&str>> = BTreeMap::new();
+    for &(t, o, _) in related {
+        rel.entry(t)
+            .or_default()
+            .insert(scene.track(o).uuid.as_str());
+    }
+    frames
+        .into_iter()
+        .filter_map(|(t, fs)| {
+            let first = *fs.first()?;
+            let last = *fs.last()?;
+            let track = scene.track(t);
+            Some(Match {
+                log_id: scene.log_id.clone(),
+                description: scenario.description.clone(),
+                program: scenario.name.clone(),
+                track_uuid: track.uuid.clone(),
+                category: track.category.clone(),
+                first_s: round_ms(scene.timeline.seconds(first).unwrap_or(0.0)),
+                last_s: round_ms(scene.timeline.seconds(last).unwrap_or(0.0)),
+                frames: fs.len(),
+                related: rel
+                    .get(&t)
+                    .map(|s| s.iter().map(|u| u.to_string()).collect())
+                    .unwrap_or_default(),
+            })
+        })
+        .collect()
+}
+
+/// Seconds rounded to the millisecond (frames are 0.1 s apart; the rest is clock noise).
+fn round_ms(s: f64) -> f64 {
+    (s * 1000.0).round() / 1000.0
+}

@@ -1,0 +1,581 @@
+//! `scenalog mine` end to end: the built binary on the three real AV2 logs and the official
+//! evaluation fixture; synthesis against a scripted OpenAI-compatible server on 127.0.0.1.
+
+#[path = "../synth/tests/support/server.rs"]
+mod server;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use scenalog_eval::{read_pickle, read_table};
+
+const FIXTURE_BICYCLE_LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
+const FIXTURE_STOPPED_LOG: &str = "3bffdcff-c3a7-38b6-a0f2-64196d130958";
+const OTHER_LOG: &str = "adcf7d18-0510-35b0-a2fa-b4cea13a6d76";
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn logs_dir() -> PathBuf {
+    root().join("tests/data/av2/logs")
+}
+
+fn library(name: &str) -> PathBuf {
+    root().join("rules/library").join(format!("{name}.dl"))
+}
+
+fn gt() -> PathBuf {
+    root().join("tests/data/av2/eval/combined_gt_dev.pkl")
+}
+
+/// Runs the binary with `args` (after the subcommand) and no LLM settings from the environment.
+fn run(sub: &str, args: &[&Path]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    c.arg(sub).args(args);
+    for v in [
+        "SCENALOG_LLM_BASE_URL",
+        "SCENALOG_LLM_MODEL",
+        "SCENALOG_LLM_API_KEY",
+    ] {
+        c.env_remove(v);
+    }
+    c.output().expect("run scenalog")
+}
+
+fn mine(args: &[&str]) -> Output {
+    let paths: Vec<&Path> = args.iter().map(Path::new).collect();
+    run("mine", &paths)
+}
+
+fn s(p: &Path) -> String {
+    p.to_string_lossy().into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The number after `label: ` on a line of `text`.
+fn number_after(text: &str, label: &str) -> f64 {
+    text.lines()
+        .find_map(|l| l.strip_prefix(label))
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no {label:?} in {text}"))
+}
+
+#[test]
+fn fixture_prompts_give_a_pickle_scenalog_eval_scores() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        &s(&library("vehicle_with_bicycle_to_its_right")),
+        "--logs",
+        &s(&logs_dir()),
+        "--out",
+        &s(&out),
+        "--gt",
+        &s(&gt()),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    // 2 programs on 3 logs: 6 sequences written, the 2 of the fixture scored.
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("predictions");
+    assert_eq!(pred.sequences.len(), 6);
+    let table = read_table(&out.join("predictions.feather")).expect("table");
+    assert_eq!(table, pred);
+    assert!(
+        text.contains("scored 2 sequences against the ground truth (4 predicted sequences not in it, 0 of its sequences not mined)"),
+        "{text}"
+    );
+    let mined = number_after(&text, "HOTA-Temporal: ");
+
+    // The frames are the ground truth's (every 5th frame from the first), so the official
+    // evaluation accepts the scored sequences, and scores them as the run did.
+    let gt_sub = read_pickle(&gt()).expect("gt");
+    for (key, frames) in &gt_sub.sequences {
+        let p = pred.sequences.get(key).expect("fixture sequence mined");
+        let pt: Vec<i64> = p.iter().map(|f| f.timestamp_ns).collect();
+        let gtt: Vec<i64> = frames.iter().map(|f| f.timestamp_ns).collect();
+        assert_eq!(pt, gtt, "{key:?}");
+    }
+    let e = run(
+        "eval",
+        &[
+            Path::new("--pred"),
+            &out.join("scored.pkl"),
+            Path::new("--gt"),
+            &gt(),
+        ],
+    );
+    assert!(e.status.success(), "{}", stderr(&e));
+    let scored = number_after(&stdout(&e), "HOTA-Temporal: ");
+    assert_eq!(scored, mined);
+    // The official sample submission scores 0.3796 on the same ground truth.
+    assert!(mined > 0.3796, "HOTA-Temporal {mined}");
+    eprintln!("HOTA-Temporal of the library programs: {mined}");
+
+    // The whole-run pickle holds sequences the ground truth does not: eval refuses it, naming one.
+    let e = run(
+        "eval",
+        &[
+            Path::new("--pred"),
+            &out.join("predictions.pkl"),
+            Path::new("--gt"),
+            &gt(),
+        ],
+    );
+    assert_eq!(e.status.code(), Some(2));
+    assert!(
+        stderr(&e).contains("not in the ground truth"),
+        "{}",
+        stderr(&e)
+    );
+}
+
+#[test]
+fn resume_skips_finished_pairs_and_redoes_lost_or_changed_ones() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let rules = dir.path().join("rules");
+    fs::create_dir_all(&rules).expect("mkdir");
+    for name in [
+        "stopped_car",
+        "parked_vehicle",
+        "vehicle_making_a_right_turn",
+    ] {
+        fs::copy(library(name), rules.join(format!("{name}.dl"))).expect("copy");
+    }
+    let args = [
+        "--rules",
+        &s(&rules),
+        "--logs",
+        &s(&logs_dir()),
+        "--out",
+        &s(&out),
+        "--format",
+        "json",
+    ];
+    let first = mine(&args);
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    let pickle = fs::read(out.join("predictions.pkl")).expect("pickle");
+    let statuses = |out: &Path| -> Vec<String> {
+        let v: serde_json::Value =
+            serde_json::from_slice(&fs::read(out.join("summary.json")).expect("summary"))
+                .expect("json");
+        v["pairs"]
+            .as_array()
+            .expect("pairs")
+            .iter()
+            .map(|p| format!("{} {} {}", p["log_id"], p["program"], p["status"]))
+            .collect()
+    };
+    assert!(statuses(&out).iter().all(|s| s.ends_with("\"done\"")));
+
+    // A crash after some pairs: lose one pair's record, change one program.
+    fs::remove_file(out.join(format!("pairs/{OTHER_LOG}/parked_vehicle.json"))).expect("rm");
+    let changed = fs::read_to_string(rules.join("stopped_car.dl"))
+        .expect("read")
+        .replace("S < 0.5", "S < 0.4");
+    fs::write(rules.join("stopped_car.dl"), changed).expect("write");
+    let mut resume: Vec<&str> = args.to_vec();
+    resume.push("--resume");
+    let second = mine(&resume);
+    assert_eq!(second.status.code(), Some(0), "{}", stderr(&second));
+    let st = statuses(&out);
+    assert_eq!(st.len(), 9);
+    for line in &st {
+        let redone = line.contains("stopped_car")
+            || (line.contains(OTHER_LOG) && line.contains("parked_vehicle"));
+        let want = if redone { "\"done\"" } else { "\"resumed\"" };
+        assert!(line.ends_with(want), "{line}");
+    }
+
+    // Put the program back: the rerun's outputs equal the first run's, byte for byte.
+    fs::copy(library("stopped_car"), rules.join("stopped_car.dl")).expect("copy");
+    let third = mine(&resume);
+    assert_eq!(third.status.code(), Some(0), "{}", stderr(&third));
+    assert_eq!(
+        fs::read(out.join("predictions.pkl")).expect("pickle"),
+        pickle
+    );
+    assert_eq!(stdout(&third), stdout(&first));
+    assert_eq!(
+        statuses(&out)
+            .iter()
+            .filter(|l| l.ends_with("\"resumed\""))
+            .count(),
+        6
+    );
+}
+
+#[test]
+fn a_corrupt_log_and_a_broken_program_are_reported_and_the_rest_is_mined() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let logs = dir.path().join("logs");
+    // A good log, and a copy of another whose annotations are cut short.
+    for (id, corrupt) in [(FIXTURE_STOPPED_LOG, false), (OTHER_LOG, true)] {
+        let src = logs_dir().join(id);
+        let dst = logs.join(id);
+        fs::create_dir_all(dst.join("map")).expect("mkdir");
+        for e in fs::read_dir(&src).expect("ls") {
+            let e = e.expect("entry");
+            if e.path().is_file() {
+                fs::copy(e.path(), dst.join(e.file_name())).expect("copy");
+            }
+        }
+        for e in fs::read_dir(src.join("map")).expect("ls") {
+            let e = e.expect("entry");
+            fs::copy(e.path(), dst.join("map").join(e.file_name())).expect("copy");
+        }
+        if corrupt {
+            let ann = dst.join("annotations.feather");
+            let bytes = fs::read(&ann).expect("read");
+            fs::write(&ann, &bytes[..bytes.len() / 3]).expect("truncate");
+        }
+    }
+    let broken = dir.path().join("broken.dl");
+    fs::write(
+        &broken,
+        "// description: broken\nreferred(V, T) :- speeed(V, T, S), S < 1.\n",
+    )
+    .expect("write");
+    let out = dir.path().join("out");
+    let o = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        &s(&broken),
+        "--logs",
+        &s(&logs),
+        "--out",
+        &s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("broken.dl") && err.contains("speeed"), "{err}");
+    assert!(
+        err.contains(OTHER_LOG) && err.contains("annotations.feather"),
+        "{err}"
+    );
+    let text = stdout(&o);
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("stopped_car "))
+        .expect("row");
+    assert!(row.contains("ERR"), "{text}");
+    assert!(text.contains("failed (2):"), "{text}");
+    // The good pair was mined and written.
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("predictions");
+    let keys: Vec<_> = pred.sequences.keys().cloned().collect();
+    assert_eq!(
+        keys,
+        vec![(FIXTURE_STOPPED_LOG.to_string(), "stopped car".to_string())]
+    );
+
+    // A program that fails while evaluating (past the tuple limit) fails on every log.
+    let o = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        "--logs",
+        &s(&logs.join(FIXTURE_STOPPED_LOG)),
+        "--out",
+        &s(&out),
+        "--max-tuples",
+        "10",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("grew past the limit of 10 tuples"),
+        "{}",
+        stderr(&o)
+    );
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("predictions");
+    assert!(pred.sequences.is_empty());
+}
+
+#[test]
+fn output_is_identical_with_one_thread_and_two() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let programs = [
+        "stopped_car",
+        "vehicle_with_bicycle_to_its_right",
+        "pedestrian_crossing_in_front_of_vehicle_at_crosswalk",
+        "vehicle_two_cars_ahead_of_ego",
+        "multiple_pedestrians_near_a_vehicle",
+        "vehicles_changing_lanes",
+        "car_turning_right",
+    ];
+    let rules: Vec<String> = programs.iter().map(|p| s(&library(p))).collect();
+    let mut outs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = dir.path().join(format!("t{threads}"));
+        let (out_s, logs_s) = (s(&out), s(&logs_dir()));
+        let mut args: Vec<&str> = vec!["--rules"];
+        args.extend(rules.iter().map(String::as_str));
+        args.extend([
+            "--logs",
+            &logs_s,
+            "--out",
+            &out_s,
+            "--threads",
+            threads,
+            "--format",
+            "json",
+        ]);
+        let o = mine(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        outs.push((out, stdout(&o)));
+    }
+    let (a, b) = (&outs[0], &outs[1]);
+    for f in ["predictions.pkl", "predictions.feather", "matches.json"] {
+        let x = fs::read(a.0.join(f)).expect("read");
+        assert!(!x.is_empty());
+        assert_eq!(x, fs::read(b.0.join(f)).expect("read"), "{f}");
+    }
+    // stdout names the output directory; otherwise the same.
+    assert_eq!(a.1.replace(&s(&a.0), "OUT"), b.1.replace(&s(&b.0), "OUT"));
+    let pred = read_pickle(&a.0.join("predictions.pkl")).expect("pickle");
+    assert_eq!(pred.sequences.len(), programs.len() * 3);
+}
+
+#[test]
+fn json_format_lists_every_matched_track() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = mine(&[
+        "--rules",
+        &s(&library("vehicle_with_bicycle_to_its_right")),
+        "--logs",
+        &s(&logs_dir().join(FIXTURE_BICYCLE_LOG)),
+        "--out",
+        &s(&out),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert!(v["failures"].as_array().is_some_and(|f| f.is_empty()));
+    assert!(v["score"].is_null());
+    let matches = v["matches"].as_array().expect("matches");
+    assert!(!matches.is_empty());
+    let scene = scenalog_facts::load_scene(&logs_dir().join(FIXTURE_BICYCLE_LOG)).expect("scene");
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
+    let frames = &pred.sequences[&(
+        FIXTURE_BICYCLE_LOG.to_string(),
+        "vehicle with a bicycle to its right".to_string(),
+    )];
+    for m in matches {
+        assert_eq!(m["log_id"], FIXTURE_BICYCLE_LOG);
+        assert_eq!(m["description"], "vehicle with a bicycle to its right");
+        assert_eq!(m["program"], "vehicle_with_bicycle_to_its_right");
+        let uuid = m["track_uuid"].as_str().expect("uuid");
+        let track = scene.track_by_uuid(uuid).expect("a track of the log");
+        assert_eq!(m["category"], track.category.as_str());
+        assert!(scenalog_facts::scene::is_vehicle_category(&track.category));
+        let (first, last) = (
+            m["first_s"].as_f64().expect("f"),
+            m["last_s"].as_f64().expect("l"),
+        );
+        assert!(0.0 <= first && first <= last && last < 20.0, "{m}");
+        let related = m["related"].as_array().expect("related");
+        assert!(!related.is_empty());
+        for r in related {
+            let b = scene
+                .track_by_uuid(r.as_str().expect("uuid"))
+                .expect("track");
+            assert_eq!(b.category, "BICYCLE");
+        }
+        // The track is labelled referred in some output frame.
+        let id = track.id.0 as i32;
+        assert!(frames.iter().any(|f| f
+            .track_id
+            .iter()
+            .zip(&f.label)
+            .any(|(&t, &l)| t == id && l == 0)));
+    }
+    // matches.json holds the same list.
+    let file: serde_json::Value =
+        serde_json::from_slice(&fs::read(out.join("matches.json")).expect("read")).expect("json");
+    assert_eq!(&file, &v["matches"]);
+}
+
+#[test]
+fn eval_timestamps_choose_the_output_frames() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = scenalog_facts::load_scene(&logs_dir().join(FIXTURE_STOPPED_LOG)).expect("scene");
+    let ts = scene.timeline.timestamps_ns();
+    let chosen = vec![ts[3], ts[10], ts[11], ts[100]];
+    let file = dir.path().join("ts.json");
+    fs::write(
+        &file,
+        serde_json::json!({ FIXTURE_STOPPED_LOG: chosen }).to_string(),
+    )
+    .expect("write");
+    let out = dir.path().join("out");
+    let o = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        "--logs",
+        &s(&logs_dir().join(FIXTURE_STOPPED_LOG)),
+        &s(&logs_dir().join(OTHER_LOG)),
+        "--out",
+        &s(&out),
+        "--eval-timestamps",
+        &s(&file),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
+    let got: Vec<i64> = pred.sequences
+        [&(FIXTURE_STOPPED_LOG.to_string(), "stopped car".to_string())]
+        .iter()
+        .map(|f| f.timestamp_ns)
+        .collect();
+    assert_eq!(got, chosen);
+    // A log not in the file gets every 5th frame.
+    let other = scenalog_facts::load_scene(&logs_dir().join(OTHER_LOG)).expect("scene");
+    let n = pred.sequences[&(OTHER_LOG.to_string(), "stopped car".to_string())].len();
+    assert_eq!(n, other.num_frames().div_ceil(5));
+
+    // A timestamp that is not a frame of the log fails that log, naming it.
+    fs::write(
+        &file,
+        serde_json::json!({ FIXTURE_STOPPED_LOG: [ts[0] + 1] }).to_string(),
+    )
+    .expect("write");
+    let o = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        "--logs",
+        &s(&logs_dir().join(FIXTURE_STOPPED_LOG)),
+        "--out",
+        &s(&out),
+        "--eval-timestamps",
+        &s(&file),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains(&format!("{} is not an annotation timestamp", ts[0] + 1)));
+    // Not a JSON object of lists: refused before anything runs.
+    fs::write(&file, "[1, 2]").expect("write");
+    let o = mine(&["--eval-timestamps", &s(&file), "--out", &s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("ts.json"), "{}", stderr(&o));
+}
+
+#[test]
+fn descriptions_are_synthesized_cached_and_mined() {
+    use server::{program, Server};
+    let stopped = fs::read_to_string(library("stopped_car")).expect("read");
+    let body: String = stopped
+        .lines()
+        .filter(|l| !l.starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let server = Server::start(move |_, r| {
+        if r.description().contains("stopped") {
+            program(&body)
+        } else {
+            program("referred(V, T) :- speeed(V, T, S), S < 1.")
+        }
+    });
+    let dir = tempfile::tempdir().expect("tempdir");
+    let list = dir.path().join("d.txt");
+    fs::write(&list, "stopped car\nvehicle flying\n").expect("write");
+    let out = dir.path().join("out");
+    let url = server.base_url();
+    let args = [
+        "--descriptions",
+        &s(&list),
+        "--logs",
+        &s(&logs_dir().join(FIXTURE_STOPPED_LOG)),
+        "--out",
+        &s(&out),
+        "--base-url",
+        &url,
+        "--rounds",
+        "2",
+        "--gt",
+        &s(&gt()),
+    ];
+    let o = mine(&args);
+    // "vehicle flying" never checks: reported, exit 1; "stopped car" is mined and scored.
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(server.count(), 3);
+    assert!(out.join("programs/stopped-car.dl").exists());
+    assert!(stderr(&o).contains("vehicle flying"), "{}", stderr(&o));
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
+    let keys: Vec<_> = pred.sequences.keys().cloned().collect();
+    assert_eq!(
+        keys,
+        vec![(FIXTURE_STOPPED_LOG.to_string(), "stopped car".to_string())]
+    );
+    let text = stdout(&o);
+    assert!(text.contains("scored 1 sequence"), "{text}");
+    // The same mining as the library program gives.
+    let lib_out = dir.path().join("lib");
+    let l = mine(&[
+        "--rules",
+        &s(&library("stopped_car")),
+        "--logs",
+        &s(&logs_dir().join(FIXTURE_STOPPED_LOG)),
+        "--out",
+        &s(&lib_out),
+    ]);
+    assert_eq!(l.status.code(), Some(0), "{}", stderr(&l));
+    assert_eq!(
+        read_pickle(&lib_out.join("predictions.pkl")).expect("pickle"),
+        pred
+    );
+
+    // Again with --resume: the clean program is reused, the failed one comes from the cache.
+    let mut again: Vec<&str> = args.to_vec();
+    again.push("--resume");
+    let o = mine(&again);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(server.count(), 3);
+    assert!(stderr(&o).contains("1 already done"), "{}", stderr(&o));
+}
+
+#[test]
+fn no_arguments_mines_the_library_over_the_sample_logs() {
+    let o = mine(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    let header = text.lines().next().expect("header");
+    for id in [FIXTURE_BICYCLE_LOG, FIXTURE_STOPPED_LOG, OTHER_LOG] {
+        assert!(header.contains(&id[..8]), "{header}");
+    }
+    let programs: Vec<String> = fs::read_dir(root().join("rules/library"))
+        .expect("ls")
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            let stem = p.file_stem()?.to_string_lossy().into_owned();
+            (p.extension()? == "dl").then_some(stem)
+        })
+        .collect();
+    assert!(programs.len() >= 40);
+    for p in &programs {
+        assert!(
+            text.lines()
+                .any(|l| l.split_whitespace().next() == Some(p.as_str())),
+            "no row for {p}"
+        );
+    }
+    assert!(text.contains(&format!(
+        "{} programs x 3 logs: {} pairs (0 resumed, 0 failed)",
+        programs.len(),
+        programs.len() * 3
+    )));
+    // Scored against the bundled ground truth: its two sequences.
+    assert!(text.contains("scored 2 sequences"), "{text}");
+    let out = root().join("target/scenalog-mine");
+    assert!(text.contains(&s(&out)), "{text}");
+    let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
+    assert_eq!(pred.sequences.len(), programs.len() * 3);
+}
