@@ -134,3 +134,114 @@ fn out_writes_official_json_files() {
         }
     }
 }
+
+fn logs_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/av2/logs")
+}
+
+/// `--dataset-dir` turns the drivable-area ROI filter on: the official `|roi` numbers and JSON files.
+#[test]
+fn dataset_dir_gives_the_roi_numbers() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = scenalog()
+        .args(["eval", "--json", "--pred"])
+        .arg(data("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.feather"))
+        .arg("--dataset-dir")
+        .arg(logs_dir())
+        .arg("--out")
+        .arg(dir.path())
+        .output()
+        .expect("run scenalog");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let read = |p: PathBuf| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(&p).expect("read")).expect("json")
+    };
+    let want = read(data("expected").join("official_roi_spatiotemporal_metrics.json"));
+    let got = read(dir.path().join("spatiotemporal_metrics.json"));
+    let close = |g: &serde_json::Value, w: &serde_json::Value, what: &str| {
+        let (g, w) = (g.as_f64().unwrap_or(f64::NAN), w.as_f64().unwrap_or(0.0));
+        assert!((g - w).abs() <= 1e-9, "{what}: {g} vs {w}");
+    };
+    close(
+        &v["hota_temporal"],
+        &want["hota_temporal_class_avg"],
+        "hota_temporal",
+    );
+    close(
+        &v["hota_track"],
+        &want["hota_track_class_avg"],
+        "hota_track",
+    );
+    for key in ["hota_temporal_by_class", "hota_track_by_class"] {
+        for (prompt, w) in want[key].as_object().expect("by class") {
+            close(&got[key][prompt], w, &format!("{key} {prompt}"));
+        }
+    }
+    let want = read(data("expected").join("official_roi_temporal_metrics.json"));
+    let got = read(dir.path().join("temporal_metrics.json"));
+    close(
+        &v["timestamp_ba"],
+        &want["timestamp_balanced_accuracy_class_avg"],
+        "timestamp_ba",
+    );
+    close(
+        &v["log_ba"],
+        &want["scenario_balanced_accuracy_class_avg"],
+        "log_ba",
+    );
+    for key in [
+        "timestamp_balanced_accuracy_by_class",
+        "scenario_balanced_accuracy_by_class",
+    ] {
+        for (prompt, w) in want[key].as_object().expect("by class") {
+            close(&got[key][prompt], w, &format!("{key} {prompt}"));
+        }
+    }
+}
+
+/// A log of the submission missing from the dataset directory is an error naming it; so is a log
+/// directory without a vector map.
+#[test]
+fn dataset_dir_missing_log_or_map_is_an_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let kept = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
+    let missing = "3bffdcff-c3a7-38b6-a0f2-64196d130958";
+    let map = dir.path().join(kept).join("map");
+    std::fs::create_dir_all(&map).expect("mkdir");
+    for entry in std::fs::read_dir(logs_dir().join(kept).join("map")).expect("map dir") {
+        let entry = entry.expect("entry");
+        std::fs::copy(entry.path(), map.join(entry.file_name())).expect("copy");
+    }
+    let run = || {
+        scenalog()
+            .args(["eval", "--pred"])
+            .arg(data("combined_predictions_dev.pkl"))
+            .arg("--gt")
+            .arg(data("combined_gt_dev.pkl"))
+            .arg("--dataset-dir")
+            .arg(dir.path())
+            .output()
+            .expect("run scenalog")
+    };
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(missing) && !err.contains("panicked"), "{err}");
+
+    // the log directory exists but holds no vector map
+    std::fs::create_dir_all(dir.path().join(missing).join("map")).expect("mkdir");
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("log_map_archive") && err.contains(missing),
+        "{err}"
+    );
+}

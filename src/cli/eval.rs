@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 
-use scenalog_eval::{evaluate, read_any, EvalOptions};
+use scenalog_eval::{evaluate, read_any, EvalOptions, RoiMaps};
 
 /// Arguments of `scenalog eval`.
 #[derive(clap::Args)]
@@ -17,6 +18,10 @@ pub struct Args {
     /// Objects farther than this from the ego (x-y) are not evaluated.
     #[arg(long, default_value_t = 50.0)]
     max_range_m: f64,
+    /// Dataset directory holding one directory per log id (`<log_id>/map/log_map_archive_*.json`):
+    /// objects outside the drivable area grown by 5 m are not evaluated (the official `--dataset_dir`).
+    #[arg(long)]
+    dataset_dir: Option<PathBuf>,
     /// Print one JSON object (full precision) instead of text.
     #[arg(long)]
     json: bool,
@@ -38,8 +43,22 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let roi = match &args.dataset_dir {
+        None => None,
+        Some(dir) => {
+            let ids = gt.sequences.keys().chain(pred.sequences.keys());
+            match RoiMaps::load(dir, ids.map(|k| k.0.as_str())) {
+                Ok(m) => Some(Arc::new(m)),
+                Err(e) => {
+                    eprintln!("scenalog eval: --dataset-dir: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+        }
+    };
     let opts = EvalOptions {
         max_range_m: args.max_range_m,
+        roi,
     };
     let report = match evaluate(&pred, &gt, &opts) {
         Ok(r) => r,
