@@ -347,3 +347,80 @@ fn bad_inputs_are_clear_errors() {
     assert!(err.contains("speeed"), "{err}");
     assert!(err.contains("speed"), "{err}");
 }
+
+/// A program with a helper: the proof goes through `bicycle_right`, and the why-not report of
+/// a vehicle without a bicycle follows the missing helper atom into its own rule. The expected
+/// vehicle comes from the log's `direction` and `category` facts.
+#[test]
+fn helper_relations_are_proved_and_followed_in_why_not() {
+    const RULES: &str = "rules/library/vehicle_with_bicycle_to_its_right.dl";
+    let mut done = false;
+    for log in logs() {
+        let cats = relation(&log, "category");
+        let is = |u: &str, c: &str| {
+            cats.iter()
+                .any(|r| r[0].as_str() == Some(u) && r[1].as_str() == Some(c))
+        };
+        if !cats.iter().any(|r| r[1].as_str() == Some("BICYCLE")) {
+            continue;
+        }
+        // (vehicle, frame) -> the qualifying distances.
+        let mut hits: BTreeMap<(String, u64), Vec<f64>> = BTreeMap::new();
+        for r in relation(&log, "direction") {
+            let (Some(v), Some(b), Some(t), Some(d), Some(dist), Some(lat)) = (
+                r[0].as_str(),
+                r[1].as_str(),
+                r[2].as_u64(),
+                r[3].as_str(),
+                r[4].as_f64(),
+                r[5].as_f64(),
+            ) else {
+                continue;
+            };
+            if d == "right" && dist <= 3.0 && lat <= 5.0 && is(v, "VEHICLE") && is(b, "BICYCLE") {
+                hits.entry((v.to_string(), t)).or_default().push(dist);
+            }
+        }
+        let Some(((v, t), dists)) = hits.iter().next() else {
+            continue;
+        };
+        let n = hits.keys().filter(|(u, _)| u == v).count();
+        let log_s = log.to_string_lossy();
+        let (code, out, err) =
+            scenalog(&["explain", "--rules", RULES, "--log", &log_s, "--track", v]);
+        assert_eq!(code, 0, "{err}\n{out}");
+        assert!(out.contains(&format!("is referred in {n} frame")), "{out}");
+        assert!(out.contains(&format!("(frame {t}): referred")), "{out}");
+        assert!(out.contains("✓ bicycle_right(V, _, T)"), "{out}");
+        assert!(out.contains(&format!("{RULES}:3:")), "{out}");
+        assert!(
+            dists
+                .iter()
+                .any(|d| out.contains(&format!("Dist = {d:.2} m <= 3.0"))),
+            "expected one of {dists:?}:\n{out}"
+        );
+        // A vehicle never referred: the report follows bicycle_right into its rule.
+        let Some(other) = cats
+            .iter()
+            .filter(|r| r[1].as_str() == Some("REGULAR_VEHICLE"))
+            .filter_map(|r| r[0].as_str())
+            .find(|u| !hits.keys().any(|(x, _)| x == u))
+        else {
+            continue;
+        };
+        let (code, out, err) = scenalog(&[
+            "explain", "--rules", RULES, "--log", &log_s, "--track", other,
+        ]);
+        assert_eq!(code, 0, "{err}\n{out}");
+        assert!(out.contains("NOT referred"), "{out}");
+        assert!(out.contains("✗ bicycle_right(V, _, T)"), "{out}");
+        assert!(
+            out.contains(&format!("why no bicycle_right({}", &other[..8])),
+            "{out}"
+        );
+        assert!(out.contains("✓ category(V, \"VEHICLE\")"), "{out}");
+        done = true;
+        break;
+    }
+    assert!(done, "no log has a vehicle with a bicycle to its right");
+}

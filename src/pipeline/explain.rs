@@ -353,8 +353,8 @@ impl Renderer<'_> {
         }
     }
 
-    /// A derivation as indented text.
-    pub fn derivation_text(&self, d: &Derivation, indent: usize, out: &mut String) {
+    /// A derivation as indented text (`header`: start with the derived fact's own line).
+    pub fn derivation_text(&self, d: &Derivation, indent: usize, header: bool, out: &mut String) {
         let pad = " ".repeat(indent);
         let Some(ci) = d.clause else {
             out.push_str(&format!(
@@ -363,7 +363,9 @@ impl Renderer<'_> {
             ));
             return;
         };
-        out.push_str(&format!("{pad}{}\n", self.fact(&d.relation, &d.tuple)));
+        if header {
+            out.push_str(&format!("{pad}{}\n", self.fact(&d.relation, &d.tuple)));
+        }
         if let Some((line, text)) = self.clause_source(ci) {
             out.push_str(&format!("{pad}  by the rule at {}:{line}:\n", self.file()));
             for l in text.lines() {
@@ -390,7 +392,7 @@ impl Renderer<'_> {
                 ..
             } = f
             {
-                self.derivation_text(child, indent + 6, out);
+                self.derivation_text(child, indent + 4, false, out);
             }
         }
     }
@@ -581,10 +583,24 @@ impl Renderer<'_> {
         lines
     }
 
+    /// A column's name: the catalog's, the `.decl`'s, or the variable the first rule for the
+    /// relation has there.
     fn column_name(&self, relation: &str, i: usize) -> String {
+        let program = &self.scenario.program.program;
         scenalog_facts::catalog::relation(relation)
             .and_then(|r| r.columns.get(i))
             .map(|c| c.name.to_string())
+            .or_else(|| {
+                let d = program.decls.iter().find(|d| d.name == relation)?;
+                d.columns.get(i).map(|c| c.0.clone())
+            })
+            .or_else(|| {
+                program
+                    .clauses
+                    .iter()
+                    .filter(|c| c.head.pred == relation)
+                    .find_map(|c| c.head.args.get(i)?.as_var().map(str::to_string))
+            })
             .unwrap_or_else(|| format!("column {}", i + 1))
     }
 
@@ -903,7 +919,7 @@ pub fn explanation_text(r: &Renderer<'_>, e: &Explanation) -> String {
     ));
     if let Some(p) = &e.proof {
         out.push_str("Proof:\n");
-        r.derivation_text(p, 2, &mut out);
+        r.derivation_text(p, 2, true, &mut out);
     }
     if let Some(w) = &e.why_not {
         if e.proof.is_some() {
