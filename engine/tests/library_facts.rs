@@ -1274,3 +1274,217 @@ fn multiple_pedestrians_crossing_ahead() {
     "#;
     nothing(name, other);
 }
+
+// ---- crosswalks, crossings, jaywalking --------------------------------------------------------
+
+#[test]
+fn pedestrian_crossing_in_front_of_vehicle_at_crosswalk() {
+    let name = "pedestrian_crossing_in_front_of_vehicle_at_crosswalk";
+    // At frame 14 a pedestrian on a crosswalk (0.5 m from it) crosses a car's front.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN").
+        crossing(1, 2, 14, "forward"). at_crosswalk(2, 14, 0.5).
+    "#;
+    finds(name, base, &[(2, 14)], &[(2, 1, 14)]);
+    // Crossing 3 m from any crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(2, 14, 0.5)", "at_crosswalk(2, 14, 3.0)"),
+    );
+    // Walking past the car's side, not its front.
+    nothing(name, &swap(base, "\"forward\"", "\"left\""));
+    // Crossing in front of a bollard, not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BOLLARD"));
+    // A bicyclist on the crosswalk is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"BICYCLIST\")",
+        ),
+    );
+}
+
+#[test]
+fn ego_vehicle_approaching_pedestrian_at_crosswalk() {
+    let name = "ego_vehicle_approaching_pedestrian_at_crosswalk";
+    // At frame 15 the ego heads toward a pedestrian standing on a crosswalk 20 m away.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN").
+        at_crosswalk(1, 15, 0.0). heading_toward(0, 1, 15). near(0, 1, 15, 20.0).
+    "#;
+    finds(name, base, &[(0, 15)], &[(0, 1, 15)]);
+    // The ego drives away from (or past) the pedestrian.
+    nothing(name, &swap(base, "heading_toward(0, 1, 15).", ""));
+    // 35 m away.
+    nothing(name, &swap(base, "20.0", "35.0"));
+    // The pedestrian is 3 m from the crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(1, 15, 0.0)", "at_crosswalk(1, 15, 3.0)"),
+    );
+    // Another car, not the ego, approaches the pedestrian.
+    let other = r#"
+        category(0, "EGO_VEHICLE"). category(5, "REGULAR_VEHICLE"). category(1, "PEDESTRIAN").
+        at_crosswalk(1, 15, 0.0). heading_toward(5, 1, 15). near(5, 1, 15, 20.0).
+    "#;
+    nothing(name, other);
+}
+
+#[test]
+fn vehicle_approaching_pedestrians_waiting_at_a_crosswalk() {
+    let name = "vehicle_approaching_pedestrians_waiting_at_a_crosswalk";
+    // At frame 16 a car heads toward a pedestrian standing (0.1 m/s) 1 m from a crosswalk,
+    // 25 m away.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN").
+        at_crosswalk(2, 16, 1.0). speed(2, 16, 0.1).
+        heading_toward(1, 2, 16). near(1, 2, 16, 25.0).
+    "#;
+    finds(name, base, &[(1, 16)], &[(1, 2, 16)]);
+    // The pedestrian is walking (1.3 m/s): crossing, not waiting.
+    nothing(name, &swap(base, "speed(2, 16, 0.1)", "speed(2, 16, 1.3)"));
+    // Standing 5 m from the crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(2, 16, 1.0)", "at_crosswalk(2, 16, 5.0)"),
+    );
+    // The car is not heading toward the pedestrian.
+    nothing(name, &swap(base, "heading_toward(1, 2, 16).", ""));
+    // 40 m away.
+    nothing(name, &swap(base, "25.0", "40.0"));
+}
+
+#[test]
+fn pedestrians_using_designated_crossing() {
+    let name = "pedestrians_using_designated_crossing";
+    // At frame 17 a pedestrian walking (1.2 m/s) on a crosswalk (box overlapping it).
+    let base = r#"
+        category(1, "PEDESTRIAN"). at_crosswalk(1, 17, 0.0). speed(1, 17, 1.2).
+    "#;
+    finds(name, base, &[(1, 17)], &[]);
+    // Walking along the kerb 0.5 m from the crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(1, 17, 0.0)", "at_crosswalk(1, 17, 0.5)"),
+    );
+    // Standing on it (0.1 m/s).
+    nothing(name, &swap(base, "speed(1, 17, 1.2)", "speed(1, 17, 0.1)"));
+    // A bicyclist riding over the crosswalk is not a pedestrian.
+    nothing(name, &swap(base, "PEDESTRIAN", "BICYCLIST"));
+}
+
+#[test]
+fn jaywalking_pedestrian() {
+    let name = "jaywalking_pedestrian";
+    // A pedestrian on the road 8 m from the nearest crosswalk at frame 1; another on a road
+    // of a map with no crosswalk at all at frame 1.
+    let base = r#"
+        category(1, "PEDESTRIAN"). on_road(1, 1). at_crosswalk(1, 1, 8.0).
+        category(2, "PEDESTRIAN"). on_road(2, 1).
+    "#;
+    finds(name, base, &[(1, 1), (2, 1)], &[]);
+    // The first is on the crosswalk.
+    finds(
+        name,
+        &swap(base, "at_crosswalk(1, 1, 8.0)", "at_crosswalk(1, 1, 0.0)"),
+        &[(2, 1)],
+        &[],
+    );
+    // The second is on the sidewalk, not the road.
+    finds(name, &swap(base, "on_road(2, 1).", ""), &[(1, 1)], &[]);
+    // A car on the road is not a pedestrian.
+    finds(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"REGULAR_VEHICLE\")",
+        ),
+        &[(1, 1)],
+        &[],
+    );
+}
+
+#[test]
+fn pedestrian_on_intersection_not_using_a_crosswalk() {
+    let name = "pedestrian_on_intersection_not_using_a_crosswalk";
+    // At frame 2 a pedestrian in the middle of an intersection, 6 m from any crosswalk.
+    let base = r#"
+        category(1, "PEDESTRIAN"). on_intersection(1, 2). at_crosswalk(1, 2, 6.0).
+    "#;
+    finds(name, base, &[(1, 2)], &[]);
+    // On the intersection's crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(1, 2, 6.0)", "at_crosswalk(1, 2, 0.0)"),
+    );
+    // Off the intersection.
+    nothing(name, &swap(base, "on_intersection(1, 2).", ""));
+}
+
+#[test]
+fn vehicle_crossed_by_pedestrian() {
+    let name = "vehicle_crossed_by_pedestrian";
+    // At frame 3 a pedestrian crosses in front of a bus.
+    let base = r#"
+        category(1, "BUS"). category(2, "PEDESTRIAN"). crossing(1, 2, 3, "forward").
+    "#;
+    finds(name, base, &[(1, 3)], &[(1, 2, 3)]);
+    // Walking past the bus's side.
+    nothing(name, &swap(base, "\"forward\"", "\"right\""));
+    // A dog crossing is not a pedestrian.
+    nothing(name, &swap(base, "PEDESTRIAN", "DOG"));
+}
+
+#[test]
+fn the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian() {
+    let name = "the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian";
+    // At frame 4 car 2 follows car 1, and a pedestrian on the road 10 m from any crosswalk
+    // crosses car 1's front.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE"). category(3, "PEDESTRIAN").
+        following(2, 1, 4).
+        on_road(3, 4). at_crosswalk(3, 4, 10.0). crossing(1, 3, 4, "forward").
+    "#;
+    finds(name, base, &[(2, 4)], &[(2, 1, 4)]);
+    // The pedestrian uses a crosswalk.
+    nothing(
+        name,
+        &swap(base, "at_crosswalk(3, 4, 10.0)", "at_crosswalk(3, 4, 0.0)"),
+    );
+    // Car 1 follows car 2 instead: car 2 is the one in front, nobody is behind car 1.
+    nothing(
+        name,
+        &swap(base, "following(2, 1, 4)", "following(1, 2, 4)"),
+    );
+    // The pedestrian crosses behind car 1 (between the cars' ends), not its front.
+    nothing(name, &swap(base, "\"forward\"", "\"backward\""));
+}
+
+#[test]
+fn vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian() {
+    let name = "vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian";
+    // At frame 5 the ego follows car 1, car 1 follows car 2, and a pedestrian crosses car
+    // 2's front.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
+        category(3, "PEDESTRIAN").
+        following(0, 1, 5). following(1, 2, 5). crossing(2, 3, 5, "forward").
+    "#;
+    finds(name, base, &[(2, 5)], &[(2, 3, 5)]);
+    // The pedestrian crosses car 1, the car directly ahead.
+    nothing(name, &swap(base, "crossing(2, 3, 5,", "crossing(1, 3, 5,"));
+    // Car 2 is not in the chain (car 1 does not follow it).
+    nothing(name, &swap(base, "following(1, 2, 5).", ""));
+    // A cone "crossing" is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(3, \"PEDESTRIAN\")",
+            "category(3, \"CONSTRUCTION_CONE\")",
+        ),
+    );
+}
