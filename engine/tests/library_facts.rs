@@ -1488,3 +1488,186 @@ fn vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian() {
         ),
     );
 }
+
+// ---- following and chains of following ---------------------------------------------------------
+
+#[test]
+fn bicycle_following_closely_behind_a_vehicle() {
+    let name = "bicycle_following_closely_behind_a_vehicle";
+    // At frame 6 a bicyclist follows a car, 3 m behind its box.
+    let base = r#"
+        category(1, "BICYCLIST"). category(2, "REGULAR_VEHICLE").
+        following(1, 2, 6). near(1, 2, 6, 3.0).
+    "#;
+    finds(name, base, &[(1, 6)], &[(1, 2, 6)]);
+    // 6 m behind: not closely.
+    nothing(name, &swap(base, "3.0", "6.0"));
+    // The car follows the bicyclist instead.
+    nothing(
+        name,
+        &swap(base, "following(1, 2, 6)", "following(2, 1, 6)"),
+    );
+    // Following a pedestrian, not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+    // A riderless bicycle counts as a bicycle too.
+    finds(
+        name,
+        &swap(base, "BICYCLIST", "BICYCLE"),
+        &[(1, 6)],
+        &[(1, 2, 6)],
+    );
+}
+
+#[test]
+fn car_following_closely_behind_bicyclist() {
+    let name = "car_following_closely_behind_bicyclist";
+    // At frame 7 a car follows a bicyclist, 2 m behind.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). category(2, "BICYCLIST").
+        following(1, 2, 7). near(1, 2, 7, 2.0).
+    "#;
+    finds(name, base, &[(1, 7)], &[(1, 2, 7)]);
+    // 7 m behind.
+    nothing(name, &swap(base, "2.0", "7.0"));
+    // The bicyclist follows the car.
+    nothing(
+        name,
+        &swap(base, "following(1, 2, 7)", "following(2, 1, 7)"),
+    );
+    // A bus is not a car.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
+}
+
+/// The ego (0) behind car 1 behind car 2 behind car 3 at `frame`: `following` chains ahead.
+fn chain_ahead(frame: u32) -> String {
+    format!(
+        r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE").
+        category(2, "REGULAR_VEHICLE"). category(3, "REGULAR_VEHICLE").
+        following(0, 1, {frame}). following(1, 2, {frame}). following(2, 3, {frame}).
+    "#
+    )
+}
+
+#[test]
+fn the_active_vehicle_in_front_of_the_vehicle_ahead() {
+    let name = "the_active_vehicle_in_front_of_the_vehicle_ahead";
+    // Car 2 is in front of the ego's lead (car 1); car 3 is one further.
+    let base = chain_ahead(8);
+    finds(name, &base, &[(2, 8)], &[]);
+    // Car 2 is parked for the whole log: not active.
+    nothing(name, &format!("{base} stationary(2)."));
+    // Car 1 has nobody in front of it.
+    nothing(name, &swap(&base, "following(1, 2, 8).", ""));
+}
+
+#[test]
+fn two_cars_back_from_the_ego_vehicle() {
+    let name = "two_cars_back_from_the_ego_vehicle";
+    // At frame 9 car 1 follows the ego, car 2 follows car 1, car 3 follows car 2.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE").
+        category(2, "REGULAR_VEHICLE"). category(3, "REGULAR_VEHICLE").
+        following(1, 0, 9). following(2, 1, 9). following(3, 2, 9).
+    "#;
+    finds(name, base, &[(2, 9)], &[(2, 0, 9)]);
+    // Only one car behind the ego.
+    nothing(name, &swap(base, "following(2, 1, 9).", ""));
+    // The chain runs ahead of the ego (it follows them): nobody is behind it.
+    nothing(name, &chain_ahead(9));
+    // The second follower is a bicyclist.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"REGULAR_VEHICLE\")",
+            "category(2, \"BICYCLIST\")",
+        ),
+    );
+}
+
+#[test]
+fn ego_vehicle_two_cars_ahead_of_another_vehicle() {
+    let name = "ego_vehicle_two_cars_ahead_of_another_vehicle";
+    // At frame 10 car 1 follows the ego and car 2 follows car 1.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
+        following(1, 0, 10). following(2, 1, 10).
+    "#;
+    finds(name, base, &[(0, 10)], &[(0, 2, 10)]);
+    // One car behind only: the ego is one car ahead of it.
+    nothing(name, &swap(base, "following(2, 1, 10).", ""));
+    // The second follower is a bicyclist, not a vehicle.
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"REGULAR_VEHICLE\")",
+            "category(2, \"BICYCLIST\")",
+        ),
+    );
+    // The ego follows them: it is behind, not ahead.
+    nothing(name, &chain_ahead(10));
+}
+
+#[test]
+fn vehicle_two_cars_ahead_is_braking() {
+    let name = "vehicle_two_cars_ahead_is_braking";
+    // The second car ahead of the ego brakes at -2 m/s².
+    let base = format!("{} accel(2, 11, -2.0). accel(1, 11, 0.0).", chain_ahead(11));
+    finds(name, &base, &[(2, 11)], &[]);
+    // It merely eases off (-0.5 m/s²).
+    nothing(
+        name,
+        &swap(&base, "accel(2, 11, -2.0)", "accel(2, 11, -0.5)"),
+    );
+    // Only the car directly ahead brakes.
+    nothing(
+        name,
+        &swap(
+            &swap(&base, "accel(2, 11, -2.0)", "accel(2, 11, 0.0)"),
+            "accel(1, 11, 0.0)",
+            "accel(1, 11, -2.0)",
+        ),
+    );
+    // Only the third car ahead brakes.
+    nothing(name, &format!("{} accel(3, 11, -2.0).", chain_ahead(11)));
+}
+
+#[test]
+fn vehicle_two_cars_ahead_is_changing_lanes() {
+    let name = "vehicle_two_cars_ahead_is_changing_lanes";
+    // The second car ahead of the ego moves left at frame 12.
+    let base = format!("{} lane_change(2, 12, \"left\").", chain_ahead(12));
+    finds(name, &base, &[(2, 12)], &[]);
+    // To the right counts as well.
+    finds(
+        name,
+        &base.replace("\"left\"", "\"right\""),
+        &[(2, 12)],
+        &[],
+    );
+    // The car directly ahead changes lanes.
+    nothing(name, &swap(&base, "lane_change(2,", "lane_change(1,"));
+    // The third car ahead changes lanes.
+    nothing(name, &swap(&base, "lane_change(2,", "lane_change(3,"));
+}
+
+#[test]
+fn vehicle_two_vehicles_ahead_is_turning() {
+    let name = "vehicle_two_vehicles_ahead_is_turning";
+    // The second car ahead of the ego turns right at frame 13.
+    let base = format!("{} turning(2, 13, \"right\").", chain_ahead(13));
+    finds(name, &base, &[(2, 13)], &[]);
+    // Turning left counts as well.
+    finds(
+        name,
+        &base.replace("\"right\"", "\"left\""),
+        &[(2, 13)],
+        &[],
+    );
+    // The car directly ahead turns.
+    nothing(name, &swap(&base, "turning(2,", "turning(1,"));
+    // The second car turns at another frame than the one it is two ahead.
+    nothing(name, &swap(&base, "turning(2, 13,", "turning(2, 14,"));
+}
