@@ -11,6 +11,7 @@ use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::plan::{apply, body_lits, plan, Arg, AtomStep, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
+use crate::rows::Rows;
 use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
 use crate::{EngineError, Evaluation, Options};
 
@@ -36,7 +37,7 @@ pub fn evaluate(
             t.len()
         )));
     }
-    let mut complete: HashMap<String, Vec<Row>> = HashMap::new();
+    let mut complete: HashMap<String, Rows> = HashMap::new();
     for (name, info) in &program.predicates {
         if info.kind != PredKind::Catalog {
             continue;
@@ -92,7 +93,7 @@ pub fn evaluate(
         } else {
             None
         };
-        let derived = run_stratum(&plans, &defined, &complete, options, start, stamper)?;
+        let derived = run_stratum(&plans, &defined, &types, &complete, options, start, stamper)?;
         complete.extend(derived);
         if options.provenance {
             all_plans.push(
@@ -106,7 +107,8 @@ pub fn evaluate(
     }
     let mut out = Evaluation::default();
     for (name, info) in &program.predicates {
-        let rows = complete.get(name).map_or(&[][..], |r| r.as_slice());
+        let empty = Rows::new(info.types.len());
+        let rows = complete.get(name).unwrap_or(&empty);
         let mut decoded: Vec<Vec<Value>> = rows
             .iter()
             .map(|r| {
@@ -281,7 +283,7 @@ fn load(
     name: &str,
     types: &[ColType],
     symbols: &mut Symbols,
-) -> Result<Vec<Row>, EngineError> {
+) -> Result<Rows, EngineError> {
     let bad = |message: String| EngineError::BadInput {
         relation: name.to_string(),
         message,
@@ -310,51 +312,35 @@ fn load(
                 .ok_or_else(|| bad(format!("column {ci}, tuple {ri}: {v:?} is not a {ty:?}")))?;
         }
     }
-    rows.sort_unstable();
-    rows.dedup();
-    Ok(rows)
+    let mut out = Rows::new(types.len());
+    for r in &rows {
+        out.push(r);
+    }
+    out.sort_dedup();
+    Ok(out)
 }
 
 /// The tuples of one relation during a stratum's iteration.
-#[derive(Default)]
 struct Rel {
     /// Older tuples in sorted batches, merged geometrically (each tuple is copied O(log n)
     /// times over the whole iteration, not once per round).
-    batches: Vec<Vec<Row>>,
+    batches: Vec<Rows>,
     /// The last round's new tuples, sorted.
-    delta: Vec<Row>,
-}
-
-/// The part of a sorted slice after every element less than `x` (exponential then binary
-/// search from the front, so a sorted sequence of probes walks each batch once).
-fn skip_below<'a>(mut s: &'a [Row], x: &Row) -> &'a [Row] {
-    if s.first().is_some_and(|f| f < x) {
-        let mut step = 1;
-        while step < s.len() && s[step] < *x {
-            s = &s[step..];
-            step <<= 1;
-        }
-        step >>= 1;
-        while step > 0 {
-            if step < s.len() && s[step] < *x {
-                s = &s[step..];
-            }
-            step >>= 1;
-        }
-        s = &s[1..];
-    }
-    s
+    delta: Rows,
 }
 
 impl Rel {
-    /// Removes from `fresh` (sorted, distinct) the rows already in the relation.
-    fn remove_known(&self, fresh: &mut Vec<Row>) {
+    fn new(arity: usize) -> Rel {
+        Rel {
+            batches: Vec::new(),
+            delta: Rows::new(arity),
+        }
+    }
+
+    /// Removes from `fresh` (sorted, distinct) the tuples already in the relation.
+    fn remove_known(&self, fresh: &mut Rows) {
         for b in self.batches.iter().chain(std::iter::once(&self.delta)) {
-            let mut s = b.as_slice();
-            fresh.retain(|x| {
-                s = skip_below(s, x);
-                s.first() != Some(x)
-            });
+            fresh.remove_known(b);
             if fresh.is_empty() {
                 return;
             }
@@ -365,18 +351,18 @@ impl Rel {
         self.delta.len() + self.batches.iter().map(|b| b.len()).sum::<usize>()
     }
 
-    fn stable(&self) -> Vec<&[Row]> {
-        self.batches.iter().map(|b| b.as_slice()).collect()
+    fn stable(&self) -> Vec<&Rows> {
+        self.batches.iter().collect()
     }
 
-    fn full(&self) -> Vec<&[Row]> {
+    fn full(&self) -> Vec<&Rows> {
         let mut v = self.stable();
         v.push(&self.delta);
         v
     }
 
     /// Moves the delta into the batches and makes `fresh` the delta.
-    fn advance(&mut self, fresh: Vec<Row>) {
+    fn advance(&mut self, fresh: Rows) {
         let old = std::mem::replace(&mut self.delta, fresh);
         if !old.is_empty() {
             self.batches.push(old);
@@ -389,17 +375,13 @@ impl Rel {
             let (Some(b), Some(a)) = (self.batches.pop(), self.batches.pop()) else {
                 break;
             };
-            self.batches.push(merge(&a, &b));
+            self.batches.push(a.merge(&b));
         }
     }
 
-    fn into_sorted(mut self) -> Vec<Row> {
-        self.advance(Vec::new());
-        let mut all = Vec::new();
-        for b in self.batches {
-            all = merge(&all, &b);
-        }
-        all
+    fn into_sorted(self) -> Rows {
+        let Rel { batches, delta } = self;
+        batches.iter().rev().fold(delta, |acc, b| b.merge(&acc))
     }
 }
 
@@ -409,13 +391,15 @@ impl Rel {
 fn run_stratum(
     plans: &[(String, Plan)],
     defined: &HashSet<&str>,
-    complete: &HashMap<String, Vec<Row>>,
+    types: &HashMap<String, Vec<ColType>>,
+    complete: &HashMap<String, Rows>,
     options: &Options,
     start: Instant,
     mut stamper: Option<&mut Stamper<'_>>,
-) -> Result<HashMap<String, Vec<Row>>, EngineError> {
-    let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::default())).collect();
-    let empty: Vec<Row> = Vec::new();
+) -> Result<HashMap<String, Rows>, EngineError> {
+    let arity = |name: &str| types.get(name).map_or(0, |t| t.len());
+    let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::new(arity(d)))).collect();
+    let empty = Rows::new(0);
     // Join indexes of atoms over relations complete before this stratum, built once.
     let prebuilt: Vec<Vec<Option<Index>>> = plans
         .iter()
@@ -436,7 +420,7 @@ fn run_stratum(
     let mut first = true;
     let mut round = 0;
     loop {
-        let mut new: BTreeMap<&str, Vec<Row>> = BTreeMap::new();
+        let mut new: BTreeMap<&str, Rows> = BTreeMap::new();
         // With provenance: the first plan that produced each row this round.
         let mut origin: FastMap<(&str, Row), usize> = FastMap::default();
         for (pi, (head, p)) in plans.iter().enumerate() {
@@ -452,54 +436,52 @@ fn run_stratum(
                 .filter(|(_, a)| defined.contains(a.pred.as_str()))
                 .map(|(i, _)| i)
                 .collect();
-            let out = new.entry(head.as_str()).or_default();
-            let before = out.len();
-            if first {
-                if !rec.is_empty() {
-                    continue;
-                }
-                let sources: Vec<Vec<&[Row]>> = p
-                    .atoms
-                    .iter()
-                    .map(|a| vec![complete.get(&a.pred).unwrap_or(&empty).as_slice()])
-                    .collect();
-                run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
-                if stamper.is_some() {
-                    for r in &out[before..] {
-                        origin.entry((head.as_str(), *r)).or_insert(pi);
-                    }
-                }
+            if first && !rec.is_empty() {
                 continue;
             }
-            for &k in &rec {
-                let sources: Vec<Vec<&[Row]>> = p
+            let out = new
+                .entry(head.as_str())
+                .or_insert_with(|| Rows::new(arity(head)));
+            let before = out.len();
+            if first {
+                let sources: Vec<Vec<&Rows>> = p
                     .atoms
                     .iter()
-                    .enumerate()
-                    .map(|(j, a)| match rels.get(a.pred.as_str()) {
-                        Some(r) if j < k => r.stable(),
-                        Some(r) if j == k => vec![r.delta.as_slice()],
-                        Some(r) => r.full(),
-                        None => vec![complete.get(&a.pred).unwrap_or(&empty).as_slice()],
-                    })
+                    .map(|a| vec![complete.get(&a.pred).unwrap_or(&empty)])
                     .collect();
-                if sources[k].iter().all(|s| s.is_empty()) {
-                    continue;
-                }
                 run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
+            } else {
+                for &k in &rec {
+                    let sources: Vec<Vec<&Rows>> = p
+                        .atoms
+                        .iter()
+                        .enumerate()
+                        .map(|(j, a)| match rels.get(a.pred.as_str()) {
+                            Some(r) if j < k => r.stable(),
+                            Some(r) if j == k => vec![&r.delta],
+                            Some(r) => r.full(),
+                            None => vec![complete.get(&a.pred).unwrap_or(&empty)],
+                        })
+                        .collect();
+                    if sources[k].iter().all(|s| s.is_empty()) {
+                        continue;
+                    }
+                    run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
+                }
             }
             if stamper.is_some() {
-                for r in &out[before..] {
-                    origin.entry((head.as_str(), *r)).or_insert(pi);
+                for i in before..out.len() {
+                    if let Some(t) = out.get(i) {
+                        origin.entry((head.as_str(), Rows::row(t))).or_insert(pi);
+                    }
                 }
             }
         }
         first = false;
         let mut changed = false;
         for (name, rel) in rels.iter_mut() {
-            let mut fresh = new.remove(name).unwrap_or_default();
-            fresh.sort_unstable();
-            fresh.dedup();
+            let mut fresh = new.remove(name).unwrap_or_else(|| Rows::new(arity(name)));
+            fresh.sort_dedup();
             rel.remove_known(&mut fresh);
             if rel.len() + fresh.len() > options.max_tuples {
                 return Err(EngineError::TooManyTuples {
@@ -509,12 +491,13 @@ fn run_stratum(
             }
             changed |= !fresh.is_empty();
             if let Some(st) = stamper.as_mut() {
-                for r in &fresh {
+                for t in fresh.iter() {
+                    let r = Rows::row(t);
                     st(
                         name,
-                        *r,
+                        r,
                         round,
-                        origin.get(&(*name, *r)).copied().unwrap_or(usize::MAX),
+                        origin.get(&(*name, r)).copied().unwrap_or(usize::MAX),
                     );
                 }
             }
@@ -529,23 +512,6 @@ fn run_stratum(
         .into_iter()
         .map(|(k, r)| (k.to_string(), r.into_sorted()))
         .collect())
-}
-
-fn merge(a: &[Row], b: &[Row]) -> Vec<Row> {
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if a[i] < b[j] {
-            out.push(a[i]);
-            i += 1;
-        } else {
-            out.push(b[j]);
-            j += 1;
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
 }
 
 /// What a rule evaluation checks as it produces tuples.
@@ -578,11 +544,11 @@ impl Limits<'_> {
 /// Runs a plan over one source relation per atom, appending head rows to `out`.
 pub(crate) fn run_plan(
     p: &Plan,
-    sources: &[&[Row]],
-    out: &mut Vec<Row>,
+    sources: &[&Rows],
+    out: &mut Rows,
     limits: &Limits<'_>,
 ) -> Result<(), EngineError> {
-    let parts: Vec<Vec<&[Row]>> = sources.iter().map(|s| vec![*s]).collect();
+    let parts: Vec<Vec<&Rows>> = sources.iter().map(|s| vec![*s]).collect();
     run_plan_indexed(p, &parts, &[], out, limits)
 }
 
@@ -590,7 +556,7 @@ pub(crate) fn run_plan(
 pub(crate) type Index = FastMap<Row, Vec<(u32, u32)>>;
 
 /// Builds the join index of one atom over its source's parts.
-pub(crate) fn build_index(step: &AtomStep, parts: &[&[Row]]) -> Index {
+pub(crate) fn build_index(step: &AtomStep, parts: &[&Rows]) -> Index {
     let mut index: Index = FastMap::default();
     for (pi, part) in parts.iter().enumerate() {
         for (i, t) in part.iter().enumerate() {
@@ -609,9 +575,9 @@ pub(crate) fn build_index(step: &AtomStep, parts: &[&[Row]]) -> Index {
 /// change while a stratum iterates), so they are not rebuilt every round.
 pub(crate) fn run_plan_indexed(
     p: &Plan,
-    sources: &[Vec<&[Row]>],
+    sources: &[Vec<&Rows>],
     prebuilt: &[Option<Index>],
-    out: &mut Vec<Row>,
+    out: &mut Rows,
     limits: &Limits<'_>,
 ) -> Result<(), EngineError> {
     let mut bindings: Vec<Row> = apply(&p.start, [0u64; WIDTH]).into_iter().collect();
@@ -645,7 +611,7 @@ pub(crate) fn run_plan_indexed(
                 limits.check(next.len())?;
             }
         } else {
-            let matching: Vec<&Row> = src
+            let matching: Vec<&[u64]> = src
                 .iter()
                 .flat_map(|p| p.iter())
                 .filter(|t| step.selects(t))
@@ -663,7 +629,7 @@ pub(crate) fn run_plan_indexed(
     }
     for b in &bindings {
         if let Some(r) = p.project(b) {
-            out.push(r);
+            out.push(&r);
         }
     }
     limits.check(out.len())

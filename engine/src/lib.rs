@@ -11,6 +11,7 @@
 mod eval;
 mod plan;
 mod prove;
+mod rows;
 mod why_not;
 pub mod value;
 

@@ -11,6 +11,7 @@ use scenalog_rules::ast::{
 };
 
 use crate::eval::{run_plan, Limits};
+use crate::rows::Rows;
 use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
 use crate::EngineError;
 
@@ -214,7 +215,7 @@ pub struct AtomStep {
 
 impl AtomStep {
     /// Whether a stored tuple passes the atom's constants and repeated variables.
-    pub fn selects(&self, t: &Row) -> bool {
+    pub fn selects(&self, t: &[u64]) -> bool {
         self.args.iter().enumerate().all(|(i, a)| match a {
             Arg::Const(c) => t[i] == *c,
             Arg::Same(slot) => self
@@ -227,7 +228,7 @@ impl AtomStep {
     }
 
     /// The binding row extended with the atom's new variables.
-    pub fn extend(&self, mut b: Row, t: &Row) -> Row {
+    pub fn extend(&self, mut b: Row, t: &[u64]) -> Row {
         for (i, a) in self.args.iter().enumerate() {
             if let Arg::New(s) = a {
                 b[*s] = t[i];
@@ -237,7 +238,7 @@ impl AtomStep {
     }
 
     /// The join key of a stored tuple (its key columns).
-    pub fn tuple_key(&self, t: &Row) -> Row {
+    pub fn tuple_key(&self, t: &[u64]) -> Row {
         let mut k = [0u64; WIDTH];
         let mut n = 0;
         for (i, a) in self.args.iter().enumerate() {
@@ -290,7 +291,7 @@ pub struct Ctx<'a> {
     /// Column types by predicate.
     pub types: &'a HashMap<String, Vec<ColType>>,
     /// Completed relations (for negation sets).
-    pub complete: &'a HashMap<String, Vec<Row>>,
+    pub complete: &'a HashMap<String, Rows>,
     /// Symbols.
     pub symbols: &'a mut Symbols,
     /// Limits for evaluating aggregate bodies.
@@ -633,8 +634,8 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
     }
     let mut set = FastSet::default();
     if let Some(rows) = ctx.complete.get(&a.pred) {
-        for r in rows {
-            let mut k = *r;
+        for r in rows.iter() {
+            let mut k = Rows::row(r);
             for (i, x) in args.iter().enumerate() {
                 if matches!(x, KeyArg::Wild) {
                     k[i] = 0;
@@ -681,14 +682,14 @@ fn var_expr(name: &str) -> Expr {
 /// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group.
 fn fold(
     func: AggFunc,
-    rows: &[Row],
+    rows: &Rows,
     g_len: usize,
     last: usize,
     target_ty: ColType,
     out_ty: ColType,
 ) -> FastMap<Row, u64> {
     let mut acc: FastMap<Row, V> = FastMap::default();
-    for r in rows {
+    for r in rows.iter() {
         let mut key = [0u64; WIDTH];
         key[..g_len].copy_from_slice(&r[..g_len]);
         let x = decode(r[last], target_ty);
@@ -772,12 +773,13 @@ impl Correlated {
             }
             bindings = next;
         }
-        let mut rows: Vec<Row> = bindings
-            .iter()
-            .filter_map(|b| self.plan.project(b))
-            .collect();
-        rows.sort_unstable();
-        rows.dedup();
+        let mut rows = Rows::new(self.plan.head.len());
+        for b in &bindings {
+            if let Some(r) = self.plan.project(b) {
+                rows.push(&r);
+            }
+        }
+        rows.sort_dedup();
         let table = fold(
             self.func,
             &rows,
@@ -837,16 +839,15 @@ fn agg_filter(
         return correlated(g, group, head, g_len, scope, ctx);
     }
     let inner = plan(&lits, &head, None, ctx)?;
-    let empty = Vec::new();
-    let sources: Vec<&[Row]> = inner
+    let empty = Rows::new(0);
+    let sources: Vec<&Rows> = inner
         .atoms
         .iter()
-        .map(|a| ctx.complete.get(&a.pred).unwrap_or(&empty).as_slice())
+        .map(|a| ctx.complete.get(&a.pred).unwrap_or(&empty))
         .collect();
-    let mut rows = Vec::new();
+    let mut rows = Rows::new(head.len());
     run_plan(&inner, &sources, &mut rows, ctx.limits)?;
-    rows.sort_unstable();
-    rows.dedup();
+    rows.sort_dedup();
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let out_ty = match g.func {
         AggFunc::Count => ColType::Int,
@@ -912,15 +913,18 @@ fn correlated(
         group_slots.push(s);
     }
     let inner = plan_seeded(&lits, &head, None, ctx, &seed)?;
-    let empty = Vec::new();
+    let empty = Rows::new(0);
     let indexes = inner
         .atoms
         .iter()
         .map(|step| {
             let mut index: FastMap<Row, Vec<Row>> = FastMap::default();
-            for t in ctx.complete.get(&step.pred).unwrap_or(&empty) {
+            for t in ctx.complete.get(&step.pred).unwrap_or(&empty).iter() {
                 if step.selects(t) {
-                    index.entry(step.tuple_key(t)).or_default().push(*t);
+                    index
+                        .entry(step.tuple_key(t))
+                        .or_default()
+                        .push(Rows::row(t));
                 }
             }
             index

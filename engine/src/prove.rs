@@ -8,6 +8,7 @@ use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
 use crate::plan::{apply, Plan};
+use crate::rows::Rows;
 use crate::value::{decode_value, encode, FastMap, Row, Symbols, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
@@ -51,7 +52,7 @@ impl Proof {
 pub(crate) struct Provenance {
     pub(crate) types: HashMap<String, Vec<ColType>>,
     pub(crate) symbols: Symbols,
-    pub(crate) rels: HashMap<String, Vec<Row>>,
+    pub(crate) rels: HashMap<String, Rows>,
     pub(crate) stamps: HashMap<String, FastMap<Row, Stamp>>,
     /// Per stratum: head, plan and clause index.
     pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
@@ -98,7 +99,7 @@ impl Provenance {
 
     pub(crate) fn prove(&self, rel: &str, tuple: &[Value]) -> Option<Proof> {
         let row = self.encode_tuple(rel, tuple)?;
-        if self.rels.get(rel)?.binary_search(&row).is_err() {
+        if !self.rels.get(rel)?.contains(&row) {
             return None;
         }
         self.prove_row(rel, &row)
@@ -130,19 +131,20 @@ impl Provenance {
             .atoms
             .iter()
             .map(|a| {
-                let all = self.rels.get(&a.pred).map_or(&[][..], |r| r.as_slice());
+                let Some(all) = self.rels.get(&a.pred) else {
+                    return Vec::new();
+                };
+                let rows = all.iter().map(Rows::row);
                 if same.contains(a.pred.as_str()) {
                     let stamps = self.stamps.get(&a.pred);
-                    all.iter()
-                        .filter(|t| {
-                            stamps
-                                .and_then(|s| s.get(*t))
-                                .is_some_and(|s| s.round < stamp.round)
-                        })
-                        .copied()
-                        .collect()
+                    rows.filter(|t| {
+                        stamps
+                            .and_then(|s| s.get(t))
+                            .is_some_and(|s| s.round < stamp.round)
+                    })
+                    .collect()
                 } else {
-                    all.to_vec()
+                    rows.collect()
                 }
             })
             .collect();

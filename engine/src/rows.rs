@@ -1,0 +1,226 @@
+//! Stored relations: tuples of one arity packed flat in a `Vec<u64>` (`arity` words a tuple,
+//! one word for a nullary relation), so a 2-column tuple costs 16 bytes, not a full-width
+//! [`Row`]. Sorting, deduplication, merging and searching are specialised by arity: each
+//! dispatches once on the stride to code over `[u64; N]` chunks, which the compiler compares
+//! and moves as fixed-size values. No tuple is ever a heap allocation of its own.
+
+use crate::value::{Row, WIDTH};
+
+/// A set or bag of tuples of one arity, stored flat.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Rows {
+    stride: usize,
+    data: Vec<u64>,
+}
+
+/// Calls `$f::<N>($args…)` for the stride `N` of `$stride` (1 to [`WIDTH`]).
+macro_rules! by_stride {
+    ($stride:expr, $f:ident ( $($a:expr),* )) => {
+        match $stride {
+            1 => $f::<1>($($a),*),
+            2 => $f::<2>($($a),*),
+            3 => $f::<3>($($a),*),
+            4 => $f::<4>($($a),*),
+            5 => $f::<5>($($a),*),
+            6 => $f::<6>($($a),*),
+            7 => $f::<7>($($a),*),
+            8 => $f::<8>($($a),*),
+            9 => $f::<9>($($a),*),
+            10 => $f::<10>($($a),*),
+            11 => $f::<11>($($a),*),
+            _ => $f::<WIDTH>($($a),*),
+        }
+    };
+}
+
+fn chunks<const N: usize>(data: &[u64]) -> &[[u64; N]] {
+    data.as_chunks::<N>().0
+}
+
+fn sort_dedup_n<const N: usize>(data: &mut Vec<u64>) {
+    let (rows, _) = data.as_chunks_mut::<N>();
+    rows.sort_unstable();
+    let mut w = 0;
+    for r in 0..rows.len() {
+        if w == 0 || rows[r] != rows[w - 1] {
+            rows[w] = rows[r];
+            w += 1;
+        }
+    }
+    data.truncate(w * N);
+}
+
+fn merge_n<const N: usize>(a: &[u64], b: &[u64]) -> Vec<u64> {
+    let (a, b) = (chunks::<N>(a), chunks::<N>(b));
+    let mut out: Vec<u64> = Vec::with_capacity((a.len() + b.len()) * N);
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] < b[j] {
+            out.extend_from_slice(&a[i]);
+            i += 1;
+        } else {
+            out.extend_from_slice(&b[j]);
+            j += 1;
+        }
+    }
+    for r in &a[i..] {
+        out.extend_from_slice(r);
+    }
+    for r in &b[j..] {
+        out.extend_from_slice(r);
+    }
+    out
+}
+
+/// The part of a sorted slice after every element less than `x` (exponential then binary
+/// search from the front, so a sorted sequence of probes walks the slice once).
+fn skip_below<'a, const N: usize>(mut s: &'a [[u64; N]], x: &[u64; N]) -> &'a [[u64; N]] {
+    if s.first().is_some_and(|f| f < x) {
+        let mut step = 1;
+        while step < s.len() && s[step] < *x {
+            s = &s[step..];
+            step <<= 1;
+        }
+        step >>= 1;
+        while step > 0 {
+            if step < s.len() && s[step] < *x {
+                s = &s[step..];
+            }
+            step >>= 1;
+        }
+        s = &s[1..];
+    }
+    s
+}
+
+fn remove_known_n<const N: usize>(fresh: &mut Vec<u64>, known: &[u64]) {
+    let mut s = chunks::<N>(known);
+    let (rows, _) = fresh.as_chunks_mut::<N>();
+    let mut w = 0;
+    for r in 0..rows.len() {
+        let x = rows[r];
+        s = skip_below(s, &x);
+        if s.first() != Some(&x) {
+            rows[w] = x;
+            w += 1;
+        }
+    }
+    fresh.truncate(w * N);
+}
+
+fn contains_n<const N: usize>(data: &[u64], row: &[u64]) -> bool {
+    let mut key = [0u64; N];
+    key.copy_from_slice(&row[..N]);
+    chunks::<N>(data).binary_search(&key).is_ok()
+}
+
+impl Rows {
+    /// An empty set of tuples of `arity` columns (at most [`WIDTH`]).
+    pub fn new(arity: usize) -> Rows {
+        Rows {
+            stride: arity.clamp(1, WIDTH),
+            data: Vec::new(),
+        }
+    }
+
+    /// Number of tuples.
+    pub fn len(&self) -> usize {
+        self.data.len() / self.stride.max(1)
+    }
+
+    /// Whether there are no tuples.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// The `i`th tuple (its stride words: the columns, or one zero for a nullary relation).
+    pub fn get(&self, i: usize) -> Option<&[u64]> {
+        let s = self.stride;
+        self.data.get(i * s..(i + 1) * s)
+    }
+
+    /// The tuples in order.
+    pub fn iter(&self) -> std::slice::ChunksExact<'_, u64> {
+        self.data.chunks_exact(self.stride.max(1))
+    }
+
+    /// Appends the first columns of a full-width row.
+    pub fn push(&mut self, row: &Row) {
+        self.data.extend_from_slice(&row[..self.stride]);
+    }
+
+    /// A tuple widened to a full row (zeros past the arity).
+    pub fn row(t: &[u64]) -> Row {
+        let mut r = [0u64; WIDTH];
+        r[..t.len()].copy_from_slice(t);
+        r
+    }
+
+    /// Sorts and removes duplicates.
+    pub fn sort_dedup(&mut self) {
+        by_stride!(self.stride, sort_dedup_n(&mut self.data));
+    }
+
+    /// The sorted union of two sorted sets of the same arity.
+    pub fn merge(&self, other: &Rows) -> Rows {
+        if self.is_empty() {
+            return other.clone();
+        }
+        Rows {
+            stride: self.stride,
+            data: by_stride!(self.stride, merge_n(&self.data, &other.data)),
+        }
+    }
+
+    /// Removes from `self` (sorted, distinct) the tuples in `known` (sorted).
+    pub fn remove_known(&mut self, known: &Rows) {
+        if self.is_empty() || known.is_empty() {
+            return;
+        }
+        by_stride!(self.stride, remove_known_n(&mut self.data, &known.data));
+    }
+
+    /// Whether a sorted set holds the tuple `t` (its first stride words).
+    pub fn contains(&self, t: &[u64]) -> bool {
+        !self.is_empty()
+            && t.len() >= self.stride
+            && by_stride!(self.stride, contains_n(&self.data, t))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(arity: usize, ts: &[&[u64]]) -> Rows {
+        let mut r = Rows::new(arity);
+        for t in ts {
+            r.push(&Rows::row(t));
+        }
+        r
+    }
+
+    #[test]
+    fn sort_dedup_merge_and_remove_by_arity() {
+        let mut a = rows(2, &[&[3, 1], &[1, 2], &[3, 1], &[1, 1]]);
+        a.sort_dedup();
+        assert_eq!(
+            a.iter().collect::<Vec<_>>(),
+            vec![&[1, 1], &[1, 2], &[3, 1]]
+        );
+        let mut b = rows(2, &[&[2, 0], &[1, 2]]);
+        b.sort_dedup();
+        let m = a.merge(&b);
+        assert_eq!(m.len(), 5);
+        assert!(m.contains(&[2, 0]) && !m.contains(&[2, 1]));
+        let mut fresh = rows(2, &[&[0, 9], &[1, 2], &[3, 1], &[4, 4]]);
+        fresh.remove_known(&a);
+        assert_eq!(fresh.iter().collect::<Vec<_>>(), vec![&[0, 9], &[4, 4]]);
+        let mut unit = rows(0, &[&[], &[]]);
+        unit.sort_dedup();
+        assert_eq!(unit.len(), 1);
+        let mut wide = rows(WIDTH, &[&[1; WIDTH], &[0; WIDTH], &[1; WIDTH]]);
+        wide.sort_dedup();
+        assert_eq!(wide.len(), 2);
+    }
+}
