@@ -239,12 +239,19 @@ pub fn run(args: Args) -> ExitCode {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    for (log, e) in &report.log_failures {
-        log_problems.push(format!("log {log}: {e}"));
+    for (_, e) in &report.log_failures {
+        log_problems.push(e.clone());
     }
+    // A log that could not be read fails each of its pairs; it is listed once, as the log.
+    let failed_logs: BTreeSet<&str> = report
+        .log_failures
+        .iter()
+        .map(|(l, _)| l.as_str())
+        .collect();
     let pair_failures: Vec<String> = report
         .pairs
         .iter()
+        .filter(|p| !failed_logs.contains(p.log_id.as_str()))
         .filter_map(|p| match &p.status {
             PairStatus::Failed(e) => Some(e.clone()),
             _ => None,
@@ -296,7 +303,11 @@ pub fn run(args: Args) -> ExitCode {
             if all > 0 {
                 println!("\nfailed ({all}):");
                 for f in failures.iter().chain(&log_problems).chain(&pair_failures) {
-                    println!("  {}", f.lines().next().unwrap_or_default());
+                    let mut lines = f.trim_end().lines();
+                    println!("  {}", lines.next().unwrap_or_default());
+                    for l in lines {
+                        println!("    {l}");
+                    }
                 }
             }
             println!(
