@@ -1,8 +1,9 @@
 //! Evaluating a synthetic submission of 150 logs x 30 prompts built from the real fixture by jittering.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use scenalog_eval::{evaluate, read_pickle, EvalOptions, Submission};
+use scenalog_eval::{evaluate, read_pickle, EvalOptions, RoiMaps, RoiRaster, Submission};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 fn data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -18,6 +19,8 @@ fn jitter(state: &mut u64) -> f64 {
     ((*state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
 }
 
+/// `logs` x `prompts` sequences, each a jittered copy of a fixture sequence; all sequences of a log come
+/// from one real log, whose index ends the log id (so the ROI benchmark can give it that log's raster).
 fn synthetic(
     pred: &Submission,
     gt: &Submission,
@@ -30,8 +33,9 @@ fn synthetic(
     let mut state = 7u64;
     for l in 0..logs {
         for q in 0..prompts {
-            let src = &sources[(l + q) % sources.len()];
-            let key = (format!("log-{l:04}"), format!("prompt {q:02}"));
+            let s = l % sources.len();
+            let src = &sources[s];
+            let key = (format!("log-{l:04}-{s}"), format!("prompt {q:02}"));
             g.sequences.insert(key.clone(), gt.sequences[src].clone());
             let mut frames = pred.sequences[src].clone();
             for f in &mut frames {
@@ -50,6 +54,27 @@ fn bench(c: &mut Criterion) {
     let pred = read_pickle(&data("combined_predictions_dev.pkl")).expect("predictions");
     let gt = read_pickle(&data("combined_gt_dev.pkl")).expect("ground truth");
     let (p, g) = synthetic(&pred, &gt, 150, 30);
+    let logs_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/av2/logs");
+    let sources: Vec<String> = gt.sequences.keys().map(|k| k.0.clone()).collect();
+    let real = RoiMaps::load(&logs_dir, sources.iter().map(|s| s.as_str())).expect("maps");
+    let fixture_roi = EvalOptions {
+        roi: Some(Arc::new(real.clone())),
+        ..EvalOptions::default()
+    };
+    // the synthetic logs share the rasters of the real logs they were copied from
+    let mut maps = RoiMaps::default();
+    for (log, _) in g.sequences.keys() {
+        let s: usize = log
+            .rsplit('-')
+            .next()
+            .and_then(|s| s.parse().ok())
+            .expect("tag");
+        maps.insert(log.clone(), real.shared(&sources[s]).expect("raster"));
+    }
+    let synthetic_roi = EvalOptions {
+        roi: Some(Arc::new(maps)),
+        ..EvalOptions::default()
+    };
     let mut group = c.benchmark_group("evaluate");
     group.sample_size(10);
     group.bench_function("150_logs_x_30_prompts", |b| {
@@ -57,6 +82,16 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function("fixture_2_sequences", |b| {
         b.iter(|| evaluate(&pred, &gt, &EvalOptions::default()).expect("evaluate"))
+    });
+    group.bench_function("150_logs_x_30_prompts_roi", |b| {
+        b.iter(|| evaluate(&p, &g, &synthetic_roi).expect("evaluate"))
+    });
+    group.bench_function("fixture_2_sequences_roi", |b| {
+        b.iter(|| evaluate(&pred, &gt, &fixture_roi).expect("evaluate"))
+    });
+    let map_b = logs_dir.join(&sources[1]).join("map");
+    group.bench_function("roi_raster_from_map_3bffdcff", |b| {
+        b.iter(|| RoiRaster::from_map_dir(&map_b).expect("raster"))
     });
     group.bench_function("read_pickle_predictions", |b| {
         b.iter(|| read_pickle(&data("combined_predictions_dev.pkl")).expect("read"))

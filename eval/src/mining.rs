@@ -179,11 +179,12 @@ pub fn filter_roi(sub: &mut Submission, maps: &RoiMaps) -> Result<(), EvalError>
 }
 
 /// Copies of the frames holding only the objects `keep(frame, object)` selects.
-fn select(frames: &[FrameData], keep: impl Fn(&FrameData, usize) -> bool) -> Vec<FrameData> {
+fn select(frames: &[FrameData], keep: impl Fn(usize, &FrameData, usize) -> bool) -> Vec<FrameData> {
     frames
         .iter()
-        .map(|f| {
-            let idx: Vec<usize> = (0..f.len()).filter(|&i| keep(f, i)).collect();
+        .enumerate()
+        .map(|(j, f)| {
+            let idx: Vec<usize> = (0..f.len()).filter(|&i| keep(j, f, i)).collect();
             FrameData {
                 timestamp_ns: f.timestamp_ns,
                 ego_translation_m: f.ego_translation_m,
@@ -221,34 +222,66 @@ fn kept(f: &FrameData, i: usize, max_range_m: f64, roi: Option<&RoiRaster>) -> b
     }
 }
 
+/// Which objects the filters keep.
+enum Filter<'a> {
+    /// The range filter alone, tested inline.
+    Range(f64),
+    /// Range and ROI, per sequence, frame and object: computed once, as the box test is the costly part.
+    Masks(BTreeMap<&'a SeqKey, Vec<Vec<bool>>>),
+}
+
+impl<'a> Filter<'a> {
+    fn new(sub: &'a Submission, max_range_m: f64, roi: Option<&RoiMaps>) -> Filter<'a> {
+        let Some(maps) = roi else {
+            return Filter::Range(max_range_m);
+        };
+        let masks = sub
+            .sequences
+            .par_iter()
+            .map(|(k, frames)| {
+                let r = maps.get(&k.0);
+                let m = frames
+                    .iter()
+                    .map(|f| (0..f.len()).map(|i| kept(f, i, max_range_m, r)).collect())
+                    .collect();
+                (k, m)
+            })
+            .collect();
+        Filter::Masks(masks)
+    }
+}
+
 /// The referred objects kept by the filters (`filter_max_dist`, `filter_drivable_area`, then
 /// `classify_referred_objects`); with `full_tracks`, every kept object of a track referred in any kept
 /// object (`referred_full_tracks`).
-fn referred(
-    sub: &Submission,
-    max_range_m: f64,
-    roi: Option<&RoiMaps>,
-    full_tracks: bool,
-) -> Submission {
+fn referred(sub: &Submission, filter: &Filter, full_tracks: bool) -> Submission {
     let sequences = sub
         .sequences
         .iter()
         .map(|(k, frames)| {
-            let r = roi.and_then(|m| m.get(&k.0));
+            let masks = match filter {
+                Filter::Masks(m) => m.get(k),
+                Filter::Range(_) => None,
+            };
+            let keep = |j: usize, f: &FrameData, i: usize| match (filter, masks) {
+                (Filter::Range(r), _) => kept(f, i, *r, None),
+                (Filter::Masks(_), m) => m.is_some_and(|m| m[j][i]),
+            };
             let out = if full_tracks {
                 let ids: BTreeSet<i32> = frames
                     .iter()
-                    .flat_map(|f| {
+                    .enumerate()
+                    .flat_map(|(j, f)| {
                         (0..f.len())
-                            .filter(move |&i| f.label[i] == 0 && kept(f, i, max_range_m, r))
+                            .filter(move |&i| f.label[i] == 0 && keep(j, f, i))
                             .map(move |i| f.track_id[i])
                     })
                     .collect();
-                select(frames, |f, i| {
-                    ids.contains(&f.track_id[i]) && kept(f, i, max_range_m, r)
+                select(frames, |j, f, i| {
+                    ids.contains(&f.track_id[i]) && keep(j, f, i)
                 })
             } else {
-                select(frames, |f, i| f.label[i] == 0 && kept(f, i, max_range_m, r))
+                select(frames, |j, f, i| f.label[i] == 0 && keep(j, f, i))
             };
             (k.clone(), out)
         })
@@ -539,8 +572,8 @@ pub fn evaluate(
     check_alignment(pred, gt, contains_tracking)?;
     if !contains_tracking {
         let (ts, sc) = temporal(
-            &referred(pred, f64::INFINITY, None, false),
-            &referred(gt, f64::INFINITY, None, false),
+            &referred(pred, &Filter::Range(f64::INFINITY), false),
+            &referred(gt, &Filter::Range(f64::INFINITY), false),
             None,
         );
         return Ok(Report {
@@ -560,10 +593,11 @@ pub fn evaluate(
     if let Some(maps) = roi {
         check_roi_inputs(pred, gt, maps)?;
     }
-    let (pr, gr) = (referred(pred, r, roi, false), referred(gt, r, roi, false));
+    let (fp, fg) = (Filter::new(pred, r, roi), Filter::new(gt, r, roi));
+    let (pr, gr) = (referred(pred, &fp, false), referred(gt, &fg, false));
     let temporal_h = tune(&pr, &gr);
     let (ts, sc) = temporal(&pr, &gr, Some(&temporal_h));
-    let (pf, gf) = (referred(pred, r, roi, true), referred(gt, r, roi, true));
+    let (pf, gf) = (referred(pred, &fp, true), referred(gt, &fg, true));
     let track_h = tune(&pf, &gf);
     Ok(Report {
         hota_temporal: mean(temporal_h.values().map(|h| h.value)),

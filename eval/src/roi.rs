@@ -33,7 +33,7 @@ pub const CELLS_PER_M: f64 = 10.0;
 pub const ROI_DILATION_CELLS: i64 = 50;
 
 /// Largest grid accepted (cells); a map beyond it is reported as an error instead of exhausting memory.
-const MAX_CELLS: u64 = 2_000_000_000;
+const MAX_CELLS: u64 = 1_000_000_000;
 
 /// A row-major bit set of `width * height` cells.
 #[derive(Clone)]
@@ -600,6 +600,11 @@ impl RoiMaps {
     /// The raster of a log.
     pub fn get(&self, log_id: &str) -> Option<&RoiRaster> {
         self.by_log.get(log_id).map(|r| r.as_ref())
+    }
+
+    /// The shared raster of a log (to reuse it under another log id without a copy).
+    pub fn shared(&self, log_id: &str) -> Option<Arc<RoiRaster>> {
+        self.by_log.get(log_id).cloned()
     }
 
     /// The log ids held.

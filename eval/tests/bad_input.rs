@@ -6,7 +6,7 @@ use scenalog_eval::{
     evaluate, read_pickle, read_table, EvalOptions, RoiMaps, RoiRaster, Submission,
 };
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 const LOG_A: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 const LOG_B: &str = "3bffdcff-c3a7-38b6-a0f2-64196d130958";
@@ -133,8 +133,15 @@ fn dataset_dir_without_a_log_names_it() {
     assert!(e.contains(LOG_A) && e.contains("dataset directory"), "{e}");
 }
 
+/// The rasters of the given fixture logs (built once per test binary, then shared).
 fn maps_of(logs: &[&str]) -> Arc<RoiMaps> {
-    Arc::new(RoiMaps::load(&data("logs"), logs.iter().copied()).expect("maps"))
+    static ALL: OnceLock<RoiMaps> = OnceLock::new();
+    let all = ALL.get_or_init(|| RoiMaps::load(&data("logs"), [LOG_A, LOG_B]).expect("maps"));
+    let mut maps = RoiMaps::default();
+    for log in logs {
+        maps.insert(*log, all.shared(log).expect("raster"));
+    }
+    Arc::new(maps)
 }
 
 #[test]
