@@ -1671,3 +1671,169 @@ fn vehicle_two_vehicles_ahead_is_turning() {
     // The second car turns at another frame than the one it is two ahead.
     nothing(name, &swap(&base, "turning(2, 13,", "turning(2, 14,"));
 }
+
+// ---- against traffic, approaching, passing, overtaking --------------------------------------
+
+#[test]
+fn bicycle_traveling_against_traffic() {
+    let name = "bicycle_traveling_against_traffic";
+    // At frame 14 a bicyclist rides at 4 m/s on the same side of the road as a car driving
+    // at 10 m/s, 15 m away, heading the opposite way.
+    let base = r#"
+        category(1, "BICYCLIST"). category(2, "REGULAR_VEHICLE").
+        speed(1, 14, 4.0). speed(2, 14, 10.0).
+        road_side(2, 1, 14, "same"). road_side(1, 2, 14, "same").
+        heading_relative(2, 1, 14, "opposite"). near(2, 1, 14, 15.0).
+    "#;
+    finds(name, base, &[(1, 14)], &[(1, 2, 14)]);
+    // Riding with the traffic.
+    nothing(name, &swap(base, "\"opposite\"", "\"same\""));
+    // Riding on the other side of the road, where that traffic is oncoming anyway.
+    nothing(name, &base.replace("14, \"same\"", "14, \"opposite\""));
+    // Standing with the bike (0.2 m/s).
+    nothing(name, &swap(base, "speed(1, 14, 4.0)", "speed(1, 14, 0.2)"));
+    // The car 35 m away.
+    nothing(name, &swap(base, "15.0", "35.0"));
+}
+
+#[test]
+fn ego_vehicle_approaching_stopped_truck() {
+    let name = "ego_vehicle_approaching_stopped_truck";
+    // At frame 15 the ego heads toward a box truck stopped in traffic (0.2 m/s, it drives
+    // on later), 20 m away.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "BOX_TRUCK").
+        speed(1, 15, 0.2). heading_toward(0, 1, 15). near(0, 1, 15, 20.0).
+    "#;
+    finds(name, base, &[(0, 15)], &[(0, 1, 15)]);
+    // The truck is parked for the whole log: parked, not stopped.
+    nothing(name, &format!("{base} stationary(1)."));
+    // The truck drives at 3 m/s.
+    nothing(name, &swap(base, "speed(1, 15, 0.2)", "speed(1, 15, 3.0)"));
+    // The ego is not heading toward it.
+    nothing(name, &swap(base, "heading_toward(0, 1, 15).", ""));
+    // 40 m away.
+    nothing(name, &swap(base, "20.0", "40.0"));
+    // A stopped bus is not a truck.
+    nothing(name, &swap(base, "BOX_TRUCK", "BUS"));
+}
+
+#[test]
+fn ego_vehicle_passing_parked_bus() {
+    let name = "ego_vehicle_passing_parked_bus";
+    // At frame 16 the ego drives at 8 m/s beside a parked bus, 2 m to its left and
+    // overlapping its length.
+    let base = r#"
+        category(0, "EGO_VEHICLE"). category(1, "BUS"). stationary(1).
+        speed(0, 16, 8.0). direction(0, 1, 16, "left", 2.0, 0.0).
+    "#;
+    finds(name, base, &[(0, 16)], &[(0, 1, 16)]);
+    // On the right counts too.
+    finds(
+        name,
+        &swap(base, "\"left\"", "\"right\""),
+        &[(0, 16)],
+        &[(0, 1, 16)],
+    );
+    // The ego is stopped beside the bus.
+    nothing(name, &swap(base, "speed(0, 16, 8.0)", "speed(0, 16, 0.1)"));
+    // The bus drives (not stationary over its track).
+    nothing(name, &swap(base, "stationary(1).", ""));
+    // The bus is still ahead-left, 3 m beyond the ego's front: not yet alongside.
+    nothing(name, &swap(base, "2.0, 0.0", "2.0, 3.0"));
+    // 7 m to the side.
+    nothing(name, &swap(base, "2.0, 0.0", "7.0, 0.0"));
+}
+
+/// Track 1 (a `slow` m/s vehicle of `cat1`) has its `side` half-midplane crossed by track 2
+/// (`fast` m/s, `cat2`) at frame 17, the two heading `rel`-ly.
+fn crossing_pair(cat1: &str, cat2: &str, side: &str, rel: &str, slow: f64, fast: f64) -> String {
+    format!(
+        r#"
+        category(1, "{cat1}"). category(2, "{cat2}").
+        speed(1, 17, {slow:.1}). speed(2, 17, {fast:.1}).
+        crossing(1, 2, 17, "{side}"). heading_relative(1, 2, 17, "{rel}").
+    "#
+    )
+}
+
+#[test]
+fn motorcycle_overtaking_a_vehicle() {
+    let name = "motorcycle_overtaking_a_vehicle";
+    let scene =
+        |side, rel, car, moto| crossing_pair("REGULAR_VEHICLE", "MOTORCYCLE", side, rel, car, moto);
+    // A motorcycle at 14 m/s passes a car at 8 m/s, both heading the same way, crossing the
+    // car's left half-midplane; or its right one.
+    finds(
+        name,
+        &scene("left", "same", 8.0, 14.0),
+        &[(2, 17)],
+        &[(2, 1, 17)],
+    );
+    finds(
+        name,
+        &scene("right", "same", 8.0, 14.0),
+        &[(2, 17)],
+        &[(2, 1, 17)],
+    );
+    // Any vehicle can be overtaken: a bus, or another motorcycle.
+    let bus = crossing_pair("BUS", "MOTORCYCLE", "left", "same", 8.0, 14.0);
+    finds(name, &bus, &[(2, 17)], &[(2, 1, 17)]);
+    let moto = crossing_pair("MOTORCYCLE", "MOTORCYCLE", "left", "same", 8.0, 14.0);
+    finds(name, &moto, &[(2, 17)], &[(2, 1, 17)]);
+    // An oncoming motorcycle passes the car on its left: passing, not overtaking.
+    nothing(name, &scene("left", "opposite", 8.0, 14.0));
+    // The car overtakes a slower motorcycle (6 m/s against 12): the motorcycle is overtaken.
+    nothing(name, &scene("left", "same", 12.0, 6.0));
+    // The motorcycle crosses in front of the car.
+    nothing(name, &scene("forward", "perpendicular", 8.0, 14.0));
+    // A parked motorcycle is passed by the car's swept plane: nothing overtakes.
+    nothing(
+        name,
+        &format!("{} stationary(2).", scene("left", "same", 8.0, 14.0)),
+    );
+}
+
+#[test]
+fn vehicle_being_overtaken_on_the_left() {
+    let name = "vehicle_being_overtaken_on_the_left";
+    let scene =
+        |side, rel, v, w| crossing_pair("REGULAR_VEHICLE", "REGULAR_VEHICLE", side, rel, v, w);
+    // A car at 8 m/s is passed on its left by a car at 14 m/s going the same way.
+    finds(
+        name,
+        &scene("left", "same", 8.0, 14.0),
+        &[(1, 17)],
+        &[(1, 2, 17)],
+    );
+    // Passed on the right instead.
+    nothing(name, &scene("right", "same", 8.0, 14.0));
+    // Oncoming traffic on its left: not overtaking it.
+    nothing(name, &scene("left", "opposite", 8.0, 14.0));
+    // It is the faster one (14 m/s against 8), passing the other: it overtakes.
+    nothing(name, &scene("left", "same", 14.0, 8.0));
+    // A parked car is not being overtaken, it is passed.
+    nothing(
+        name,
+        &format!("{} stationary(1).", scene("left", "same", 0.0, 14.0)),
+    );
+}
+
+#[test]
+fn vehicle_being_overtaken_on_the_right() {
+    let name = "vehicle_being_overtaken_on_the_right";
+    let scene = |side, rel, v, w| crossing_pair("BUS", "REGULAR_VEHICLE", side, rel, v, w);
+    // A bus at 6 m/s is passed on its right by a car at 12 m/s going the same way.
+    finds(
+        name,
+        &scene("right", "same", 6.0, 12.0),
+        &[(1, 17)],
+        &[(1, 2, 17)],
+    );
+    // Passed on the left instead.
+    nothing(name, &scene("left", "same", 6.0, 12.0));
+    // A car driving the other way past its right (a one-way street's wrong-way driver).
+    nothing(name, &scene("right", "opposite", 6.0, 12.0));
+    // The bus is the faster one, passing the car on its left.
+    nothing(name, &scene("right", "same", 12.0, 6.0));
+}
