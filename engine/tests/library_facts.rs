@@ -272,6 +272,73 @@ fn swap(base: &str, from: &str, to: &str) -> String {
     base.replace(from, to)
 }
 
+/// The rows of a provided relation, as values.
+fn provided(f: &Facts, r: &Request) -> Vec<Vec<Value>> {
+    let d = f.provide(r).unwrap_or_else(|e| panic!("{e}"));
+    (0..d.len()).filter_map(|i| d.row(i)).collect()
+}
+
+#[test]
+fn harness_completes_facts_as_the_extractors_do_and_applies_constraints() {
+    let f = Facts::parse(
+        r#"category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN").
+           near(0, 1, 3, 2.5). speed(1, 3, 1.0). speed(1, 4, 0.2)."#,
+    );
+    let t = |n| Value::Track(TrackId(n));
+    let mut cats: Vec<(u32, String)> = provided(&f, &Request::all("category"))
+        .iter()
+        .map(|r| match &r[1] {
+            Value::Str(c) => (track(&r[0]), c.to_string()),
+            other => panic!("not a string: {other:?}"),
+        })
+        .collect();
+    cats.sort();
+    let want: Vec<(u32, String)> = [
+        (0, "ANY"),
+        (0, "EGO_VEHICLE"),
+        (0, "VEHICLE"),
+        (1, "ANY"),
+        (1, "PEDESTRIAN"),
+    ]
+    .iter()
+    .map(|&(x, c)| (x, c.to_string()))
+    .collect();
+    assert_eq!(cats, want);
+    assert_eq!(provided(&f, &Request::all("ego")), vec![vec![t(0)]]);
+    let near = provided(&f, &Request::all("near"));
+    assert_eq!(near.len(), 2, "{near:?}");
+    assert!(near.contains(&vec![t(1), t(0), Value::Time(3), Value::Float(2.5)]));
+    // Constraints are applied: a pedestrian's speed >= 0.5, and no vehicle has a speed.
+    let walking = Request {
+        name: "speed".into(),
+        constraints: vec![
+            (0, Constraint::Category("PEDESTRIAN".into())),
+            (2, Constraint::Ge(0.5)),
+        ],
+    };
+    assert_eq!(
+        provided(&f, &walking),
+        vec![vec![t(1), Value::Time(3), Value::Float(1.0)]]
+    );
+    let vehicles = Request {
+        name: "speed".into(),
+        constraints: vec![(0, Constraint::Category("VEHICLE".into()))],
+    };
+    assert!(provided(&f, &vehicles).is_empty());
+    // A relation the scene does not mention is empty, with the catalog's columns.
+    let lanes = f
+        .provide(&Request::all("in_lane"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(lanes.is_empty());
+    assert_eq!(lanes.columns.len(), 3);
+}
+
+#[test]
+#[should_panic(expected = "has no category fact")]
+fn harness_refuses_a_track_without_a_category() {
+    Facts::parse(r#"category(1, "BUS"). near(1, 2, 0, 1.0)."#);
+}
+
 // ---- accelerating / braking -------------------------------------------------------------------
 
 #[test]
