@@ -432,6 +432,28 @@ fn key(v: &Value) -> Key {
     }
 }
 
+/// Equality of stored values (floats by value, so -0.0 equals 0.0).
+fn same(a: &Value, b: &Value) -> bool {
+    a == b
+}
+
+/// A hash of some column values, for the on-demand indexes (collisions are checked).
+fn fingerprint(vs: &[&Value]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for v in vs {
+        match v {
+            Value::Track(t) => (0u8, t.0).hash(&mut h),
+            Value::Time(t) => (1u8, *t).hash(&mut h),
+            Value::Lane(l) => (2u8, l.0).hash(&mut h),
+            Value::Str(s) => (3u8, s.as_ref()).hash(&mut h),
+            Value::Float(x) => (4u8, if *x == 0.0 { 0.0f64 } else { *x }.to_bits()).hash(&mut h),
+            Value::Int(i) => (5u8, *i).hash(&mut h),
+        }
+    }
+    h.finish()
+}
+
 /// A value as a value of a column of type `ty` (as the engine encodes it), if it fits.
 fn coerce(v: &Value, ty: ColType) -> Option<Value> {
     let whole = |f: f64| f.is_finite() && f.fract() == 0.0;
@@ -683,7 +705,7 @@ impl Item<'_> {
 }
 
 /// Per-relation hash indexes by the set of bound columns.
-type Index = HashMap<Vec<Key>, Vec<u32>>;
+type Index = HashMap<u64, Vec<u32>>;
 
 struct Cx<'a> {
     program: &'a CheckedProgram,
@@ -753,26 +775,40 @@ impl<'a> Cx<'a> {
             .collect()
     }
 
-    /// Tuple indices of `rel` whose columns `cols` equal `vals`.
-    fn lookup(&mut self, rel: &str, cols: &[usize], vals: &[Key]) -> Vec<u32> {
+    /// Tuple indices of `rel` that agree with the pattern on its determined columns.
+    fn lookup(&mut self, rel: &str, pat: &[Option<Value>]) -> Vec<u32> {
         let tuples = self.tuples(rel);
+        let cols: Vec<usize> = (0..pat.len()).filter(|&i| pat[i].is_some()).collect();
         if cols.is_empty() {
             return (0..tuples.len() as u32).collect();
         }
+        let vals: Vec<&Value> = pat.iter().flatten().collect();
         let index = self
             .indexes
-            .entry((rel.to_string(), cols.to_vec()))
+            .entry((rel.to_string(), cols.clone()))
             .or_insert_with(|| {
                 let mut ix: Index = HashMap::new();
                 for (i, t) in tuples.iter().enumerate() {
-                    let k: Option<Vec<Key>> = cols.iter().map(|&c| t.get(c).map(key)).collect();
-                    if let Some(k) = k {
-                        ix.entry(k).or_default().push(i as u32);
+                    let vs: Option<Vec<&Value>> = cols.iter().map(|&c| t.get(c)).collect();
+                    if let Some(vs) = vs {
+                        ix.entry(fingerprint(&vs)).or_default().push(i as u32);
                     }
                 }
                 ix
             });
-        index.get(vals).cloned().unwrap_or_default()
+        let Some(hits) = index.get(&fingerprint(&vals)) else {
+            return Vec::new();
+        };
+        hits.iter()
+            .copied()
+            .filter(|&i| {
+                tuples.get(i as usize).is_some_and(|t| {
+                    cols.iter()
+                        .zip(&vals)
+                        .all(|(&c, v)| t.get(c).is_some_and(|x| same(x, v)))
+                })
+            })
+            .collect()
     }
 
     fn eval_expr(&self, vars: &Vars, e: &Expr, b: &Row) -> Option<Value> {
@@ -847,9 +883,7 @@ impl<'a> Cx<'a> {
         let Some(pat) = self.atom_pattern(vars, a, b) else {
             return Vec::new();
         };
-        let cols: Vec<usize> = (0..pat.len()).filter(|&i| pat[i].is_some()).collect();
-        let vals: Vec<Key> = pat.iter().flatten().map(key).collect();
-        let hits = self.lookup(&a.pred, &cols, &vals);
+        let hits = self.lookup(&a.pred, &pat);
         let tuples = self.tuples(&a.pred);
         let mut out = Vec::new();
         'tuples: for i in hits {
@@ -901,9 +935,7 @@ impl<'a> Cx<'a> {
                     // A value that fits no column is in no tuple: the negation holds.
                     return vec![(b.clone(), Ground::Absent(Vec::new()))];
                 };
-                let cols: Vec<usize> = (0..p.len()).filter(|&i| p[i].is_some()).collect();
-                let vals: Vec<Key> = p.iter().flatten().map(key).collect();
-                if self.lookup(&a.pred, &cols, &vals).is_empty() {
+                if self.lookup(&a.pred, &p).is_empty() {
                     vec![(b.clone(), Ground::Absent(p))]
                 } else {
                     Vec::new()
@@ -1161,9 +1193,7 @@ impl<'a> Cx<'a> {
             relation.to_string(),
             pat.iter().map(|v| v.as_ref().map(key)).collect(),
         ));
-        let cols: Vec<usize> = (0..pat.len()).filter(|&i| pat[i].is_some()).collect();
-        let vals: Vec<Key> = pat.iter().flatten().map(key).collect();
-        let holds = !self.lookup(relation, &cols, &vals).is_empty();
+        let holds = !self.lookup(relation, pat).is_empty();
         let input = self
             .program
             .predicates
@@ -1324,9 +1354,7 @@ impl<'a> Cx<'a> {
                     let Some(p) = self.atom_pattern(vars, a, b) else {
                         continue;
                     };
-                    let cols: Vec<usize> = (0..p.len()).filter(|&i| p[i].is_some()).collect();
-                    let vals: Vec<Key> = p.iter().flatten().map(key).collect();
-                    if let Some(&i) = self.lookup(&a.pred, &cols, &vals).first() {
+                    if let Some(&i) = self.lookup(&a.pred, &p).first() {
                         if let Some(t) = self.tuples(&a.pred).get(i as usize) {
                             found.push((self.binding(vars, b), t.clone()));
                         }

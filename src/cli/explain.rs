@@ -112,7 +112,7 @@ pub fn run(args: Args) -> ExitCode {
         Err(e) => return fail(2, &e),
     };
     let extractor = Extractor::new(&scene);
-    let ev = match evaluate_for_explain(&extractor, &scenario.program) {
+    let ev = match evaluate_for_explain(&extractor, &scenario.program, false) {
         Ok(ev) => ev,
         Err(e) => {
             return fail(
@@ -142,7 +142,16 @@ pub fn run(args: Args) -> ExitCode {
     };
     let want_why_not = args.why_not || proof.is_none();
     let why = if want_why_not {
-        match why_not(&scenario.program, &ev, "referred", &tuple) {
+        let whole = match evaluate_for_explain(&extractor, &scenario.program, true) {
+            Ok(ev) => ev,
+            Err(e) => {
+                return fail(
+                    1,
+                    &format!("evaluating {display} on log {}: {e}", scene.log_id),
+                )
+            }
+        };
+        match why_not(&scenario.program, &whole, "referred", &tuple) {
             Ok(w) => Some(w),
             Err(e) => return fail(1, &format!("{display}: {e}")),
         }

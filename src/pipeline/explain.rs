@@ -53,24 +53,30 @@ use super::scenario::Scenario;
 /// How many characters of a track's uuid the text shows.
 pub const UUID_PREFIX: usize = 8;
 
-/// Evaluates a program on a scene for explaining: provenance on, and catalog relations asked
-/// whole, without the constants, categories and bounds the program implies, so a why-not
-/// report sees the values that failed a comparison or a constant (the speed that was not
-/// `< 0.5`, the direction that was not `"right"`). Derived relations are the same as with
-/// constraints: the engine filters again.
+/// Evaluates a program on a scene for explaining. For a proof (`whole` false): provenance on,
+/// catalog relations asked with the constraints the program implies, as `mine` does. For a
+/// why-not report (`whole` true): provenance off, and catalog relations asked whole, without
+/// the constants, categories and bounds, so the report sees the values that failed a
+/// comparison or a constant (the speed that was not `< 0.5`, the direction that was not
+/// `"right"`). Derived relations are the same either way: the engine filters again.
 pub fn evaluate_for_explain(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
+    whole: bool,
 ) -> Result<Evaluation, EngineError> {
     let mut provider = |r: &Request| -> Result<RelationData, String> {
-        let r = Request::all(&r.name);
+        let r = if whole {
+            Request::all(&r.name)
+        } else {
+            r.clone()
+        };
         extractor
             .extract(&r)
             .map(|d| (*d).clone())
             .map_err(|e| e.to_string())
     };
     let options = Options {
-        provenance: true,
+        provenance: !whole,
         ..Options::default()
     };
     evaluate(program, &mut provider, &options)
