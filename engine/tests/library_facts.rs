@@ -1225,26 +1225,23 @@ fn two_active_vehicles_behind_ego() {
 #[test]
 fn pedestrians_over_30_meters_away() {
     let name = "pedestrians_over_30_meters_away";
-    // At frame 9 a pedestrian 35 m from the ego, another 10 m from it.
+    // At frame 9 a pedestrian 35 m from the ego, another 10 m from it, and a third 70 m away
+    // (beyond the 50 m of pair relations, so no `near` tuple at all).
     let base = r#"
-        category(0, "EGO_VEHICLE"). category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN").
-        near(0, 1, 9, 35.0). near(0, 2, 9, 10.0).
+        category(0, "EGO_VEHICLE"). present(0, 9).
+        category(1, "PEDESTRIAN"). present(1, 9). near(0, 1, 9, 35.0).
+        category(2, "PEDESTRIAN"). present(2, 9). near(0, 2, 9, 10.0).
+        category(3, "PEDESTRIAN"). present(3, 9).
     "#;
-    finds(name, base, &[(1, 9)], &[]);
+    finds(name, base, &[(1, 9), (3, 9)], &[]);
     // The first at 29 m.
-    nothing(name, &swap(base, "35.0", "29.0"));
-    // A car 35 m away is not a pedestrian.
-    nothing(
-        name,
-        &swap(
-            base,
-            "category(1, \"PEDESTRIAN\")",
-            "category(1, \"REGULAR_VEHICLE\")",
-        ),
-    );
+    finds(name, &swap(base, "35.0", "29.0"), &[(3, 9)], &[]);
+    // Exactly 30 m is not over 30.
+    finds(name, &swap(base, "35.0", "30.0"), &[(3, 9)], &[]);
+    // Cars far away are not pedestrians.
+    let cars = base.replace("\"PEDESTRIAN\"", "\"REGULAR_VEHICLE\"");
+    nothing(name, &cars);
 }
-
-// ---- groups -----------------------------------------------------------------------------------
 
 #[test]
 fn group_of_pedestrians_ahead_of_the_ego_vehicle() {
