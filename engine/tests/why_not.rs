@@ -367,3 +367,65 @@ fn explain_grounds_every_literal_of_the_proof() {
     // Not derived: no derivation.
     assert!(matches!(explain(&p, &e, "alert", &[int(2)]), Ok(None)));
 }
+
+/// For every tuple of a small domain, `why_not` agrees with the evaluation: `holds` exactly
+/// when the tuple is in the relation, and some clause derives it exactly then.
+#[test]
+fn why_not_agrees_with_the_evaluation_on_every_tuple_of_a_domain() {
+    let programs = [
+        // Recursion.
+        ".decl e(X: int, Y: int)\n.decl r(X: int, Y: int)\n\
+         e(0, 1). e(1, 2). e(2, 0). e(3, 4).\n\
+         r(X, Y) :- e(X, Y).\nr(X, Z) :- r(X, Y), e(Y, Z).\n",
+        // Negation, wildcards and constants.
+        ".decl p(X: int, Y: int)\n.decl q(X: int)\n.decl s(X: int, Y: int)\n\
+         p(0, 1). p(1, 1). p(2, 3). q(1).\n\
+         s(X, Y) :- p(X, Y), !q(X).\ns(X, 4) :- q(X), !p(_, X).\n",
+        // Aggregates, arithmetic and comparisons.
+        ".decl e(X: int, Y: int)\n.decl deg(X: int, N: int)\n.decl hub(X: int)\n\
+         .decl lo(X: int, M: int)\n\
+         e(0, 1). e(0, 2). e(0, 3). e(1, 2). e(3, 3).\n\
+         deg(X, N) :- e(X, _), N = count : { e(X, Y) }.\n\
+         hub(X) :- deg(X, N), N >= 2.\n\
+         lo(X, M + 1) :- e(X, _), M = min Y : { e(X, Y) }, M < 3.\n",
+    ];
+    for src in programs {
+        let (p, e) = setup(src);
+        let mut found = 0;
+        for rel in &e.derived {
+            let arity = p.predicates[rel].types.len();
+            let n = 6i64;
+            let total = n.pow(arity as u32);
+            for code in 0..total {
+                let mut c = code;
+                let tuple: Vec<Value> = (0..arity)
+                    .map(|_| {
+                        let v = c % n;
+                        c /= n;
+                        int(v)
+                    })
+                    .collect();
+                let present = e.tuples(rel).unwrap_or_default().contains(&tuple);
+                let w = match why_not(&p, &e, rel, &tuple) {
+                    Ok(w) => w,
+                    Err(err) => panic!("{rel}{tuple:?}: {err}"),
+                };
+                assert_eq!(w.holds, present, "{rel}{tuple:?} in\n{src}");
+                let derives = w
+                    .attempts
+                    .iter()
+                    .any(|a| matches!(a.outcome, Outcome::Derives { .. }));
+                assert_eq!(derives, present, "{rel}{tuple:?}: {w:#?}\n{src}");
+                if present {
+                    found += 1;
+                    let d = explain(&p, &e, rel, &tuple);
+                    assert!(
+                        matches!(d, Ok(Some(ref d)) if d.tuple == tuple),
+                        "{rel}{tuple:?}: {d:?}"
+                    );
+                }
+            }
+        }
+        assert!(found >= 5, "too few derived tuples to compare in\n{src}");
+    }
+}
