@@ -169,10 +169,13 @@ pub fn run(args: Args) -> ExitCode {
         scene: &scene,
         scenario: &scenario,
     };
-    if args.json {
-        println!("{:#}", explanation_json(&renderer, &explanation));
+    let text = if args.json {
+        format!("{:#}\n", explanation_json(&renderer, &explanation))
     } else {
-        print!("{}", explanation_text(&renderer, &explanation));
-    }
+        explanation_text(&renderer, &explanation)
+    };
+    // Written through a locked handle so a closed pipe (`| head`) ends quietly.
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
     ExitCode::SUCCESS
 }
