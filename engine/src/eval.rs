@@ -51,7 +51,7 @@ pub fn evaluate(
         complete.insert(name.clone(), rows);
     }
     let clauses = &program.program.clauses;
-    let mut stamps: HashMap<String, FastMap<Row, Stamp>> = HashMap::new();
+    let mut stamps: HashMap<String, Vec<Stamp>> = HashMap::new();
     let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
         let mut plans: Vec<(String, Plan)> = Vec::new();
@@ -78,23 +78,19 @@ pub fn evaluate(
             clause_of.push(ci);
         }
         let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
-        let mut stamp = |name: &str, row: Row, round: usize, plan: usize| {
-            stamps.entry(name.to_string()).or_default().insert(
-                row,
-                Stamp {
+        let (derived, origins) = run_stratum(&plans, &defined, &types, &complete, options, start)?;
+        complete.extend(derived);
+        for (name, list) in origins {
+            let list = list
+                .into_iter()
+                .map(|(round, plan)| Stamp {
                     stratum: si,
                     round,
                     clause: clause_of.get(plan).copied().unwrap_or(usize::MAX),
-                },
-            );
-        };
-        let stamper: Option<&mut Stamper<'_>> = if options.provenance {
-            Some(&mut stamp)
-        } else {
-            None
-        };
-        let derived = run_stratum(&plans, &defined, &types, &complete, options, start, stamper)?;
-        complete.extend(derived);
+                })
+                .collect();
+            stamps.insert(name, list);
+        }
         if options.provenance {
             all_plans.push(
                 plans
@@ -274,8 +270,9 @@ fn flip(op: CmpOp) -> CmpOp {
     }
 }
 
-/// Records a new tuple's relation, row, round and plan index.
-type Stamper<'a> = dyn FnMut(&str, Row, usize, usize) + 'a;
+/// Per derived relation, aligned with its sorted tuples: the round and plan index that first
+/// derived each tuple (with provenance on).
+type Origins = HashMap<String, Vec<(usize, usize)>>;
 
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
@@ -395,8 +392,7 @@ fn run_stratum(
     complete: &HashMap<String, Rows>,
     options: &Options,
     start: Instant,
-    mut stamper: Option<&mut Stamper<'_>>,
-) -> Result<HashMap<String, Rows>, EngineError> {
+) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     let arity = |name: &str| types.get(name).map_or(0, |t| t.len());
     let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::new(arity(d)))).collect();
     let empty = Rows::new(0);
@@ -419,10 +415,13 @@ fn run_stratum(
         .collect();
     let mut first = true;
     let mut round = 0;
+    // With provenance: per relation, each round's new tuples and the plan of each.
+    let mut log: BTreeMap<&str, Vec<(usize, Rows, Vec<usize>)>> = BTreeMap::new();
     loop {
         let mut new: BTreeMap<&str, Rows> = BTreeMap::new();
-        // With provenance: the first plan that produced each row this round.
-        let mut origin: FastMap<(&str, Row), usize> = FastMap::default();
+        // With provenance: each plan's output this round, sorted, to find the first plan
+        // that produced each new tuple.
+        let mut by_plan: Vec<Option<Rows>> = vec![None; plans.len()];
         for (pi, (head, p)) in plans.iter().enumerate() {
             let check = Limits {
                 relation: head,
@@ -469,12 +468,15 @@ fn run_stratum(
                     run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
                 }
             }
-            if stamper.is_some() {
+            if options.provenance {
+                let mut mine = Rows::new(arity(head));
                 for i in before..out.len() {
                     if let Some(t) = out.get(i) {
-                        origin.entry((head.as_str(), Rows::row(t))).or_insert(pi);
+                        mine.push_slice(t);
                     }
                 }
+                mine.sort_dedup();
+                by_plan[pi] = Some(mine);
             }
         }
         first = false;
@@ -490,16 +492,22 @@ fn run_stratum(
                 });
             }
             changed |= !fresh.is_empty();
-            if let Some(st) = stamper.as_mut() {
-                for t in fresh.iter() {
-                    let r = Rows::row(t);
-                    st(
-                        name,
-                        r,
-                        round,
-                        origin.get(&(*name, r)).copied().unwrap_or(usize::MAX),
-                    );
-                }
+            if options.provenance && !fresh.is_empty() {
+                let origin: Vec<usize> = fresh
+                    .iter()
+                    .map(|t| {
+                        plans
+                            .iter()
+                            .zip(&by_plan)
+                            .position(|((h, _), rows)| {
+                                h == name && rows.as_ref().is_some_and(|r| r.contains(t))
+                            })
+                            .unwrap_or(usize::MAX)
+                    })
+                    .collect();
+                log.entry(name)
+                    .or_default()
+                    .push((round, fresh.clone(), origin));
             }
             rel.advance(fresh);
         }
@@ -508,10 +516,24 @@ fn run_stratum(
         }
         round += 1;
     }
-    Ok(rels
-        .into_iter()
-        .map(|(k, r)| (k.to_string(), r.into_sorted()))
-        .collect())
+    let mut origins = Origins::new();
+    let mut done = HashMap::new();
+    for (k, r) in rels {
+        let all = r.into_sorted();
+        if options.provenance {
+            let mut aligned = vec![(usize::MAX, usize::MAX); all.len()];
+            for (round, rows, plan) in log.remove(k).unwrap_or_default() {
+                for (pos, p) in all.positions(&rows).into_iter().zip(plan) {
+                    if let Some(slot) = aligned.get_mut(pos) {
+                        *slot = (round, p);
+                    }
+                }
+            }
+            origins.insert(k.to_string(), aligned);
+        }
+        done.insert(k.to_string(), all);
+    }
+    Ok((done, origins))
 }
 
 /// What a rule evaluation checks as it produces tuples.
@@ -581,10 +603,20 @@ pub(crate) fn run_plan_indexed(
     limits: &Limits<'_>,
 ) -> Result<(), EngineError> {
     let mut bindings: Vec<Row> = apply(&p.start, [0u64; WIDTH]).into_iter().collect();
+    let n = p.atoms.len();
+    // The last atom's bindings are projected straight into `out`, not collected first.
+    let emit = |last: bool, r: Row, next: &mut Vec<Row>, out: &mut Rows| {
+        if !last {
+            next.push(r);
+        } else if let Some(o) = p.project(&r) {
+            out.push(&o);
+        }
+    };
     for (j, (step, src)) in p.atoms.iter().zip(sources).enumerate() {
         if bindings.is_empty() {
             return Ok(());
         }
+        let last = j + 1 == n;
         let mut next = Vec::new();
         let keyed = step.args.iter().any(|a| matches!(a, Arg::Key(..)));
         if keyed {
@@ -605,10 +637,10 @@ pub(crate) fn run_plan_indexed(
                         continue;
                     };
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
-                        next.push(r);
+                        emit(last, r, &mut next, out);
                     }
                 }
-                limits.check(next.len())?;
+                limits.check(next.len().max(out.len()))?;
             }
         } else {
             let matching: Vec<&[u64]> = src
@@ -619,17 +651,19 @@ pub(crate) fn run_plan_indexed(
             for b in &bindings {
                 for t in &matching {
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
-                        next.push(r);
+                        emit(last, r, &mut next, out);
                     }
                 }
-                limits.check(next.len())?;
+                limits.check(next.len().max(out.len()))?;
             }
         }
         bindings = next;
     }
-    for b in &bindings {
-        if let Some(r) = p.project(b) {
-            out.push(&r);
+    if n == 0 {
+        for b in &bindings {
+            if let Some(r) = p.project(b) {
+                out.push(&r);
+            }
         }
     }
     limits.check(out.len())

@@ -93,11 +93,23 @@ fn to_f(v: V) -> f64 {
     }
 }
 
+/// The right operand of a comparison on encoded values.
+#[derive(Debug, Clone, Copy)]
+pub enum Raw {
+    /// A bound slot of the same column type as the left operand.
+    Slot(usize),
+    /// A constant encoded in the left operand's column type.
+    Const(u64),
+}
+
 /// A check or computation on a binding row.
 #[derive(Debug, Clone)]
 pub enum Filter {
     /// A comparison that must hold.
     Cmp(CmpOp, CExpr, CExpr),
+    /// A comparison of a slot with a slot or constant of its own type, done on the encoded
+    /// words (the encoding preserves each type's order, so no decoding is needed).
+    CmpRaw(CmpOp, usize, Raw),
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
@@ -127,21 +139,67 @@ pub enum KeyArg {
     Wild,
 }
 
+fn holds(op: CmpOp, ord: std::cmp::Ordering) -> bool {
+    match op {
+        CmpOp::Lt => ord.is_lt(),
+        CmpOp::Le => ord.is_le(),
+        CmpOp::Gt => ord.is_gt(),
+        CmpOp::Ge => ord.is_ge(),
+        CmpOp::Eq => ord.is_eq(),
+        CmpOp::Ne => ord.is_ne(),
+    }
+}
+
+fn flipped(op: CmpOp) -> CmpOp {
+    match op {
+        CmpOp::Lt => CmpOp::Gt,
+        CmpOp::Le => CmpOp::Ge,
+        CmpOp::Gt => CmpOp::Lt,
+        CmpOp::Ge => CmpOp::Le,
+        other => other,
+    }
+}
+
+/// The filter for `a op b`: on encoded words when one side is a slot and the other a slot of
+/// the same type or a constant that encodes exactly in that type, else on decoded values.
+pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
+    let raw = |x: &CExpr, y: &CExpr| -> Option<(usize, Raw)> {
+        let CExpr::Slot(s, ty) = x else { return None };
+        match y {
+            CExpr::Slot(t, ty2) if ty2 == ty => Some((*s, Raw::Slot(*t))),
+            CExpr::Const(c) => {
+                let e = encode(*c, *ty)?;
+                (decode(e, *ty).compare(*c) == Some(std::cmp::Ordering::Equal))
+                    .then_some((*s, Raw::Const(e)))
+            }
+            _ => None,
+        }
+    };
+    if let Some((s, r)) = raw(&a, &b) {
+        return Filter::CmpRaw(op, s, r);
+    }
+    if let Some((s, r)) = raw(&b, &a) {
+        return Filter::CmpRaw(flipped(op), s, r);
+    }
+    Filter::Cmp(op, a, b)
+}
+
 /// Applies filters in order; `None` if one fails.
 pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
     for f in filters {
         match f {
+            Filter::CmpRaw(op, a, b) => {
+                let y = match b {
+                    Raw::Slot(s) => row[*s],
+                    Raw::Const(c) => *c,
+                };
+                if !holds(*op, row[*a].cmp(&y)) {
+                    return None;
+                }
+            }
             Filter::Cmp(op, a, b) => {
                 let ord = a.eval(&row)?.compare(b.eval(&row)?)?;
-                let ok = match op {
-                    CmpOp::Lt => ord.is_lt(),
-                    CmpOp::Le => ord.is_le(),
-                    CmpOp::Gt => ord.is_gt(),
-                    CmpOp::Ge => ord.is_ge(),
-                    CmpOp::Eq => ord.is_eq(),
-                    CmpOp::Ne => ord.is_ne(),
-                };
-                if !ok {
+                if !holds(*op, ord) {
                     return None;
                 }
             }
@@ -473,7 +531,7 @@ fn plan_seeded(
                 let f = match l {
                     BodyLit::Cmp(op, a, b) => {
                         if scope.bound(a) && scope.bound(b) {
-                            Some(Filter::Cmp(
+                            Some(cmp_filter(
                                 *op,
                                 compile_expr(a, &scope, ctx.symbols)?,
                                 compile_expr(b, &scope, ctx.symbols)?,

@@ -9,7 +9,7 @@ use scenalog_facts::relation::Value;
 
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
-use crate::value::{decode_value, encode, FastMap, Row, Symbols, V, WIDTH};
+use crate::value::{decode_value, encode, Row, Symbols, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,7 +53,8 @@ pub(crate) struct Provenance {
     pub(crate) types: HashMap<String, Vec<ColType>>,
     pub(crate) symbols: Symbols,
     pub(crate) rels: HashMap<String, Rows>,
-    pub(crate) stamps: HashMap<String, FastMap<Row, Stamp>>,
+    /// Per derived relation, aligned with its sorted tuples in `rels`.
+    pub(crate) stamps: HashMap<String, Vec<Stamp>>,
     /// Per stratum: head, plan and clause index.
     pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
     /// Per stratum: the predicates it defines.
@@ -92,9 +93,16 @@ impl Provenance {
         })
     }
 
+    /// The stamp of a tuple of a derived relation.
+    fn stamp_of(&self, rel: &str, row: &[u64]) -> Option<Stamp> {
+        let stamps = self.stamps.get(rel)?;
+        let i = self.rels.get(rel)?.position(row)?;
+        stamps.get(i).copied()
+    }
+
     pub(crate) fn stamp(&self, rel: &str, tuple: &[Value]) -> Option<Stamp> {
         let row = self.encode_tuple(rel, tuple)?;
-        self.stamps.get(rel)?.get(&row).copied()
+        self.stamp_of(rel, &row)
     }
 
     pub(crate) fn prove(&self, rel: &str, tuple: &[Value]) -> Option<Proof> {
@@ -107,7 +115,7 @@ impl Provenance {
 
     fn prove_row(&self, rel: &str, row: &Row) -> Option<Proof> {
         let tuple = self.decode(rel, row);
-        let Some(stamp) = self.stamps.get(rel).and_then(|s| s.get(row)) else {
+        let Some(stamp) = self.stamp_of(rel, row) else {
             // Not derived by a clause: a catalog tuple.
             return Some(Proof {
                 relation: rel.to_string(),
@@ -134,17 +142,19 @@ impl Provenance {
                 let Some(all) = self.rels.get(&a.pred) else {
                     return Vec::new();
                 };
-                let rows = all.iter().map(Rows::row);
                 if same.contains(a.pred.as_str()) {
                     let stamps = self.stamps.get(&a.pred);
-                    rows.filter(|t| {
-                        stamps
-                            .and_then(|s| s.get(t))
-                            .is_some_and(|s| s.round < stamp.round)
-                    })
-                    .collect()
+                    all.iter()
+                        .enumerate()
+                        .filter(|(i, _)| {
+                            stamps
+                                .and_then(|s| s.get(*i))
+                                .is_some_and(|s| s.round < stamp.round)
+                        })
+                        .map(|(_, t)| Rows::row(t))
+                        .collect()
                 } else {
-                    rows.collect()
+                    all.iter().map(Rows::row).collect()
                 }
             })
             .collect();

@@ -108,6 +108,17 @@ fn remove_known_n<const N: usize>(fresh: &mut Vec<u64>, known: &[u64]) {
     fresh.truncate(w * N);
 }
 
+fn positions_n<const N: usize>(all: &[u64], subset: &[u64]) -> Vec<usize> {
+    let all = chunks::<N>(all);
+    let mut s = all;
+    let mut out = Vec::with_capacity(subset.len() / N);
+    for x in chunks::<N>(subset) {
+        s = skip_below(s, x);
+        out.push(all.len() - s.len());
+    }
+    out
+}
+
 fn contains_n<const N: usize>(data: &[u64], row: &[u64]) -> bool {
     let mut key = [0u64; N];
     key.copy_from_slice(&row[..N]);
@@ -178,6 +189,29 @@ impl Rows {
             return;
         }
         by_stride!(self.stride, remove_known_n(&mut self.data, &known.data));
+    }
+
+    /// For each tuple of `subset` (sorted, all in `self`), its index in `self` (sorted).
+    pub fn positions(&self, subset: &Rows) -> Vec<usize> {
+        if subset.is_empty() {
+            return Vec::new();
+        }
+        by_stride!(self.stride, positions_n(&self.data, &subset.data))
+    }
+
+    /// The index of tuple `t` in a sorted set.
+    pub fn position(&self, t: &[u64]) -> Option<usize> {
+        let p = self.positions(&Rows {
+            stride: self.stride,
+            data: t.get(..self.stride)?.to_vec(),
+        });
+        let i = *p.first()?;
+        (self.get(i)? == &t[..self.stride]).then_some(i)
+    }
+
+    /// Appends a tuple of this arity (or longer: the extra words are ignored).
+    pub fn push_slice(&mut self, t: &[u64]) {
+        self.data.extend_from_slice(&t[..self.stride]);
     }
 
     /// Whether a sorted set holds the tuple `t` (its first stride words).
