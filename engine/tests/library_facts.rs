@@ -1502,57 +1502,6 @@ fn vehicle_crossed_by_pedestrian() {
     nothing(name, &swap(base, "PEDESTRIAN", "DOG"));
 }
 
-#[test]
-fn the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian() {
-    let name = "the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian";
-    // At frame 4 car 2 follows car 1, and a pedestrian on the road 10 m from any crosswalk
-    // crosses car 1's front.
-    let base = r#"
-        category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE"). category(3, "PEDESTRIAN").
-        following(2, 1, 4).
-        on_road(3, 4). at_crosswalk(3, 4, 10.0). crossing(1, 3, 4, "forward").
-    "#;
-    finds(name, base, &[(2, 4)], &[(2, 1, 4)]);
-    // The pedestrian uses a crosswalk.
-    nothing(
-        name,
-        &swap(base, "at_crosswalk(3, 4, 10.0)", "at_crosswalk(3, 4, 0.0)"),
-    );
-    // Car 1 follows car 2 instead: car 2 is the one in front, nobody is behind car 1.
-    nothing(
-        name,
-        &swap(base, "following(2, 1, 4)", "following(1, 2, 4)"),
-    );
-    // The pedestrian crosses behind car 1 (between the cars' ends), not its front.
-    nothing(name, &swap(base, "\"forward\"", "\"backward\""));
-}
-
-#[test]
-fn vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian() {
-    let name = "vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian";
-    // At frame 5 the ego follows car 1, car 1 follows car 2, and a pedestrian crosses car
-    // 2's front.
-    let base = r#"
-        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
-        category(3, "PEDESTRIAN").
-        following(0, 1, 5). following(1, 2, 5). crossing(2, 3, 5, "forward").
-    "#;
-    finds(name, base, &[(2, 5)], &[(2, 3, 5)]);
-    // The pedestrian crosses car 1, the car directly ahead.
-    nothing(name, &swap(base, "crossing(2, 3, 5,", "crossing(1, 3, 5,"));
-    // Car 2 is not in the chain (car 1 does not follow it).
-    nothing(name, &swap(base, "following(1, 2, 5).", ""));
-    // A cone "crossing" is not a pedestrian.
-    nothing(
-        name,
-        &swap(
-            base,
-            "category(3, \"PEDESTRIAN\")",
-            "category(3, \"CONSTRUCTION_CONE\")",
-        ),
-    );
-}
-
 // ---- following and chains of following ---------------------------------------------------------
 
 #[test]
@@ -1602,48 +1551,52 @@ fn car_following_closely_behind_bicyclist() {
     nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
 }
 
-/// The ego (0) behind car 1 behind car 2 behind car 3 at `frame`: `following` chains ahead.
-fn chain_ahead(frame: u32) -> String {
-    format!(
-        r#"
-        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE").
-        category(2, "REGULAR_VEHICLE"). category(3, "REGULAR_VEHICLE").
-        following(0, 1, {frame}). following(1, 2, {frame}). following(2, 3, {frame}).
-    "#
-    )
+/// A queue in one lane at `frame`: cars `1..=n` at about 7 m spacing, car `i + 1` in front of
+/// car `i` when `ahead` (the ego, track 0, at the back), behind it otherwise (the ego at the
+/// front). As the catalog documents it, `following(X, Y, T)` holds for every lead up to 25 m
+/// ahead, so each car follows the next three in front of it, not only the nearest.
+fn queue(n: u32, ahead: bool, frame: u32) -> String {
+    let mut out = String::from(r#"category(0, "EGO_VEHICLE")."#);
+    for i in 1..=n {
+        out.push_str(&format!(r#" category({i}, "REGULAR_VEHICLE")."#));
+    }
+    for i in 0..=n {
+        for j in i + 1..=n.min(i + 3) {
+            let (x, y) = if ahead { (i, j) } else { (j, i) };
+            out.push_str(&format!(" following({x}, {y}, {frame})."));
+        }
+    }
+    out
 }
 
 #[test]
 fn the_active_vehicle_in_front_of_the_vehicle_ahead() {
     let name = "the_active_vehicle_in_front_of_the_vehicle_ahead";
-    // Car 2 is in front of the ego's lead (car 1); car 3 is one further.
-    let base = chain_ahead(8);
+    // Car 2 is in front of the ego's lead (car 1); cars 3 and 4 are further ahead.
+    let base = queue(4, true, 8);
     finds(name, &base, &[(2, 8)], &[]);
-    // Car 2 is parked for the whole log: not active.
+    // Car 2 is parked for the whole log: not active (and car 3 is not in front of the
+    // vehicle ahead either).
     nothing(name, &format!("{base} stationary(2)."));
-    // Car 1 has nobody in front of it.
-    nothing(name, &swap(&base, "following(1, 2, 8).", ""));
+    // Only the ego's lead: nothing in front of it.
+    nothing(name, &queue(1, true, 8));
 }
 
 #[test]
 fn two_cars_back_from_the_ego_vehicle() {
     let name = "two_cars_back_from_the_ego_vehicle";
-    // At frame 9 car 1 follows the ego, car 2 follows car 1, car 3 follows car 2.
-    let base = r#"
-        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE").
-        category(2, "REGULAR_VEHICLE"). category(3, "REGULAR_VEHICLE").
-        following(1, 0, 9). following(2, 1, 9). following(3, 2, 9).
-    "#;
-    finds(name, base, &[(2, 9)], &[(2, 0, 9)]);
+    // Cars 1-4 queue behind the ego at frame 9: car 2 is two cars back.
+    let base = queue(4, false, 9);
+    finds(name, &base, &[(2, 9)], &[(2, 0, 9)]);
     // Only one car behind the ego.
-    nothing(name, &swap(base, "following(2, 1, 9).", ""));
-    // The chain runs ahead of the ego (it follows them): nobody is behind it.
-    nothing(name, &chain_ahead(9));
-    // The second follower is a bicyclist.
+    nothing(name, &queue(1, false, 9));
+    // The queue is ahead of the ego: nobody is behind it.
+    nothing(name, &queue(4, true, 9));
+    // The second car back is a bicyclist.
     nothing(
         name,
         &swap(
-            base,
+            &base,
             "category(2, \"REGULAR_VEHICLE\")",
             "category(2, \"BICYCLIST\")",
         ),
@@ -1653,32 +1606,30 @@ fn two_cars_back_from_the_ego_vehicle() {
 #[test]
 fn ego_vehicle_two_cars_ahead_of_another_vehicle() {
     let name = "ego_vehicle_two_cars_ahead_of_another_vehicle";
-    // At frame 10 car 1 follows the ego and car 2 follows car 1.
-    let base = r#"
-        category(0, "EGO_VEHICLE"). category(1, "REGULAR_VEHICLE"). category(2, "REGULAR_VEHICLE").
-        following(1, 0, 10). following(2, 1, 10).
-    "#;
-    finds(name, base, &[(0, 10)], &[(0, 2, 10)]);
+    // Cars 1-4 queue behind the ego at frame 10: the ego is two cars ahead of car 2 (only).
+    let base = queue(4, false, 10);
+    finds(name, &base, &[(0, 10)], &[(0, 2, 10)]);
     // One car behind only: the ego is one car ahead of it.
-    nothing(name, &swap(base, "following(2, 1, 10).", ""));
-    // The second follower is a bicyclist, not a vehicle.
+    nothing(name, &queue(1, false, 10));
+    // The second car back is a bicyclist, not a vehicle.
     nothing(
         name,
         &swap(
-            base,
+            &base,
             "category(2, \"REGULAR_VEHICLE\")",
             "category(2, \"BICYCLIST\")",
         ),
     );
-    // The ego follows them: it is behind, not ahead.
-    nothing(name, &chain_ahead(10));
+    // The ego follows the queue: it is behind, not ahead.
+    nothing(name, &queue(4, true, 10));
 }
 
 #[test]
 fn vehicle_two_cars_ahead_is_braking() {
     let name = "vehicle_two_cars_ahead_is_braking";
     // The second car ahead of the ego brakes at -2 m/s².
-    let base = format!("{} accel(2, 11, -2.0). accel(1, 11, 0.0).", chain_ahead(11));
+    let q = queue(4, true, 11);
+    let base = format!("{q} accel(2, 11, -2.0). accel(1, 11, 0.0).");
     finds(name, &base, &[(2, 11)], &[]);
     // It merely eases off (-0.5 m/s²).
     nothing(
@@ -1686,23 +1637,17 @@ fn vehicle_two_cars_ahead_is_braking() {
         &swap(&base, "accel(2, 11, -2.0)", "accel(2, 11, -0.5)"),
     );
     // Only the car directly ahead brakes.
-    nothing(
-        name,
-        &swap(
-            &swap(&base, "accel(2, 11, -2.0)", "accel(2, 11, 0.0)"),
-            "accel(1, 11, 0.0)",
-            "accel(1, 11, -2.0)",
-        ),
-    );
-    // Only the third car ahead brakes.
-    nothing(name, &format!("{} accel(3, 11, -2.0).", chain_ahead(11)));
+    nothing(name, &format!("{q} accel(1, 11, -2.0)."));
+    // Only the third car ahead brakes (the ego and car 1 follow it too, within 25 m).
+    nothing(name, &format!("{q} accel(3, 11, -2.0)."));
 }
 
 #[test]
 fn vehicle_two_cars_ahead_is_changing_lanes() {
     let name = "vehicle_two_cars_ahead_is_changing_lanes";
     // The second car ahead of the ego moves left at frame 12.
-    let base = format!("{} lane_change(2, 12, \"left\").", chain_ahead(12));
+    let q = queue(4, true, 12);
+    let base = format!("{q} lane_change(2, 12, \"left\").");
     finds(name, &base, &[(2, 12)], &[]);
     // To the right counts as well.
     finds(
@@ -1721,7 +1666,7 @@ fn vehicle_two_cars_ahead_is_changing_lanes() {
 fn vehicle_two_vehicles_ahead_is_turning() {
     let name = "vehicle_two_vehicles_ahead_is_turning";
     // The second car ahead of the ego turns right at frame 13.
-    let base = format!("{} turning(2, 13, \"right\").", chain_ahead(13));
+    let base = format!("{} turning(2, 13, \"right\").", queue(4, true, 13));
     finds(name, &base, &[(2, 13)], &[]);
     // Turning left counts as well.
     finds(
@@ -1732,8 +1677,71 @@ fn vehicle_two_vehicles_ahead_is_turning() {
     );
     // The car directly ahead turns.
     nothing(name, &swap(&base, "turning(2,", "turning(1,"));
+    // The third and fourth cars ahead turn.
+    nothing(
+        name,
+        &swap(
+            &base,
+            "turning(2, 13, \"right\").",
+            "turning(3, 13, \"right\"). turning(4, 13, \"right\").",
+        ),
+    );
     // The second car turns at another frame than the one it is two ahead.
     nothing(name, &swap(&base, "turning(2, 13,", "turning(2, 14,"));
+}
+
+#[test]
+fn vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian() {
+    let name = "vehicle_two_cars_ahead_is_being_crossed_by_a_pedestrian";
+    // At frame 5 a pedestrian (track 9) crosses the front of the second car ahead of the ego.
+    let q = queue(4, true, 5);
+    let base = format!(r#"{q} category(9, "PEDESTRIAN"). crossing(2, 9, 5, "forward")."#);
+    finds(name, &base, &[(2, 5)], &[(2, 9, 5)]);
+    // The pedestrian crosses car 1, the car directly ahead.
+    nothing(name, &swap(&base, "crossing(2, 9, 5,", "crossing(1, 9, 5,"));
+    // The pedestrian crosses the third car ahead.
+    nothing(name, &swap(&base, "crossing(2, 9, 5,", "crossing(3, 9, 5,"));
+    // Only one car ahead of the ego, crossed.
+    nothing(
+        name,
+        &format!(
+            r#"{} category(9, "PEDESTRIAN"). crossing(1, 9, 5, "forward")."#,
+            queue(1, true, 5)
+        ),
+    );
+    // A cone "crossing" is not a pedestrian.
+    nothing(
+        name,
+        &swap(
+            &base,
+            "category(9, \"PEDESTRIAN\")",
+            "category(9, \"CONSTRUCTION_CONE\")",
+        ),
+    );
+}
+
+#[test]
+fn the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian() {
+    let name = "the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian";
+    // At frame 4 cars 1-4 queue behind the ego (track 0, which leads the queue) and a
+    // pedestrian (track 9) on the road 10 m from any crosswalk crosses car 1's front: car 2
+    // is the vehicle behind it (cars 3 and 4 follow car 1 too, but further back).
+    let q = queue(4, false, 4);
+    let jaywalker = r#"category(9, "PEDESTRIAN"). on_road(9, 4). at_crosswalk(9, 4, 10.0)."#;
+    let base = format!(r#"{q} {jaywalker} crossing(1, 9, 4, "forward")."#);
+    finds(name, &base, &[(2, 4)], &[(2, 1, 4)]);
+    // The pedestrian uses a crosswalk.
+    nothing(
+        name,
+        &swap(&base, "at_crosswalk(9, 4, 10.0)", "at_crosswalk(9, 4, 0.0)"),
+    );
+    // The pedestrian crosses behind car 1 (between it and car 2), not its front.
+    nothing(name, &swap(&base, "\"forward\"", "\"backward\""));
+    // The last car of the queue is crossed: nobody is behind it.
+    nothing(
+        name,
+        &format!(r#"{q} {jaywalker} crossing(4, 9, 4, "forward")."#),
+    );
 }
 
 // ---- against traffic, approaching, passing, overtaking --------------------------------------
