@@ -8,8 +8,8 @@
 //! - `scored.pkl` (with ground truth): the predictions of the sequences it holds;
 //! - `matches.json`: one entry per referred track of every (log, program) pair;
 //! - `summary.json`: every pair's status, match count and times, and the stage totals;
-//! - `pairs/<log_id>/<program>.pkl` and `.json`: one pair's prediction sequence and its record
-//!   (written pickle first, record last: the record marks the pair done for `--resume`).
+//! - `pairs/<log_id>/<program>.json`: one pair's record (its derived tuples), which marks the
+//!   pair done for `--resume` and from which its predictions are rebuilt.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -54,7 +54,8 @@ pub struct Match {
     pub related: Vec<String>,
 }
 
-/// The record of one finished pair, written last: `pairs/<log_id>/<program>.json`.
+/// The record of one finished pair: `pairs/<log_id>/<program>.json`. It holds the derived
+/// tuples, from which the pair's frames and matches are rebuilt exactly on `--resume`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PairRecord {
     /// The log id.
@@ -67,24 +68,29 @@ pub struct PairRecord {
     pub source: String,
     /// The output timestamps the run was given for this log (`None`: every 5th frame).
     pub timestamps: Option<Vec<i64>>,
-    /// The matches.
-    pub matches: Vec<Match>,
+    /// The number of tracks of the log (a check that the log is the same).
+    pub tracks: usize,
+    /// `referred(track index, frame)` tuples.
+    pub referred: Vec<(u32, u32)>,
+    /// `related(track index, other track index, frame)` tuples.
+    pub related: Vec<(u32, u32, u32)>,
 }
 
-/// `OUT/pairs/<log_id>/<program>.pkl` and `.json`.
-pub fn pair_paths(out: &Path, log_id: &str, program: &str) -> (PathBuf, PathBuf) {
-    let dir = out.join(PAIRS_DIR).join(log_id);
-    (
-        dir.join(format!("{program}.pkl")),
-        dir.join(format!("{program}.json")),
-    )
+/// `OUT/pairs/<log_id>/<program>.json`.
+pub fn pair_path(out: &Path, log_id: &str, program: &str) -> PathBuf {
+    out.join(PAIRS_DIR)
+        .join(log_id)
+        .join(format!("{program}.json"))
 }
 
 static TMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
-/// Writes `bytes` to `path` atomically: a temporary file beside it, synced, then renamed over it.
-/// The parent directory is created when missing. The error names the file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+/// Writes `bytes` to `path` atomically: a temporary file beside it, then renamed over it, synced
+/// to disk first when `sync`. The parent directory is created when missing. The error names the
+/// file. Per-pair files skip the sync: the rename is still atomic for a crashed process, and a
+/// pair whose files did not survive a system crash fails to read back and is redone by
+/// `--resume` (syncing each of hundreds of small files cost more than the mining itself).
+pub fn write_atomic(path: &Path, bytes: &[u8], sync: bool) -> Result<(), String> {
     let parent = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -100,7 +106,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let written = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
+        if sync {
+            f.sync_all()?;
+        }
         drop(f);
         std::fs::rename(&tmp, path)
     })();
@@ -110,12 +118,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     })
 }
 
-/// Writes a value as pretty JSON (with a final newline), atomically.
-pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<(), String> {
+/// Writes a value as pretty JSON (with a final newline), atomically (synced when `sync`).
+pub fn write_json<T: Serialize>(path: &Path, value: &T, sync: bool) -> Result<(), String> {
     let mut text = serde_json::to_string_pretty(value)
         .map_err(|e| format!("cannot encode `{}`: {e}", path.display()))?;
     text.push('\n');
-    write_atomic(path, text.as_bytes())
+    write_atomic(path, text.as_bytes(), sync)
 }
 
 /// Reads a pair record; `None` when it is missing or unreadable (the pair is then redone).
@@ -132,8 +140,8 @@ mod tests {
     fn atomic_write_replaces_and_leaves_no_temporary_file() {
         let dir = std::env::temp_dir().join(format!("scenalog-output-{}", std::process::id()));
         let path = dir.join("a").join("x.json");
-        write_atomic(&path, b"one").unwrap();
-        write_atomic(&path, b"two").unwrap();
+        write_atomic(&path, b"one", true).unwrap();
+        write_atomic(&path, b"two", false).unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"two");
         let names: Vec<_> = std::fs::read_dir(dir.join("a"))
             .unwrap()

@@ -212,7 +212,7 @@ pub fn run(
     scenalog_eval::write_table(&submission, &options.out.join(output::PREDICTIONS_TABLE))
         .map_err(|e| e.to_string())?;
     let matches: Vec<&Match> = pairs.iter().flat_map(|p| &p.matches).collect();
-    output::write_json(&options.out.join(output::MATCHES_JSON), &matches)?;
+    output::write_json(&options.out.join(output::MATCHES_JSON), &matches, true)?;
     let mut timings = Timings {
         load: load_time.into_inner().unwrap_or_else(|e| e.into_inner()),
         ..Timings::default()
@@ -234,6 +234,7 @@ pub fn run(
     output::write_json(
         &options.out.join(output::SUMMARY_JSON),
         &summary_json(&report, scenarios),
+        true,
     )?;
     Ok(report)
 }
@@ -277,39 +278,19 @@ fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value
     })
 }
 
-/// A pair's earlier result, when `resume` is on and its record matches this run.
-fn resumed(
-    log: &LogInput,
-    scenario: &Scenario,
-    index: usize,
-    options: &RunOptions,
-) -> Option<PairResult> {
+/// A pair's earlier record, when `resume` is on and the record matches this run (same program
+/// text, description and output timestamps).
+fn resumable(log: &LogInput, scenario: &Scenario, options: &RunOptions) -> Option<PairRecord> {
     if !options.resume {
         return None;
     }
-    let (pkl, json) = output::pair_paths(&options.out, &log.log_id, &scenario.name);
-    let record = output::read_record(&json)?;
-    let timestamps = options.timestamps.get(&log.log_id);
-    if record.log_id != log.log_id
-        || record.description != scenario.description
-        || record.source != scenario.source
-        || record.timestamps.as_ref() != timestamps
-    {
-        return None;
-    }
-    let sub = scenalog_eval::read_pickle(&pkl).ok()?;
-    let key = (log.log_id.clone(), scenario.description.clone());
-    let frames = sub.sequences.get(&key)?.clone();
-    Some(PairResult {
-        log_id: log.log_id.clone(),
-        scenario: index,
-        status: PairStatus::Resumed,
-        frames,
-        matches: record.matches,
-        evaluate: Duration::ZERO,
-        tracks: Duration::ZERO,
-        write: Duration::ZERO,
-    })
+    let path = output::pair_path(&options.out, &log.log_id, &scenario.name);
+    let record = output::read_record(&path)?;
+    let same = record.log_id == log.log_id
+        && record.description == scenario.description
+        && record.source == scenario.source
+        && record.timestamps.as_ref() == options.timestamps.get(&log.log_id);
+    same.then_some(record)
 }
 
 fn failed(log: &LogInput, index: usize, reason: String) -> PairResult {
@@ -326,23 +307,14 @@ fn failed(log: &LogInput, index: usize, reason: String) -> PairResult {
 }
 
 /// Mines one log with every scenario: the pairs (in scenario order), the log's own failure if it
-/// could not be read, and the time spent reading it.
+/// could not be read, and the time spent reading it. Resumed pairs are rebuilt from their
+/// records' tuples (which needs the scene, so the log is read even when every pair is resumed).
 fn mine_log(
     log: &LogInput,
     scenarios: &[Scenario],
     options: &RunOptions,
     bar: &indicatif::ProgressBar,
 ) -> (Vec<PairResult>, Option<String>, Duration) {
-    let mut slots: Vec<Option<PairResult>> = scenarios
-        .iter()
-        .enumerate()
-        .map(|(i, s)| resumed(log, s, i, options))
-        .collect();
-    let resumed_count = slots.iter().filter(|s| s.is_some()).count();
-    bar.inc(resumed_count as u64);
-    if resumed_count == scenarios.len() {
-        return (slots.into_iter().flatten().collect(), None, Duration::ZERO);
-    }
     let t0 = Instant::now();
     let scene = scenalog_facts::load_scene(&log.dir)
         .map_err(|e| format!("cannot read log `{}`: {e}", log.dir.display()));
@@ -355,30 +327,25 @@ fn mine_log(
         Ok(x) => x,
         Err(e) => {
             bar.suspend(|| eprintln!("scenalog mine: {e}"));
-            let pairs = slots
-                .into_iter()
-                .enumerate()
-                .map(|(i, s)| {
-                    s.unwrap_or_else(|| {
-                        bar.inc(1);
-                        failed(log, i, e.clone())
-                    })
-                })
+            bar.inc(scenarios.len() as u64);
+            let pairs = (0..scenarios.len())
+                .map(|i| failed(log, i, e.clone()))
                 .collect();
             return (pairs, Some(e), load);
         }
     };
     let extractor = Extractor::new(&scene);
-    let pending: Vec<usize> = (0..scenarios.len())
-        .filter(|&i| slots[i].is_none())
-        .collect();
-    let done: Vec<PairResult> = pending
+    let indices: Vec<usize> = (0..scenarios.len()).collect();
+    let pairs: Vec<PairResult> = indices
         .par_iter()
         .map(|&i| {
             let s = &scenarios[i];
             bar.set_message(format!("{} on {}", s.name, short_id(&log.log_id)));
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                mine_pair(log, &scene, &extractor, s, i, &frames, options)
+                let earlier =
+                    resumable(log, s, options).and_then(|r| resume_pair(&scene, s, i, &frames, r));
+                earlier
+                    .unwrap_or_else(|| mine_pair(log, &scene, &extractor, s, i, &frames, options))
             }))
             .unwrap_or_else(|_| {
                 failed(
@@ -394,10 +361,60 @@ fn mine_log(
             r
         })
         .collect();
-    for (i, r) in pending.into_iter().zip(done) {
-        slots[i] = Some(r);
+    (pairs, None, load)
+}
+
+/// Rebuilds a finished pair from its record; `None` when the record's tuples do not fit the
+/// scene (the log changed), so the pair is mined again.
+fn resume_pair(
+    scene: &Scene,
+    scenario: &Scenario,
+    index: usize,
+    frames: &[Frame],
+    record: PairRecord,
+) -> Option<PairResult> {
+    let t = Instant::now();
+    let n_tracks = scene.tracks.len();
+    let n_frames = scene.num_frames();
+    let track = |i: u32| ((i as usize) < n_tracks).then_some(TrackId(i));
+    let frame = |f: Frame| ((f as usize) < n_frames).then_some(f);
+    let referred: Vec<(TrackId, Frame)> = record
+        .referred
+        .iter()
+        .map(|&(v, f)| Some((track(v)?, frame(f)?)))
+        .collect::<Option<_>>()?;
+    let related: Vec<(TrackId, TrackId, Frame)> = record
+        .related
+        .iter()
+        .map(|&(v, o, f)| Some((track(v)?, track(o)?, frame(f)?)))
+        .collect::<Option<_>>()?;
+    if record.tracks != n_tracks {
+        return None;
     }
-    (slots.into_iter().flatten().collect(), None, load)
+    let (out, matches) = build_pair(scene, scenario, &referred, &related, frames);
+    Some(PairResult {
+        log_id: scene.log_id.clone(),
+        scenario: index,
+        status: PairStatus::Resumed,
+        frames: out,
+        matches,
+        evaluate: Duration::ZERO,
+        tracks: t.elapsed(),
+        write: Duration::ZERO,
+    })
+}
+
+/// The prediction frames and matches of a pair from its tuples.
+fn build_pair(
+    scene: &Scene,
+    scenario: &Scenario,
+    referred: &[(TrackId, Frame)],
+    related: &[(TrackId, TrackId, Frame)],
+    frames: &[Frame],
+) -> (Vec<FrameData>, Vec<Match>) {
+    let labelled = label_frames(scene, referred, related, frames);
+    let out = to_frames(scene, &scenario.description, &labelled);
+    (out, matches_of(scene, scenario, referred, related))
 }
 
 /// The first 8 characters of a log id, for messages and tables.
@@ -454,12 +471,10 @@ fn mine_pair(
     let t1 = Instant::now();
     let referred = referred_tuples(&evaluation);
     let related = related_tuples(&evaluation);
-    let labelled = label_frames(scene, &referred, &related, frames);
-    let frames = to_frames(scene, &scenario.description, &labelled);
-    let matches = matches_of(scene, scenario, &referred, &related);
+    let (frames, matches) = build_pair(scene, scenario, &referred, &related, frames);
     let tracks = t1.elapsed();
     let t2 = Instant::now();
-    let written = write_pair(log, scenario, &frames, &matches, options);
+    let written = write_pair(log, scene, scenario, &referred, &related, options);
     let write = t2.elapsed();
     let status = match written {
         Ok(()) => PairStatus::Done,
@@ -477,33 +492,27 @@ fn mine_pair(
     }
 }
 
+/// Writes the pair's record (its tuples, from which `--resume` rebuilds it).
 fn write_pair(
     log: &LogInput,
+    scene: &Scene,
     scenario: &Scenario,
-    frames: &[FrameData],
-    matches: &[Match],
+    referred: &[(TrackId, Frame)],
+    related: &[(TrackId, TrackId, Frame)],
     options: &RunOptions,
 ) -> Result<(), String> {
-    let (pkl, json) = output::pair_paths(&options.out, &log.log_id, &scenario.name);
-    if let Some(dir) = pkl.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create directory `{}`: {e}", dir.display()))?;
-    }
-    let mut sub = Submission::default();
-    sub.sequences.insert(
-        (log.log_id.clone(), scenario.description.clone()),
-        frames.to_vec(),
-    );
-    scenalog_eval::write_pickle(&sub, &pkl).map_err(|e| e.to_string())?;
     let record = PairRecord {
         log_id: log.log_id.clone(),
         description: scenario.description.clone(),
         program: scenario.name.clone(),
         source: scenario.source.clone(),
         timestamps: options.timestamps.get(&log.log_id).cloned(),
-        matches: matches.to_vec(),
+        tracks: scene.tracks.len(),
+        referred: referred.iter().map(|&(v, f)| (v.0, f)).collect(),
+        related: related.iter().map(|&(v, o, f)| (v.0, o.0, f)).collect(),
     };
-    output::write_json(&json, &record)
+    let path = output::pair_path(&options.out, &log.log_id, &scenario.name);
+    output::write_json(&path, &record, false)
 }
 
 /// `referred(Track, Time)` tuples.
