@@ -26,7 +26,7 @@ pub use prove::{Proof, Stamp};
 pub use why_not::{
     explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,
     Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError, MAX_BINDINGS,
-    MAX_EXAMPLES, MAX_NESTING,
+    MAX_DEPTH, MAX_EXAMPLES, MAX_NESTING,
 };
 
 /// Why an evaluation failed.

@@ -24,13 +24,17 @@ use scenalog_rules::ast::{AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::value::cmp_value;
-use crate::{Evaluation, Proof};
+use crate::{Evaluation, Stamp};
 
 /// Most bindings kept after one literal; past it, the rest are dropped and the report says so.
 pub const MAX_BINDINGS: usize = 100_000;
 
 /// Most examples (bindings, values, near misses) a report lists for one failing literal.
 pub const MAX_EXAMPLES: usize = 5;
+
+/// Deepest derivation [`explain`] builds (proofs are well founded, so this only guards
+/// against a stamp that names no usable clause).
+pub const MAX_DEPTH: usize = 64;
 
 /// How deep [`why_not`] follows a missing atom of a derived relation into that relation's own
 /// clauses.
@@ -389,8 +393,10 @@ pub fn why_not_pattern(
     Ok(cx.why_not(relation, &pattern, 0, &mut HashSet::new()))
 }
 
-/// The proof of a derived tuple (see [`Evaluation::prove`]) with every body literal grounded:
-/// the matched tuples, the compared values, the absent negated tuples, the aggregate results.
+/// The proof of a derived tuple with every body literal grounded: the matched tuples, the
+/// compared values, the absent negated tuples, the aggregate results. Like
+/// [`Evaluation::prove`], each tuple is derived by the clause of its stamp from tuples of lower
+/// strata or earlier rounds, so the tree is finite; leaves are catalog tuples and ground facts.
 /// `None` when the tuple is not in the relation or the evaluation ran without provenance.
 pub fn explain(
     program: &CheckedProgram,
@@ -401,10 +407,15 @@ pub fn explain(
     let mut cx = Cx::new(program, evaluation);
     let pattern: Vec<Option<Value>> = tuple.iter().cloned().map(Some).collect();
     cx.check_pattern(relation, &pattern)?;
-    let Some(proof) = evaluation.prove(relation, tuple) else {
+    let derived = program
+        .predicates
+        .get(relation)
+        .is_some_and(|p| p.kind == PredKind::Derived);
+    let present = !cx.lookup(relation, &pattern).is_empty();
+    if !present || (derived && evaluation.stamp(relation, tuple).is_none()) {
         return Ok(None);
-    };
-    Ok(cx.derivation(&proof))
+    }
+    Ok(cx.derivation(relation, tuple, 0))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1096,30 +1107,41 @@ impl<'a> Cx<'a> {
     }
 
     /// Depth-first search for one complete binding, with the grounded literals on the way.
-    /// With `allow`, positive atoms may only match these (relation, tuple) pairs.
+    /// With `limit` (the stamp of the tuple being derived), positive atoms over relations of
+    /// the same stratum may only match tuples first derived in an earlier round, so the
+    /// derivation is well founded.
     fn ground(
         &mut self,
         vars: &Vars,
         order: &[Item<'_>],
         b: Row,
         pat: &[Option<Value>],
-        allow: Option<&HashSet<(String, Vec<Key>)>>,
+        limit: Option<Stamp>,
         trail: &mut Vec<(Step, Ground)>,
     ) -> Option<Row> {
         let Some((&item, rest)) = order.split_first() else {
             return Some(b);
         };
         for (r, g) in self.apply(vars, item, &b, pat) {
-            if let (Some(allow), Item::Lit(_, Literal::Pos(a)), Ground::Atom(i)) = (allow, item, &g)
-            {
-                let t = self.tuples(&a.pred).get(*i);
-                let k: Vec<Key> = t.map(|t| t.iter().map(key).collect()).unwrap_or_default();
-                if !allow.contains(&(a.pred.clone(), k)) {
-                    continue;
+            if let (Some(st), Item::Lit(_, Literal::Pos(a)), Ground::Atom(i)) = (limit, item, &g) {
+                let same = self
+                    .program
+                    .strata
+                    .get(st.stratum)
+                    .is_some_and(|s| s.predicates.contains(&a.pred));
+                if same {
+                    let earlier = self
+                        .tuples(&a.pred)
+                        .get(*i)
+                        .and_then(|t| self.eval.stamp(&a.pred, t))
+                        .is_some_and(|s| s.round < st.round);
+                    if !earlier {
+                        continue;
+                    }
                 }
             }
             trail.push((item.step(), g));
-            if let Some(done) = self.ground(vars, rest, r, pat, allow, trail) {
+            if let Some(done) = self.ground(vars, rest, r, pat, limit, trail) {
                 return Some(done);
             }
             trail.pop();
@@ -1479,31 +1501,29 @@ impl<'a> Cx<'a> {
         scored.into_iter().map(|(_, m)| m).collect()
     }
 
-    /// The grounded derivation of a proof node.
-    fn derivation(&mut self, proof: &Proof) -> Option<Derivation> {
-        let Some(ci) = proof.clause else {
-            return Some(Derivation {
-                relation: proof.relation.clone(),
-                tuple: proof.tuple.clone(),
-                clause: None,
-                binding: Vec::new(),
-                body: Vec::new(),
-            });
+    /// The grounded derivation of a tuple: the clause its stamp names, grounded over tuples of
+    /// lower strata and of earlier rounds of its own stratum; catalog tuples are leaves.
+    fn derivation(&mut self, rel: &str, tuple: &[Value], depth: usize) -> Option<Derivation> {
+        let leaf = Derivation {
+            relation: rel.to_string(),
+            tuple: tuple.to_vec(),
+            clause: None,
+            binding: Vec::new(),
+            body: Vec::new(),
+        };
+        let Some(st) = self.eval.stamp(rel, tuple) else {
+            return Some(leaf);
         };
         let program = self.program;
-        let clause = program.program.clauses.get(ci)?;
+        let clause = program.program.clauses.get(st.clause)?;
+        let ci = st.clause;
         let vars = Vars::of(&clause.head, &clause.body);
-        let pat: Vec<Option<Value>> = proof.tuple.iter().cloned().map(Some).collect();
+        let pat: Vec<Option<Value>> = tuple.iter().cloned().map(Some).collect();
         let (b0, checks) = self.unify_head(&vars, &clause.head, &pat).ok()?;
         let order = order_items(&vars, &clause.body, &checks, &b0);
-        let allow: HashSet<(String, Vec<Key>)> = proof
-            .children
-            .iter()
-            .map(|c| (c.relation.clone(), c.tuple.iter().map(key).collect()))
-            .collect();
         let mut trail = Vec::new();
         let done = self
-            .ground(&vars, &order, b0.clone(), &pat, Some(&allow), &mut trail)
+            .ground(&vars, &order, b0.clone(), &pat, Some(st), &mut trail)
             .or_else(|| {
                 trail.clear();
                 self.ground(&vars, &order, b0, &pat, None, &mut trail)
@@ -1517,23 +1537,16 @@ impl<'a> Cx<'a> {
             let fact = match (lit, g) {
                 (Literal::Pos(a), Ground::Atom(i)) => {
                     let tuple = self.tuples(&a.pred).get(i)?.clone();
-                    let child = proof
-                        .children
-                        .iter()
-                        .find(|c| c.relation == a.pred && c.tuple == tuple);
-                    let derivation = match child {
-                        Some(c)
-                            if c.clause.is_some_and(|ci| {
-                                program
-                                    .program
-                                    .clauses
-                                    .get(ci)
-                                    .is_some_and(|cl| !cl.is_fact())
-                            }) =>
-                        {
-                            self.derivation(c).map(Box::new)
-                        }
-                        _ => None,
+                    // Ground facts of the program and catalog tuples are leaves.
+                    let rule = self
+                        .eval
+                        .stamp(&a.pred, &tuple)
+                        .and_then(|s| program.program.clauses.get(s.clause))
+                        .is_some_and(|c| !c.is_fact());
+                    let derivation = if rule && depth < MAX_DEPTH {
+                        self.derivation(&a.pred, &tuple, depth + 1).map(Box::new)
+                    } else {
+                        None
                     };
                     BodyFact::Atom {
                         literal: li,
@@ -1566,8 +1579,8 @@ impl<'a> Cx<'a> {
         }
         body.sort_by_key(|f| f.literal());
         Some(Derivation {
-            relation: proof.relation.clone(),
-            tuple: proof.tuple.clone(),
+            relation: rel.to_string(),
+            tuple: tuple.to_vec(),
             clause: Some(ci),
             binding: self.binding(&vars, &done),
             body,
