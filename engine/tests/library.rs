@@ -201,7 +201,7 @@ fn following_too_closely_is_a_gap_under_one_second_at_speed() {
 }
 
 #[test]
-fn two_cars_ahead_of_ego_is_two_hops_of_following() {
+fn two_cars_ahead_of_ego_is_two_hops_of_direct_leads() {
     compare_on_real_logs("vehicle_two_cars_ahead_of_ego", |ex| {
         let vehicles = of_category(ex, "VEHICLE");
         let ego = ex.scene().ego;
@@ -209,17 +209,32 @@ fn two_cars_ahead_of_ego_is_two_hops_of_following() {
             .iter()
             .map(|r| (track(&r[0]), track(&r[1]), time(&r[2])))
             .collect();
-        let first: BTreeSet<(TrackId, Frame)> = follow
-            .iter()
-            .filter(|(e, _, _)| *e == ego)
-            .map(|&(_, v, t)| (v, t))
-            .collect();
-        follow
-            .iter()
-            .filter(|&&(a, _, t)| first.contains(&(a, t)))
-            .map(|&(_, v, t)| (v, t))
-            .filter(|(v, _)| vehicles.contains(v))
-            .collect()
+        // Direct leads only: X follows Y with no Z such that X follows Z and Z follows Y.
+        let pairs: BTreeSet<(TrackId, TrackId, Frame)> = follow.iter().copied().collect();
+        let direct = |x: TrackId, t: Frame| -> Vec<TrackId> {
+            let leads: Vec<TrackId> = follow
+                .iter()
+                .filter(|&&(a, _, f)| a == x && f == t)
+                .map(|&(_, y, _)| y)
+                .collect();
+            leads
+                .iter()
+                .copied()
+                .filter(|&y| !leads.iter().any(|&z| pairs.contains(&(z, y, t))))
+                .collect()
+        };
+        let frames: BTreeSet<Frame> = follow.iter().map(|&(_, _, t)| t).collect();
+        let mut out = BTreeSet::new();
+        for t in frames {
+            for first in direct(ego, t) {
+                for second in direct(first, t) {
+                    if vehicles.contains(&second) {
+                        out.insert((second, t));
+                    }
+                }
+            }
+        }
+        out
     });
 }
 
