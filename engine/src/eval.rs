@@ -382,6 +382,28 @@ impl Rel {
     }
 }
 
+/// The distinct tuples of `raw` sorted, each with the plan of its first occurrence, where
+/// `ranges` gives (end, plan) for consecutive runs of `raw` in order.
+fn first_plans(raw: &Rows, ranges: &[(usize, usize)]) -> (Rows, Vec<usize>) {
+    let mut idx: Vec<usize> = (0..raw.len()).collect();
+    // Stable: equal tuples keep their order, so the first of each run is the earliest.
+    idx.sort_by(|&a, &b| raw.get(a).cmp(&raw.get(b)));
+    let mut unique = Rows::new(raw.arity());
+    let mut plans = Vec::new();
+    let mut last: Option<&[u64]> = None;
+    for i in idx {
+        let Some(t) = raw.get(i) else { continue };
+        if last == Some(t) {
+            continue;
+        }
+        last = Some(t);
+        unique.push_slice(t);
+        let r = ranges.partition_point(|&(end, _)| end <= i);
+        plans.push(ranges.get(r).map_or(usize::MAX, |&(_, p)| p));
+    }
+    (unique, plans)
+}
+
 /// Runs one stratum to its fixpoint, semi-naively: in each round, every rule is evaluated once
 /// per atom of this stratum in its body, with that atom reading only the last round's new
 /// tuples, the atoms before it the older tuples and the atoms after it all tuples.
@@ -421,7 +443,8 @@ fn run_stratum(
         let mut new: BTreeMap<&str, Rows> = BTreeMap::new();
         // With provenance: each plan's output this round, sorted, to find the first plan
         // that produced each new tuple.
-        let mut by_plan: Vec<Option<Rows>> = vec![None; plans.len()];
+        // With provenance: per head, (end of each plan's output in `new`, plan index).
+        let mut ranges: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
         for (pi, (head, p)) in plans.iter().enumerate() {
             let check = Limits {
                 relation: head,
@@ -468,22 +491,27 @@ fn run_stratum(
                     run_plan_indexed(p, &sources, &prebuilt[pi], out, &check)?;
                 }
             }
-            if options.provenance {
-                let mut mine = Rows::new(arity(head));
-                for i in before..out.len() {
-                    if let Some(t) = out.get(i) {
-                        mine.push_slice(t);
-                    }
-                }
-                mine.sort_dedup();
-                by_plan[pi] = Some(mine);
+            if options.provenance && out.len() > before {
+                ranges
+                    .entry(head.as_str())
+                    .or_default()
+                    .push((out.len(), pi));
             }
         }
         first = false;
         let mut changed = false;
         for (name, rel) in rels.iter_mut() {
             let mut fresh = new.remove(name).unwrap_or_else(|| Rows::new(arity(name)));
-            fresh.sort_dedup();
+            // With provenance: the distinct new tuples, sorted, with the first plan of each.
+            let mut firsts = None;
+            if options.provenance {
+                let ranges = ranges.remove(name).unwrap_or_default();
+                let (unique, plan_of) = first_plans(&fresh, &ranges);
+                fresh = unique.clone();
+                firsts = Some((unique, plan_of));
+            } else {
+                fresh.sort_dedup();
+            }
             rel.remove_known(&mut fresh);
             if rel.len() + fresh.len() > options.max_tuples {
                 return Err(EngineError::TooManyTuples {
@@ -492,18 +520,11 @@ fn run_stratum(
                 });
             }
             changed |= !fresh.is_empty();
-            if options.provenance && !fresh.is_empty() {
-                let origin: Vec<usize> = fresh
-                    .iter()
-                    .map(|t| {
-                        plans
-                            .iter()
-                            .zip(&by_plan)
-                            .position(|((h, _), rows)| {
-                                h == name && rows.as_ref().is_some_and(|r| r.contains(t))
-                            })
-                            .unwrap_or(usize::MAX)
-                    })
+            if let (Some((unique, plan_of)), false) = (firsts, fresh.is_empty()) {
+                let origin: Vec<usize> = unique
+                    .positions(&fresh)
+                    .into_iter()
+                    .map(|p| plan_of.get(p).copied().unwrap_or(usize::MAX))
                     .collect();
                 log.entry(name)
                     .or_default()

@@ -134,6 +134,11 @@ impl Rows {
         }
     }
 
+    /// Words per stored tuple: the arity, or 1 for a nullary relation.
+    pub fn arity(&self) -> usize {
+        self.stride
+    }
+
     /// Number of tuples.
     pub fn len(&self) -> usize {
         self.data.len() / self.stride.max(1)
