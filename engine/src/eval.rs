@@ -595,23 +595,61 @@ pub(crate) fn run_plan(
     run_plan_indexed(p, &parts, &[], out, limits)
 }
 
-/// The positions (part, index) in a source of the tuples an atom selects, by join key.
-pub(crate) type Index = FastMap<Row, Vec<(u32, u32)>>;
+/// The tuples an atom selects from its source, copied and grouped by join key so that the
+/// matches of one key are contiguous in memory (a join reads them sequentially, as a sorted
+/// relation in datafrog would be read, instead of jumping around the source).
+pub(crate) struct Index {
+    /// Start and count of each key's group in `rows`.
+    groups: FastMap<Row, (u32, u32)>,
+    /// The selected tuples, grouped by key.
+    rows: Rows,
+}
+
+impl Index {
+    /// The tuples whose key is `k`.
+    fn matches(&self, k: &Row) -> impl Iterator<Item = &[u64]> {
+        let (start, n) = self.groups.get(k).copied().unwrap_or((0, 0));
+        (start..start + n).filter_map(|i| self.rows.get(i as usize))
+    }
+}
 
 /// Builds the join index of one atom over its source's parts.
 pub(crate) fn build_index(step: &AtomStep, parts: &[&Rows]) -> Index {
-    let mut index: Index = FastMap::default();
-    for (pi, part) in parts.iter().enumerate() {
-        for (i, t) in part.iter().enumerate() {
+    let mut groups: FastMap<Row, (u32, u32)> = FastMap::default();
+    let arity = parts.iter().map(|p| p.arity()).max().unwrap_or(1);
+    let mut total = 0u32;
+    for part in parts {
+        for t in part.iter() {
             if step.selects(t) {
-                index
-                    .entry(step.tuple_key(t))
-                    .or_default()
-                    .push((pi as u32, i as u32));
+                groups.entry(step.tuple_key(t)).or_insert((0, 0)).1 += 1;
+                total += 1;
             }
         }
     }
-    index
+    let mut next = 0u32;
+    for g in groups.values_mut() {
+        let n = g.1;
+        *g = (next, 0);
+        next += n;
+    }
+    let mut data = vec![0u64; total as usize * arity];
+    for part in parts {
+        for t in part.iter() {
+            if step.selects(t) {
+                if let Some(g) = groups.get_mut(&step.tuple_key(t)) {
+                    let at = (g.0 + g.1) as usize * arity;
+                    if let Some(dst) = data.get_mut(at..at + arity) {
+                        dst.copy_from_slice(&t[..arity]);
+                    }
+                    g.1 += 1;
+                }
+            }
+        }
+    }
+    Index {
+        groups,
+        rows: Rows::from_flat(arity, data),
+    }
 }
 
 /// [`run_plan`] with join indexes already built for some atoms (those whose relation does not
@@ -653,10 +691,7 @@ pub(crate) fn run_plan_indexed(
                 let Some(k) = step.binding_key(b) else {
                     continue;
                 };
-                for &(part, i) in index.get(&k).into_iter().flatten() {
-                    let Some(t) = src.get(part as usize).and_then(|p| p.get(i as usize)) else {
-                        continue;
-                    };
+                for t in index.matches(&k) {
                     if let Some(r) = apply(&step.after, step.extend(*b, t)) {
                         emit(last, r, &mut next, out);
                     }

@@ -62,6 +62,61 @@ impl CExpr {
     }
 }
 
+/// An expression over integer and time slots and integer constants only, evaluated on `i64`
+/// without decoding into [`V`] (same results as [`CExpr::eval`] on such expressions: checked
+/// arithmetic, `None` on overflow or division by zero).
+#[derive(Debug, Clone)]
+pub enum IExpr {
+    /// An int slot.
+    Int(usize),
+    /// A time slot.
+    Time(usize),
+    /// A constant.
+    Const(i64),
+    /// Unary minus.
+    Neg(Box<IExpr>),
+    /// `abs`.
+    Abs(Box<IExpr>),
+    /// Arithmetic.
+    Bin(BinOp, Box<IExpr>, Box<IExpr>),
+}
+
+impl IExpr {
+    /// The integer form of an expression, when it is one.
+    pub fn from(e: &CExpr) -> Option<IExpr> {
+        let b = |e: &CExpr| IExpr::from(e).map(Box::new);
+        Some(match e {
+            CExpr::Slot(s, ColType::Int) => IExpr::Int(*s),
+            CExpr::Slot(s, ColType::Time) => IExpr::Time(*s),
+            CExpr::Const(V::Int(i)) => IExpr::Const(*i),
+            CExpr::Neg(a) => IExpr::Neg(b(a)?),
+            CExpr::Bin(op, x, y) => IExpr::Bin(*op, b(x)?, b(y)?),
+            CExpr::Call(Func::Abs, args) if args.len() == 1 => IExpr::Abs(b(args.first()?)?),
+            _ => return None,
+        })
+    }
+
+    /// Evaluates; `None` on overflow or division by zero.
+    pub fn eval(&self, row: &Row) -> Option<i64> {
+        match self {
+            IExpr::Int(s) => Some(crate::value::dec_int(row[*s])),
+            IExpr::Time(s) => Some(row[*s] as i64),
+            IExpr::Const(i) => Some(*i),
+            IExpr::Neg(a) => a.eval(row)?.checked_neg(),
+            IExpr::Abs(a) => a.eval(row)?.checked_abs(),
+            IExpr::Bin(op, a, b) => {
+                let (x, y) = (a.eval(row)?, b.eval(row)?);
+                match op {
+                    BinOp::Add => x.checked_add(y),
+                    BinOp::Sub => x.checked_sub(y),
+                    BinOp::Mul => x.checked_mul(y),
+                    BinOp::Div => x.checked_div(y),
+                }
+            }
+        }
+    }
+}
+
 fn arith(op: BinOp, a: V, b: V) -> Option<V> {
     match (a, b) {
         (V::Int(x), V::Int(y)) => match op {
@@ -110,6 +165,8 @@ pub enum Filter {
     /// A comparison of a slot with a slot or constant of its own type, done on the encoded
     /// words (the encoding preserves each type's order, so no decoding is needed).
     CmpRaw(CmpOp, usize, Raw),
+    /// A comparison of two integer expressions.
+    CmpInt(CmpOp, IExpr, IExpr),
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
@@ -181,6 +238,9 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
     if let Some((s, r)) = raw(&b, &a) {
         return Filter::CmpRaw(flipped(op), s, r);
     }
+    if let (Some(x), Some(y)) = (IExpr::from(&a), IExpr::from(&b)) {
+        return Filter::CmpInt(op, x, y);
+    }
     Filter::Cmp(op, a, b)
 }
 
@@ -194,6 +254,11 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                     Raw::Const(c) => *c,
                 };
                 if !holds(*op, row[*a].cmp(&y)) {
+                    return None;
+                }
+            }
+            Filter::CmpInt(op, a, b) => {
+                if !holds(*op, a.eval(&row)?.cmp(&b.eval(&row)?)) {
                     return None;
                 }
             }

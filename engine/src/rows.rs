@@ -134,6 +134,14 @@ impl Rows {
         }
     }
 
+    /// Tuples of `arity` columns from their words, in the order given (not sorted).
+    pub fn from_flat(arity: usize, data: Vec<u64>) -> Rows {
+        let stride = arity.clamp(1, WIDTH);
+        let mut data = data;
+        data.truncate(data.len() / stride * stride);
+        Rows { stride, data }
+    }
+
     /// Words per stored tuple: the arity, or 1 for a nullary relation.
     pub fn arity(&self) -> usize {
         self.stride
