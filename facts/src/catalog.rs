@@ -387,7 +387,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "following",
         columns: &[X, Y, T],
-        doc: "X follows lead Y at T: same lane (or Y in a successor), Y 0-25 m ahead, |lateral| < 5 m, headings within 60°",
+        doc: "X follows lead Y at T: same lane (or Y in a successor), Y 0-25 m ahead, |lateral| < 5 m, headings within 60° (every such lead, not only the nearest)",
         group: Group::Pairs,
     },
     RelationSpec {

@@ -45,6 +45,7 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 - Near, close to, next to: `near(X, Y, T, D), D < 10` (`D < 5` for "very close"); X != Y.
 - In front of / behind / beside: `direction(X, Y, T, "forward", Dist, Lat)` says Y is ahead of X; "directly in front" adds `Lat < 1`; within a distance: `Dist < 25`.
 - Following, same lane, crossing in front: `following(X, Y, T)`, `same_lane(X, Y, T)`, `crossing(X, Y, T, "forward")` (Y crosses in front of X).
+- `following(X, Y, T)` holds for every lead within 25 m, not only the nearest. The direct lead (for "the car two ahead", chains): `between(X, Y, T) :- following(X, Z, T), following(Z, Y, T).` then `lead(X, Y, T) :- following(X, Y, T), !between(X, Y, T).`
 - At an intersection: `on_intersection(X, T)`; approaching one: `near_intersection(X, T, D), D < 10`. At a crosswalk: `at_crosswalk(X, T, D), D < 1`.
 - Over time ("for at least 2 seconds", "then"): compare frames with arithmetic, e.g. `T2 >= T, T2 <= T + 20`.
 - Use only catalog relations and your own helpers; do not invent relations.
