@@ -27,7 +27,7 @@ use std::process::ExitCode;
 
 use crate::cli::synth::{synth_config, SynthArgs};
 use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
-use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions};
+use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions, RunReport};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
 use crate::pipeline::summary::{render_score, render_table, score};
 
@@ -318,6 +318,9 @@ pub fn run(args: Args) -> ExitCode {
                 MATCHES_JSON,
                 out.display()
             );
+            if let Some(hint) = explain_hint(&report, &scenarios, &logs) {
+                println!("\nwhy did a track match? for example:\n  {hint}");
+            }
             match (&scored, &gt_path) {
                 (Some(s), Some(p)) => {
                     println!("\nscore against {}:", p.display());
@@ -336,6 +339,24 @@ pub fn run(args: Args) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// A `scenalog explain` command for the first match of the run (by program, then log).
+fn explain_hint(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput]) -> Option<String> {
+    let pair = report
+        .pairs
+        .iter()
+        .filter(|p| !p.matches.is_empty())
+        .min_by_key(|p| (p.scenario, logs.iter().position(|l| l.log_id == p.log_id)))?;
+    let m = pair.matches.first()?;
+    let log = logs.iter().find(|l| l.log_id == pair.log_id)?;
+    Some(format!(
+        "scenalog explain --rules {} --log {} --track {} --at {}",
+        scenarios[pair.scenario].path.display(),
+        log.dir.display(),
+        m.track_uuid,
+        m.first_s
+    ))
 }
 
 /// Reads `--eval-timestamps`: `{"<log_id>": [timestamp_ns, …], …}`.

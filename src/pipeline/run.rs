@@ -83,7 +83,8 @@ pub struct PairResult {
     pub scenario: usize,
     /// How it ended.
     pub status: PairStatus,
-    /// The prediction frames (empty when failed).
+    /// The prediction frames (empty when failed; [`run`] moves them into
+    /// [`RunReport::submission`]).
     pub frames: Vec<FrameData>,
     /// The referred tracks.
     pub matches: Vec<Match>,
@@ -198,11 +199,11 @@ pub fn run(
         }
     }
     let mut submission = Submission::default();
-    for p in &pairs {
+    for p in &mut pairs {
         if !matches!(p.status, PairStatus::Failed(_)) {
             submission.sequences.insert(
                 (p.log_id.clone(), scenarios[p.scenario].description.clone()),
-                p.frames.clone(),
+                std::mem::take(&mut p.frames),
             );
         }
     }
