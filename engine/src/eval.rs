@@ -724,3 +724,98 @@ pub(crate) fn run_plan_indexed(
     }
     limits.check(out.len())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plan::Filter;
+    use scenalog_facts::relation::Column;
+    use scenalog_rules::{check, CheckOptions};
+
+    /// Plans the (first) clause defining `head` in a program without catalog relations.
+    fn plan_of(src: &str, head: &str) -> Plan {
+        let outcome = check(
+            src,
+            &CheckOptions {
+                require_referred: false,
+            },
+        );
+        let Some(program) = outcome.program else {
+            panic!("does not check: {:?}", outcome.diagnostics);
+        };
+        let types: HashMap<String, Vec<ColType>> = program
+            .predicates
+            .iter()
+            .map(|(k, p)| (k.clone(), p.types.clone()))
+            .collect();
+        let complete = HashMap::new();
+        let mut symbols = Symbols::default();
+        let options = Options::default();
+        let limits = Limits {
+            relation: "test",
+            options: &options,
+            start: Instant::now(),
+        };
+        let mut ctx = Ctx {
+            types: &types,
+            complete: &complete,
+            symbols: &mut symbols,
+            limits: &limits,
+        };
+        let Some(clause) = program.program.clauses.iter().find(|c| c.head.pred == head) else {
+            panic!("no clause for {head}");
+        };
+        let head_types = types.get(&clause.head.pred).cloned();
+        match plan(
+            &body_lits(&clause.body),
+            &clause.head.args,
+            head_types.as_deref(),
+            &mut ctx,
+        ) {
+            Ok(p) => p,
+            Err(e) => panic!("does not plan: {e}"),
+        }
+    }
+
+    #[test]
+    fn constants_are_selections_joined_first_and_comparisons_run_when_bound() {
+        let src = ".decl cat(V: int, C: str)\n.decl spd(V: int, T: int, S: float)\n\
+                   .decl fast_bus(V: int, T: int)\n\
+                   cat(1, \"BUS\"). cat(2, \"CAR\"). spd(1, 0, 9.0). spd(2, 0, 3.0).\n\
+                   fast_bus(V, T) :- spd(V, T, S), cat(V, \"BUS\"), S > 5.0, V != 7.\n";
+        let p = plan_of(src, "fast_bus");
+        // The atom with a constant is joined first, its constant a selection on the column.
+        assert_eq!(p.atoms[0].pred, "cat");
+        assert!(
+            matches!(p.atoms[0].args[1], Arg::Const(_)),
+            "{:?}",
+            p.atoms[0]
+        );
+        // `V != 7` needs only `V`: it runs right after the first atom, before the join.
+        assert!(
+            matches!(p.atoms[0].after.as_slice(), [Filter::CmpRaw(..)]),
+            "{:?}",
+            p.atoms[0].after
+        );
+        // `S > 5.0` runs after `spd`, joined on `V`.
+        assert_eq!(p.atoms[1].pred, "spd");
+        assert!(matches!(p.atoms[1].args[0], Arg::Key(..)));
+        assert_eq!(p.atoms[1].after.len(), 1);
+    }
+
+    #[test]
+    fn stored_tuples_take_their_arity_in_words() {
+        let edges = RelationData {
+            name: "e".to_string(),
+            columns: vec![Column::Int(vec![1, 2]), Column::Int(vec![2, 3])],
+        };
+        let mut symbols = Symbols::default();
+        let rows = match load(&edges, "e", &[ColType::Int, ColType::Int], &mut symbols) {
+            Ok(r) => r,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows.arity(), 2);
+        assert_eq!(rows.iter().map(|t| t.len()).collect::<Vec<_>>(), vec![2, 2]);
+    }
+}

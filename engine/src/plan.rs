@@ -379,7 +379,11 @@ impl AtomStep {
         let mut n = 0;
         for a in &self.args {
             if let Arg::Key(e, ty) = a {
-                k[n] = encode(e.eval(b)?, *ty)?;
+                k[n] = match e {
+                    // A slot of the column's own type is already encoded as the column is.
+                    CExpr::Slot(s, t) if t == ty => b[*s],
+                    e => encode(e.eval(b)?, *ty)?,
+                };
                 n += 1;
             }
         }
@@ -403,7 +407,10 @@ impl Plan {
     pub fn project(&self, b: &Row) -> Option<Row> {
         let mut out = [0u64; WIDTH];
         for (i, (e, ty)) in self.head.iter().enumerate() {
-            out[i] = encode(e.eval(b)?, *ty)?;
+            out[i] = match e {
+                CExpr::Slot(s, t) if t == ty => b[*s],
+                e => encode(e.eval(b)?, *ty)?,
+            };
         }
         Some(out)
     }
