@@ -93,3 +93,39 @@ fn check_errors_catalog_use_and_unreadable_files() {
     let out = scenalog(&["run", "-", "--print", "nope"], TC);
     assert_eq!(out.status.code(), Some(1));
 }
+
+#[test]
+fn warnings_come_first_and_the_program_still_runs() {
+    let out = scenalog(
+        &["run", "-", "--print", "p"],
+        "q(1, 2). q(3, 4).\np(X) :- q(X, Y).\n",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("W0501") && err.contains("`Y`"), "{err}");
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "p(1).\np(3).\n");
+}
+
+#[test]
+fn strings_print_sorted_by_text_not_by_first_appearance() {
+    let out = scenalog(
+        &["run", "-", "--print", "s"],
+        "s(\"zeta\", 1). s(\"alpha\", 2). s(\"mid\", 0).\n",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "s(\"alpha\", 2).\ns(\"mid\", 0).\ns(\"zeta\", 1).\n"
+    );
+}
+
+#[test]
+fn a_timeout_stops_with_the_relation_named() {
+    let out = scenalog(
+        &["run", "-", "--timeout-ms", "50"],
+        "n(0).\nn(Y) :- n(X), Y = X + 1.\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`n`") && err.contains("longer than"), "{err}");
+}
