@@ -274,6 +274,9 @@ fn flip(op: CmpOp) -> CmpOp {
 /// derived each tuple (with provenance on).
 type Origins = HashMap<String, Vec<(usize, usize)>>;
 
+/// One round's new tuples of a relation (sorted) and the plan that first derived each.
+type RoundLog = (usize, Rows, Vec<usize>);
+
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
     data: &RelationData,
@@ -438,7 +441,7 @@ fn run_stratum(
     let mut first = true;
     let mut round = 0;
     // With provenance: per relation, each round's new tuples and the plan of each.
-    let mut log: BTreeMap<&str, Vec<(usize, Rows, Vec<usize>)>> = BTreeMap::new();
+    let mut log: BTreeMap<&str, Vec<RoundLog>> = BTreeMap::new();
     loop {
         let mut new: BTreeMap<&str, Rows> = BTreeMap::new();
         // With provenance: each plan's output this round, sorted, to find the first plan
