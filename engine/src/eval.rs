@@ -9,7 +9,7 @@ use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
-use crate::plan::{apply, body_lits, plan, Arg, AtomStep, Ctx, Plan};
+use crate::plan::{apply, body_lits, plan, AtomStep, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
 use crate::rows::Rows;
 use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
@@ -428,7 +428,7 @@ fn run_stratum(
             p.atoms
                 .iter()
                 .map(|a| {
-                    let keyed = a.args.iter().any(|x| matches!(x, Arg::Key(..)));
+                    let keyed = a.keyed();
                     if keyed && !defined.contains(a.pred.as_str()) {
                         Some(build_index(a, &[complete.get(&a.pred).unwrap_or(&empty)]))
                     } else {
@@ -680,7 +680,7 @@ pub(crate) fn run_plan_indexed(
         }
         let last = j + 1 == n;
         let mut next = Vec::new();
-        let keyed = step.args.iter().any(|a| matches!(a, Arg::Key(..)));
+        let keyed = step.keyed();
         if keyed {
             let built;
             let index = match prebuilt.get(j) {
@@ -731,7 +731,7 @@ pub(crate) fn run_plan_indexed(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::Filter;
+    use crate::plan::{Arg, Filter};
     use scenalog_facts::relation::Column;
     use scenalog_rules::{check, CheckOptions};
 

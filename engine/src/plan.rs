@@ -334,28 +334,63 @@ pub struct AtomStep {
     pub args: Vec<Arg>,
     /// Filters to apply after this atom is joined.
     pub after: Vec<Filter>,
+    /// Derived from `args`: (column, slot) of each new variable.
+    news: Vec<(usize, usize)>,
+    /// Derived from `args`: the key columns, in order.
+    keys: Vec<usize>,
+    /// Derived from `args`: (column, constant) selections.
+    consts: Vec<(usize, u64)>,
+    /// Derived from `args`: (column, column that first bound the same variable) equalities.
+    sames: Vec<(usize, usize)>,
 }
 
 impl AtomStep {
+    /// A step joining `pred` with these arguments, then applying `after`.
+    pub fn new(pred: String, args: Vec<Arg>, after: Vec<Filter>) -> AtomStep {
+        let mut news = Vec::new();
+        let mut keys = Vec::new();
+        let mut consts = Vec::new();
+        let mut sames = Vec::new();
+        for (i, a) in args.iter().enumerate() {
+            match a {
+                Arg::New(s) => news.push((i, *s)),
+                Arg::Key(..) => keys.push(i),
+                Arg::Const(c) => consts.push((i, *c)),
+                Arg::Same(slot) => {
+                    let first = args
+                        .iter()
+                        .position(|b| matches!(b, Arg::New(s) if s == slot))
+                        .unwrap_or(i);
+                    sames.push((i, first));
+                }
+                Arg::Wild => {}
+            }
+        }
+        AtomStep {
+            pred,
+            args,
+            after,
+            news,
+            keys,
+            consts,
+            sames,
+        }
+    }
+
+    /// Whether the atom has join-key columns.
+    pub fn keyed(&self) -> bool {
+        !self.keys.is_empty()
+    }
+
     /// Whether a stored tuple passes the atom's constants and repeated variables.
     pub fn selects(&self, t: &[u64]) -> bool {
-        self.args.iter().enumerate().all(|(i, a)| match a {
-            Arg::Const(c) => t[i] == *c,
-            Arg::Same(slot) => self
-                .args
-                .iter()
-                .position(|b| matches!(b, Arg::New(s) if s == slot))
-                .is_some_and(|j| t[j] == t[i]),
-            _ => true,
-        })
+        self.consts.iter().all(|&(i, c)| t[i] == c) && self.sames.iter().all(|&(i, j)| t[i] == t[j])
     }
 
     /// The binding row extended with the atom's new variables.
     pub fn extend(&self, mut b: Row, t: &[u64]) -> Row {
-        for (i, a) in self.args.iter().enumerate() {
-            if let Arg::New(s) = a {
-                b[*s] = t[i];
-            }
+        for &(i, s) in &self.news {
+            b[s] = t[i];
         }
         b
     }
@@ -363,12 +398,8 @@ impl AtomStep {
     /// The join key of a stored tuple (its key columns).
     pub fn tuple_key(&self, t: &[u64]) -> Row {
         let mut k = [0u64; WIDTH];
-        let mut n = 0;
-        for (i, a) in self.args.iter().enumerate() {
-            if matches!(a, Arg::Key(..)) {
-                k[n] = t[i];
-                n += 1;
-            }
+        for (n, &i) in self.keys.iter().enumerate() {
+            k[n] = t[i];
         }
         k
     }
@@ -725,11 +756,7 @@ fn plan_seeded(
             };
             args.push(arg);
         }
-        atoms.push(AtomStep {
-            pred: a.pred.clone(),
-            args,
-            after: Vec::new(),
-        });
+        atoms.push(AtomStep::new(a.pred.clone(), args, Vec::new()));
     }
     if let Some(i) = done.iter().position(|d| !d) {
         let _ = i;
