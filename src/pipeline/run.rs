@@ -208,10 +208,25 @@ pub fn run(
         }
     }
     let write_start = Instant::now();
-    scenalog_eval::write_pickle(&submission, &options.out.join(output::PREDICTIONS_PICKLE))
-        .map_err(|e| e.to_string())?;
-    scenalog_eval::write_table(&submission, &options.out.join(output::PREDICTIONS_TABLE))
-        .map_err(|e| e.to_string())?;
+    // The two big files are written at once.
+    let (pickled, tabled) = pool.install(|| {
+        rayon::join(
+            || {
+                scenalog_eval::write_pickle(
+                    &submission,
+                    &options.out.join(output::PREDICTIONS_PICKLE),
+                )
+            },
+            || {
+                scenalog_eval::write_table(
+                    &submission,
+                    &options.out.join(output::PREDICTIONS_TABLE),
+                )
+            },
+        )
+    });
+    pickled.map_err(|e| e.to_string())?;
+    tabled.map_err(|e| e.to_string())?;
     let matches: Vec<&Match> = pairs.iter().flat_map(|p| &p.matches).collect();
     output::write_json(&options.out.join(output::MATCHES_JSON), &matches, true)?;
     let mut timings = Timings {
