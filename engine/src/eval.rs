@@ -449,6 +449,10 @@ fn run_stratum(
         // With provenance: per head, (end of each plan's output in `new`, plan index).
         let mut ranges: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
         for (pi, (head, p)) in plans.iter().enumerate() {
+            // Plans without atoms (ground facts) produce everything in the first round.
+            if !first && p.atoms.is_empty() {
+                continue;
+            }
             let check = Limits {
                 relation: head,
                 options,

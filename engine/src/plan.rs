@@ -593,6 +593,26 @@ fn plan_seeded(
     ctx: &mut Ctx<'_>,
     seed: &[(&str, ColType)],
 ) -> Result<Plan, EngineError> {
+    if lits.is_empty() && seed.is_empty() {
+        // A ground fact (or a head over no body): nothing to schedule.
+        let scope = Scope {
+            slots: HashMap::new(),
+        };
+        let mut out = Vec::new();
+        for (i, e) in head.iter().enumerate() {
+            let ce = compile_expr(e, &scope, ctx.symbols)?;
+            let ty = match head_types {
+                Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+                None => expr_type(&ce),
+            };
+            out.push((ce, ty));
+        }
+        return Ok(Plan {
+            start: Vec::new(),
+            atoms: Vec::new(),
+            head: out,
+        });
+    }
     let mut scope = Scope {
         slots: HashMap::new(),
     };
