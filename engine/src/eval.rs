@@ -388,6 +388,13 @@ impl Rel {
 /// The distinct tuples of `raw` sorted, each with the plan of its first occurrence, where
 /// `ranges` gives (end, plan) for consecutive runs of `raw` in order.
 fn first_plans(raw: &Rows, ranges: &[(usize, usize)]) -> (Rows, Vec<usize>) {
+    if let [(_, plan)] = ranges {
+        // One plan produced everything: no need to know which occurrence came first.
+        let mut unique = raw.clone();
+        unique.sort_dedup();
+        let n = unique.len();
+        return (unique, vec![*plan; n]);
+    }
     let mut idx: Vec<usize> = (0..raw.len()).collect();
     // Stable: equal tuples keep their order, so the first of each run is the earliest.
     idx.sort_by(|&a, &b| raw.get(a).cmp(&raw.get(b)));
