@@ -274,9 +274,6 @@ fn flip(op: CmpOp) -> CmpOp {
 /// derived each tuple (with provenance on).
 type Origins = HashMap<String, Vec<(usize, usize)>>;
 
-/// One round's new tuples of a relation (sorted) and the plan that first derived each.
-type RoundLog = (usize, Rows, Vec<usize>);
-
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
     data: &RelationData,
@@ -325,15 +322,25 @@ struct Rel {
     /// Older tuples in sorted batches, merged geometrically (each tuple is copied O(log n)
     /// times over the whole iteration, not once per round).
     batches: Vec<Rows>,
+    /// With provenance: per batch, each tuple's origin (`round << 32 | plan`), kept aligned
+    /// through the merges.
+    tags: Vec<Vec<u64>>,
     /// The last round's new tuples, sorted.
     delta: Rows,
+    /// With provenance: the delta's origins.
+    delta_tags: Vec<u64>,
+    /// Whether origins are kept.
+    tagged: bool,
 }
 
 impl Rel {
-    fn new(arity: usize) -> Rel {
+    fn new(arity: usize, tagged: bool) -> Rel {
         Rel {
             batches: Vec::new(),
+            tags: Vec::new(),
             delta: Rows::new(arity),
+            delta_tags: Vec::new(),
+            tagged,
         }
     }
 
@@ -361,11 +368,14 @@ impl Rel {
         v
     }
 
-    /// Moves the delta into the batches and makes `fresh` the delta.
-    fn advance(&mut self, fresh: Rows) {
+    /// Moves the delta into the batches and makes `fresh` (with its origins, when tagged) the
+    /// delta.
+    fn advance(&mut self, fresh: Rows, fresh_tags: Vec<u64>) {
         let old = std::mem::replace(&mut self.delta, fresh);
+        let old_tags = std::mem::replace(&mut self.delta_tags, fresh_tags);
         if !old.is_empty() {
             self.batches.push(old);
+            self.tags.push(old_tags);
         }
         while self.batches.len() >= 2 {
             let n = self.batches.len();
@@ -375,13 +385,40 @@ impl Rel {
             let (Some(b), Some(a)) = (self.batches.pop(), self.batches.pop()) else {
                 break;
             };
-            self.batches.push(a.merge(&b));
+            let (tb, ta) = (self.tags.pop(), self.tags.pop());
+            if self.tagged {
+                let (m, t) = a.merge_tagged(
+                    ta.as_deref().unwrap_or_default(),
+                    &b,
+                    tb.as_deref().unwrap_or_default(),
+                );
+                self.batches.push(m);
+                self.tags.push(t);
+            } else {
+                self.batches.push(a.merge(&b));
+                self.tags.push(Vec::new());
+            }
         }
     }
 
-    fn into_sorted(self) -> Rows {
-        let Rel { batches, delta } = self;
-        batches.iter().rev().fold(delta, |acc, b| b.merge(&acc))
+    /// All tuples sorted, with their origins when tagged.
+    fn into_sorted(self) -> (Rows, Vec<u64>) {
+        let Rel {
+            batches,
+            tags,
+            delta,
+            delta_tags,
+            tagged,
+        } = self;
+        let mut acc = (delta, delta_tags);
+        for (b, t) in batches.iter().zip(&tags).rev() {
+            acc = if tagged {
+                b.merge_tagged(t, &acc.0, &acc.1)
+            } else {
+                (b.merge(&acc.0), Vec::new())
+            };
+        }
+        acc
     }
 }
 
@@ -426,7 +463,10 @@ fn run_stratum(
     start: Instant,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     let arity = |name: &str| types.get(name).map_or(0, |t| t.len());
-    let mut rels: BTreeMap<&str, Rel> = defined.iter().map(|d| (*d, Rel::new(arity(d)))).collect();
+    let mut rels: BTreeMap<&str, Rel> = defined
+        .iter()
+        .map(|d| (*d, Rel::new(arity(d), options.provenance)))
+        .collect();
     let empty = Rows::new(0);
     // Join indexes of atoms over relations complete before this stratum, built once.
     let prebuilt: Vec<Vec<Option<Index>>> = plans
@@ -447,8 +487,6 @@ fn run_stratum(
         .collect();
     let mut first = true;
     let mut round = 0;
-    // With provenance: per relation, each round's new tuples and the plan of each.
-    let mut log: BTreeMap<&str, Vec<RoundLog>> = BTreeMap::new();
     loop {
         let mut new: BTreeMap<&str, Rows> = BTreeMap::new();
         // With provenance: each plan's output this round, sorted, to find the first plan
@@ -534,17 +572,19 @@ fn run_stratum(
                 });
             }
             changed |= !fresh.is_empty();
+            let mut tags = Vec::new();
             if let (Some((unique, plan_of)), false) = (firsts, fresh.is_empty()) {
-                let origin: Vec<usize> = unique
-                    .positions(&fresh)
-                    .into_iter()
-                    .map(|p| plan_of.get(p).copied().unwrap_or(usize::MAX))
-                    .collect();
-                log.entry(name)
-                    .or_default()
-                    .push((round, fresh.clone(), origin));
+                let tag = |plan: usize| ((round as u64) << 32) | (plan as u64 & 0xffff_ffff);
+                tags = match plan_of.first() {
+                    Some(&p) if plan_of.iter().all(|&q| q == p) => vec![tag(p); fresh.len()],
+                    _ => unique
+                        .positions(&fresh)
+                        .into_iter()
+                        .map(|p| tag(plan_of.get(p).copied().unwrap_or(usize::MAX)))
+                        .collect(),
+                };
             }
-            rel.advance(fresh);
+            rel.advance(fresh, tags);
         }
         if !changed {
             break;
@@ -554,17 +594,18 @@ fn run_stratum(
     let mut origins = Origins::new();
     let mut done = HashMap::new();
     for (k, r) in rels {
-        let all = r.into_sorted();
+        let (all, tags) = r.into_sorted();
         if options.provenance {
-            let mut aligned = vec![(usize::MAX, usize::MAX); all.len()];
-            for (round, rows, plan) in log.remove(k).unwrap_or_default() {
-                for (pos, p) in all.positions(&rows).into_iter().zip(plan) {
-                    if let Some(slot) = aligned.get_mut(pos) {
-                        *slot = (round, p);
-                    }
-                }
-            }
-            origins.insert(k.to_string(), aligned);
+            let unpack = |t: u64| {
+                let plan = (t & 0xffff_ffff) as usize;
+                let plan = if plan == 0xffff_ffff {
+                    usize::MAX
+                } else {
+                    plan
+                };
+                ((t >> 32) as usize, plan)
+            };
+            origins.insert(k.to_string(), tags.into_iter().map(unpack).collect());
         }
         done.insert(k.to_string(), all);
     }

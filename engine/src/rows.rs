@@ -72,6 +72,39 @@ fn merge_n<const N: usize>(a: &[u64], b: &[u64]) -> Vec<u64> {
     out
 }
 
+fn merge_tagged_n<const N: usize>(
+    a: &[u64],
+    ta: &[u64],
+    b: &[u64],
+    tb: &[u64],
+) -> (Vec<u64>, Vec<u64>) {
+    let (a, b) = (chunks::<N>(a), chunks::<N>(b));
+    let mut out: Vec<u64> = Vec::with_capacity((a.len() + b.len()) * N);
+    let mut tags = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    let tag = |t: &[u64], k: usize| t.get(k).copied().unwrap_or(u64::MAX);
+    while i < a.len() && j < b.len() {
+        if a[i] < b[j] {
+            out.extend_from_slice(&a[i]);
+            tags.push(tag(ta, i));
+            i += 1;
+        } else {
+            out.extend_from_slice(&b[j]);
+            tags.push(tag(tb, j));
+            j += 1;
+        }
+    }
+    for (k, r) in a.iter().enumerate().skip(i) {
+        out.extend_from_slice(r);
+        tags.push(tag(ta, k));
+    }
+    for (k, r) in b.iter().enumerate().skip(j) {
+        out.extend_from_slice(r);
+        tags.push(tag(tb, k));
+    }
+    (out, tags)
+}
+
 /// The part of a sorted slice after every element less than `x` (exponential then binary
 /// search from the front, so a sorted sequence of probes walks the slice once).
 fn skip_below<'a, const N: usize>(mut s: &'a [[u64; N]], x: &[u64; N]) -> &'a [[u64; N]] {
@@ -152,6 +185,11 @@ impl Rows {
         self.data.len() / self.stride.max(1)
     }
 
+    /// Words stored (tuples × arity: no per-tuple overhead).
+    pub fn words(&self) -> usize {
+        self.data.len()
+    }
+
     /// Whether there are no tuples.
     pub fn is_empty(&self) -> bool {
         self.data.is_empty()
@@ -194,6 +232,20 @@ impl Rows {
             stride: self.stride,
             data: by_stride!(self.stride, merge_n(&self.data, &other.data)),
         }
+    }
+
+    /// [`Rows::merge`] of two sets each with one tag per tuple, keeping the tags aligned.
+    pub fn merge_tagged(&self, tags: &[u64], other: &Rows, other_tags: &[u64]) -> (Rows, Vec<u64>) {
+        let stride = if self.is_empty() {
+            other.stride
+        } else {
+            self.stride
+        };
+        let (data, t) = by_stride!(
+            stride,
+            merge_tagged_n(&self.data, tags, &other.data, other_tags)
+        );
+        (Rows { stride, data }, t)
     }
 
     /// Removes from `self` (sorted, distinct) the tuples in `known` (sorted).
@@ -263,6 +315,11 @@ mod tests {
         let mut fresh = rows(2, &[&[0, 9], &[1, 2], &[3, 1], &[4, 4]]);
         fresh.remove_known(&a);
         assert_eq!(fresh.iter().collect::<Vec<_>>(), vec![&[0, 9], &[4, 4]]);
+        let (mt, tags) = a.merge_tagged(&[10, 11, 12], &b, &[20, 21]);
+        assert_eq!(mt, m);
+        // (1,1)a (1,2)b (1,2)a (2,0)b (3,1)a: each tuple keeps its side's tag.
+        assert_eq!(tags, vec![10, 20, 11, 21, 12]);
+        assert_eq!(a.words(), 2 * a.len());
         let mut unit = rows(0, &[&[], &[]]);
         unit.sort_dedup();
         assert_eq!(unit.len(), 1);
