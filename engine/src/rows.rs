@@ -186,6 +186,7 @@ impl Rows {
     }
 
     /// Words stored (tuples × arity: no per-tuple overhead).
+    #[cfg(test)]
     pub fn words(&self) -> usize {
         self.data.len()
     }
