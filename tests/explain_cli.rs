@@ -9,7 +9,7 @@ use std::process::Command;
 
 use serde_json::Value as Json;
 
-const STOPPED: &str = "rules/library/stopped_car.dl";
+const STOPPED: &str = "tests/support/stopped_not_parked.dl";
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
