@@ -12,8 +12,8 @@ mod eval;
 mod plan;
 mod prove;
 mod rows;
-mod why_not;
 pub mod value;
+mod why_not;
 
 use std::collections::BTreeMap;
 use std::fmt;
