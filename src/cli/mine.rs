@@ -113,10 +113,13 @@ fn bundled(rel: &str) -> Option<PathBuf> {
         .find(|p| p.exists())
 }
 
+/// `target/scenalog-mine` in the workspace the binary was built from (ignored by git, even when
+/// the build itself went to another `CARGO_TARGET_DIR`), else `./scenalog-out` when the binary
+/// runs away from its sources.
 fn default_out() -> PathBuf {
-    let target = Path::new(MANIFEST_DIR).join("target");
-    if target.is_dir() {
-        target.join("scenalog-mine")
+    let workspace = Path::new(MANIFEST_DIR);
+    if workspace.join("Cargo.toml").is_file() {
+        workspace.join("target").join("scenalog-mine")
     } else {
         PathBuf::from("scenalog-out")
     }
