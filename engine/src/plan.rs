@@ -133,39 +133,16 @@ impl IExpr {
             IExpr::AbsDiff(a, b) => crate::value::dec_int(row[*a])
                 .checked_sub(crate::value::dec_int(row[*b]))?
                 .checked_abs(),
-            IExpr::Bin(op, a, b) => {
-                let (x, y) = (a.eval(row)?, b.eval(row)?);
-                match op {
-                    BinOp::Add => x.checked_add(y),
-                    BinOp::Sub => x.checked_sub(y),
-                    BinOp::Mul => x.checked_mul(y),
-                    BinOp::Div => x.checked_div(y),
-                }
-            }
+            IExpr::Bin(op, a, b) => crate::value::int_op(*op, a.eval(row)?, b.eval(row)?),
         }
     }
 }
 
 fn arith(op: BinOp, a: V, b: V) -> Option<V> {
     match (a, b) {
-        (V::Int(x), V::Int(y)) => match op {
-            BinOp::Add => x.checked_add(y),
-            BinOp::Sub => x.checked_sub(y),
-            BinOp::Mul => x.checked_mul(y),
-            BinOp::Div => x.checked_div(y),
-        }
-        .map(V::Int),
+        (V::Int(x), V::Int(y)) => crate::value::int_op(op, x, y).map(V::Int),
         (V::Sym(_), _) | (_, V::Sym(_)) => None,
-        (a, b) => {
-            let (x, y) = (to_f(a), to_f(b));
-            let r = match op {
-                BinOp::Add => x + y,
-                BinOp::Sub => x - y,
-                BinOp::Mul => x * y,
-                BinOp::Div => x / y,
-            };
-            r.is_finite().then_some(V::Float(r))
-        }
+        (a, b) => crate::value::float_op(op, to_f(a), to_f(b)).map(V::Float),
     }
 }
 

@@ -151,6 +151,29 @@ impl Symbols {
     }
 }
 
+/// Integer arithmetic as the language defines it: `None` on overflow or division by zero.
+pub(crate) fn int_op(op: scenalog_rules::ast::BinOp, x: i64, y: i64) -> Option<i64> {
+    use scenalog_rules::ast::BinOp;
+    match op {
+        BinOp::Add => x.checked_add(y),
+        BinOp::Sub => x.checked_sub(y),
+        BinOp::Mul => x.checked_mul(y),
+        BinOp::Div => x.checked_div(y),
+    }
+}
+
+/// Float arithmetic as the language defines it: `None` when the result is not finite.
+pub(crate) fn float_op(op: scenalog_rules::ast::BinOp, x: f64, y: f64) -> Option<f64> {
+    use scenalog_rules::ast::BinOp;
+    let r = match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div => x / y,
+    };
+    r.is_finite().then_some(r)
+}
+
 /// A value while evaluating expressions: numbers, or an opaque symbol (track, lane, string).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum V {

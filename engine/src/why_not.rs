@@ -564,23 +564,8 @@ fn gap(op: CmpOp, a: Option<&Value>, b: Option<&Value>) -> f64 {
 
 fn arith(op: BinOp, a: Num, b: Num) -> Option<Num> {
     match (a, b) {
-        (Num::I(x), Num::I(y)) => match op {
-            BinOp::Add => x.checked_add(y),
-            BinOp::Sub => x.checked_sub(y),
-            BinOp::Mul => x.checked_mul(y),
-            BinOp::Div => x.checked_div(y),
-        }
-        .map(Num::I),
-        (a, b) => {
-            let (x, y) = (f(a), f(b));
-            let r = match op {
-                BinOp::Add => x + y,
-                BinOp::Sub => x - y,
-                BinOp::Mul => x * y,
-                BinOp::Div => x / y,
-            };
-            r.is_finite().then_some(Num::F(r))
-        }
+        (Num::I(x), Num::I(y)) => crate::value::int_op(op, x, y).map(Num::I),
+        (a, b) => crate::value::float_op(op, f(a), f(b)).map(Num::F),
     }
 }
 
