@@ -35,12 +35,12 @@
 //! human rendering.
 
 use scenalog_engine::{
-    evaluate, BodyFact, ClauseAttempt, Derivation, EngineError, Evaluation, Failure, Options,
-    Outcome, Reason, Step, WhyNot,
+    BodyFact, ClauseAttempt, Derivation, EngineError, Evaluation, Failure, Options, Outcome,
+    Reason, Step, WhyNot,
 };
 use scenalog_extractors::cache::Extractor;
 use scenalog_facts::catalog::ColType;
-use scenalog_facts::relation::{RelationData, Request, Value};
+use scenalog_facts::relation::Value;
 use scenalog_facts::scene::{Frame, TrackId};
 use scenalog_facts::Scene;
 use scenalog_rules::ast::{CmpOp, Literal};
@@ -64,22 +64,15 @@ pub fn evaluate_for_explain(
     program: &CheckedProgram,
     whole: bool,
 ) -> Result<Evaluation, EngineError> {
-    let mut provider = |r: &Request| -> Result<RelationData, String> {
-        let r = if whole {
-            Request::all(&r.name)
-        } else {
-            r.clone()
-        };
-        extractor
-            .extract(&r)
-            .map(|d| (*d).clone())
-            .map_err(|e| e.to_string())
-    };
     let options = Options {
         provenance: !whole,
         ..Options::default()
     };
-    evaluate(program, &mut provider, &options)
+    if whole {
+        super::scenario::evaluate_on_whole(extractor, program, &options)
+    } else {
+        super::scenario::evaluate_on(extractor, program, &options)
+    }
 }
 
 /// The frames at which `referred(track, frame)` is derived, ascending.

@@ -62,17 +62,39 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
 }
 
 /// Evaluates a checked program on one scene, asking the extractor (and its per-scene cache) for
-/// exactly the catalog relations the program uses.
+/// exactly the catalog relations the program uses, with the constraints the program implies.
 pub fn evaluate_on(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     options: &Options,
 ) -> Result<Evaluation, EngineError> {
+    evaluate_with(extractor, program, options, false)
+}
+
+/// As [`evaluate_on`], but every catalog relation is asked whole, without the constants,
+/// categories and bounds the program fixes (so a report can show the values that failed them).
+/// Derived relations are the same: the engine filters again.
+pub fn evaluate_on_whole(
+    extractor: &Extractor<'_>,
+    program: &CheckedProgram,
+    options: &Options,
+) -> Result<Evaluation, EngineError> {
+    evaluate_with(extractor, program, options, true)
+}
+
+fn evaluate_with(
+    extractor: &Extractor<'_>,
+    program: &CheckedProgram,
+    options: &Options,
+    whole: bool,
+) -> Result<Evaluation, EngineError> {
     let mut provider = |r: &Request| -> Result<RelationData, String> {
-        extractor
-            .extract(r)
-            .map(|d| (*d).clone())
-            .map_err(|e| e.to_string())
+        let extracted = if whole {
+            extractor.extract(&Request::all(&r.name))
+        } else {
+            extractor.extract(r)
+        };
+        extracted.map(|d| (*d).clone()).map_err(|e| e.to_string())
     };
     evaluate(program, &mut provider, options)
 }
