@@ -6,7 +6,6 @@ use crate::model::{FrameData, Submission};
 use arrow_array::{
     Array, ArrayRef, Float32Array, Float64Array, Int32Array, Int64Array, RecordBatch, StringArray,
 };
-use arrow_ipc::reader::FileReader;
 use arrow_ipc::writer::FileWriter;
 use arrow_schema::{DataType, Field, Schema};
 use std::io::Write;
@@ -27,16 +26,28 @@ fn col<'a, T: 'static>(b: &'a RecordBatch, name: &str, what: &str) -> Result<&'a
 }
 
 /// Reads the long Arrow table (IPC file, optionally LZ4-compressed).
+///
+/// The path must be a regular file; the file's framing and declared sizes are checked
+/// ([`scenalog_input::arrow`]) before anything is decoded, so a corrupt table is an error naming
+/// the file, never a panic or an allocation the bytes cannot back.
 pub fn read_table(path: &Path) -> Result<Submission, EvalError> {
     let what = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| EvalError::Io(what.clone(), e))?;
-    let reader = FileReader::try_new(file, None)
-        .map_err(|e| EvalError::Format(format!("{what}: not an Arrow IPC file: {e}")))?;
+    let bytes =
+        scenalog_input::read_regular_file(path).map_err(|p| EvalError::File(what.clone(), p))?;
+    table_from_bytes(&bytes, &what)
+}
+
+/// Reads the long Arrow table from the bytes of an IPC file; `what` names it in errors.
+pub fn table_from_bytes(bytes: &[u8], what: &str) -> Result<Submission, EvalError> {
+    let not_arrow = |e: scenalog_input::Corrupt| {
+        EvalError::Format(format!("{what}: not a readable Arrow IPC file: {e}"))
+    };
+    let batches = scenalog_input::read_batches(bytes, None).map_err(not_arrow)?;
+    let what = what.to_string();
     let mut sub = Submission::default();
     let mut last: Option<(String, String, i32)> = None;
     let mut row_no = 0usize;
-    for batch in reader {
-        let b = batch.map_err(|e| EvalError::Format(format!("{what}: {e}")))?;
+    for b in batches {
         let log = col::<StringArray>(&b, "log_id", &what)?;
         let prompt = col::<StringArray>(&b, "prompt", &what)?;
         let fi = col::<Int32Array>(&b, "frame_index", &what)?;
@@ -295,18 +306,16 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
 }
 
 /// Reads a submission from a pickle or an Arrow table, by content (Arrow files start with `ARROW1`).
+///
+/// The path must be a regular file: a FIFO, a directory, a symlink loop or a permission problem
+/// is an [`EvalError::File`] saying which.
 pub fn read_any(path: &Path) -> Result<Submission, EvalError> {
-    let mut head = [0u8; 6];
-    let n = {
-        use std::io::Read;
-        let mut f =
-            std::fs::File::open(path).map_err(|e| EvalError::Io(path.display().to_string(), e))?;
-        f.read(&mut head)
-            .map_err(|e| EvalError::Io(path.display().to_string(), e))?
-    };
-    if n == 6 && &head == b"ARROW1" {
-        read_table(path)
+    let what = path.display().to_string();
+    let bytes =
+        scenalog_input::read_regular_file(path).map_err(|p| EvalError::File(what.clone(), p))?;
+    if bytes.starts_with(b"ARROW1") {
+        table_from_bytes(&bytes, &what)
     } else {
-        crate::pickle::read_pickle(path)
+        crate::pickle::read_pickle_bytes(&bytes, &what)
     }
 }

@@ -15,7 +15,7 @@ pub mod pickle;
 pub mod pickle_write;
 pub mod roi;
 
-pub use arrow_table::{read_any, read_table, write_table};
+pub use arrow_table::{read_any, read_table, table_from_bytes, write_table};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};

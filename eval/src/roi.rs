@@ -522,9 +522,9 @@ fn find_vector_map(map_dir: &Path) -> Result<PathBuf, EvalError> {
 
 /// The drivable-area polygons (x-y of `area_boundary`) of a vector map file, in file order.
 pub fn read_drivable_areas(path: &Path) -> Result<Vec<Vec<[f64; 2]>>, EvalError> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| EvalError::Io(path.display().to_string(), e))?;
-    let doc: serde_json::Value = serde_json::from_str(&text)
+    let text = scenalog_input::read_regular_file(path)
+        .map_err(|p| EvalError::File(path.display().to_string(), p))?;
+    let doc: serde_json::Value = serde_json::from_slice(&text)
         .map_err(|e| EvalError::Format(format!("{}: not JSON: {e}", path.display())))?;
     let bad = |what: String| EvalError::Format(format!("{}: {what}", path.display()));
     let areas = doc

@@ -17,8 +17,18 @@ pub enum LoadError {
         /// What should have been there.
         expected: &'static str,
     },
-    /// A file exists but could not be read.
-    #[error("{}: cannot read: {source}", path.display())]
+    /// Something is at the path but it is not a regular file (a directory where a file was
+    /// expected, a FIFO, a socket, a device; or a file where the log directory was expected).
+    #[error("{}: {what}", path.display())]
+    NotRegularFile {
+        /// The path.
+        path: PathBuf,
+        /// What it is and what was expected, e.g. "is a FIFO (named pipe), not a regular file".
+        what: String,
+    },
+    /// A file or directory exists but could not be read: permission denied, a symlink loop, an
+    /// I/O error (the message says which).
+    #[error("{}: cannot read: {}", path.display(), scenalog_input::file::describe_io(source))]
     Io {
         /// The file.
         path: PathBuf,
@@ -218,6 +228,7 @@ impl LoadError {
         match self {
             LoadError::MissingFile { path, .. }
             | LoadError::Io { path, .. }
+            | LoadError::NotRegularFile { path, .. }
             | LoadError::NotArrow { path, .. }
             | LoadError::MissingColumn { path, .. }
             | LoadError::ColumnType { path, .. }

@@ -33,8 +33,9 @@ use crate::error::LoadError;
 use crate::scene::{Frame, Pose, Scene, Track, TrackBox, TrackId, EGO_CATEGORY, EGO_SIZE};
 use crate::time::Timeline;
 
-use arrow_file::{f64s, i64s, read_table, Kind, Strs, Table};
+use arrow_file::{f64s, file_error, i64s, read_table, Kind, Strs, Table};
 pub use map_json::{city_from_map_name, MAP_FILE_PREFIX};
+use scenalog_input::FileProblem;
 
 /// The annotations file with ego rows (preferred when both exist).
 pub const ANNOTATIONS_WITH_EGO_FILE: &str = "annotations_with_ego.feather";
@@ -81,11 +82,15 @@ const POSE_COLUMNS: &[(&str, Kind)] = &[
 /// See the module documentation for the files read and the semantics. Any problem with the input
 /// is a [`LoadError`] naming the file; this never panics on input.
 pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
-    if !log_dir.is_dir() {
-        return Err(LoadError::MissingFile {
-            path: log_dir.to_path_buf(),
-            expected: "an Argoverse 2 log directory",
-        });
+    match scenalog_input::directory(log_dir) {
+        Ok(()) => {}
+        Err(FileProblem::NotFound) => {
+            return Err(LoadError::MissingFile {
+                path: log_dir.to_path_buf(),
+                expected: "an Argoverse 2 log directory",
+            })
+        }
+        Err(problem) => return Err(file_error(log_dir, problem)),
     }
     let ann_path = annotations_path(log_dir)?;
     let pose_path = log_dir.join(EGO_POSES_FILE);
@@ -134,11 +139,16 @@ fn log_id_of(log_dir: &Path) -> String {
         .unwrap_or_default()
 }
 
+/// The annotations file: the first of the two names that is there. Something there that is
+/// not a readable regular file (a FIFO, a symlink loop, a directory that cannot be searched) is
+/// reported as what it is, not as missing.
 fn annotations_path(log_dir: &Path) -> Result<PathBuf, LoadError> {
     for name in [ANNOTATIONS_WITH_EGO_FILE, ANNOTATIONS_FILE] {
         let p = log_dir.join(name);
-        if p.is_file() {
-            return Ok(p);
+        match scenalog_input::regular_file(&p) {
+            Ok(_) => return Ok(p),
+            Err(FileProblem::NotFound) => {}
+            Err(problem) => return Err(file_error(&p, problem)),
         }
     }
     Err(LoadError::MissingFile {

@@ -12,7 +12,7 @@ use serde::Deserialize;
 use crate::error::LoadError;
 use crate::map::{DrivableArea, LaneId, LaneSegment, LaneType, PedestrianCrossing, VectorMap};
 
-use super::arrow_file::io_error;
+use super::arrow_file::{io_error, read_file};
 
 /// The prefix of the vector map's file name in a log's `map/` directory.
 pub const MAP_FILE_PREFIX: &str = "log_map_archive_";
@@ -114,7 +114,7 @@ pub fn city_from_map_name(name: &str) -> String {
 
 /// Reads and converts a vector map file.
 pub(crate) fn read_map(path: &Path) -> Result<VectorMap, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| io_error(path, source))?;
+    let bytes = read_file(path)?;
     parse_map(path, &bytes)
 }
 

@@ -1,0 +1,186 @@
+//! Arrow IPC files (feather v2, LZ4 or uncompressed) checked before they are decoded.
+//!
+//! [`read_schema`] and [`read_batches`] check the framing (the `ARROW1` magic at both ends and a
+//! footer that fits), then every size the file declares (blocks inside the file, buffers inside
+//! their block, row counts and uncompressed lengths no larger than the bytes could hold), and
+//! only then run the Arrow decoder, with a panic inside it turned into an error as a last resort.
+
+use std::io::Cursor;
+
+use arrow_array::RecordBatch;
+use arrow_ipc::reader::FileReader;
+use arrow_schema::SchemaRef;
+
+/// Why the bytes are not a readable Arrow IPC file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Corrupt {
+    /// What is wrong, e.g. "block 0 declares 4294967296 rows in a body of 912 bytes".
+    pub reason: String,
+}
+
+impl std::fmt::Display for Corrupt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.reason)
+    }
+}
+
+impl std::error::Error for Corrupt {}
+
+fn corrupt(reason: impl Into<String>) -> Corrupt {
+    Corrupt {
+        reason: reason.into(),
+    }
+}
+
+/// LZ4 cannot expand data more than about 255-fold; a buffer declaring more is corrupt.
+const MAX_EXPANSION: u64 = 256;
+
+/// The file's schema, read from its footer after the framing checks.
+pub fn read_schema(bytes: &[u8]) -> Result<SchemaRef, Corrupt> {
+    check_framing(bytes)?;
+    guard(|| FileReader::try_new(Cursor::new(bytes), None).map(|r| r.schema()))?
+        .map_err(|e| corrupt(e.to_string()))
+}
+
+/// Every record batch of the file, keeping only the columns of `projection` (in that order;
+/// `None` keeps all), after checking the framing and every declared size.
+pub fn read_batches(
+    bytes: &[u8],
+    projection: Option<Vec<usize>>,
+) -> Result<Vec<RecordBatch>, Corrupt> {
+    check_framing(bytes)?;
+    check_declared_sizes(bytes)?;
+    guard(|| {
+        let reader = FileReader::try_new(Cursor::new(bytes), projection)?;
+        reader.collect::<Result<Vec<RecordBatch>, _>>()
+    })?
+    .map_err(|e| corrupt(e.to_string()))
+}
+
+/// The magic bytes at both ends and a footer length that fits in the file.
+fn check_framing(bytes: &[u8]) -> Result<(), Corrupt> {
+    if bytes.len() < 12 || &bytes[..6] != b"ARROW1" {
+        return Err(corrupt(
+            "the file does not start with the Arrow magic bytes `ARROW1`",
+        ));
+    }
+    let footer_fits = read_i32(bytes, bytes.len() - 10)
+        .and_then(|l| usize::try_from(l).ok())
+        .is_some_and(|l| l + 10 + 8 <= bytes.len());
+    if &bytes[bytes.len() - 6..] != b"ARROW1" || !footer_fits {
+        return Err(corrupt(
+            "the file does not end with an Arrow IPC footer (cut short?)",
+        ));
+    }
+    Ok(())
+}
+
+/// Checks the sizes a file declares before the Arrow decoder trusts them: every record batch
+/// block lies inside the file, every buffer inside its block, no batch declares more rows, and no
+/// compressed buffer more uncompressed bytes, than its compressed size allows.
+fn check_declared_sizes(bytes: &[u8]) -> Result<(), Corrupt> {
+    let n = bytes.len();
+    let footer_len = read_i32(bytes, n.wrapping_sub(10)).unwrap_or(-1);
+    let footer_start = usize::try_from(footer_len)
+        .ok()
+        .and_then(|l| n.checked_sub(10 + l))
+        .ok_or_else(|| corrupt("bad footer length"))?;
+    let footer = arrow_ipc::root_as_footer(&bytes[footer_start..n - 10])
+        .map_err(|e| corrupt(format!("bad footer: {e}")))?;
+    let blocks = footer.recordBatches().into_iter().flatten();
+    let dictionaries = footer.dictionaries().into_iter().flatten();
+    for (i, block) in blocks.chain(dictionaries).enumerate() {
+        let range = |what: &str| corrupt(format!("block {i}: {what} lies outside the file"));
+        let offset = usize::try_from(block.offset()).map_err(|_| range("offset"))?;
+        let meta_len = usize::try_from(block.metaDataLength()).map_err(|_| range("metadata"))?;
+        let body_len = usize::try_from(block.bodyLength()).map_err(|_| range("body"))?;
+        let body_start = offset
+            .checked_add(meta_len)
+            .ok_or_else(|| range("metadata"))?;
+        let body_end = body_start
+            .checked_add(body_len)
+            .filter(|&e| e <= n)
+            .ok_or_else(|| range("body"))?;
+        let meta = &bytes[offset..body_start];
+        // Metadata: [0xFFFFFFFF continuation] i32 length, then the flatbuffer message.
+        let skip = if meta.get(..4) == Some(&[0xFF; 4]) {
+            8
+        } else {
+            4
+        };
+        let message = meta
+            .get(skip..)
+            .and_then(|m| arrow_ipc::root_as_message(m).ok())
+            .ok_or_else(|| corrupt(format!("block {i}: unreadable message header")))?;
+        let Some(batch) = message
+            .header_as_record_batch()
+            .or_else(|| message.header_as_dictionary_batch().and_then(|d| d.data()))
+        else {
+            continue;
+        };
+        let max_len = (body_len as u64).saturating_mul(MAX_EXPANSION) + 1024;
+        let lengths = std::iter::once(batch.length()).chain(
+            batch
+                .nodes()
+                .into_iter()
+                .flatten()
+                .map(|node| node.length()),
+        );
+        for len in lengths {
+            if u64::try_from(len).map_or(true, |l| l > max_len) {
+                return Err(corrupt(format!(
+                    "block {i} declares {len} rows in a body of {body_len} bytes"
+                )));
+            }
+        }
+        // ZSTD can expand further, but this build decodes LZ4 only (ZSTD files fail later).
+        let compressed = batch
+            .compression()
+            .is_some_and(|c| c.codec() == arrow_ipc::CompressionType::LZ4_FRAME);
+        for buf in batch.buffers().into_iter().flatten() {
+            let start = usize::try_from(buf.offset())
+                .ok()
+                .and_then(|o| o.checked_add(body_start));
+            let len = usize::try_from(buf.length()).ok();
+            let (Some(start), Some(len)) = (start, len) else {
+                return Err(corrupt(format!(
+                    "block {i}: negative buffer offset or length"
+                )));
+            };
+            if start.checked_add(len).is_none_or(|e| e > body_end) {
+                return Err(corrupt(format!(
+                    "block {i}: a buffer lies outside its body"
+                )));
+            }
+            if compressed && len >= 8 {
+                let declared = read_i64(bytes, start).unwrap_or(-1);
+                let limit = (len as u64).saturating_mul(MAX_EXPANSION) + 1024;
+                if declared != -1 && u64::try_from(declared).map_or(true, |d| d > limit) {
+                    return Err(corrupt(format!(
+                        "block {i}: a compressed buffer of {len} bytes declares {declared} uncompressed bytes"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn read_i32(bytes: &[u8], at: usize) -> Option<i32> {
+    let b = bytes.get(at..at.checked_add(4)?)?;
+    Some(i32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
+fn read_i64(bytes: &[u8], at: usize) -> Option<i64> {
+    let b = bytes.get(at..at.checked_add(8)?)?;
+    let mut w = [0u8; 8];
+    w.copy_from_slice(b);
+    Some(i64::from_le_bytes(w))
+}
+
+/// Runs the Arrow decoder, turning a panic inside it (possible on corrupt input in some arrow
+/// versions) into a [`Corrupt`], so that no input can crash the program.
+fn guard<T>(f: impl FnOnce() -> T) -> Result<T, Corrupt> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
+        .map_err(|_| corrupt("the Arrow decoder rejected the file's contents"))
+}

@@ -1,0 +1,22 @@
+//! Scenalog's input guard: reading files that come from outside without crashing on them.
+//!
+//! Owns: deciding whether a path is a regular file that can be read (and saying what it is when
+//! it is not: missing, a directory, a FIFO, a symlink loop, permission denied), and the checks an
+//! Arrow IPC file (feather v2) must pass before the Arrow decoder may trust it: the framing
+//! (magic bytes, footer), every block and buffer inside the file, and no declared row count or
+//! uncompressed length larger than the bytes could hold. A corrupt length otherwise makes the
+//! decoder panic or allocate petabytes and abort the process.
+//!
+//! Does not own: what the columns mean. The log reader (`scenalog-facts`) and the evaluation
+//! (`scenalog-eval`) both read their tables through [`arrow::read_batches`] and wrap
+//! [`arrow::Corrupt`] and [`file::FileProblem`] into their own errors, naming the file.
+//!
+//! Depends on no other crate of ours.
+
+#![warn(missing_docs)]
+
+pub mod arrow;
+pub mod file;
+
+pub use arrow::{read_batches, read_schema, Corrupt};
+pub use file::{directory, read_regular_file, regular_file, FileProblem};
