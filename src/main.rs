@@ -40,7 +40,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
+    let code = match cli.command {
         Command::Catalog(a) => cli::catalog::run(a),
         Command::Facts(a) => cli::facts::run(a),
         Command::Check(a) => cli::check::run(a),
@@ -49,5 +49,6 @@ fn main() -> ExitCode {
         Command::Explain(a) => cli::explain::run(a),
         Command::Eval(a) => cli::eval::run(a),
         Command::Synth(a) => cli::synth::run(a),
-    }
+    };
+    cli::stdout::exit_code(code)
 }

@@ -17,8 +17,8 @@ pub struct Args {
 /// Prints the catalog (or one relation) as text or JSON.
 pub fn run(args: Args) -> ExitCode {
     match args.name {
-        None if args.json => println!("{:#}", catalog::render_json()),
-        None => print!("{}", catalog::render_text()),
+        None if args.json => outln!("{:#}", catalog::render_json()),
+        None => out!("{}", catalog::render_text()),
         Some(name) => {
             let Some(r) = catalog::relation(&name) else {
                 let names: Vec<&str> = catalog::catalog().iter().map(|r| r.name).collect();
@@ -29,9 +29,9 @@ pub fn run(args: Args) -> ExitCode {
                 return ExitCode::from(2);
             };
             if args.json {
-                println!("{:#}", r.to_json());
+                outln!("{:#}", r.to_json());
             } else {
-                println!("{r}\n    {}", r.doc);
+                outln!("{r}\n    {}", r.doc);
                 for c in r.columns {
                     let values = if c.values.is_empty() {
                         String::new()
@@ -39,7 +39,7 @@ pub fn run(args: Args) -> ExitCode {
                         let v: Vec<String> = c.values.iter().map(|v| format!("{v:?}")).collect();
                         format!(", one of {}", v.join(", "))
                     };
-                    println!("    {}: {}{values}", c.name, c.ty);
+                    outln!("    {}: {}{values}", c.name, c.ty);
                 }
             }
         }

@@ -64,17 +64,17 @@ pub fn run(args: Args) -> ExitCode {
                 "diagnostics": diagnostics_json(&outcome.diagnostics, &source),
             }));
         } else {
-            print!(
+            out!(
                 "{}",
                 render_human(&outcome.diagnostics, &source, display, color)
             );
             let n_err = outcome.diagnostics.iter().filter(|d| d.is_error()).count();
             let n_warn = outcome.diagnostics.len() - n_err;
-            println!("{display}: {n_err} error(s), {n_warn} warning(s)");
+            outln!("{display}: {n_err} error(s), {n_warn} warning(s)");
         }
     }
     if args.json {
-        println!("{:#}", serde_json::Value::Array(json));
+        outln!("{:#}", serde_json::Value::Array(json));
     }
     if unreadable {
         ExitCode::from(2)

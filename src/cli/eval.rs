@@ -15,8 +15,9 @@ pub struct Args {
     /// Ground truth: official pickle or long Arrow table.
     #[arg(long)]
     gt: PathBuf,
-    /// Objects farther than this from the ego (x-y) are not evaluated.
-    #[arg(long, default_value_t = 50.0)]
+    /// Objects farther than this from the ego (x-y) are not evaluated (a finite number of
+    /// metres greater than 0).
+    #[arg(long, default_value_t = 50.0, value_parser = crate::cli::flags::positive_finite)]
     max_range_m: f64,
     /// Dataset directory holding one directory per log id (`<log_id>/map/log_map_archive_*.json`):
     /// objects outside the drivable area grown by 5 m are not evaluated (the official `--dataset_dir`).
@@ -84,16 +85,16 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     if args.json {
-        println!("{:#}", report.to_json());
+        outln!("{:#}", report.to_json());
         return ExitCode::SUCCESS;
     }
-    println!("HOTA-Temporal: {}", report.hota_temporal);
-    println!("HOTA-Track: {}", report.hota_track);
-    println!("Timestamp-level Balanced Accuracy: {}", report.timestamp_ba);
-    println!("Log-level Balanced Accuracy: {}", report.log_ba);
+    outln!("HOTA-Temporal: {}", report.hota_temporal);
+    outln!("HOTA-Track: {}", report.hota_track);
+    outln!("Timestamp-level Balanced Accuracy: {}", report.timestamp_ba);
+    outln!("Log-level Balanced Accuracy: {}", report.log_ba);
     if args.per_prompt {
-        println!();
-        println!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA");
+        outln!();
+        outln!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA");
         for (prompt, ts) in &report.timestamp_ba_by_prompt {
             let ht = report
                 .hota_temporal_by_prompt
@@ -108,7 +109,7 @@ pub fn run(args: Args) -> ExitCode {
                 .get(prompt)
                 .copied()
                 .unwrap_or(f64::NAN);
-            println!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}");
+            outln!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}");
         }
     }
     ExitCode::SUCCESS

@@ -39,8 +39,9 @@ pub struct Args {
     /// The track's uuid (a unique prefix is enough).
     #[arg(long, value_name = "UUID")]
     pub track: String,
-    /// Explain the frame nearest to this many seconds from the log's start.
-    #[arg(long, value_name = "SECONDS")]
+    /// Explain the frame nearest to this many seconds from the log's start (a finite number, 0
+    /// or more).
+    #[arg(long, value_name = "SECONDS", value_parser = crate::cli::flags::non_negative_finite)]
     pub at: Option<f64>,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -98,11 +99,6 @@ pub fn run(args: Args) -> ExitCode {
         Ok(s) => s,
         Err(e) => return fail(1, &e),
     };
-    if let Some(at) = args.at {
-        if !at.is_finite() {
-            return fail(2, &format!("--at {at} is not a number of seconds"));
-        }
-    }
     let scene = match load_scene(&args.log) {
         Ok(s) => s,
         Err(e) => return fail(2, &e.to_string()),
@@ -174,8 +170,6 @@ pub fn run(args: Args) -> ExitCode {
     } else {
         explanation_text(&renderer, &explanation)
     };
-    // Written through a locked handle so a closed pipe (`| head`) ends quietly.
-    use std::io::Write;
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    crate::cli::stdout::write_str(&text);
     ExitCode::SUCCESS
 }

@@ -40,10 +40,10 @@ pub fn run(args: Args) -> ExitCode {
     if args.json {
         let mut json = summary.to_json();
         json["load_ms"] = serde_json::json!(load_ms);
-        println!("{json:#}");
+        outln!("{json:#}");
     } else {
-        print!("{}", summary.to_text());
-        println!("  loaded in {load_ms:.1} ms");
+        out!("{}", summary.to_text());
+        outln!("  loaded in {load_ms:.1} ms");
     }
     ExitCode::SUCCESS
 }
@@ -67,15 +67,13 @@ fn print_relation(scene: &scenalog_facts::Scene, name: &str, json: bool) -> Exit
     };
     let ms = start.elapsed().as_secs_f64() * 1e3;
     if json {
-        // Written through a locked handle so a closed pipe (`| head`) ends quietly.
-        use std::io::Write;
-        let mut out = std::io::stdout().lock();
         let json = scenalog_extractors::relation_json(scene, &data);
-        if serde_json::to_writer(&mut out, &json).is_ok() {
-            let _ = writeln!(out);
-        }
+        crate::cli::stdout::write_with(|out| {
+            serde_json::to_writer(&mut *out, &json)?;
+            std::io::Write::write_all(out, b"\n")
+        });
     } else {
-        println!(
+        outln!(
             "{}: {name}: {} tuples ({ms:.1} ms)",
             scene.log_id,
             data.len()

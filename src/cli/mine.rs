@@ -296,24 +296,24 @@ pub fn run(args: Args) -> ExitCode {
                 "score": scored.as_ref().map(|s| s.report.to_json()),
             });
             match serde_json::to_string_pretty(&value) {
-                Ok(text) => println!("{text}"),
+                Ok(text) => outln!("{text}"),
                 Err(e) => return fail(format!("cannot encode the summary: {e}")),
             }
         }
         Format::Text => {
-            print!("{}", render_table(&report, &scenarios, &logs));
+            out!("{}", render_table(&report, &scenarios, &logs));
             let all = failures.len() + log_problems.len() + pair_failures.len();
             if all > 0 {
-                println!("\nfailed ({all}):");
+                outln!("\nfailed ({all}):");
                 for f in failures.iter().chain(&log_problems).chain(&pair_failures) {
                     let mut lines = f.trim_end().lines();
-                    println!("  {}", lines.next().unwrap_or_default());
+                    outln!("  {}", lines.next().unwrap_or_default());
                     for l in lines {
-                        println!("    {l}");
+                        outln!("    {l}");
                     }
                 }
             }
-            println!(
+            outln!(
                 "\nwrote {} (official pickle), {} (Arrow table), {} (one entry per matched \
                  track) in {}",
                 PREDICTIONS_PICKLE,
@@ -322,14 +322,14 @@ pub fn run(args: Args) -> ExitCode {
                 out.display()
             );
             if let Some(hint) = explain_hint(&report, &scenarios, &logs) {
-                println!("\nwhy did a track match? for example:\n  {hint}");
+                outln!("\nwhy did a track match? for example:\n  {hint}");
             }
             match (&scored, &gt_path) {
                 (Some(s), Some(p)) => {
-                    println!("\nscore against {}:", p.display());
-                    print!("{}", render_score(s));
+                    outln!("\nscore against {}:", p.display());
+                    out!("{}", render_score(s));
                 }
-                (None, Some(p)) if !score_failed => println!(
+                (None, Some(p)) if !score_failed => outln!(
                     "\nnot scored: no mined (log, description) pair is in {}",
                     p.display()
                 ),

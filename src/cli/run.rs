@@ -132,7 +132,7 @@ pub fn run(args: Args) -> ExitCode {
     );
     if !outcome.diagnostics.is_empty() {
         if args.json && outcome.program.is_none() {
-            println!(
+            outln!(
                 "{:#}",
                 serde_json::json!({ "diagnostics": diagnostics_json(&outcome.diagnostics, &source) })
             );
@@ -192,9 +192,9 @@ pub fn run(args: Args) -> ExitCode {
         }
     };
     if args.json {
-        println!("{:#}", render_json(&ev, &args.print));
+        outln!("{:#}", render_json(&ev, &args.print));
     } else {
-        print!("{}", render_text(&ev, &args.print));
+        out!("{}", render_text(&ev, &args.print));
     }
     ExitCode::SUCCESS
 }

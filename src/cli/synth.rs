@@ -180,7 +180,7 @@ pub fn run(args: Args) -> ExitCode {
             return fail("--print-prompt needs a description");
         };
         let messages = prompt::messages(description, &config.library, config.examples);
-        print!("{}", prompt::render(&messages));
+        out!("{}", prompt::render(&messages));
         return ExitCode::SUCCESS;
     }
     let synth = match Synthesizer::new(config) {
@@ -209,14 +209,14 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
             if let Err(e) = write_outputs(path, &t) {
                 // Keep the answer: print it rather than lose it.
                 if let Some(p) = t.program() {
-                    print!("{p}");
+                    out!("{p}");
                 }
                 return fail(e);
             }
         }
         None => {
             if let Some(p) = t.program() {
-                print!("{p}");
+                out!("{p}");
             }
         }
     }
@@ -299,7 +299,7 @@ fn many(
             scenalog_synth::ItemStatus::Unreachable { error } => format!("UNREACHABLE: {error}"),
             scenalog_synth::ItemStatus::Skipped => "not attempted".to_string(),
         };
-        println!("{}\t{status}\t{}", item.path.display(), item.description);
+        outln!("{}\t{status}\t{}", item.path.display(), item.description);
     }
     let s = &report.summary;
     eprintln!("scenalog synth: {s}");
