@@ -1,5 +1,5 @@
 //! Small real inputs to mutate, cut from the bundled Argoverse 2 data (tests/data/av2, CC BY-NC-SA
-//! 4.0): a log of three frames (annotations, ego poses, a map of a few lanes), and a submission of
+//! 4.0): a log of one frame (annotations, ego poses, a map of three lanes, a crossing and a drivable area), and a submission of
 //! a few frames as an LZ4 Arrow table, an uncompressed one and a pickle. Small, so that each
 //! mutant is read in well under a millisecond in a debug build.
 
@@ -17,7 +17,7 @@ pub const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 pub const MAP_FILE: &str =
     "log_map_archive_3b3570b4-7b0b-3268-a571-b0889dbf40b6____MIA_city_47894.json";
 /// Distinct annotation timestamps kept.
-const FRAMES: usize = 3;
+const FRAMES: usize = 1;
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -63,12 +63,19 @@ fn rows_at(batch: &RecordBatch, keep: impl Fn(i64) -> bool) -> RecordBatch {
     arrow_select::take::take_record_batch(batch, &UInt32Array::from(rows)).expect("take")
 }
 
-/// The three files of a small log, each a valid input of its reader.
+/// The three files of a small log, each a valid input of its reader. The feathers come LZ4
+/// compressed, as AV2 writes them (what is fuzzed), and uncompressed (the files around a fuzzed
+/// one: a debug build of lz4_flex zero-fills a 4 MiB block per buffer, byte by byte, which would
+/// be most of the run time).
 pub struct SmallLog {
-    /// `annotations_with_ego.feather`.
+    /// `annotations_with_ego.feather`, LZ4.
     pub annotations: Vec<u8>,
-    /// `city_SE3_egovehicle.feather`.
+    /// The same, uncompressed.
+    pub annotations_plain: Vec<u8>,
+    /// `city_SE3_egovehicle.feather`, LZ4.
     pub poses: Vec<u8>,
+    /// The same, uncompressed.
+    pub poses_plain: Vec<u8>,
     /// `map/<MAP_FILE>`.
     pub map: Vec<u8>,
 }
@@ -98,9 +105,9 @@ pub fn small_log() -> SmallLog {
     let map_text = std::fs::read_to_string(dir.join("map").join(MAP_FILE)).expect("map");
     let mut map: serde_json::Value = serde_json::from_str(&map_text).expect("map JSON");
     for (key, keep) in [
-        ("lane_segments", 6),
-        ("pedestrian_crossings", 2),
-        ("drivable_areas", 2),
+        ("lane_segments", 3),
+        ("pedestrian_crossings", 1),
+        ("drivable_areas", 1),
     ] {
         let all = map[key].as_object().expect("an object of features");
         let some: serde_json::Map<String, serde_json::Value> = all
@@ -113,7 +120,9 @@ pub fn small_log() -> SmallLog {
     let map = serde_json::to_vec_pretty(&map).expect("JSON");
     SmallLog {
         annotations: feather(&ann, true),
+        annotations_plain: feather(&ann, false),
         poses: feather(&poses, true),
+        poses_plain: feather(&poses, false),
         map,
     }
 }

@@ -23,11 +23,16 @@ use scenalog_facts::{load_scene, LoadError};
 /// takes seconds in a debug build.
 const CASES: u64 = 3000;
 
-/// The small log written into `dir`.
+/// The small log written into `dir` (its feathers uncompressed: the fuzzed file is written
+/// over for each mutant).
 fn write_log(dir: &Path, files: &SmallLog) {
     std::fs::create_dir_all(dir.join("map")).expect("mkdir");
-    std::fs::write(dir.join(ANNOTATIONS_WITH_EGO_FILE), &files.annotations).expect("write");
-    std::fs::write(dir.join(EGO_POSES_FILE), &files.poses).expect("write");
+    std::fs::write(
+        dir.join(ANNOTATIONS_WITH_EGO_FILE),
+        &files.annotations_plain,
+    )
+    .expect("write");
+    std::fs::write(dir.join(EGO_POSES_FILE), &files.poses_plain).expect("write");
     std::fs::write(dir.join("map").join(inputs::MAP_FILE), &files.map).expect("write");
 }
 
@@ -141,4 +146,19 @@ fn eval_pickle() {
     fuzz(&campaign, |bytes| {
         read_and_evaluate(&gt, || read_pickle_bytes(bytes, "predictions.pkl"))
     });
+}
+
+#[test]
+fn the_mutant_that_aborted_the_unvalidated_decoder_is_an_error() {
+    // Mutant 1 of `eval_arrow_table_lz4`'s campaign: read by arrow-ipc's FileReader directly (as
+    // `scenalog eval` did before it validated declared sizes), it tried to allocate
+    // 288,683,374,942,489,801 bytes and aborted the process.
+    let base = inputs::small_prediction_table(120, true);
+    let bytes = mutate::mutant(&base, 0xA11_0004, 1);
+    let err = table_from_bytes(&bytes, "predictions.feather").expect_err("a corrupt table");
+    let text = err.to_string();
+    assert!(
+        text.starts_with("predictions.feather: not a readable Arrow IPC file: "),
+        "{text}"
+    );
 }
