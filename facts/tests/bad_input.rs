@@ -182,6 +182,66 @@ fn missing_log_dir_annotations_and_pose_file() {
     assert_names(&err, EGO_POSES_FILE, &["not found"]);
 }
 
+fn mkfifo(path: &Path) {
+    let made = std::process::Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .expect("run mkfifo");
+    assert!(made.success(), "mkfifo {}", path.display());
+}
+
+#[test]
+fn paths_that_are_not_readable_regular_files_say_what_they_are() {
+    // Before: each of these was "annotations.feather: not found", and a FIFO map would have
+    // blocked the read forever.
+    let (_tmp, dir) = copy_log(WITH_EGO);
+    let ann = dir.join(ANNOTATIONS_WITH_EGO_FILE);
+    std::fs::remove_file(&ann).expect("rm");
+    mkfifo(&ann);
+    let err = load_err(&dir);
+    assert!(matches!(err, LoadError::NotRegularFile { .. }), "{err}");
+    assert_names(
+        &err,
+        ANNOTATIONS_WITH_EGO_FILE,
+        &["FIFO", "not a regular file"],
+    );
+
+    std::fs::remove_file(&ann).expect("rm");
+    std::os::unix::fs::symlink(&ann, &ann).expect("symlink");
+    let err = load_err(&dir);
+    assert!(matches!(err, LoadError::Io { .. }), "{err}");
+    assert_names(&err, ANNOTATIONS_WITH_EGO_FILE, &["symlink loop"]);
+
+    // The map file a FIFO; the map directory a regular file.
+    let (_tmp, dir) = copy_log(WITH_EGO);
+    let map = map_path(&dir);
+    std::fs::remove_file(&map).expect("rm");
+    mkfifo(&map);
+    let err = load_err(&dir);
+    assert!(matches!(err, LoadError::NotRegularFile { .. }), "{err}");
+    let map_name = map
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    assert_names(&err, &map_name, &["FIFO"]);
+    std::fs::remove_dir_all(dir.join("map")).expect("rm map");
+    std::fs::write(dir.join("map"), b"not a directory").expect("write");
+    let err = load_err(&dir);
+    assert!(matches!(err, LoadError::Io { .. }), "{err}");
+    assert_names(&err, "map", &["cannot read"]);
+
+    // The log "directory" a regular file.
+    let file = dir.join(EGO_POSES_FILE);
+    let err = load_err(&file);
+    assert!(matches!(err, LoadError::NotRegularFile { .. }), "{err}");
+    assert_names(
+        &err,
+        EGO_POSES_FILE,
+        &["is a regular file, not a directory"],
+    );
+}
+
 #[test]
 fn not_arrow_garbage_and_truncated() {
     let (_tmp, dir) = copy_log(WITH_EGO);
