@@ -161,4 +161,24 @@ fn the_mutant_that_aborted_the_unvalidated_decoder_is_an_error() {
         text.starts_with("predictions.feather: not a readable Arrow IPC file: "),
         "{text}"
     );
+
+    // The same file through the command: exit 2 and a message naming it, not SIGABRT.
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let pred = tmp.path().join("predictions.feather");
+    std::fs::write(&pred, &bytes).expect("write");
+    let gt = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/av2/eval/combined_gt_dev.pkl");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .arg("eval")
+        .arg("--pred")
+        .arg(&pred)
+        .arg("--gt")
+        .arg(&gt)
+        .output()
+        .expect("run scenalog eval");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{:?}: {err}", out.status);
+    assert!(
+        err.contains("predictions.feather: not a readable Arrow IPC file"),
+        "{err}"
+    );
 }
