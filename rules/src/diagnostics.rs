@@ -92,6 +92,7 @@ pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diag
         span,
         related: Vec::new(),
         hint: None,
+        fix: Vec::new(),
     }
 }
 
@@ -107,6 +108,15 @@ impl Diagnostic {
     /// The diagnostic with this hint.
     pub fn with_hint(mut self, hint: impl Into<String>) -> Diagnostic {
         self.hint = Some(hint.into());
+        self
+    }
+
+    /// The diagnostic with one more edit of its machine-applicable fix.
+    pub fn with_edit(mut self, span: Span, text: impl Into<String>) -> Diagnostic {
+        self.fix.push(crate::Edit {
+            span,
+            text: text.into(),
+        });
         self
     }
 

@@ -91,6 +91,39 @@ pub struct Diagnostic {
     pub related: Vec<(Span, String)>,
     /// How to fix it, when a hint helps.
     pub hint: Option<String>,
+    /// The edits that carry the hint out, when it can be applied mechanically (see
+    /// [`apply_fix`]); empty when the hint is advice only.
+    pub fix: Vec<Edit>,
+}
+
+/// One machine-applicable edit of the program text: replace the bytes of `span` with `text`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Edit {
+    /// The byte range to replace (empty to insert).
+    pub span: ast::Span,
+    /// The replacement text.
+    pub text: String,
+}
+
+/// The source with a diagnostic's fix applied (edits in any order, none overlapping); `None`
+/// when the diagnostic has no fix or its edits do not fit the source.
+pub fn apply_fix(source: &str, d: &Diagnostic) -> Option<String> {
+    if d.fix.is_empty() {
+        return None;
+    }
+    let mut edits: Vec<&Edit> = d.fix.iter().collect();
+    edits.sort_by_key(|e| std::cmp::Reverse(e.span.start));
+    let mut out = source.to_string();
+    let mut limit = out.len();
+    for e in edits {
+        let (a, b) = (e.span.start, e.span.end);
+        if a > b || b > limit || !out.is_char_boundary(a) || !out.is_char_boundary(b) {
+            return None;
+        }
+        out.replace_range(a..b, &e.text);
+        limit = a;
+    }
+    Some(out)
 }
 
 /// Where a predicate's tuples come from.

@@ -1,0 +1,127 @@
+//! Hints an LLM (or a person) can act on: every diagnostic here carries a machine-readable fix;
+//! the test applies it mechanically and checks the result again, which must check clean.
+
+use scenalog_rules::{apply_fix, check, CheckOptions, Diagnostic};
+
+fn diags(src: &str) -> Vec<Diagnostic> {
+    check(src, &CheckOptions::default()).diagnostics
+}
+
+/// The only error of `src`: its code, the text under its span, a hint containing `hint`; then
+/// its fix applied, which must give `fixed` and check with no error at all.
+fn fixes_to(src: &str, code: &str, under: &str, hint: &str, fixed: &str) -> Diagnostic {
+    let all = diags(src);
+    let errors: Vec<&Diagnostic> = all.iter().filter(|d| d.is_error()).collect();
+    assert_eq!(errors.len(), 1, "expected one error in {all:#?}");
+    let d = errors[0].clone();
+    assert_eq!(d.code, code, "{d:#?}");
+    assert_eq!(&src[d.span.start..d.span.end], under, "{d:#?}");
+    let h = d.hint.clone().unwrap_or_default();
+    assert!(h.contains(hint), "hint {h:?} lacks {hint:?}");
+    let Some(out) = apply_fix(src, &d) else {
+        panic!("no applicable fix: {d:#?}")
+    };
+    assert_eq!(out, fixed);
+    let after = diags(&out);
+    assert!(
+        after.iter().all(|d| !d.is_error()),
+        "the fixed program still has errors: {after:#?}\n{out}"
+    );
+    d
+}
+
+#[test]
+fn a_category_av2_does_not_have_is_an_error_naming_the_closest() {
+    let d = fixes_to(
+        "referred(X, T) :- category(X, \"EMERGENCY_VEHICLE\"), present(X, T).\n",
+        "E0104",
+        "\"EMERGENCY_VEHICLE\"",
+        "AV2 has no emergency-vehicle class",
+        "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), present(X, T).\n",
+    );
+    let h = d.hint.unwrap_or_default();
+    assert!(
+        h.contains("closest: \"REGULAR_VEHICLE\", \"LARGE_VEHICLE\""),
+        "{h}"
+    );
+    fixes_to(
+        "referred(X, T) :- category(X, \"CAR\"), present(X, T).\n",
+        "E0104",
+        "\"CAR\"",
+        "REGULAR_VEHICLE",
+        "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), present(X, T).\n",
+    );
+    fixes_to(
+        "referred(X, T) :- category(X, \"EGO\"), present(X, T).\n",
+        "E0104",
+        "\"EGO\"",
+        "EGO_VEHICLE",
+        "referred(X, T) :- category(X, \"EGO_VEHICLE\"), present(X, T).\n",
+    );
+}
+
+#[test]
+fn a_category_in_the_wrong_case_or_misspelt_gets_a_did_you_mean() {
+    fixes_to(
+        "referred(X, T) :- category(X, \"pedestrian\"), present(X, T).\n",
+        "E0104",
+        "\"pedestrian\"",
+        "did you mean \"PEDESTRIAN\"? values are case-sensitive",
+        "referred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T).\n",
+    );
+    fixes_to(
+        "referred(X, T) :- category(X, \"PEDESTRAIN\"), present(X, T).\n",
+        "E0104",
+        "\"PEDESTRAIN\"",
+        "did you mean \"PEDESTRIAN\"?",
+        "referred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T).\n",
+    );
+}
+
+#[test]
+fn a_closed_value_reaching_the_column_through_a_variable_is_checked() {
+    fixes_to(
+        "referred(X, T) :- C = \"CAR\", category(X, C), present(X, T).\n",
+        "E0104",
+        "\"CAR\"",
+        "REGULAR_VEHICLE",
+        "referred(X, T) :- C = \"REGULAR_VEHICLE\", category(X, C), present(X, T).\n",
+    );
+    // Through a helper's column, its fact written before the join that closes it.
+    fixes_to(
+        "wanted(\"BUSS\").\nreferred(X, T) :- wanted(C), category(X, C), present(X, T).\n",
+        "E0104",
+        "\"BUSS\"",
+        "did you mean \"BUS\"?",
+        "wanted(\"BUS\").\nreferred(X, T) :- wanted(C), category(X, C), present(X, T).\n",
+    );
+    let d =
+        &diags("wanted(\"CAR\").\nreferred(X, T) :- wanted(C), category(X, C), present(X, T).\n")
+            [0];
+    assert!(
+        d.message
+            .contains("`wanted`'s column 1, joined with `category`'s column 2"),
+        "{}",
+        d.message
+    );
+}
+
+#[test]
+fn aliases_of_other_closed_columns_are_fixed_too() {
+    fixes_to(
+        "referred(X, T) :- direction(X, _, T, \"ahead\", _, _).\n",
+        "E0104",
+        "\"ahead\"",
+        "directions are",
+        "referred(X, T) :- direction(X, _, T, \"forward\", _, _).\n",
+    );
+}
+
+#[test]
+fn every_valid_category_checks_clean() {
+    for c in scenalog_facts::catalog::CATEGORY_VALUES {
+        let src = format!("referred(X, T) :- category(X, \"{c}\"), present(X, T).\n");
+        let errors: Vec<Diagnostic> = diags(&src).into_iter().filter(|d| d.is_error()).collect();
+        assert!(errors.is_empty(), "{c}: {errors:#?}");
+    }
+}
