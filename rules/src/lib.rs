@@ -50,6 +50,7 @@
 pub mod ast;
 pub mod check;
 pub mod diagnostics;
+mod habits;
 pub mod lexer;
 pub mod parser;
 pub mod printer;

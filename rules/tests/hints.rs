@@ -125,3 +125,119 @@ fn every_valid_category_checks_clean() {
         assert!(errors.is_empty(), "{c}: {errors:#?}");
     }
 }
+
+#[test]
+fn a_disjunction_becomes_one_rule_per_alternative() {
+    let d = fixes_to(
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T) ; category(X, \"TRUCK\"), present(X, T).\n",
+        "E0001",
+        ";",
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T).\nreferred(X, T) :- category(X, \"TRUCK\"), present(X, T).",
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T).\nreferred(X, T) :- category(X, \"TRUCK\"), present(X, T).\n",
+    );
+    assert!(d.message.contains("no `;`"), "{}", d.message);
+    // A parenthesised disjunction among other literals is distributed over them.
+    fixes_to(
+        "referred(X, T) :- present(X, T), (category(X, \"BUS\") ; category(X, \"TRUCK\")), speed(X, T, S), S > 1.0.\n",
+        "E0001",
+        ";",
+        "one rule per alternative",
+        "referred(X, T) :- present(X, T), category(X, \"BUS\"), speed(X, T, S), S > 1.0.\n\
+         referred(X, T) :- present(X, T), category(X, \"TRUCK\"), speed(X, T, S), S > 1.0.\n",
+    );
+}
+
+#[test]
+fn prolog_negation_becomes_bang() {
+    fixes_to(
+        "referred(X, T) :- present(X, T), \\+ ego(X).\n",
+        "E0001",
+        "\\+",
+        "write `referred(X, T) :- present(X, T), !ego(X).`",
+        "referred(X, T) :- present(X, T), !ego(X).\n",
+    );
+}
+
+#[test]
+fn aggregate_arguments_in_parentheses_are_removed() {
+    fixes_to(
+        "referred(X, T) :- present(X, T), N = count(Y) : { near(X, Y, T, _) }, N >= 2.\n",
+        "E0001",
+        "count(Y)",
+        "write `referred(X, T) :- present(X, T), N = count : { near(X, Y, T, _) }, N >= 2.`",
+        "referred(X, T) :- present(X, T), N = count : { near(X, Y, T, _) }, N >= 2.\n",
+    );
+    fixes_to(
+        "referred(X, T) :- present(X, T), M = max(D) : { near(X, _, T, D) }, M > 2.0.\n",
+        "E0001",
+        "max(D)",
+        "M = max D : {",
+        "referred(X, T) :- present(X, T), M = max D : { near(X, _, T, D) }, M > 2.0.\n",
+    );
+}
+
+#[test]
+fn souffle_directives_are_deleted_and_souffle_types_renamed() {
+    fixes_to(
+        ".output referred\nreferred(X, T) :- present(X, T).\n",
+        "E0001",
+        ".output",
+        "delete the line `.output referred`",
+        "referred(X, T) :- present(X, T).\n",
+    );
+    fixes_to(
+        ".input present\nreferred(X, T) :- present(X, T).\n",
+        "E0001",
+        ".input",
+        "catalog relations come from the logs",
+        "referred(X, T) :- present(X, T).\n",
+    );
+    fixes_to(
+        ".decl fast(X: symbol, N: number)\nfast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+        "E0001",
+        "symbol",
+        "`.decl fast(X: str, N: int)`",
+        ".decl fast(X: str, N: int)\nfast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+    );
+    fixes_to(
+        ".decl referred(X: symbol, T: number)\nreferred(X, T) :- present(X, T).\n",
+        "E0001",
+        "symbol",
+        "`.decl referred(X: track, T: time)`",
+        ".decl referred(X: track, T: time)\nreferred(X, T) :- present(X, T).\n",
+    );
+}
+
+#[test]
+fn single_quotes_and_unknown_escapes_are_fixed() {
+    fixes_to(
+        "referred(X, T) :- category(X, 'BUS'), present(X, T).\n",
+        "E0001",
+        "'BUS'",
+        "double quotes",
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T).\n",
+    );
+    fixes_to(
+        "note(\"a\\d\").\nreferred(X, T) :- present(X, T), note(_).\n",
+        "E0001",
+        "\"a\\d",
+        "double it",
+        "note(\"a\\\\d\").\nreferred(X, T) :- present(X, T), note(_).\n",
+    );
+}
+
+#[test]
+fn the_rest_of_a_program_with_a_habit_is_still_checked_where_it_is() {
+    // The `;` is reported, and the unknown predicate after it too, at its own place.
+    let src = ".output referred\nreferred(X, T) :- present(X, T) ; ego(X), present(X, T).\n\
+               other(X) :- presnt(X, _).\n";
+    let all = diags(src);
+    let codes: Vec<(&str, &str)> = all
+        .iter()
+        .map(|d| (d.code, &src[d.span.start..d.span.end]))
+        .collect();
+    assert!(codes.contains(&("E0001", ".output")), "{all:#?}");
+    assert!(codes.contains(&("E0001", ";")), "{all:#?}");
+    assert!(codes.contains(&("E0101", "presnt")), "{all:#?}");
+    assert!(!codes.iter().any(|(c, _)| *c == "E0401"), "{all:#?}");
+}
