@@ -241,3 +241,64 @@ fn the_rest_of_a_program_with_a_habit_is_still_checked_where_it_is() {
     assert!(codes.contains(&("E0101", "presnt")), "{all:#?}");
     assert!(!codes.iter().any(|(c, _)| *c == "E0401"), "{all:#?}");
 }
+
+#[test]
+fn an_unbound_head_time_is_bound_with_the_clauses_object_never_present_t_t() {
+    let d = fixes_to(
+        "referred(X, T) :- category(X, \"BUS\"), speed(X, T2, S), S > 1.0, T2 > 0.\n",
+        "E0201",
+        "T",
+        "present(X, T)",
+        "referred(X, T) :- category(X, \"BUS\"), speed(X, T2, S), S > 1.0, T2 > 0, present(X, T).\n",
+    );
+    assert!(!d.hint.unwrap_or_default().contains("present(T, T)"));
+    fixes_to(
+        "referred(X, T) :- on_intersection(Y, T), ego(Y).\n",
+        "E0201",
+        "X",
+        "present(X, T)",
+        "referred(X, T) :- on_intersection(Y, T), ego(Y), present(X, T).\n",
+    );
+}
+
+#[test]
+fn an_unbound_related_object_gets_the_helper_that_pairs_the_two() {
+    let src = "close_ped(B, P, T) :- category(B, \"BUS\"), near(B, P, T, D), D < 5.0, category(P, \"PEDESTRIAN\").\n\
+               referred(B, T) :- close_ped(B, _, T).\n\
+               related(B, P, T) :- referred(B, T).\n";
+    let fixed = src.replace(
+        "related(B, P, T) :- referred(B, T).",
+        "related(B, P, T) :- referred(B, T), close_ped(B, P, T).",
+    );
+    fixes_to(src, "E0201", "P", "close_ped(B, P, T)", &fixed);
+    // With no such helper: `near`.
+    fixes_to(
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T).\nrelated(X, Y, T) :- referred(X, T).\n",
+        "E0201",
+        "Y",
+        "near(X, Y, T, _)",
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T).\nrelated(X, Y, T) :- referred(X, T), near(X, Y, T, _).\n",
+    );
+}
+
+#[test]
+fn a_fact_with_variables_becomes_a_rule_over_every_value() {
+    fixes_to(
+        "slow(X).\nreferred(X, T) :- slow(X), present(X, T).\n",
+        "E0201",
+        "X",
+        "a fact's arguments are constants",
+        "slow(X) :- present(X, _).\nreferred(X, T) :- slow(X), present(X, T).\n",
+    );
+}
+
+#[test]
+fn a_wildcard_in_a_head_is_named_after_a_body_variable() {
+    fixes_to(
+        "big(X, _) :- near(X, Y, T, D), D < 2.0, T > 0.\nreferred(X, T) :- big(X, Y), present(X, T), present(Y, T).\n",
+        "E0201",
+        "_",
+        "`big(X, Y)`",
+        "big(X, Y) :- near(X, Y, T, D), D < 2.0, T > 0.\nreferred(X, T) :- big(X, Y), present(X, T), present(Y, T).\n",
+    );
+}

@@ -1,6 +1,7 @@
 //! The checks against the catalog: predicates and arity ([`preds`]), types ([`types`]), safety
 //! and singleton variables ([`safety`]); stratification lives in [`crate::strata`].
 
+pub mod binders;
 pub mod preds;
 pub mod safety;
 pub mod types;
@@ -131,9 +132,11 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let program = parsed.program;
     let table = preds::collect(&program, &parsed.broken_heads, options, &mut diags);
     let inferred = types::infer(&program, &table, &mut diags);
+    let first_safety = diags.len();
     for c in &program.clauses {
         safety::check_clause(c, &mut diags);
     }
+    binders::refine(source, &program, &inferred, &mut diags[first_safety..]);
     let (strata, cycle_diags) = strata::stratify(&program);
     diags.extend(cycle_diags);
     diags.sort_by_key(|d| (d.span.start, d.span.end));
