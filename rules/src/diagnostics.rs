@@ -35,6 +35,13 @@ pub const SINGLETON: &str = "W0501";
 pub const EMPTY_PREDICATE: &str = "W0502";
 /// A helper predicate defined but used by no other rule.
 pub const UNUSED_PREDICATE: &str = "W0503";
+/// A time (frames) compared with a float: probably seconds meant as frames.
+pub const TIME_VS_FLOAT: &str = "W0504";
+/// A `count` whose braces have no variable of their own: it is 0 or 1.
+pub const COUNT_OF_ONE: &str = "W0505";
+/// Warnings that usually mean the program does not say what was meant; the synthesis repair
+/// loop sends them back to the model.
+pub const MEANING_WARNINGS: &[&str] = &[SINGLETON, TIME_VS_FLOAT, COUNT_OF_ONE];
 
 /// Every code, in order, with its severity and a one-line summary.
 pub const CODES: &[(&str, Severity, &str)] = &[
@@ -80,6 +87,16 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         UNUSED_PREDICATE,
         Severity::Warning,
         "helper predicate never used",
+    ),
+    (
+        TIME_VS_FLOAT,
+        Severity::Warning,
+        "time compared with a float",
+    ),
+    (
+        COUNT_OF_ONE,
+        Severity::Warning,
+        "count with no variable of its own",
     ),
 ];
 

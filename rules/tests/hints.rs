@@ -302,3 +302,38 @@ fn a_wildcard_in_a_head_is_named_after_a_body_variable() {
         "big(X, Y) :- near(X, Y, T, D), D < 2.0, T > 0.\nreferred(X, T) :- big(X, Y), present(X, T), present(Y, T).\n",
     );
 }
+
+#[test]
+fn warnings_that_change_meaning_are_reported() {
+    // A time compared with a float: 2.0 is two frames, not two seconds.
+    let src =
+        "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 - T1 >= 2.0.\n";
+    let all = diags(src);
+    let d = all.iter().find(|d| d.code == "W0504");
+    assert!(
+        d.is_some_and(|d| !d.is_error() && d.hint.as_deref().unwrap_or("").contains("20 frames")),
+        "{all:#?}"
+    );
+    assert!(check(src, &CheckOptions::default()).program.is_some());
+    assert!(diags(
+        "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 - T1 >= 20.\n"
+    )
+    .iter()
+    .all(|d| d.code != "W0504"));
+    // A count whose every variable also occurs outside: always 0 or 1.
+    let src = "referred(P, T) :- category(P, \"PEDESTRIAN\"), near(P, Q, T, D), D < 5.0,\n    \
+               N = count : { near(P, Q, T, D) }, N >= 3.\n";
+    let all = diags(src);
+    let d = all.iter().find(|d| d.code == "W0505");
+    assert!(
+        d.is_some_and(|d| d.hint.as_deref().unwrap_or("").contains("`Q2`")),
+        "{all:#?}"
+    );
+    let ok = "referred(P, T) :- category(P, \"PEDESTRIAN\"), near(P, Q, T, D), D < 5.0,\n    \
+              N = count : { near(P, Q2, T, D2), D2 < 5.0 }, N >= 3, Q != P.\n";
+    assert!(
+        diags(ok).iter().all(|d| d.code != "W0505"),
+        "{:#?}",
+        diags(ok)
+    );
+}

@@ -2,6 +2,7 @@
 //! and singleton variables ([`safety`]); stratification lives in [`crate::strata`].
 
 pub mod binders;
+pub mod counts;
 pub mod preds;
 pub mod safety;
 pub mod types;
@@ -135,6 +136,7 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let first_safety = diags.len();
     for c in &program.clauses {
         safety::check_clause(c, &mut diags);
+        counts::check_clause(c, &mut diags);
     }
     binders::refine(source, &program, &inferred, &mut diags[first_safety..]);
     let (strata, cycle_diags) = strata::stratify(&program);

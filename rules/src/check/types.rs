@@ -554,6 +554,21 @@ impl Infer<'_> {
                 let tr = self.expr_ty(&cmp.rhs, scope);
                 self.domain_check(&cmp.lhs, &cmp.rhs, scope);
                 self.domain_check(&cmp.rhs, &cmp.lhs, scope);
+                let time = Ty::Known(ColType::Time);
+                let float = |t: Ty, e: &Expr| t == Ty::Known(ColType::Float) || has_float(e);
+                if (tl == time || tr == time) && (float(tl, &cmp.lhs) || float(tr, &cmp.rhs)) {
+                    self.push(
+                        diagnostics::warning(
+                            diagnostics::TIME_VS_FLOAT,
+                            cmp.span,
+                            "a time (a frame number, 10 frames a second) compared with a float",
+                        )
+                        .with_hint(
+                            "times count frames: 2 s is 20 frames (`T2 - T1 >= 20`); to compare \
+                             seconds, bind them with `seconds(T, S)`",
+                        ),
+                    );
+                }
                 if cmp.op == crate::ast::CmpOp::Eq {
                     if let (Some(a), Some(b)) = (cmp.lhs.as_var(), cmp.rhs.as_var()) {
                         let (na, nb) = (self.var(scope, a), self.var(scope, b));
@@ -697,6 +712,17 @@ fn compare_error(span: Span, a: Ty, b: Ty) -> Diagnostic {
         format!("type mismatch: cannot compare {} with {}", a_ty(a), a_ty(b)),
     )
     .with_hint("both sides of a comparison must be numbers (int, float, time), or both strings, tracks or lanes")
+}
+
+/// Whether a float literal occurs in `e`.
+fn has_float(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Float(_) => true,
+        ExprKind::Neg(a) => has_float(a),
+        ExprKind::Binary(_, a, b) => has_float(a) || has_float(b),
+        ExprKind::Call(_, args) => args.iter().any(has_float),
+        _ => false,
+    }
 }
 
 fn bad_value(span: Span, s: &str, values: &[&str], desc: &str) -> Diagnostic {
