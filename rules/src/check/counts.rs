@@ -6,31 +6,18 @@ use crate::ast::{AggFunc, Clause, Expr, ExprKind, Literal};
 use crate::diagnostics::{self, warning};
 use crate::Diagnostic;
 
+/// Names of the variables of `e`, in order.
 fn vars<'a>(e: &'a Expr, out: &mut Vec<&'a str>) {
-    match &e.kind {
-        ExprKind::Var(v) => out.push(v),
-        ExprKind::Neg(a) => vars(a, out),
-        ExprKind::Binary(_, a, b) => {
-            vars(a, out);
-            vars(b, out);
-        }
-        ExprKind::Call(_, args) => args.iter().for_each(|a| vars(a, out)),
-        _ => {}
-    }
+    let mut with_spans = Vec::new();
+    super::safety::vars(e, &mut with_spans);
+    out.extend(with_spans.into_iter().map(|(v, _)| v));
 }
 
+/// Names of the variables of a literal (inside aggregates too), in order.
 fn literal_vars<'a>(l: &'a Literal, out: &mut Vec<&'a str>) {
-    match l {
-        Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| vars(e, out)),
-        Literal::Cmp(c) => {
-            vars(&c.lhs, out);
-            vars(&c.rhs, out);
-        }
-        Literal::Agg(g) => {
-            vars(&g.result, out);
-            g.body.iter().for_each(|l| literal_vars(l, out));
-        }
-    }
+    let mut with_spans = Vec::new();
+    super::safety::lit_vars(std::slice::from_ref(l), &mut with_spans);
+    out.extend(with_spans.into_iter().map(|(v, _)| v));
 }
 
 /// Reports W0505 for the `count`s of one clause's body.
