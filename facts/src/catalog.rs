@@ -321,13 +321,13 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "speed",
         columns: &[X, T, col("V", ColType::Float)],
-        doc: "X's speed in m/s (city frame, smoothed)",
+        doc: "X's speed in m/s (city frame, smoothed); < 0.5 is stopped, parked objects included",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "accel",
         columns: &[X, T, col("A", ColType::Float)],
-        doc: "X's forward acceleration in m/s² in its own frame (<= -1 reliably braking, >= 1 reliably accelerating)",
+        doc: "X's forward acceleration in m/s² in its own frame (<= -1 braking, <= -3 braking hard or heavily, >= 0.65 accelerating, >= 1 unmistakably)",
         group: Group::Kinematics,
     },
     RelationSpec {
@@ -444,7 +444,7 @@ const CATALOG: &[RelationSpec] = &[
             col("Dist", ColType::Float),
             col("Lat", ColType::Float),
         ],
-        doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame; Dist box-to-box distance, Lat how far Y's centre is outside X's sides (forward/backward) or ends (left/right)",
+        doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame (a diagonal Y holds in two directions, e.g. forward and left); Dist box-to-box distance, Lat >= 0 how far Y's centre is outside X's sides (forward/backward) or ends (left/right), 0 when within",
         group: Group::Pairs,
     },
     RelationSpec {
