@@ -89,6 +89,26 @@ pub fn messages(description: &str, library: &[Example], k: Option<usize>) -> Vec
     ]
 }
 
+/// Token-set Jaccard similarity at or above which a library description counts as a
+/// near-duplicate of the one asked (held-out prompts leave it out).
+pub const NEAR_DUPLICATE: f64 = 0.6;
+
+/// The library without the examples a held-out prompt must not show for `description`: its own
+/// program (the same description, ignoring case and spacing) and near-duplicates (similarity at
+/// least [`NEAR_DUPLICATE`]), so a measurement of synthesis does not show the model the answer.
+pub fn held_out(description: &str, library: &[Example]) -> Vec<Example> {
+    let query = tokens(description);
+    let asked = one_line(description).to_lowercase();
+    library
+        .iter()
+        .filter(|e| {
+            one_line(&e.description).to_lowercase() != asked
+                && jaccard(&query, &tokens(&e.description)) < NEAR_DUPLICATE
+        })
+        .cloned()
+        .collect()
+}
+
 /// At most `k` examples (all with `None`), the most similar to `description` by token-set
 /// Jaccard similarity of their descriptions (ties by file name), listed least similar first so
 /// the closest sits next to the question.

@@ -39,6 +39,7 @@ fn config(server: &Server) -> SynthConfig {
             "// description: stopped vehicle\nreferred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.\n",
         )],
         examples: None,
+        held_out: false,
     }
 }
 
