@@ -20,10 +20,12 @@
 //! - Body literals: atoms, negated atoms (`!p(..)` or `not p(..)`), comparisons
 //!   (`< <= > >= = !=`), bindings `X = expr` (binds `X` when it is otherwise unbound and `expr`'s
 //!   variables are bound), aggregates `N = count : { … }`, `M = min E : { … }`, `max`, `sum`
-//!   (grouped by the variables the braces share with the rest of the clause).
+//!   (grouped by the variables the braces share with the rest of the clause; as in Soufflé they
+//!   fold over the matching tuples of the braces, each `_` there a fresh variable).
 //! - Optional `.decl name(Col: type, …)` lines declare a helper's column types (track, time, lane,
 //!   str, float, int); without them the types are inferred by unification, and a `.decl` wins.
-//!   Arithmetic on a time gives a time; int, float and time compare freely.
+//!   Arithmetic on a time gives a time; int, float and time compare freely (a time against a
+//!   float is warning W0504: frames, not seconds).
 //! - `referred(Track, T)` is the output (required unless [`CheckOptions::require_referred`] is
 //!   off); `related(Track, Other, T)` is optional. Recursion is allowed, but not through negation
 //!   or aggregation.
