@@ -289,3 +289,60 @@ fn bad_arguments_are_refused() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("missing.txt"), "{}", stderr(&o));
 }
+
+#[test]
+fn eval_reports_a_description_set_with_held_out_prompts_on_the_sample_logs() {
+    const STOPPED: &str =
+        "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), speed(V, T, S), S < 0.5.";
+    const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
+    let server = Server::scripted(vec![program(STOPPED), program(UNKNOWN), program(TRAIN)]);
+    let url = server.base_url();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("set.txt");
+    fs::write(&file, "stopped car\ntram crossing\n").expect("write descriptions");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let o = scenalog(
+        &["--eval", file.to_str().expect("utf-8 path"), "--logs", logs],
+        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("descriptions                      2\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("clean on round 1                  1 (50 %)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("clean within 3 rounds             2 (100 %)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("mean rounds                       1.50"),
+        "{text}"
+    );
+    // No railed vehicle in the three sample logs; stopped cars in all of them.
+    assert!(
+        text.contains("clean but match nothing on logs   1\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("  matches nothing: tram crossing\n"),
+        "{text}"
+    );
+    // Held out: the library's own stopped-car program was not among the examples.
+    let reqs = server.requests();
+    let first = reqs[0].messages();
+    assert!(
+        !first[1].contains("// description: stopped car\n"),
+        "{}",
+        first[1]
+    );
+    assert!(
+        first[1].contains("Examples of checked programs"),
+        "{}",
+        first[1]
+    );
+}

@@ -8,6 +8,7 @@
 //! provider closure the caller passes to [`evaluate`], asked only for relations the program uses.
 #![warn(missing_docs)]
 
+mod agg_body;
 mod eval;
 mod plan;
 mod prove;

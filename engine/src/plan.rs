@@ -986,6 +986,9 @@ fn agg_filter(
     scope: &mut Scope,
     ctx: &mut Ctx<'_>,
 ) -> Result<(Filter, Option<Filter>), EngineError> {
+    // The body's matching tuples, not its named bindings: `_` columns are fresh variables.
+    let named = crate::agg_body::name_wildcards(g);
+    let g = &named;
     let lits = body_lits(&g.body);
     let mut head: Vec<Expr> = group.iter().map(|v| var_expr(v)).collect();
     let g_len = head.len();

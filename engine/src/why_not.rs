@@ -570,6 +570,7 @@ fn arith(op: BinOp, a: Num, b: Num) -> Option<Num> {
 }
 
 /// The named variables of a clause, each with a slot.
+#[derive(Clone)]
 struct Vars {
     names: Vec<String>,
     slots: HashMap<String, usize>,
@@ -990,6 +991,16 @@ impl<'a> Cx<'a> {
 
     /// An aggregate's value and group size under a binding.
     fn aggregate(&mut self, vars: &Vars, g: &Aggregate, b: &Row) -> (Option<Value>, usize) {
+        // The body's matching tuples count, so each `_` of the braces becomes a fresh variable
+        // with a slot of its own after the clause's.
+        let named = crate::agg_body::name_wildcards(g);
+        let g = &named;
+        let mut wide = vars.clone();
+        g.body.iter().for_each(|l| wide.add_lit(l));
+        let vars = &wide;
+        let mut b = b.clone();
+        b.resize(vars.names.len(), None);
+        let b = &b;
         let order = order_items(vars, &g.body, &[], b);
         let inner = match self.run(vars, &order, vec![b.clone()], &[]) {
             Run::Done(rows) => rows,

@@ -1,6 +1,7 @@
 //! The engine against a small, obviously-correct naive evaluator on hundreds of seeded random
 //! programs and databases: recursion (self and mutual), negation, comparisons, bindings with
-//! arithmetic, constants in atoms, and count/min aggregates.
+//! arithmetic, constants in atoms, and count/min aggregates (with `_` columns and variables local
+//! to the braces).
 //!
 //! The naive evaluator works on the generator's own program structure: stratum by stratum, it
 //! re-evaluates every rule over all current tuples, literal by literal in source order with nested
@@ -204,21 +205,30 @@ fn gen_rule(rng: &mut Rng, head: usize, arity: &[usize; 9]) -> Rule {
         let pred = negative[rng.below(negative.len())];
         let fresh = next_var;
         next_var += 1;
+        // A variable local to the braces (neither the group nor the target).
+        let local = next_var;
+        next_var += 1;
         let g = pick(rng, &bound);
-        let mut args: Vec<Term> = Vec::new();
-        for i in 0..arity[pred] {
-            args.push(if i == 0 && arity[pred] == 2 {
-                Term::Var(g)
-            } else {
-                Term::Var(fresh)
-            });
-        }
-        let r = next_var;
         let agg = if rng.chance(50) {
             Agg::Count
         } else {
             Agg::Min(fresh)
         };
+        let mut args: Vec<Term> = Vec::new();
+        for i in 0..arity[pred] {
+            args.push(if i == 0 && arity[pred] == 2 {
+                match rng.below(5) {
+                    0 => Term::Wild,
+                    1 => Term::Var(local),
+                    _ => Term::Var(g),
+                }
+            } else if matches!(agg, Agg::Count) && rng.chance(40) {
+                Term::Wild
+            } else {
+                Term::Var(fresh)
+            });
+        }
+        let r = next_var;
         body.push(Lit::Agg(r, agg, Atom { pred, args }));
         bound.push(r);
     }
@@ -360,11 +370,13 @@ fn naive_body(body: &[Lit], db: &Db) -> Vec<Binding> {
                     next.push(b);
                 }
                 Lit::Agg(r, agg, a) => {
-                    let matches: BTreeSet<Binding> =
+                    // As in Soufflé: the aggregate folds over the matching tuples of its body
+                    // (a `_` column or a variable local to the braces tells tuples apart).
+                    let matching: Vec<Binding> =
                         db[a.pred].iter().filter_map(|t| unify(a, t, b)).collect();
                     let result = match agg {
-                        Agg::Count => Some(matches.len() as i64),
-                        Agg::Min(y) => matches.iter().map(|m| m[y]).min(),
+                        Agg::Count => Some(matching.len() as i64),
+                        Agg::Min(y) => matching.iter().map(|m| m[y]).min(),
                     };
                     if let Some(x) = result {
                         let mut b = b.clone();
@@ -446,6 +458,7 @@ fn check_proofs(
 fn engine_matches_the_naive_evaluator_on_random_programs() {
     let mut rng = Rng(0x5eed_cafe_f00d_0001);
     let (mut compared, mut nonempty, mut with_neg, mut with_agg) = (0, 0, 0, 0);
+    let mut with_agg_wild = 0;
     for case in 0..400 {
         let g = gen(&mut rng);
         let text = program_text(&g);
@@ -495,11 +508,16 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
         }
         with_neg += usize::from(text.contains(", !"));
         with_agg += usize::from(text.contains("count") || text.contains("min "));
+        with_agg_wild += usize::from(g.rules.iter().any(|r| {
+            r.body.iter().any(|l| {
+                matches!(l, Lit::Agg(_, _, a) if a.args.iter().any(|t| matches!(t, Term::Wild)))
+            })
+        }));
         compared += 1;
     }
     eprintln!(
         "{compared} programs: {nonempty} non-empty derived relations, {with_neg} with negation, \
-         {with_agg} with aggregates"
+         {with_agg} with aggregates ({with_agg_wild} with `_` in the braces)"
     );
     assert_eq!(compared, 400);
     // The generator must exercise what it claims to.
@@ -509,4 +527,8 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
     );
     assert!(with_neg > 100, "only {with_neg} programs with negation");
     assert!(with_agg > 50, "only {with_agg} programs with aggregates");
+    assert!(
+        with_agg_wild > 20,
+        "only {with_agg_wild} programs with `_` in an aggregate"
+    );
 }

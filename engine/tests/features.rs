@@ -213,8 +213,49 @@ fn count_groups_by_outer_variables_and_counts_empty_groups_as_zero() {
         total(N) :- N = count : { edge(_, Y) }.\n";
     let e = run(src);
     assert_eq!(ints(&e, "degree"), vec![vec![1, 2], vec![2, 1], vec![3, 0]]);
-    // Distinct bindings of the named variable Y: 2 and 3.
-    assert_eq!(ints(&e, "total"), vec![vec![2]]);
+    // The matching tuples of the body (the `_` is a fresh variable, as in Soufflé): the three
+    // distinct edges, not the two distinct values of Y.
+    assert_eq!(ints(&e, "total"), vec![vec![3]]);
+}
+
+#[test]
+fn aggregates_fold_over_matching_tuples_so_wildcards_and_brace_local_variables_count() {
+    // Node 1 has four out-edges; `count : { edge(X, _) }` is 4, not 1 (issue 14).
+    let src = ".decl node(X: int)
+.decl edge(X: int, Y: int)
+.decl w(X: int, Y: int, V: int)
+        .decl out_deg(X: int, N: int)
+.decl local_deg(X: int, N: int)
+.decl s(X: int, N: int)
+        .decl lo(X: int, N: int)
+.decl hi(X: int, N: int)
+.decl pairs(X: int, N: int)
+        .decl around(X: int, N: int)
+        node(1). node(2). node(3).
+        edge(1, 2). edge(1, 3). edge(1, 4). edge(1, 5). edge(2, 3).
+        w(1, 2, 7). w(1, 3, 7). w(1, 4, 1). w(2, 3, 5).
+        out_deg(X, N) :- node(X), N = count : { edge(X, _) }.
+        local_deg(X, N) :- node(X), N = count : { edge(X, Y) }.
+        s(X, N) :- node(X), N = sum V : { w(X, _, V) }.
+        lo(X, N) :- node(X), N = min V : { w(X, _, V) }.
+        hi(X, N) :- node(X), N = max V : { w(X, _, V) }.
+        pairs(X, N) :- node(X), N = count : { edge(X, Y), edge(Y, _) }.
+        around(X, N) :- node(X), N = count : { edge(_, Z), Z > X }.
+";
+    let e = run(src);
+    assert_eq!(
+        ints(&e, "out_deg"),
+        vec![vec![1, 4], vec![2, 1], vec![3, 0]]
+    );
+    assert_eq!(ints(&e, "out_deg"), ints(&e, "local_deg"));
+    // 7 + 7 + 1: the two weights of 7 sit on different tuples and both count.
+    assert_eq!(ints(&e, "s"), vec![vec![1, 15], vec![2, 5], vec![3, 0]]);
+    assert_eq!(ints(&e, "lo"), vec![vec![1, 1], vec![2, 5]]);
+    assert_eq!(ints(&e, "hi"), vec![vec![1, 7], vec![2, 5]]);
+    // Combinations: (1,2)+(2,3) only; node 2's (2,3) has no out-edge of 3.
+    assert_eq!(ints(&e, "pairs"), vec![vec![1, 1], vec![2, 0], vec![3, 0]]);
+    // Correlated (X only in a comparison): edges whose target is above X, each edge once.
+    assert_eq!(ints(&e, "around"), vec![vec![1, 5], vec![2, 4], vec![3, 2]]);
 }
 
 #[test]

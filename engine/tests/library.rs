@@ -395,7 +395,7 @@ fn multiple_buses_ahead_needs_two_buses_in_front_of_the_ego() {
 }
 
 #[test]
-fn motorcyclist_braking_hard_needs_minus_two_metres_per_second_squared() {
+fn motorcyclist_braking_hard_needs_minus_three_metres_per_second_squared() {
     let n = 60u32;
     // From 15 m/s, decelerating at `a` m/s² from frame 20 until stopped.
     let braking = |y: f64, a: f64| -> Vec<Waypoint> {
@@ -414,7 +414,7 @@ fn motorcyclist_braking_hard_needs_minus_two_metres_per_second_squared() {
     };
     let scene = SceneBuilder::new(n as usize)
         .track("hard", "MOTORCYCLE", [2.0, 0.8, 1.4], braking(0.0, 4.0))
-        .track("gentle", "MOTORCYCLE", [2.0, 0.8, 1.4], braking(5.0, 1.0))
+        .track("gentle", "MOTORCYCLE", [2.0, 0.8, 1.4], braking(5.0, 2.2))
         .track("car", "REGULAR_VEHICLE", CAR, braking(10.0, 4.0))
         .build();
     let got = referred_uuids(&scene, "motorcyclist_braking_hard");

@@ -1909,3 +1909,41 @@ fn vehicle_being_overtaken_on_the_right() {
     // The bus is the faster one, passing the car on its left.
     nothing(name, &scene("right", "same", 12.0, 6.0));
 }
+
+#[test]
+fn vehicle_starts_to_change_lanes_then_goes_back() {
+    let name = "vehicle_starts_to_change_lanes_then_goes_back";
+    // A car at 8 m/s pushes left at frame 10 (+1.5 m/s²) and right at frame 25 (-1.5 m/s²),
+    // 1.5 s later, and never changes lanes: referred from frame 10 to frame 25.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE").
+        speed(1, 10, 8.0). lat_accel(1, 10, 1.5).
+        speed(1, 25, 8.0). lat_accel(1, 25, -1.5).
+        present(1, 5). present(1, 10). present(1, 18). present(1, 25). present(1, 30).
+    "#;
+    finds(name, base, &[(1, 10), (1, 18), (1, 25)], &[]);
+    // The same pushes around a completed lane change (the crossing between them).
+    nothing(name, &format!("{base} lane_change(1, 18, \"left\")."));
+    // The push back comes 3.5 s later: more than 3 s.
+    nothing(
+        name,
+        &swap(
+            &swap(
+                base,
+                "speed(1, 25, 8.0). lat_accel(1, 25, -1.5).",
+                "speed(1, 45, 8.0). lat_accel(1, 45, -1.5).",
+            ),
+            "present(1, 30).",
+            "present(1, 45).",
+        ),
+    );
+    // No push back: -0.9 m/s² is below the threshold.
+    nothing(
+        name,
+        &swap(base, "lat_accel(1, 25, -1.5)", "lat_accel(1, 25, -0.9)"),
+    );
+    // A pedestrian stepping sideways is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+    // Creeping at 2 m/s: not moving along a lane.
+    nothing(name, &swap(base, "speed(1, 10, 8.0)", "speed(1, 10, 2.0)"));
+}

@@ -124,11 +124,15 @@ fn gen_rule(rng: &mut Rng, i: usize, head: &str, arity: usize) -> String {
     if arity == 2 && rng.chance(0.2) {
         let g = *rng.pick(&bound);
         let e = if rng.chance(0.5) { "e1" } else { "e2" };
-        let agg = match rng.below(4) {
+        let agg = match rng.below(7) {
             0 => format!("N = count : {{ {e}({g}, V) }}"),
             1 => format!("N = sum V : {{ {e}({g}, V) }}"),
             2 => format!("N = min V : {{ {e}({g}, V) }}"),
-            _ => format!("N = max V + 1 : {{ {e}(V, {g}) }}"),
+            3 => format!("N = max V + 1 : {{ {e}(V, {g}) }}"),
+            // `_` columns and variables local to the braces: each matching tuple counts.
+            4 => format!("N = count : {{ {e}({g}, _) }}"),
+            5 => format!("N = sum V : {{ {e}({g}, V), {e}(V, _) }}"),
+            _ => format!("N = count : {{ {e}({g}, L), u(_) }}"),
         };
         body.push(agg);
         head_args = vec![g.to_string(), "N".to_string()];
@@ -237,23 +241,16 @@ fn solve(body: &[Literal], env: Env, db: &Db, out: &mut Vec<Env>) {
             }
         }
         Literal::Agg(g) => {
-            // Distinct solutions of the braces' named variables, the group fixed by `env`.
+            // As in Soufflé: one value per matching combination of the body's tuples, the group
+            // fixed by `env`. Backtracking over sets meets each combination exactly once, and
+            // tuples that differ only in a `_` column are different combinations.
             let mut inner = Vec::new();
             solve(&g.body, env.clone(), db, &mut inner);
-            let mut sols: BTreeSet<Vec<(String, i64)>> = BTreeSet::new();
-            for e in &inner {
-                let mut kv: Vec<(String, i64)> = e.iter().map(|(k, v)| (k.clone(), *v)).collect();
-                kv.sort();
-                sols.insert(kv);
-            }
-            let values: Vec<i64> = sols
+            let values: Vec<i64> = inner
                 .iter()
-                .filter_map(|kv| {
-                    let e: Env = kv.iter().cloned().collect();
-                    match &g.target {
-                        Some(t) => eval_expr(t, &e),
-                        None => Some(1),
-                    }
+                .filter_map(|e| match &g.target {
+                    Some(t) => eval_expr(t, e),
+                    None => Some(1),
                 })
                 .collect();
             let r = match g.func {

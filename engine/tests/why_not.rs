@@ -166,6 +166,22 @@ fn a_count_too_small_fails_at_the_comparison_with_the_count() {
 }
 
 #[test]
+fn why_not_counts_the_matching_tuples_of_an_aggregate_with_wildcards() {
+    // Three out-edges of node 1: `count : { close(X, _) }` is 3 in the engine and in why_not.
+    let src = ".decl node(X: int)\n.decl close(X: int, Y: int)\n.decl crowd(X: int)\n\
+               node(1). close(1, 2). close(1, 3). close(1, 4).\n\
+               crowd(X) :- node(X), N = count : { close(X, _) }, N >= 4.\n";
+    let w = ask(src, "crowd", &[int(1)]);
+    let f = only_failure(&w);
+    assert_eq!(f.step, Step::Body(2));
+    let Reason::Comparison { values, .. } = &f.reason else {
+        panic!("expected a comparison: {:?}", f.reason);
+    };
+    assert_eq!(values[0].lhs, Some(int(3)));
+    assert!(ask(&src.replace("N >= 4", "N >= 3"), "crowd", &[int(1)]).holds);
+}
+
+#[test]
 fn an_aggregate_with_no_value_or_the_wrong_value_fails_at_the_aggregate() {
     let src = ".decl node(X: int)\n.decl dist(X: int, Y: int, D: float)\n\
                .decl nearest(X: int, D: float)\n\

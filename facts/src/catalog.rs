@@ -3,6 +3,7 @@
 //! The checker, the synthesis prompt and `scenalog catalog` all read this one table, so the
 //! documentation an LLM sees is the one the checker enforces.
 
+use crate::scene::{ALL_CATEGORIES, SUPER_CATEGORIES};
 use std::fmt;
 
 /// The type of a relation column.
@@ -192,11 +193,103 @@ pub const LANE_TYPES: &[&str] = &["VEHICLE", "BIKE", "BUS"];
 /// Road sides.
 pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
 
+const CATEGORY_COUNT: usize = ALL_CATEGORIES.len() + SUPER_CATEGORIES.len();
+
+const CATEGORY_ARRAY: [&str; CATEGORY_COUNT] = {
+    let mut out = [""; CATEGORY_COUNT];
+    let mut i = 0;
+    while i < ALL_CATEGORIES.len() {
+        out[i] = ALL_CATEGORIES[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < SUPER_CATEGORIES.len() {
+        out[i + j] = SUPER_CATEGORIES[j];
+        j += 1;
+    }
+    out
+};
+
+/// The values of `category`'s second column: every AV2 category (`scene::ALL_CATEGORIES`) and
+/// the super-categories (`scene::SUPER_CATEGORIES`), in that order.
+pub const CATEGORY_VALUES: &[&str] = &CATEGORY_ARRAY;
+
+/// A value people (and language models) write for a closed string column that the data spells
+/// otherwise or does not have: the checker's hint for it names what is closest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ValueAlias {
+    /// The closed set of values this alias is about (one of the catalog's value lists).
+    pub domain: &'static [&'static str],
+    /// What was written, upper case for categories (compared ignoring case).
+    pub said: &'static str,
+    /// The closest values of the domain, best first (the first is the suggested replacement).
+    pub closest: &'static [&'static str],
+    /// Why: how AV2 names it, or that AV2 has no such class.
+    pub note: &'static str,
+}
+
+const fn alias(
+    domain: &'static [&'static str],
+    said: &'static str,
+    closest: &'static [&'static str],
+    note: &'static str,
+) -> ValueAlias {
+    ValueAlias {
+        domain,
+        said,
+        closest,
+        note,
+    }
+}
+
+/// Common names for values of closed columns that the data spells otherwise or lacks (AV2's
+/// taxonomy as its annotation guide describes it).
+pub const VALUE_ALIASES: &[ValueAlias] = &[
+    alias(CATEGORY_VALUES, "CAR", &["REGULAR_VEHICLE"], "AV2 calls cars, vans, SUVs and pick-ups REGULAR_VEHICLE"),
+    alias(CATEGORY_VALUES, "EGO", &["EGO_VEHICLE"], "the ego vehicle's category is EGO_VEHICLE (or use `ego(X)`)"),
+    alias(CATEGORY_VALUES, "EMERGENCY_VEHICLE", &["REGULAR_VEHICLE", "LARGE_VEHICLE"], "AV2 has no emergency-vehicle class: police cars are REGULAR_VEHICLE, fire engines and most ambulances LARGE_VEHICLE; say in a comment that the program approximates"),
+    alias(CATEGORY_VALUES, "AMBULANCE", &["LARGE_VEHICLE", "REGULAR_VEHICLE"], "AV2 has no ambulance class (emergency vehicles are annotated by body type)"),
+    alias(CATEGORY_VALUES, "POLICE_CAR", &["REGULAR_VEHICLE"], "AV2 has no police class (emergency vehicles are annotated by body type)"),
+    alias(CATEGORY_VALUES, "FIRE_TRUCK", &["LARGE_VEHICLE"], "AV2 has no fire-engine class (emergency vehicles are annotated by body type)"),
+    alias(CATEGORY_VALUES, "VAN", &["REGULAR_VEHICLE"], "AV2 counts vans as REGULAR_VEHICLE"),
+    alias(CATEGORY_VALUES, "SUV", &["REGULAR_VEHICLE"], "AV2 counts SUVs as REGULAR_VEHICLE"),
+    alias(CATEGORY_VALUES, "PICKUP_TRUCK", &["REGULAR_VEHICLE"], "AV2 counts pick-up trucks as REGULAR_VEHICLE"),
+    alias(CATEGORY_VALUES, "PERSON", &["PEDESTRIAN"], "AV2 calls people on foot PEDESTRIAN"),
+    alias(CATEGORY_VALUES, "CYCLIST", &["BICYCLIST"], "AV2 calls the rider BICYCLIST and the bicycle BICYCLE"),
+    alias(CATEGORY_VALUES, "BIKE", &["BICYCLE"], "AV2 calls a bicycle BICYCLE (its rider BICYCLIST)"),
+    alias(CATEGORY_VALUES, "MOTORBIKE", &["MOTORCYCLE"], "AV2 calls it MOTORCYCLE (its rider MOTORCYCLIST)"),
+    alias(CATEGORY_VALUES, "TRAILER", &["VEHICULAR_TRAILER"], "AV2 calls a towed trailer VEHICULAR_TRAILER"),
+    alias(CATEGORY_VALUES, "SEMI_TRUCK", &["TRUCK_CAB", "TRUCK"], "AV2 annotates a semi's tractor as TRUCK_CAB and its trailer as VEHICULAR_TRAILER"),
+    alias(CATEGORY_VALUES, "TRAFFIC_LIGHT", &["TRAFFIC_LIGHT_TRAILER"], "AV2 has no traffic-light objects (TRAFFIC_LIGHT_TRAILER is a mobile signal on a trailer) and the catalog has no signal state"),
+    alias(CATEGORY_VALUES, "TRAFFIC_CONE", &["CONSTRUCTION_CONE"], "AV2 calls it CONSTRUCTION_CONE"),
+    alias(CATEGORY_VALUES, "CONE", &["CONSTRUCTION_CONE"], "AV2 calls it CONSTRUCTION_CONE"),
+    alias(CATEGORY_VALUES, "BARREL", &["CONSTRUCTION_BARREL"], "AV2 calls it CONSTRUCTION_BARREL"),
+    alias(CATEGORY_VALUES, "SCOOTER", &["WHEELED_DEVICE", "WHEELED_RIDER"], "AV2 calls scooters and skateboards WHEELED_DEVICE and their riders WHEELED_RIDER"),
+    alias(CATEGORY_VALUES, "CHILD", &["PEDESTRIAN"], "AV2 does not tell children from adults: PEDESTRIAN"),
+    alias(CATEGORY_VALUES, "CAT", &["ANIMAL"], "AV2 has DOG and ANIMAL for all other animals"),
+    alias(CATEGORY_VALUES, "OBJECT", &["ANY"], "every object is in the super-category ANY"),
+    alias(DIRECTIONS, "front", &["forward"], "directions are forward, backward, left, right"),
+    alias(DIRECTIONS, "ahead", &["forward"], "directions are forward, backward, left, right"),
+    alias(DIRECTIONS, "behind", &["backward"], "directions are forward, backward, left, right"),
+    alias(DIRECTIONS, "back", &["backward"], "directions are forward, backward, left, right"),
+    alias(HEADINGS, "oncoming", &["opposite"], "relative headings are same, perpendicular, opposite"),
+    alias(HEADINGS, "parallel", &["same"], "relative headings are same, perpendicular, opposite"),
+    alias(HEADINGS, "crossing", &["perpendicular"], "relative headings are same, perpendicular, opposite"),
+];
+
+/// The alias entry for a value written in a closed column with these values, if there is one
+/// (compared ignoring ASCII case).
+pub fn value_alias(domain: &[&str], said: &str) -> Option<&'static ValueAlias> {
+    VALUE_ALIASES
+        .iter()
+        .find(|a| a.domain == domain && a.said.eq_ignore_ascii_case(said))
+}
+
 const CATALOG: &[RelationSpec] = &[
     // Objects and time
     RelationSpec {
         name: "category",
-        columns: &[X, col("C", ColType::Str)],
+        columns: &[X, enum_col("C", CATEGORY_VALUES)],
         doc: "X's AV2 category, e.g. \"REGULAR_VEHICLE\", \"PEDESTRIAN\", \"EGO_VEHICLE\"; also the super-categories \"VEHICLE\" and \"ANY\"",
         group: Group::Objects,
     },
@@ -228,13 +321,13 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "speed",
         columns: &[X, T, col("V", ColType::Float)],
-        doc: "X's speed in m/s (city frame, smoothed)",
+        doc: "X's speed in m/s (city frame, smoothed); < 0.5 is stopped, parked objects included",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "accel",
         columns: &[X, T, col("A", ColType::Float)],
-        doc: "X's forward acceleration in m/s² in its own frame (<= -1 reliably braking, >= 1 reliably accelerating)",
+        doc: "X's forward acceleration in m/s² in its own frame (<= -1 braking, <= -3 braking hard or heavily, >= 0.65 accelerating, >= 1 unmistakably)",
         group: Group::Kinematics,
     },
     RelationSpec {
@@ -351,7 +444,7 @@ const CATALOG: &[RelationSpec] = &[
             col("Dist", ColType::Float),
             col("Lat", ColType::Float),
         ],
-        doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame; Dist box-to-box distance, Lat how far Y's centre is outside X's sides (forward/backward) or ends (left/right)",
+        doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame (a diagonal Y holds in two directions, e.g. forward and left); Dist box-to-box distance, Lat >= 0 how far Y's centre is outside X's sides (forward/backward) or ends (left/right), 0 when within",
         group: Group::Pairs,
     },
     RelationSpec {
@@ -447,6 +540,37 @@ pub fn render_json() -> serde_json::Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn category_values_are_the_av2_categories_and_the_super_categories() {
+        let want: Vec<&str> = ALL_CATEGORIES
+            .iter()
+            .chain(SUPER_CATEGORIES)
+            .copied()
+            .collect();
+        assert_eq!(CATEGORY_VALUES, &want[..]);
+        assert!(CATEGORY_VALUES.contains(&"EGO_VEHICLE") && CATEGORY_VALUES.contains(&"ANY"));
+    }
+
+    #[test]
+    fn every_alias_is_outside_its_domain_and_points_into_it() {
+        for a in VALUE_ALIASES {
+            assert!(
+                !a.domain.iter().any(|v| v.eq_ignore_ascii_case(a.said)),
+                "{} is a value, not an alias",
+                a.said
+            );
+            assert!(!a.closest.is_empty(), "{} has no closest value", a.said);
+            for c in a.closest {
+                assert!(a.domain.contains(c), "{}: {c} is not a value", a.said);
+            }
+        }
+        assert_eq!(
+            value_alias(CATEGORY_VALUES, "car").map(|a| a.closest[0]),
+            Some("REGULAR_VEHICLE")
+        );
+        assert_eq!(value_alias(DIRECTIONS, "car"), None);
+    }
 
     #[test]
     fn names_are_unique_and_lookup_works() {

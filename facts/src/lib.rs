@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod catalog;
+pub mod conventions;
 pub mod error;
 pub mod intern;
 pub mod map;

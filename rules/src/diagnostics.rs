@@ -35,6 +35,13 @@ pub const SINGLETON: &str = "W0501";
 pub const EMPTY_PREDICATE: &str = "W0502";
 /// A helper predicate defined but used by no other rule.
 pub const UNUSED_PREDICATE: &str = "W0503";
+/// A time (frames) compared with a float: probably seconds meant as frames.
+pub const TIME_VS_FLOAT: &str = "W0504";
+/// A `count` whose braces have no variable of their own: it is 0 or 1.
+pub const COUNT_OF_ONE: &str = "W0505";
+/// Warnings that usually mean the program does not say what was meant; the synthesis repair
+/// loop sends them back to the model.
+pub const MEANING_WARNINGS: &[&str] = &[SINGLETON, TIME_VS_FLOAT, COUNT_OF_ONE];
 
 /// Every code, in order, with its severity and a one-line summary.
 pub const CODES: &[(&str, Severity, &str)] = &[
@@ -81,6 +88,16 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         Severity::Warning,
         "helper predicate never used",
     ),
+    (
+        TIME_VS_FLOAT,
+        Severity::Warning,
+        "time compared with a float",
+    ),
+    (
+        COUNT_OF_ONE,
+        Severity::Warning,
+        "count with no variable of its own",
+    ),
 ];
 
 /// An error with no related spans and no hint.
@@ -92,6 +109,7 @@ pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diag
         span,
         related: Vec::new(),
         hint: None,
+        fix: Vec::new(),
     }
 }
 
@@ -107,6 +125,15 @@ impl Diagnostic {
     /// The diagnostic with this hint.
     pub fn with_hint(mut self, hint: impl Into<String>) -> Diagnostic {
         self.hint = Some(hint.into());
+        self
+    }
+
+    /// The diagnostic with one more edit of its machine-applicable fix.
+    pub fn with_edit(mut self, span: Span, text: impl Into<String>) -> Diagnostic {
+        self.fix.push(crate::Edit {
+            span,
+            text: text.into(),
+        });
         self
     }
 

@@ -20,10 +20,12 @@
 //! - Body literals: atoms, negated atoms (`!p(..)` or `not p(..)`), comparisons
 //!   (`< <= > >= = !=`), bindings `X = expr` (binds `X` when it is otherwise unbound and `expr`'s
 //!   variables are bound), aggregates `N = count : { … }`, `M = min E : { … }`, `max`, `sum`
-//!   (grouped by the variables the braces share with the rest of the clause).
+//!   (grouped by the variables the braces share with the rest of the clause; as in Soufflé they
+//!   fold over the matching tuples of the braces, each `_` there a fresh variable).
 //! - Optional `.decl name(Col: type, …)` lines declare a helper's column types (track, time, lane,
 //!   str, float, int); without them the types are inferred by unification, and a `.decl` wins.
-//!   Arithmetic on a time gives a time; int, float and time compare freely.
+//!   Arithmetic on a time gives a time; int, float and time compare freely (a time against a
+//!   float is warning W0504: frames, not seconds).
 //! - `referred(Track, T)` is the output (required unless [`CheckOptions::require_referred`] is
 //!   off); `related(Track, Other, T)` is optional. Recursion is allowed, but not through negation
 //!   or aggregation.
@@ -50,6 +52,7 @@
 pub mod ast;
 pub mod check;
 pub mod diagnostics;
+mod habits;
 pub mod lexer;
 pub mod parser;
 pub mod printer;
@@ -91,6 +94,39 @@ pub struct Diagnostic {
     pub related: Vec<(Span, String)>,
     /// How to fix it, when a hint helps.
     pub hint: Option<String>,
+    /// The edits that carry the hint out, when it can be applied mechanically (see
+    /// [`apply_fix`]); empty when the hint is advice only.
+    pub fix: Vec<Edit>,
+}
+
+/// One machine-applicable edit of the program text: replace the bytes of `span` with `text`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Edit {
+    /// The byte range to replace (empty to insert).
+    pub span: ast::Span,
+    /// The replacement text.
+    pub text: String,
+}
+
+/// The source with a diagnostic's fix applied (edits in any order, none overlapping); `None`
+/// when the diagnostic has no fix or its edits do not fit the source.
+pub fn apply_fix(source: &str, d: &Diagnostic) -> Option<String> {
+    if d.fix.is_empty() {
+        return None;
+    }
+    let mut edits: Vec<&Edit> = d.fix.iter().collect();
+    edits.sort_by_key(|e| std::cmp::Reverse(e.span.start));
+    let mut out = source.to_string();
+    let mut limit = out.len();
+    for e in edits {
+        let (a, b) = (e.span.start, e.span.end);
+        if a > b || b > limit || !out.is_char_boundary(a) || !out.is_char_boundary(b) {
+            return None;
+        }
+        out.replace_range(a..b, &e.text);
+        limit = a;
+    }
+    Some(out)
 }
 
 /// Where a predicate's tuples come from.

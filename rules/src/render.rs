@@ -90,7 +90,8 @@ fn severity_str(s: Severity) -> &'static str {
 
 /// Diagnostics as a JSON array; each object has `code`, `severity` ("error" or "warning"),
 /// `message`, `line` and `column` (1-based, of the span's start; columns count characters),
-/// `span` {`start`, `end`} (byte offsets), `hint` (string or null) and `related`
+/// `span` {`start`, `end`} (byte offsets), `hint` (string or null), `fix` [{`span`, `text`}]
+/// (the edits that carry the hint out; empty when it is advice only) and `related`
 /// [{`span`, `line`, `column`, `message`}]. These names are stable.
 pub fn diagnostics_json(diags: &[Diagnostic], source: &str) -> Value {
     Value::Array(
@@ -119,6 +120,10 @@ pub fn diagnostics_json(diags: &[Diagnostic], source: &str) -> Value {
                     "column": column,
                     "span": {"start": d.span.start, "end": d.span.end},
                     "hint": d.hint,
+                    "fix": d.fix.iter().map(|e| json!({
+                        "span": {"start": e.span.start, "end": e.span.end},
+                        "text": e.text,
+                    })).collect::<Vec<Value>>(),
                     "related": related,
                 })
             })

@@ -65,6 +65,18 @@ fn token_pool(sources: &[String]) -> Vec<String> {
         "!",
         "=",
         ":-",
+        // Soufflé and Prolog habits (rules/src/habits.rs).
+        ";",
+        "\\+",
+        "'",
+        "'BUS'",
+        ".output",
+        ".input",
+        "symbol",
+        "number",
+        "(",
+        ")",
+        "\"a\\d\"",
     ] {
         pool.push(extra.to_string());
     }
@@ -114,6 +126,13 @@ fn exercise(src: &str) {
                 d.span.start <= d.span.end && d.span.end <= src.len(),
                 "{d:?} in {src:?}"
             );
+            // A fix always applies to the text it was made for.
+            if !d.fix.is_empty() {
+                assert!(
+                    scenalog_rules::apply_fix(src, d).is_some(),
+                    "{d:?} in {src:?}"
+                );
+            }
         }
         let _ = scenalog_rules::render_human(&out.diagnostics, src, "fuzz.dl", false);
         let _ = scenalog_rules::diagnostics_json(&out.diagnostics, src);
@@ -128,7 +147,7 @@ fn exercise(src: &str) {
     assert_eq!(print_program(&again), printed, "{src:?}");
 }
 
-const SOUP: &str = "[a-zA-Z_ ()\\{\\}.,:!<>=+*/%\"\\-0-9\n]{0,200}";
+const SOUP: &str = "[a-zA-Z_ ()\\{\\}.,:;!<>=+*/%'\"\\\\\\-0-9\n]{0,200}";
 
 fn mutated() -> impl Strategy<Value = String> {
     let sources = library_sources();

@@ -28,7 +28,15 @@ fn json_fields_lines_and_character_columns() {
     let src = "referred(X, T) :- category(X, \"é\"), present(X, T), near(X, T).\n";
     let out = check(src, &CheckOptions::default());
     let v = diagnostics_json(&out.diagnostics, src);
-    let d = &v[0];
+    // "é" is not a category (E0104, with no fix to offer); the arity error comes after it.
+    assert_eq!(v[0]["code"], "E0104");
+    assert_eq!(v[0]["fix"], serde_json::json!([]));
+    let Some(d) = v
+        .as_array()
+        .and_then(|a| a.iter().find(|d| d["code"] == "E0102"))
+    else {
+        panic!("no E0102 in {v:#}")
+    };
     assert_eq!(d["code"], "E0102");
     assert_eq!(d["severity"], "error");
     assert_eq!(d["line"], 1);
@@ -40,7 +48,15 @@ fn json_fields_lines_and_character_columns() {
         .is_some_and(|h| h.contains("near(X: track")));
     assert_eq!(d["related"], serde_json::json!([]));
     let keys: Vec<&String> = d.as_object().expect("object").keys().collect();
-    assert_eq!(keys.len(), 8, "{keys:?}");
+    assert_eq!(keys.len(), 9, "{keys:?}");
+    // A fix is a list of edits, each a byte span and its replacement.
+    let src = "referred(X, T) :- category(X, \"CAR\"), present(X, T).\n";
+    let v = diagnostics_json(&check(src, &CheckOptions::default()).diagnostics, src);
+    let at = src.find("\"CAR\"").expect("CAR");
+    assert_eq!(
+        v[0]["fix"],
+        serde_json::json!([{"span": {"start": at, "end": at + 5}, "text": "\"REGULAR_VEHICLE\""}])
+    );
 }
 
 #[test]

@@ -29,10 +29,21 @@ pub struct Args {
 pub struct Options {
     /// The scenario description, e.g. "vehicle making a left turn".
     #[arg(
-        required_unless_present = "descriptions",
-        conflicts_with = "descriptions"
+        required_unless_present_any = ["descriptions", "eval"],
+        conflicts_with_all = ["descriptions", "eval"]
     )]
     pub description: Option<String>,
+    /// Measure synthesis on a file of descriptions (one a line): held-out prompts, each clean
+    /// program run on the sample logs (`--logs`), a report on standard output.
+    #[arg(long, value_name = "FILE.txt", conflicts_with_all = ["descriptions", "output"])]
+    pub eval: Option<PathBuf>,
+    /// The sample logs `--eval` runs programs on (each subdirectory one AV2 log).
+    #[arg(long, value_name = "DIR", default_value = "tests/data/av2/logs")]
+    pub logs: PathBuf,
+    /// Held-out prompts: leave out the description's own library program and its near-duplicates
+    /// (always on with `--eval`).
+    #[arg(long)]
+    pub held_out: bool,
     /// A file of descriptions, one a line (blank lines and `#` comments skipped); needs `--out`.
     #[arg(long, value_name = "FILE.txt", requires = "out")]
     pub descriptions: Option<PathBuf>,
@@ -164,6 +175,7 @@ pub fn synth_config(
         rounds: args.rounds as usize,
         library,
         examples,
+        held_out: false,
     })
 }
 
@@ -171,27 +183,75 @@ pub fn synth_config(
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
     let default_cache = args.out.as_ref().map(|d| d.join(".llm-cache"));
-    let config = match synth_config(&args.synth, default_cache) {
+    let mut config = match synth_config(&args.synth, default_cache) {
         Ok(c) => c,
+        Err(e) => return fail(e),
+    };
+    config.held_out = args.held_out || args.eval.is_some();
+    let synth = match Synthesizer::new(config) {
+        Ok(s) => s,
         Err(e) => return fail(e),
     };
     if args.print_prompt {
         let Some(description) = &args.description else {
             return fail("--print-prompt needs a description");
         };
-        let messages = prompt::messages(description, &config.library, config.examples);
-        out!("{}", prompt::render(&messages));
+        out!("{}", prompt::render(&synth.prompt(description)));
         return ExitCode::SUCCESS;
     }
-    let synth = match Synthesizer::new(config) {
-        Ok(s) => s,
-        Err(e) => return fail(e),
-    };
+    if let Some(file) = &args.eval {
+        return eval(&synth, file, &args.logs);
+    }
     match (&args.description, &args.descriptions, &args.out) {
         (Some(d), _, _) => one(&synth, d, &args),
         (None, Some(file), Some(out)) => many(&synth, file, out, args.jobs as usize),
         _ => fail("give a description, or --descriptions FILE.txt with --out DIR"),
     }
+}
+
+/// `--eval FILE`: every description synthesized with held-out prompts, each clean program run on
+/// the sample logs; the report on stdout. Exit 0 when it ran, 2 when an input is unusable.
+fn eval(synth: &Synthesizer, file: &std::path::Path, logs: &std::path::Path) -> ExitCode {
+    let descriptions = match batch::read_descriptions(file) {
+        Ok(d) => d,
+        Err(e) => return fail(e),
+    };
+    let mut dirs: Vec<PathBuf> = match std::fs::read_dir(logs) {
+        Ok(rd) => rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_dir())
+            .collect(),
+        Err(e) => return fail(format!("--logs `{}`: {e}", logs.display())),
+    };
+    dirs.sort();
+    let mut scenes = Vec::new();
+    for d in &dirs {
+        match scenalog_facts::load_scene(d) {
+            Ok(s) => scenes.push(s),
+            Err(e) => return fail(format!("`{}`: {e}", d.display())),
+        }
+    }
+    if scenes.is_empty() {
+        return fail(format!("--logs `{}` holds no log", logs.display()));
+    }
+    let extractors: Vec<_> = scenes
+        .iter()
+        .map(scenalog_extractors::cache::Extractor::new)
+        .collect();
+    let report = scenalog_synth::evaluation::evaluate(synth, &descriptions, |source| {
+        let checked = scenalog_rules::check(source, &scenalog_rules::CheckOptions::default())
+            .program
+            .ok_or("the clean program no longer checks")?;
+        let mut n = 0;
+        for x in &extractors {
+            let ev = crate::pipeline::scenario::evaluate_on(x, &checked, &Default::default())
+                .map_err(|e| e.to_string())?;
+            n += ev.size("referred");
+        }
+        Ok(n)
+    });
+    out!("{}", report.render());
+    ExitCode::SUCCESS
 }
 
 fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {

@@ -78,6 +78,7 @@ mod tests {
             span: Span::new(start, end),
             related: vec![(Span::new(0, 2), "here".into())],
             hint: Some("did you mean `turning`?".into()),
+            fix: Vec::new(),
         }
     }
 

@@ -20,6 +20,7 @@ pub mod batch;
 pub mod cache;
 pub mod client;
 pub mod diagnostics;
+pub mod evaluation;
 pub mod extract;
 pub mod library;
 pub mod prompt;
@@ -78,6 +79,9 @@ pub struct SynthConfig {
     pub library: Vec<Example>,
     /// How many examples go into a prompt: the most similar to the description (`None`: all).
     pub examples: Option<usize>,
+    /// Held-out prompts: leave out the description's own library program and its
+    /// near-duplicates ([`prompt::held_out`]), to measure synthesis without showing the answer.
+    pub held_out: bool,
 }
 
 impl SynthConfig {
@@ -92,6 +96,7 @@ impl SynthConfig {
             rounds: 3,
             library: examples,
             examples: Some(prompt::DEFAULT_EXAMPLES),
+            held_out: false,
         }
     }
 }
@@ -139,7 +144,12 @@ impl Synthesizer {
 
     /// The first request's messages for a description (what `--print-prompt` shows).
     pub fn prompt(&self, description: &str) -> Vec<Message> {
-        prompt::messages(description, &self.config.library, self.config.examples)
+        if self.config.held_out {
+            let library = prompt::held_out(description, &self.config.library);
+            prompt::messages(description, &library, self.config.examples)
+        } else {
+            prompt::messages(description, &self.config.library, self.config.examples)
+        }
     }
 
     /// Synthesizes one description: prompt, then up to `rounds` completions, each checked and

@@ -7,8 +7,8 @@
 
 use std::collections::BTreeSet;
 
-use scenalog_facts::catalog;
 use scenalog_facts::scene::{ALL_CATEGORIES, SUPER_CATEGORIES, VEHICLE_CATEGORIES};
+use scenalog_facts::{catalog, conventions};
 
 use crate::client::Message;
 use crate::extract::one_line;
@@ -17,7 +17,8 @@ use crate::library::Example;
 /// How many examples a prompt holds by default.
 pub const DEFAULT_EXAMPLES: usize = 8;
 
-/// What the model is asked to do and how the language works (before the catalog).
+/// What the model is asked to do and how the language works (before the catalog);
+/// `{CONVENTIONS}` is replaced by the conventions table (`scenalog_facts::conventions`).
 const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (close to Soufflé) for finding scenarios described in words in Argoverse 2 driving logs. A program is evaluated over facts extracted from one log and says which objects the description is about, at which frames.
 
 # Outputs
@@ -31,31 +32,23 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 - Variables start with an upper-case letter or `_` (`X`, `Ped`, `_t`); `_` alone is an anonymous variable, fresh at each use. Strings are double-quoted (`"VEHICLE"`); numbers are integers (`3`) or floats (`0.5`, `-1.0`).
 - Arithmetic: `+ - * /`, `abs(E)`, `min(E1, E2)`, `max(E1, E2)`. Comparisons: `<  <=  >  >=  =  !=`. `X = expr` binds X when X is not bound yet.
 - Negation: `!p(...)` or `not p(...)`. It means "no such fact"; every named variable in it must also occur in a positive atom of the same body (use `_` for columns you do not care about).
-- Aggregates: `N = count : { body }`, `M = min E : { body }`, `M = max E : { body }`, `S = sum E : { body }`. Variables of the body that also occur outside the braces (in the head or the other literals) group the aggregate; the others are local to it. Example: `N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 }, N >= 3`.
+- Aggregates: `N = count : { body }`, `M = min E : { body }`, `M = max E : { body }`, `S = sum E : { body }`. Variables of the body that also occur outside the braces (in the head or the other literals) group the aggregate; the others are local to it. An aggregate folds over the matching tuples of its body, as in Soufflé: each `_` is a fresh variable, so `N = count : { near(X, _, T, _) }` counts X's neighbours at T. Example: `N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 }, N >= 3`.
 - Helper predicates may be declared, `.decl name(X: track, T: time)`, but their types are inferred when they are not.
 - Recursion is allowed (e.g. a chain over `following`), but not through negation or aggregates.
 - Safety: every variable of the head, of a negation and of a comparison must occur in a positive atom of the body or be bound by `X = expr`.
 - Types: track (an object; the ego is one), time (frame index, 10 Hz: T + 10 is one second later), lane, str, float, int. Each column has one type: never put a track where a lane goes, or a string where a number goes. A string column with listed values takes only those values.
 
-# Conventions (use these thresholds unless the description says otherwise)
-- An object's kind: `category(X, "PEDESTRIAN")`; "vehicle" is `category(X, "VEHICLE")` (every vehicle category, the ego included); "car" is "REGULAR_VEHICLE"; the ego vehicle is `ego(X)`.
-- Stopped (not parked): `speed(X, T, V), V < 0.5, !stationary(X)`. Moving: `V > 0.5`. Parked for the whole log: `stationary(X)`. Fast: `V > 10`.
-- Accelerating: `accel(X, T, A), A >= 0.65` (`A >= 1` when it must be unmistakable). Braking: `A <= -1` (heavily: `A <= -3`).
-- Turning: `turning(X, T, "left")`. Changing lanes: `lane_change(X, T, "right")`.
-- Near, close to, next to: `near(X, Y, T, D), D < 10` (`D < 5` for "very close"); X != Y.
-- In front of / behind / beside: `direction(X, Y, T, "forward", Dist, Lat)` says Y is ahead of X; "directly in front" adds `Lat < 1`; within a distance: `Dist < 25`.
-- Following, same lane, crossing in front: `following(X, Y, T)`, `same_lane(X, Y, T)`, `crossing(X, Y, T, "forward")` (Y crosses in front of X).
-- `following(X, Y, T)` holds for every lead within 25 m, not only the nearest. The direct lead (for "the car two ahead", chains): `between(X, Y, T) :- following(X, Z, T), following(Z, Y, T).` then `lead(X, Y, T) :- following(X, Y, T), !between(X, Y, T).`
-- At an intersection: `on_intersection(X, T)`; approaching one: `near_intersection(X, T, D), D < 10`. At a crosswalk: `at_crosswalk(X, T, D), D < 1`.
-- Over time ("for at least 2 seconds", "then"): compare frames with arithmetic, e.g. `T2 >= T, T2 <= T + 20`.
-- Use only catalog relations and your own helpers; do not invent relations.
-
+{CONVENTIONS}
 # Answer format
 Reply with the complete program in one fenced code block (```scenalog ... ```), its first line `// description: <the description>`. No explanation is needed."#;
 
 /// The system message: the task and language, the catalog, the categories.
 pub fn system_message() -> String {
-    let mut s = String::from(LANGUAGE);
+    let conventions = format!(
+        "# Conventions (use these thresholds unless the description says otherwise)\n{}",
+        conventions::render_text()
+    );
+    let mut s = LANGUAGE.replace("{CONVENTIONS}", &conventions);
     s.push_str("\n\n# Catalog: the relations a program can use\n");
     s.push_str(&catalog::render_text());
     s.push_str("\n# Categories (the second column of `category`)\n");
@@ -94,6 +87,26 @@ pub fn messages(description: &str, library: &[Example], k: Option<usize>) -> Vec
         Message::system(system_message()),
         Message::user(user_message(description, &chosen)),
     ]
+}
+
+/// Token-set Jaccard similarity at or above which a library description counts as a
+/// near-duplicate of the one asked (held-out prompts leave it out).
+pub const NEAR_DUPLICATE: f64 = 0.6;
+
+/// The library without the examples a held-out prompt must not show for `description`: its own
+/// program (the same description, ignoring case and spacing) and near-duplicates (similarity at
+/// least [`NEAR_DUPLICATE`]), so a measurement of synthesis does not show the model the answer.
+pub fn held_out(description: &str, library: &[Example]) -> Vec<Example> {
+    let query = tokens(description);
+    let asked = one_line(description).to_lowercase();
+    library
+        .iter()
+        .filter(|e| {
+            one_line(&e.description).to_lowercase() != asked
+                && jaccard(&query, &tokens(&e.description)) < NEAR_DUPLICATE
+        })
+        .cloned()
+        .collect()
 }
 
 /// At most `k` examples (all with `None`), the most similar to `description` by token-set

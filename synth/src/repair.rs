@@ -1,6 +1,7 @@
 //! The repair loop: ask for a program, check it, send the diagnostics back, and ask again, up to
 //! the configured number of rounds; every round is recorded in a [`Transcript`].
 
+use scenalog_rules::diagnostics::MEANING_WARNINGS;
 use scenalog_rules::{check, CheckOptions};
 use serde::Serialize;
 
@@ -19,6 +20,9 @@ pub enum RoundResult {
     Errors,
     /// The answer held no program.
     NoCode,
+    /// The program checked with no error but with warnings that usually change its meaning
+    /// (`scenalog_rules::diagnostics::MEANING_WARNINGS`); they were sent back once.
+    Warnings,
 }
 
 /// One completion and what the checker made of it.
@@ -119,6 +123,26 @@ pub fn error_feedback(program: &str, diags: &[scenalog_rules::Diagnostic]) -> St
     )
 }
 
+/// The feedback for a program that checks but has warnings that usually change its meaning.
+pub fn warning_feedback(program: &str, diags: &[scenalog_rules::Diagnostic]) -> String {
+    let meaning: Vec<scenalog_rules::Diagnostic> = diags
+        .iter()
+        .filter(|d| MEANING_WARNINGS.contains(&d.code))
+        .cloned()
+        .collect();
+    let items: Vec<String> = match diagnostics::to_json(&meaning, program) {
+        serde_json::Value::Array(a) => a.iter().map(|d| d.to_string()).collect(),
+        other => vec![other.to_string()],
+    };
+    format!(
+        "The program checks, but the checker warns about {} place{} where it probably does not say what the description means. Its warnings as JSON (lines and columns count from 1 at the `// description:` line):\n\n```json\n[\n{}\n]\n```\n\nThe lines:\n\n```\n{}```\n\nFix each one, or keep it and say why in a `//` comment, and reply with the complete program in one fenced code block (```scenalog ... ```).",
+        meaning.len(),
+        if meaning.len() == 1 { "" } else { "s" },
+        items.join(",\n"),
+        diagnostics::render(&meaning, program),
+    )
+}
+
 /// Runs the loop for one description with `synth`'s client, cache and configuration.
 pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
     let description = one_line(description);
@@ -131,6 +155,8 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
         outcome: Outcome::Failed,
     };
     let rounds = config.rounds.max(1);
+    // Meaning-changing warnings are sent back once; a program that keeps them is then clean.
+    let mut warned = false;
     for round in 1..=rounds {
         let (completion, cached) = match synth.complete(&messages) {
             Ok(c) => c,
@@ -164,6 +190,21 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
                 r.diagnostics = diagnostics::to_json(&outcome.diagnostics, &program);
                 r.errors = diagnostics::error_count(&outcome.diagnostics);
                 let feedback = error_feedback(&program, &outcome.diagnostics);
+                let warns = outcome
+                    .diagnostics
+                    .iter()
+                    .any(|d| MEANING_WARNINGS.contains(&d.code));
+                if outcome.program.is_some() && warns && !warned && round < rounds {
+                    warned = true;
+                    r.result = RoundResult::Warnings;
+                    let feedback = warning_feedback(&program, &outcome.diagnostics);
+                    r.program = Some(program);
+                    r.feedback = Some(feedback.clone());
+                    messages.push(Message::assistant(completion));
+                    messages.push(Message::user(feedback));
+                    transcript.rounds.push(r);
+                    continue;
+                }
                 r.program = Some(program);
                 if outcome.program.is_some() {
                     r.result = RoundResult::Clean;

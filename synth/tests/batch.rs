@@ -44,6 +44,7 @@ fn config(server: &Server, cache: &std::path::Path) -> SynthConfig {
         rounds: 3,
         library: Vec::new(),
         examples: None,
+        held_out: false,
     }
 }
 

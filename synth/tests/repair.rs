@@ -39,6 +39,7 @@ fn config(server: &Server) -> SynthConfig {
             "// description: stopped vehicle\nreferred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.\n",
         )],
         examples: None,
+        held_out: false,
     }
 }
 
@@ -368,4 +369,28 @@ fn a_completion_is_cached_before_a_later_failure() {
     assert_eq!(t.outcome, Outcome::Clean { round: 2 });
     assert!(t.rounds[0].cached && !t.rounds[1].cached);
     assert_eq!(server2.count(), 1);
+}
+
+#[test]
+fn a_warning_that_changes_meaning_is_sent_back_once() {
+    // `>= 2.0` compares frames with a float: two frames, not two seconds (W0504).
+    const FRAMES: &str = "referred(V, T2) :- category(V, \"VEHICLE\"), turning(V, T1, \"left\"), turning(V, T2, \"left\"), T2 - T1 >= 2.0.";
+    const FIXED: &str = "referred(V, T2) :- category(V, \"VEHICLE\"), turning(V, T1, \"left\"), turning(V, T2, \"left\"), T2 - T1 >= 20.";
+    let server = Server::scripted(vec![program(FRAMES), program(FIXED)]);
+    let s = synth(config(&server));
+    let t = s.synthesize(DESCRIPTION);
+    assert_eq!(t.outcome, Outcome::Clean { round: 2 }, "{}", t.to_json());
+    assert_eq!(t.rounds[0].result, RoundResult::Warnings);
+    assert_eq!(t.rounds[0].errors, 0);
+    let feedback = t.rounds[0].feedback.as_deref().expect("feedback");
+    assert!(
+        feedback.contains("W0504") && feedback.contains("20 frames"),
+        "{feedback}"
+    );
+    assert!(t.program().is_some_and(|p| p.contains(">= 20.")));
+    // Kept as it is after the warning: clean, not sent back again.
+    let server = Server::scripted(vec![program(FRAMES), program(FRAMES), program(GOOD)]);
+    let t = synth(config(&server)).synthesize(DESCRIPTION);
+    assert_eq!(t.outcome, Outcome::Clean { round: 2 }, "{}", t.to_json());
+    assert_eq!(server.requests().len(), 2);
 }

@@ -8,7 +8,7 @@ use crate::diagnostics::{self, error, warning};
 use crate::Diagnostic;
 
 /// Named variables of an expression, with their spans, in order.
-fn vars<'a>(e: &'a Expr, out: &mut Vec<(&'a str, Span)>) {
+pub(super) fn vars<'a>(e: &'a Expr, out: &mut Vec<(&'a str, Span)>) {
     match &e.kind {
         ExprKind::Var(v) => out.push((v, e.span)),
         ExprKind::Neg(x) => vars(x, out),
@@ -223,7 +223,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     diags.append(&mut s.diags);
 }
 
-fn lit_vars<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
+pub(super) fn lit_vars<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
     for l in body {
         match l {
             Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| vars(e, out)),

@@ -259,6 +259,14 @@ pub fn infer(
             inf.clause_exprs(c, scope);
         }
     }
+    // Strings in columns of the program's own predicates whose values are closed because the
+    // column is joined with a closed catalog column somewhere (known only now).
+    for c in &program.clauses {
+        inf.closed_strings(&c.head);
+        for l in &c.body {
+            inf.closed_strings_in(l);
+        }
+    }
     diags.append(&mut inf.diags);
     let mut out = BTreeMap::new();
     for (name, e) in &table.preds {
@@ -546,6 +554,21 @@ impl Infer<'_> {
                 let tr = self.expr_ty(&cmp.rhs, scope);
                 self.domain_check(&cmp.lhs, &cmp.rhs, scope);
                 self.domain_check(&cmp.rhs, &cmp.lhs, scope);
+                let time = Ty::Known(ColType::Time);
+                let float = |t: Ty, e: &Expr| t == Ty::Known(ColType::Float) || has_float(e);
+                if (tl == time || tr == time) && (float(tl, &cmp.lhs) || float(tr, &cmp.rhs)) {
+                    self.push(
+                        diagnostics::warning(
+                            diagnostics::TIME_VS_FLOAT,
+                            cmp.span,
+                            "a time (a frame number, 10 frames a second) compared with a float",
+                        )
+                        .with_hint(
+                            "times count frames: 2 s is 20 frames (`T2 - T1 >= 20`); to compare \
+                             seconds, bind them with `seconds(T, S)`",
+                        ),
+                    );
+                }
                 if cmp.op == crate::ast::CmpOp::Eq {
                     if let (Some(a), Some(b)) = (cmp.lhs.as_var(), cmp.rhs.as_var()) {
                         let (na, nb) = (self.var(scope, a), self.var(scope, b));
@@ -617,6 +640,36 @@ impl Infer<'_> {
         }
     }
 
+    fn closed_strings_in(&mut self, l: &Literal) {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) => self.closed_strings(a),
+            Literal::Cmp(_) => {}
+            Literal::Agg(g) => g.body.iter().for_each(|l| self.closed_strings_in(l)),
+        }
+    }
+
+    /// E0104 for a string constant in a column of a program predicate whose values are closed.
+    fn closed_strings(&mut self, a: &Atom) {
+        if catalog::relation(&a.pred).is_some() || !self.table.fits(a) {
+            return;
+        }
+        for (i, arg) in a.args.iter().enumerate() {
+            let ExprKind::Str(text) = &arg.kind else {
+                continue;
+            };
+            let Some(n) = self.cols.get(&a.pred).and_then(|v| v.get(i)).copied() else {
+                continue;
+            };
+            let r = self.cls.find(n);
+            if let Some((values, desc)) = self.cls.domain[r].clone() {
+                if !values.contains(&text.as_str()) {
+                    let desc = format!("`{}`'s column {}, joined with {desc}", a.pred, i + 1);
+                    self.push(bad_value(arg.span, text, values, &desc));
+                }
+            }
+        }
+    }
+
     /// E0104 when `s` is a string constant and `v` a variable joined with a closed-domain column.
     fn domain_check(&mut self, v: &Expr, s: &Expr, scope: &mut HashMap<String, usize>) {
         let (Some(name), ExprKind::Str(text)) = (v.as_var(), &s.kind) else {
@@ -661,17 +714,46 @@ fn compare_error(span: Span, a: Ty, b: Ty) -> Diagnostic {
     .with_hint("both sides of a comparison must be numbers (int, float, time), or both strings, tracks or lanes")
 }
 
+/// Whether a float literal occurs in `e`.
+fn has_float(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Float(_) => true,
+        ExprKind::Neg(a) => has_float(a),
+        ExprKind::Binary(_, a, b) => has_float(a) || has_float(b),
+        ExprKind::Call(_, args) => args.iter().any(has_float),
+        _ => false,
+    }
+}
+
 fn bad_value(span: Span, s: &str, values: &[&str], desc: &str) -> Diagnostic {
     let allowed: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
-    let near = diagnostics::closest(s, values.iter().copied(), 1);
-    let mut hint = format!("{desc} is one of {}", allowed.join(", "));
-    if let Some(n) = near.first() {
-        hint = format!("did you mean {n:?}? {hint}");
-    }
-    error(
+    let listed = format!("{desc} is one of {}", allowed.join(", "));
+    let same_but_case = values.iter().find(|v| v.eq_ignore_ascii_case(s)).copied();
+    let (suggest, hint) = match (same_but_case, catalog::value_alias(values, s)) {
+        (Some(v), _) => (
+            Some(v),
+            format!("did you mean {v:?}? values are case-sensitive"),
+        ),
+        (None, Some(a)) => {
+            let closest: Vec<String> = a.closest.iter().map(|v| format!("{v:?}")).collect();
+            (
+                a.closest.first().copied(),
+                format!("{}; closest: {}. {listed}", a.note, closest.join(", ")),
+            )
+        }
+        (None, None) => match diagnostics::closest(s, values.iter().copied(), 1).first() {
+            Some(n) => (Some(*n), format!("did you mean {n:?}? {listed}")),
+            None => (None, listed),
+        },
+    };
+    let d = error(
         diagnostics::BAD_VALUE,
         span,
         format!("{s:?} is not a value of {desc}"),
     )
-    .with_hint(hint)
+    .with_hint(hint);
+    match suggest {
+        Some(v) => d.with_edit(span, format!("{v:?}")),
+        None => d,
+    }
 }

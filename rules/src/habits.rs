@@ -1,0 +1,475 @@
+//! Soufflé and Prolog habits that people and language models bring to Scenalog: `;` disjunction,
+//! `\+`, `count(C) : {…}`, `.output`/`.input`, `.decl` with `symbol`/`number`, single-quoted
+//! strings and unknown string escapes. Each recognised habit is an E0001 whose hint shows the
+//! corrected text and whose fix (see [`crate::apply_fix`]) makes it; the checker applies the
+//! fixes to check the rest of the program as it would read once they are made.
+
+use crate::ast::Span;
+use crate::diagnostics::{self, error};
+use crate::lexer::{lex, Tok, Token};
+use crate::Diagnostic;
+
+/// At most this many rules from one disjunctive clause (the product of its alternatives).
+const MAX_ALTERNATIVES: usize = 16;
+/// At most this depth of nested parenthesised disjunctions.
+const MAX_NESTING: usize = 4;
+
+/// Every habit recognised in `source`, in source order.
+pub(crate) fn scan(source: &str) -> Vec<Diagnostic> {
+    let (toks, _) = lex(source);
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < toks.len() && toks[i].tok != Tok::Eof {
+        let end = if is_directive(source, &toks, i) {
+            directive(source, &toks, i, &mut out)
+        } else {
+            clause(source, &toks, i, &mut out)
+        };
+        i = end.max(i + 1);
+    }
+    out
+}
+
+/// Whether token `i` is a `.` that starts a directive (`.decl`, `.output`, …): at the start of
+/// its line and glued to a name.
+fn is_directive(source: &str, toks: &[Token<'_>], i: usize) -> bool {
+    let (Some(dot), Some(next)) = (toks.get(i), toks.get(i + 1)) else {
+        return false;
+    };
+    dot.tok == Tok::Dot
+        && matches!(next.tok, Tok::Ident(_))
+        && next.span.start == dot.span.end
+        && source[..dot.span.start]
+            .rsplit('\n')
+            .next()
+            .is_some_and(|l| l.trim().is_empty())
+}
+
+/// The end of the line holding byte `at`, including its newline.
+fn line_end(source: &str, at: usize) -> usize {
+    source[at..].find('\n').map_or(source.len(), |k| at + k + 1)
+}
+
+/// Handles the directive at token `i`; returns the index of the first token after it.
+fn directive(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -> usize {
+    let dot = &toks[i];
+    let Tok::Ident(name) = toks[i + 1].tok else {
+        return i + 1;
+    };
+    if name == "decl" {
+        return decl(source, toks, i, out);
+    }
+    let end = line_end(source, dot.span.start);
+    let next = toks
+        .iter()
+        .position(|t| t.span.start >= end || t.tok == Tok::Eof)
+        .unwrap_or(toks.len());
+    let line = source[dot.span.start..end].trim_end();
+    let hint = match name {
+        "output" | "printsize" => format!(
+            "Scenalog has no `.{name}`: `referred` (and `related`) are what is reported; delete \
+             the line `{line}`"
+        ),
+        "input" => format!(
+            "Scenalog has no `.input`: catalog relations come from the logs and helpers from the \
+             program's rules and facts; delete the line `{line}`"
+        ),
+        "type" => format!(
+            "Scenalog has no `.type`: column types are track, time, lane, str, float and int; \
+             delete the line `{line}`"
+        ),
+        _ => return next,
+    };
+    out.push(
+        error(
+            diagnostics::SYNTAX,
+            dot.span.to(toks[i + 1].span),
+            format!("syntax error: `.{name}` is Soufflé, not Scenalog"),
+        )
+        .with_hint(hint)
+        .with_edit(Span::new(dot.span.start, end), ""),
+    );
+    next
+}
+
+/// The Scenalog type for a Soufflé one.
+fn souffle_type(t: &str) -> Option<&'static str> {
+    match t {
+        "symbol" | "Symbol" | "string" => Some("str"),
+        "number" | "unsigned" | "integer" => Some("int"),
+        _ => None,
+    }
+}
+
+/// `.decl name(C: type, …)` with Soufflé types: each becomes the Scenalog type (for `referred`
+/// and `related`, the required ones).
+fn decl(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -> usize {
+    let name = match toks.get(i + 2).map(|t| &t.tok) {
+        Some(Tok::Ident(n)) => *n,
+        _ => return i + 2,
+    };
+    let required: Option<&[&str]> = match name {
+        "referred" => Some(&["track", "time"]),
+        "related" => Some(&["track", "track", "time"]),
+        _ => None,
+    };
+    let mut j = i + 3;
+    let mut col = 0;
+    let mut edits = Vec::new();
+    while let Some(t) = toks.get(j) {
+        match t.tok {
+            Tok::RParen | Tok::Eof | Tok::Dot => break,
+            Tok::Colon => {
+                if let Some(Token {
+                    tok: Tok::Ident(ty),
+                    span,
+                }) = toks.get(j + 1)
+                {
+                    let want = match required {
+                        Some(r) => r.get(col).copied().filter(|w| {
+                            w != ty
+                                && (souffle_type(ty).is_some()
+                                    || scenalog_facts::catalog::ColType::parse(ty).is_none())
+                        }),
+                        None => souffle_type(ty),
+                    };
+                    if let Some(w) = want {
+                        edits.push((*span, w));
+                    }
+                    col += 1;
+                    j += 1;
+                }
+            }
+            _ => {}
+        }
+        j += 1;
+    }
+    let end = toks.get(j).map_or(source.len(), |t| t.span.end);
+    if !edits.is_empty() {
+        let start = toks[i].span.start;
+        let mut fixed = source[start..end].to_string();
+        for (span, w) in edits.iter().rev() {
+            fixed.replace_range(span.start - start..span.end - start, w);
+        }
+        let mut d = error(
+            diagnostics::SYNTAX,
+            edits[0].0,
+            format!(
+                "syntax error: `{}` is not a Scenalog column type",
+                &source[edits[0].0.start..edits[0].0.end]
+            ),
+        )
+        .with_hint(format!(
+            "column types are track, time, lane, str, float and int: `{fixed}`"
+        ));
+        for (span, w) in &edits {
+            d = d.with_edit(*span, *w);
+        }
+        out.push(d);
+    }
+    j + 1
+}
+
+/// Handles the clause starting at token `i`; returns the index after its final `.`.
+fn clause(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -> usize {
+    let mut j = i;
+    let mut depth = 0i32;
+    let mut if_at = None;
+    while let Some(t) = toks.get(j) {
+        match t.tok {
+            Tok::Eof => break,
+            Tok::LParen | Tok::LBrace => depth += 1,
+            Tok::RParen | Tok::RBrace => depth -= 1,
+            Tok::If if if_at.is_none() => if_at = Some(j),
+            Tok::Dot if depth <= 0 => break,
+            _ => {}
+        }
+        if j > i && is_directive(source, toks, j) {
+            break;
+        }
+        j += 1;
+    }
+    let end = j.min(toks.len().saturating_sub(1));
+    let ended = toks.get(end).is_some_and(|t| t.tok == Tok::Dot);
+    for k in i..end {
+        token_habits(source, toks, k, out);
+    }
+    if let (Some(f), true) = (if_at, ended) {
+        disjunction(source, toks, i, f, end, out);
+    }
+    end + 1
+}
+
+/// The text of a token's source (for error tokens: the character the lexer stopped at).
+fn starts_with(source: &str, t: &Token<'_>, c: u8) -> bool {
+    source.as_bytes().get(t.span.start) == Some(&c)
+}
+
+/// Habits that one token shows: `\+`, single quotes, bad escapes, `count(C) :`.
+fn token_habits(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagnostic>) {
+    let t = &toks[k];
+    match &t.tok {
+        Tok::Error(_) if starts_with(source, t, b'\\') => {
+            if let Some(plus) = toks
+                .get(k + 1)
+                .filter(|p| p.tok == Tok::Plus && p.span.start == t.span.end)
+            {
+                let mut end = plus.span.end;
+                while source.as_bytes().get(end) == Some(&b' ') {
+                    end += 1;
+                }
+                let line = corrected_line(source, Span::new(t.span.start, end), "!");
+                out.push(
+                    error(
+                        diagnostics::SYNTAX,
+                        t.span.to(plus.span),
+                        "syntax error: `\\+` is Prolog negation; Scenalog writes `!`",
+                    )
+                    .with_hint(format!("write `{line}`"))
+                    .with_edit(Span::new(t.span.start, end), "!"),
+                );
+            }
+        }
+        Tok::Error(_) if starts_with(source, t, b'\'') => {
+            let rest = &source[t.span.end..];
+            let Some(close) = rest.find(['\'', '\n']) else {
+                return;
+            };
+            if rest.as_bytes()[close] != b'\'' {
+                return;
+            }
+            let inner = &rest[..close];
+            let quoted = format!("{inner:?}");
+            let span = Span::new(t.span.start, t.span.end + close + 1);
+            let line = corrected_line(source, span, &quoted);
+            out.push(
+                error(
+                    diagnostics::SYNTAX,
+                    span,
+                    "syntax error: a single-quoted string",
+                )
+                .with_hint(format!("strings are written in double quotes: `{line}`"))
+                .with_edit(span, quoted),
+            );
+        }
+        Tok::Error(m) if m.starts_with("an unknown escape") => {
+            // The token ends just after the escaped character; the backslash is before it.
+            let text = &source[t.span.start..t.span.end];
+            let Some(slash) = text.rfind('\\') else {
+                return;
+            };
+            let at = t.span.start + slash;
+            let line = corrected_line(source, Span::new(at, at + 1), "\\\\");
+            out.push(
+                error(diagnostics::SYNTAX, t.span, format!("syntax error: {m}"))
+                    .with_hint(format!("to write a backslash, double it: `{line}`"))
+                    .with_edit(Span::new(at, at + 1), "\\\\"),
+            );
+        }
+        Tok::Ident(f @ ("count" | "sum" | "min" | "max")) => {
+            let Some(open) = toks.get(k + 1).filter(|o| o.tok == Tok::LParen) else {
+                return;
+            };
+            let mut depth = 0;
+            let mut close = None;
+            for (n, x) in toks.iter().enumerate().skip(k + 1) {
+                match x.tok {
+                    Tok::LParen => depth += 1,
+                    Tok::RParen => {
+                        depth -= 1;
+                        if depth == 0 {
+                            close = Some(n);
+                            break;
+                        }
+                    }
+                    Tok::Dot | Tok::Eof => break,
+                    _ => {}
+                }
+            }
+            let Some(c) = close else { return };
+            if toks.get(c + 1).map(|x| &x.tok) != Some(&Tok::Colon) {
+                return; // `min(A, B)` the function, not an aggregate.
+            }
+            let inner = source[open.span.end..toks[c].span.start].trim();
+            let replacement = if *f == "count" {
+                String::new()
+            } else {
+                format!(" {inner}")
+            };
+            let span = Span::new(open.span.start, toks[c].span.end);
+            let line = corrected_line(source, span, &replacement);
+            let what = if *f == "count" {
+                "`count` takes no argument: it counts the matching tuples of the braces".to_string()
+            } else {
+                format!("`{f}` takes its expression without parentheses")
+            };
+            out.push(
+                error(
+                    diagnostics::SYNTAX,
+                    t.span.to(toks[c].span),
+                    format!("syntax error: {what}"),
+                )
+                .with_hint(format!("write `{line}`"))
+                .with_edit(span, replacement),
+            );
+        }
+        _ => {}
+    }
+}
+
+/// The line holding `span` with `span` replaced by `with`, trimmed.
+fn corrected_line(source: &str, span: Span, with: &str) -> String {
+    let start = source[..span.start].rfind('\n').map_or(0, |k| k + 1);
+    let end = source[span.end..]
+        .find('\n')
+        .map_or(source.len(), |k| span.end + k);
+    format!(
+        "{}{with}{}",
+        &source[start..span.start],
+        &source[span.end..end]
+    )
+    .trim()
+    .to_string()
+}
+
+/// Whether a token is the `;` the lexer could not read.
+fn is_semicolon(source: &str, t: &Token<'_>) -> bool {
+    matches!(t.tok, Tok::Error(_)) && starts_with(source, t, b';')
+}
+
+/// `head :- A ; B.` (or a parenthesised `(A ; B)` among other literals): one rule per
+/// alternative.
+fn disjunction(
+    source: &str,
+    toks: &[Token<'_>],
+    first: usize,
+    if_at: usize,
+    dot: usize,
+    out: &mut Vec<Diagnostic>,
+) {
+    let body = &toks[if_at + 1..dot];
+    let Some(semi) = body.iter().find(|t| is_semicolon(source, t)) else {
+        return;
+    };
+    let message = "syntax error: Scenalog has no `;` (disjunction)";
+    let Some(alts) = alternatives(source, body, 0).filter(|a| a.len() <= MAX_ALTERNATIVES) else {
+        out.push(
+            error(diagnostics::SYNTAX, semi.span, message)
+                .with_hint("write one rule per alternative, each with the same head"),
+        );
+        return;
+    };
+    let head = source[toks[first].span.start..toks[if_at].span.start].trim_end();
+    let rules: Vec<String> = alts.iter().map(|b| format!("{head} :- {b}.")).collect();
+    out.push(
+        error(diagnostics::SYNTAX, semi.span, message)
+            .with_hint(format!(
+                "write one rule per alternative, each with the same head:\n{}",
+                rules.join("\n")
+            ))
+            .with_edit(
+                Span::new(toks[first].span.start, toks[dot].span.end),
+                rules.join("\n"),
+            ),
+    );
+}
+
+/// The conjunctions a body with `;` stands for, as text; `None` when it has a shape this does
+/// not rewrite (a `;` inside braces, unbalanced parentheses, too deep).
+fn alternatives(source: &str, toks: &[Token<'_>], nesting: usize) -> Option<Vec<String>> {
+    if nesting > MAX_NESTING || toks.is_empty() {
+        return None;
+    }
+    let mut out = Vec::new();
+    for alt in split_top(toks, |t| is_semicolon(source, t))? {
+        // The product of each literal's alternatives.
+        let mut conj: Vec<String> = vec![String::new()];
+        for item in split_top(alt, |t| t.tok == Tok::Comma)? {
+            let (first, last) = (item.first()?, item.last()?);
+            let wrapped = first.tok == Tok::LParen
+                && last.tok == Tok::RParen
+                && split_top(&item[1..item.len() - 1], |_| false).is_some()
+                && matching(item) == Some(item.len() - 1);
+            let options = if wrapped {
+                alternatives(source, &item[1..item.len() - 1], nesting + 1)?
+            } else {
+                if item.iter().any(|t| is_semicolon(source, t)) {
+                    return None; // inside braces or an expression
+                }
+                vec![source[first.span.start..last.span.end].to_string()]
+            };
+            let mut next = Vec::new();
+            for c in &conj {
+                for o in &options {
+                    next.push(if c.is_empty() {
+                        o.clone()
+                    } else {
+                        format!("{c}, {o}")
+                    });
+                    if next.len() > MAX_ALTERNATIVES {
+                        return None;
+                    }
+                }
+            }
+            conj = next;
+        }
+        out.extend(conj);
+        if out.len() > MAX_ALTERNATIVES {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// The index of the token closing the parenthesis that opens `toks`.
+fn matching(toks: &[Token<'_>]) -> Option<usize> {
+    let mut depth = 0;
+    for (n, t) in toks.iter().enumerate() {
+        match t.tok {
+            Tok::LParen | Tok::LBrace => depth += 1,
+            Tok::RParen | Tok::RBrace => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(n);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// `toks` split at the separators outside parentheses and braces; `None` if they do not balance
+/// or a part is empty.
+fn split_top<'t, 'a>(
+    toks: &'t [Token<'a>],
+    is_sep: impl Fn(&Token<'a>) -> bool,
+) -> Option<Vec<&'t [Token<'a>]>> {
+    let mut parts = Vec::new();
+    let mut depth = 0i32;
+    let mut start = 0;
+    for (n, t) in toks.iter().enumerate() {
+        match t.tok {
+            Tok::LParen | Tok::LBrace => depth += 1,
+            Tok::RParen | Tok::RBrace => {
+                depth -= 1;
+                if depth < 0 {
+                    return None;
+                }
+            }
+            _ if depth == 0 && is_sep(t) => {
+                if n == start {
+                    return None;
+                }
+                parts.push(&toks[start..n]);
+                start = n + 1;
+            }
+            _ => {}
+        }
+    }
+    if depth != 0 || start >= toks.len() {
+        return None;
+    }
+    parts.push(&toks[start..]);
+    Some(parts)
+}
