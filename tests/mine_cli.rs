@@ -328,7 +328,7 @@ fn a_corrupt_log_and_a_broken_program_are_reported_and_the_rest_is_mined() {
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("grew past the limit of 10 tuples"),
+        stderr(&o).contains("grew past the budget of 10 tuples"),
         "{}",
         stderr(&o)
     );
