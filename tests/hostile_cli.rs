@@ -43,6 +43,15 @@ fn scenalog(args: &[&str], stdin: &str) -> (i32, String, String) {
     (code, String::from_utf8_lossy(&o.stdout).into_owned(), err)
 }
 
+/// The run's table has a row for `program` and none of its pairs failed.
+fn assert_mined(stdout: &str, program: &str) {
+    let row = stdout
+        .lines()
+        .find(|l| l.starts_with(&format!("{program} ")))
+        .unwrap_or_default();
+    assert!(!row.contains("ERR") && !row.is_empty(), "{stdout}");
+}
+
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let p = dir.join(name);
     std::fs::write(&p, text).expect("write program");
@@ -189,11 +198,7 @@ fn mine_stops_a_runaway_pair_at_its_time_limit_and_finishes_the_others() {
             && stderr.contains("longer than 8.0 s while deriving `referred`"),
         "{stderr}"
     );
-    let row = stdout
-        .lines()
-        .find(|l| l.starts_with("stopped_car "))
-        .unwrap_or_default();
-    assert!(!row.contains("ERR") && !row.is_empty(), "{stdout}");
+    assert_mined(&stdout, "stopped_car");
     let matches = std::fs::read_to_string(out.join("matches.json")).expect("matches.json");
     assert!(matches.contains("stopped car"), "{matches:.300}");
 }
@@ -241,9 +246,5 @@ fn mine_fails_a_pair_past_its_tuple_budget_naming_the_relation() {
             && stderr.contains("grew past the budget of 150000 tuples while `p"),
         "{stderr}"
     );
-    let row = stdout
-        .lines()
-        .find(|l| l.starts_with("stopped_car "))
-        .unwrap_or_default();
-    assert!(!row.contains("ERR") && !row.is_empty(), "{stdout}");
+    assert_mined(&stdout, "stopped_car");
 }
