@@ -38,6 +38,8 @@ pub fn evaluate(
         )));
     }
     let mut complete: HashMap<String, Rows> = HashMap::new();
+    // Tuples held by completed relations, inputs included: one budget for the whole evaluation.
+    let mut held = 0usize;
     for (name, info) in &program.predicates {
         if info.kind != PredKind::Catalog {
             continue;
@@ -47,7 +49,15 @@ pub fn evaluate(
             relation: name.clone(),
             message,
         })?;
+        let loading = Limits {
+            relation: name,
+            options,
+            start,
+            held,
+        };
+        loading.check(data.len())?;
         let rows = load(&data, name, &info.types, &mut symbols)?;
+        held += rows.len();
         complete.insert(name.clone(), rows);
     }
     let clauses = &program.program.clauses;
@@ -66,6 +76,7 @@ pub fn evaluate(
                 relation: &clause.head.pred,
                 options,
                 start,
+                held,
             };
             let mut ctx = Ctx {
                 types: &types,
@@ -78,7 +89,13 @@ pub fn evaluate(
             clause_of.push(ci);
         }
         let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
-        let (derived, origins) = run_stratum(&plans, &defined, &types, &complete, options, start)?;
+        let budget = Budget {
+            options,
+            start,
+            held,
+        };
+        let (derived, origins) = run_stratum(&plans, &defined, &types, &complete, &budget)?;
+        held += derived.values().map(Rows::len).sum::<usize>();
         complete.extend(derived);
         for (name, list) in origins {
             let list = list
@@ -459,9 +476,13 @@ fn run_stratum(
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     complete: &HashMap<String, Rows>,
-    options: &Options,
-    start: Instant,
+    budget: &Budget<'_>,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+    let Budget {
+        options,
+        start,
+        held,
+    } = *budget;
     let arity = |name: &str| types.get(name).map_or(0, |t| t.len());
     let mut rels: BTreeMap<&str, Rel> = defined
         .iter()
@@ -493,15 +514,19 @@ fn run_stratum(
         // that produced each new tuple.
         // With provenance: per head, (end of each plan's output in `new`, plan index).
         let mut ranges: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
+        // Tuples this stratum holds before this round.
+        let stratum_held: usize = rels.values().map(Rel::len).sum();
         for (pi, (head, p)) in plans.iter().enumerate() {
             // Plans without atoms (ground facts) produce everything in the first round.
             if !first && p.atoms.is_empty() {
                 continue;
             }
+            let pending: usize = new.values().map(Rows::len).sum();
             let check = Limits {
                 relation: head,
                 options,
                 start,
+                held: held + stratum_held + pending,
             };
             let rec: Vec<usize> = p
                 .atoms
@@ -552,6 +577,7 @@ fn run_stratum(
         }
         first = false;
         let mut changed = false;
+        let mut total = held + stratum_held;
         for (name, rel) in rels.iter_mut() {
             let mut fresh = new.remove(name).unwrap_or_else(|| Rows::new(arity(name)));
             // With provenance: the distinct new tuples, sorted, with the first plan of each.
@@ -565,7 +591,8 @@ fn run_stratum(
                 fresh.sort_dedup();
             }
             rel.remove_known(&mut fresh);
-            if rel.len() + fresh.len() > options.max_tuples {
+            total += fresh.len();
+            if total > options.max_tuples {
                 return Err(EngineError::TooManyTuples {
                     relation: name.to_string(),
                     limit: options.max_tuples,
@@ -612,16 +639,35 @@ fn run_stratum(
     Ok((done, origins))
 }
 
-/// What a rule evaluation checks as it produces tuples.
+/// The budget a stratum runs under: the options, when the evaluation started, and the tuples
+/// completed relations already hold.
+#[derive(Clone, Copy)]
+struct Budget<'a> {
+    options: &'a Options,
+    start: Instant,
+    held: usize,
+}
+
+/// What a rule evaluation checks as it produces tuples: [`Options::max_tuples`] counts the
+/// tuples every relation of the evaluation holds (`held`, inputs included) plus those produced,
+/// and [`Options::timeout`] the time since `start`.
 pub(crate) struct Limits<'a> {
     relation: &'a str,
     options: &'a Options,
     start: Instant,
+    held: usize,
 }
 
 impl Limits<'_> {
+    /// The error for a `sum` that overflowed in a rule deriving this relation.
+    pub(crate) fn sum_overflow(&self) -> EngineError {
+        EngineError::Overflow {
+            relation: self.relation.to_string(),
+        }
+    }
+
     fn check(&self, produced: usize) -> Result<(), EngineError> {
-        if produced > self.options.max_tuples {
+        if self.held.saturating_add(produced) > self.options.max_tuples {
             return Err(EngineError::TooManyTuples {
                 relation: self.relation.to_string(),
                 limit: self.options.max_tuples,
@@ -777,6 +823,9 @@ pub(crate) fn run_plan_indexed(
             }
         }
     }
+    if p.sum_overflowed() {
+        return Err(limits.sum_overflow());
+    }
     limits.check(out.len())
 }
 
@@ -810,6 +859,7 @@ mod tests {
             relation: "test",
             options: &options,
             start: Instant::now(),
+            held: 0,
         };
         let mut ctx = Ctx {
             types: &types,

@@ -49,12 +49,18 @@ pub enum EngineError {
         /// What is wrong.
         message: String,
     },
-    /// A relation grew past [`Options::max_tuples`].
+    /// The evaluation's tuples grew past [`Options::max_tuples`] while this relation was
+    /// provided or derived.
     TooManyTuples {
         /// The relation that grew.
         relation: String,
         /// The limit.
         limit: usize,
+    },
+    /// A `sum` of integers in a rule deriving `relation` left the 64-bit range.
+    Overflow {
+        /// The head relation of the rule with the `sum`.
+        relation: String,
     },
     /// The evaluation ran longer than [`Options::timeout`].
     Timeout {
@@ -80,8 +86,13 @@ impl fmt::Display for EngineError {
             }
             EngineError::TooManyTuples { relation, limit } => write!(
                 f,
-                "relation `{relation}` grew past the limit of {limit} tuples; the program \
-                 probably derives far more than intended"
+                "the program's relations grew past the budget of {limit} tuples while `{relation}` \
+                 was provided or derived; the program probably derives far more than intended"
+            ),
+            EngineError::Overflow { relation } => write!(
+                f,
+                "a `sum` in a rule for `{relation}` overflowed the 64-bit integer range \
+                 (from -9223372036854775808 to 9223372036854775807); sum floats instead"
             ),
             EngineError::Timeout { relation, limit } => write!(
                 f,
@@ -97,7 +108,9 @@ impl std::error::Error for EngineError {}
 /// Limits of one evaluation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
-    /// Most tuples any one relation (or one rule's output in one round) may hold.
+    /// Most tuples the evaluation may hold at once, across all its relations: the provided
+    /// (catalog) inputs, every derived relation, and the output a rule is producing. One
+    /// budget, so many small relations cannot add up past it unnoticed.
     pub max_tuples: usize,
     /// Longest an evaluation may run; `None` for no limit.
     pub timeout: Option<Duration>,

@@ -440,6 +440,21 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// Whether a correlated `sum` of this plan (or of an aggregate nested in it) overflowed
+    /// the 64-bit integer range while it ran.
+    pub fn sum_overflowed(&self) -> bool {
+        let filters = self
+            .start
+            .iter()
+            .chain(self.atoms.iter().flat_map(|a| &a.after));
+        filters.into_iter().any(|f| match f {
+            Filter::AggRun(c, _) => {
+                c.overflowed.load(std::sync::atomic::Ordering::Relaxed) || c.plan.sum_overflowed()
+            }
+            _ => false,
+        })
+    }
+
     /// The output row of a complete binding.
     pub fn project(&self, b: &Row) -> Option<Row> {
         let mut out = [0u64; WIDTH];
@@ -862,6 +877,10 @@ fn var_expr(name: &str) -> Expr {
     }
 }
 
+/// A `sum` of integers left the 64-bit range (the fold's error: never a saturated result).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SumOverflow;
+
 /// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group.
 fn fold(
     func: AggFunc,
@@ -870,7 +889,7 @@ fn fold(
     last: usize,
     target_ty: ColType,
     out_ty: ColType,
-) -> FastMap<Row, u64> {
+) -> Result<FastMap<Row, u64>, SumOverflow> {
     let mut acc: FastMap<Row, V> = FastMap::default();
     for r in rows.iter() {
         let mut key = [0u64; WIDTH];
@@ -891,7 +910,7 @@ fn fold(
                     V::Int(0)
                 });
                 *e = match (*e, x) {
-                    (V::Int(a), V::Int(b)) => V::Int(a.saturating_add(b)),
+                    (V::Int(a), V::Int(b)) => V::Int(a.checked_add(b).ok_or(SumOverflow)?),
                     (V::Float(a), V::Float(b)) => V::Float(a + b),
                     (V::Float(a), V::Int(b)) => V::Float(a + b as f64),
                     (a, _) => a,
@@ -918,7 +937,7 @@ fn fold(
             table.insert(k, u);
         }
     }
-    table
+    Ok(table)
 }
 
 /// An aggregate whose body uses outer variables only in comparisons or expressions: its body
@@ -935,6 +954,9 @@ pub struct Correlated {
     target_ty: ColType,
     out_ty: ColType,
     default: Option<u64>,
+    /// Set when a `sum` overflowed for some binding; the evaluation then fails (see
+    /// [`Plan::sum_overflowed`]) instead of using a wrong number.
+    overflowed: std::sync::atomic::AtomicBool,
 }
 
 impl Correlated {
@@ -963,14 +985,21 @@ impl Correlated {
             }
         }
         rows.sort_dedup();
-        let table = fold(
+        let table = match fold(
             self.func,
             &rows,
             self.g_len,
             self.last,
             self.target_ty,
             self.out_ty,
-        );
+        ) {
+            Ok(t) => t,
+            Err(SumOverflow) => {
+                self.overflowed
+                    .store(true, std::sync::atomic::Ordering::Relaxed);
+                return None;
+            }
+        };
         match table.into_values().next() {
             Some(v) => Some(v),
             None => self.default,
@@ -1041,7 +1070,8 @@ fn agg_filter(
         AggFunc::Sum => ColType::Int,
         AggFunc::Min | AggFunc::Max => target_ty,
     };
-    let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty);
+    let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty)
+        .map_err(|SumOverflow| ctx.limits.sum_overflow())?;
     let default = match g.func {
         AggFunc::Count => encode(V::Int(0), ColType::Int),
         AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
@@ -1139,6 +1169,7 @@ fn correlated(
         target_ty,
         out_ty,
         default,
+        overflowed: std::sync::atomic::AtomicBool::new(false),
     };
     let fresh = match g.result.as_var() {
         Some(v) if !scope.slots.contains_key(v) => Some(v),

@@ -458,3 +458,57 @@ fn correlated_aggregates_use_outer_variables_in_comparisons() {
         vec![vec![1, 0, 2], vec![1, 3, 2], vec![1, 9, 0]]
     );
 }
+
+/// Inputs and derived relations share one budget: two relations of 600 tuples each pass a
+/// per-relation limit of 1,000 but not a budget of 1,000 for the whole evaluation.
+#[test]
+fn the_tuple_budget_counts_every_relation_together() {
+    let src = ".decl a(X: int)\n.decl b(X: int)\na(0).\na(Y) :- a(X), Y = X + 1, Y < 600.\nb(Y) :- a(X), Y = X + 1000.\n";
+    let options = Options {
+        max_tuples: 1000,
+        timeout: None,
+        provenance: false,
+    };
+    match run_with(src, &options) {
+        Err(EngineError::TooManyTuples { relation, limit }) => {
+            assert_eq!(relation, "b");
+            assert_eq!(limit, 1000);
+        }
+        other => panic!("expected the budget to run out in `b`, got {other:?}"),
+    }
+    let roomy = Options {
+        max_tuples: 1200,
+        ..options
+    };
+    let e = run_with(src, &roomy).expect("fits in 1,200");
+    assert_eq!((e.size("a"), e.size("b")), (600, 600));
+}
+
+/// A `sum` past the 64-bit range is an error naming the rule's relation, never a saturated
+/// number: both for an aggregate over completed relations and for one run per binding.
+#[test]
+fn an_integer_sum_that_overflows_is_an_error_naming_the_rule() {
+    let plain = ".decl v(X: int)\nv(9223372036854775807).\nv(1).\ns(N) :- N = sum X : { v(X) }.\n";
+    let correlated = ".decl v(X: int)\n.decl k(X: int)\nv(9223372036854775807).\nv(1).\nk(0).\ng(K, N) :- k(K), N = sum X : { v(X), X > K }.\n";
+    for (src, rel) in [(plain, "s"), (correlated, "g")] {
+        match run_with(src, &Options::default()) {
+            Err(e @ EngineError::Overflow { .. }) => {
+                assert_eq!(
+                    e,
+                    EngineError::Overflow {
+                        relation: rel.into()
+                    }
+                );
+                assert!(e.to_string().contains(&format!("`{rel}`")), "{e}");
+            }
+            other => panic!("expected an overflow in `{rel}`, got {other:?}"),
+        }
+    }
+    // Just inside the range still sums exactly.
+    let fits = ".decl v(X: int)\nv(9223372036854775806).\nv(1).\ns(N) :- N = sum X : { v(X) }.\n";
+    let e = run_with(fits, &Options::default()).expect("fits");
+    assert_eq!(
+        e.tuples("s").map(|t| t.to_vec()),
+        Some(vec![vec![Value::Int(i64::MAX)]])
+    );
+}

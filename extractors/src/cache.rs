@@ -10,6 +10,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_facts::{Frame, Scene};
 
+use crate::budget::Budget;
 use crate::events::{self, Side};
 use crate::kinematics::{self, Kinematics};
 use crate::lanes::{assign_track_indices, LaneAssignment};
@@ -166,11 +167,30 @@ impl<'s> Extractor<'s> {
     /// The relation `req` asks for: only tuples satisfying every constraint, sorted. Answers are
     /// cached per request.
     pub fn extract(&self, req: &Request) -> Result<Arc<RelationData>, ExtractError> {
+        self.extract_within(req, &Budget::UNLIMITED)
+    }
+
+    /// [`Extractor::extract`] under a budget: an answer larger than `budget.max_tuples`, or not
+    /// computed by its deadline, is an error naming the relation (and is not kept). The pair
+    /// relations check the budget as they produce rows, so a dense log stops early instead of
+    /// filling memory. A kept answer is returned whatever its size.
+    pub fn extract_within(
+        &self,
+        req: &Request,
+        budget: &Budget,
+    ) -> Result<Arc<RelationData>, ExtractError> {
         let key = format!("{req:?}");
         if let Some(r) = self.lock_results().get(&key) {
+            if r.len() > budget.max_tuples {
+                return Err(ExtractError::TooManyTuples {
+                    relation: req.name.clone(),
+                    limit: budget.max_tuples,
+                });
+            }
             return Ok(r.clone());
         }
-        let query = Query::new(self.scene, req)?;
+        let mut query = Query::new(self.scene, req)?;
+        query.budget = *budget;
         let data = Arc::new(crate::extract::provide(self, &query)?);
         self.lock_results().insert(key, data.clone());
         Ok(data)

@@ -46,6 +46,16 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
             None => return Err(ExtractError::NotProvided(other.to_string())),
         },
     };
+    // A computation stopped by its budget returns what it had: an error, never that.
+    if let Some(e) = q.spent.error(q.spec.name, &q.budget) {
+        return Err(e);
+    }
+    if data.len() > q.budget.max_tuples {
+        return Err(ExtractError::TooManyTuples {
+            relation: q.spec.name.to_string(),
+            limit: q.budget.max_tuples,
+        });
+    }
     Ok(q.finish(ex.scene(), data))
 }
 

@@ -13,7 +13,8 @@
 //! - [`extract()`]`(scene, &Request) -> Result<RelationData, ExtractError>`: one relation, only the
 //!   tuples satisfying the request's constraints, rows sorted.
 //! - [`Extractor`]: the same through a per-scene cache (kinematics, lanes, R-trees, answers),
-//!   `Sync`, so one run computes each thing once.
+//!   `Sync`, so one run computes each thing once; [`Extractor::extract_within`] computes under a
+//!   [`Budget`] (most tuples, a deadline) checked as the pair relations are produced.
 //! - [`extract_all`]`(scene)`: every relation; [`extract_logs`]: many logs in parallel (rayon);
 //!   deterministic whatever the thread count.
 //! - [`relation_json`]: a relation's tuples as a JSON array of arrays.
@@ -22,6 +23,7 @@
 
 #![warn(missing_docs)]
 
+pub mod budget;
 pub mod cache;
 pub mod events;
 pub mod extract;
@@ -35,6 +37,7 @@ pub mod relations;
 pub mod synthetic;
 pub mod thresholds;
 
+pub use budget::Budget;
 pub use cache::Extractor;
 pub use extract::{extract, extract_all, extract_all_with, extract_logs};
 pub use json::relation_json;

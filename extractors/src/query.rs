@@ -3,6 +3,9 @@
 //! passes, so a result never holds a tuple that breaks a constraint.
 
 use std::cmp::Ordering;
+use std::sync::Arc;
+
+use crate::budget::{Budget, Spent};
 
 use scenalog_facts::catalog::{self, ColType, RelationSpec};
 use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
@@ -40,6 +43,22 @@ pub enum ExtractError {
     /// The relation exists in the catalog but no extractor provides it yet.
     #[error("relation `{0}` is in the catalog but not provided by the extractors yet")]
     NotProvided(String),
+    /// Computing the relation would pass the tuple budget ([`crate::Budget::max_tuples`]).
+    #[error("relation `{relation}` would hold more than {limit} tuples (the tuple budget); constrain its use (a category, a track, a time range, a distance bound) or raise --max-tuples")]
+    TooManyTuples {
+        /// The relation.
+        relation: String,
+        /// The budget.
+        limit: usize,
+    },
+    /// Computing the relation ran past the deadline ([`crate::Budget::deadline`]).
+    #[error("computing relation `{relation}` ran past the time limit of {limit_ms} ms")]
+    Timeout {
+        /// The relation.
+        relation: String,
+        /// The time limit, in milliseconds.
+        limit_ms: u128,
+    },
 }
 
 /// Whether `category` (a track's AV2 category) matches a category constraint (an AV2 category or
@@ -58,6 +77,10 @@ pub struct Query<'r> {
     /// Per column: for track columns with a category or equality constraint, which tracks (by
     /// `TrackId::index()`) may appear; `None` for any.
     allowed: Vec<Option<Vec<bool>>>,
+    /// The limits the relation is computed under.
+    pub budget: Budget,
+    /// What the computation has used of the budget (shared by its threads).
+    pub(crate) spent: Arc<Spent>,
 }
 
 fn constraint_fits(c: &Constraint, ty: ColType) -> bool {
@@ -123,7 +146,13 @@ impl<'r> Query<'r> {
                 }
             }
         }
-        Ok(Query { req, spec, allowed })
+        Ok(Query {
+            req,
+            spec,
+            allowed,
+            budget: Budget::UNLIMITED,
+            spent: Arc::default(),
+        })
     }
 
     /// Whether track `t` may appear in column `col`.

@@ -1,5 +1,6 @@
 //! Parse + check of a 50-rule program (25 helpers with joins, negation, comparisons and an
-//! aggregate, 25 `referred` rules using them).
+//! aggregate, 25 `referred` rules using them), and of generated programs of 10,000 and 100,000
+//! rules (a chain of helpers, each its own stratum) to show the checker scales linearly.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use scenalog_rules::{check, parse, CheckOptions};
@@ -19,6 +20,36 @@ fn program() -> String {
     src
 }
 
+/// `n` helper rules, each using the next (so `n` strata), and the `referred` rule.
+fn chain_program(n: usize) -> String {
+    let mut src = String::new();
+    for i in 0..n {
+        src.push_str(&format!(
+            "h{i}(V, T) :- h{}(V, T), speed(V, T, S), S > 0.5.\n",
+            i + 1
+        ));
+    }
+    src.push_str(&format!(
+        "h{n}(V, T) :- present(V, T).\nreferred(V, T) :- h0(V, T).\n"
+    ));
+    src
+}
+
+fn bench_many(c: &mut Criterion) {
+    let mut group = c.benchmark_group("parse+check many rules");
+    group.sample_size(10);
+    for n in [10_000, 100_000] {
+        let src = chain_program(n);
+        let out = check(&src, &CheckOptions::default());
+        let strata = out.program.as_ref().map_or(0, |p| p.strata.len());
+        assert_eq!(strata, n + 2, "{:?}", out.diagnostics.first());
+        group.bench_function(format!("{n} rules"), |b| {
+            b.iter(|| check(std::hint::black_box(&src), &CheckOptions::default()))
+        });
+    }
+    group.finish();
+}
+
 fn bench(c: &mut Criterion) {
     let src = program();
     let out = check(&src, &CheckOptions::default());
@@ -32,5 +63,5 @@ fn bench(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_many);
 criterion_main!(benches);

@@ -7,6 +7,9 @@ use crate::{Diagnostic, Severity};
 
 /// Syntax error: what was expected and what was found.
 pub const SYNTAX: &str = "E0001";
+/// An expression or a nesting too deep to evaluate safely (operator chains, parentheses, signs,
+/// calls, aggregates).
+pub const TOO_DEEP: &str = "E0002";
 /// A predicate that is neither in the catalog nor defined or declared by the program.
 pub const UNKNOWN_PREDICATE: &str = "E0101";
 /// An atom with the wrong number of arguments.
@@ -46,6 +49,7 @@ pub const MEANING_WARNINGS: &[&str] = &[SINGLETON, TIME_VS_FLOAT, COUNT_OF_ONE];
 /// Every code, in order, with its severity and a one-line summary.
 pub const CODES: &[(&str, Severity, &str)] = &[
     (SYNTAX, Severity::Error, "syntax error"),
+    (TOO_DEEP, Severity::Error, "expression or nesting too deep"),
     (UNKNOWN_PREDICATE, Severity::Error, "unknown predicate"),
     (WRONG_ARITY, Severity::Error, "wrong number of arguments"),
     (TYPE_MISMATCH, Severity::Error, "type mismatch"),

@@ -80,8 +80,34 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
 
 type PResult<T> = Result<T, Box<Diagnostic>>;
 
-/// Nesting limit for expressions and aggregates, so hostile input cannot overflow the stack.
-const MAX_DEPTH: usize = 64;
+/// Nesting limit of the parser's own recursion (parentheses, unary minus, function calls,
+/// aggregates), so hostile input cannot overflow the stack.
+pub const MAX_DEPTH: usize = 64;
+
+/// Height limit of an expression tree, in nested operators. A chain `A + B + C + …` is a tree as tall as it is long,
+/// and every later stage (checker, planner, evaluator, printer, explanations) walks expression
+/// trees recursively; bounding their height here bounds all of those walks.
+pub const MAX_EXPR_HEIGHT: usize = 128;
+
+/// The height of an expression tree in operators (a variable or constant has height 0;
+/// `A + B` has 1), computed without recursion.
+pub fn expr_height(e: &Expr) -> usize {
+    let mut stack = vec![(e, 0usize)];
+    let mut height = 0;
+    while let Some((e, h)) = stack.pop() {
+        height = height.max(h);
+        match &e.kind {
+            ExprKind::Neg(a) => stack.push((a, h + 1)),
+            ExprKind::Binary(_, a, b) => {
+                stack.push((a, h + 1));
+                stack.push((b, h + 1));
+            }
+            ExprKind::Call(_, args) => stack.extend(args.iter().map(|a| (a, h + 1))),
+            _ => {}
+        }
+    }
+    height
+}
 
 struct Parser<'a> {
     toks: Vec<Token<'a>>,
@@ -442,11 +468,16 @@ impl<'a> Parser<'a> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
             self.depth -= 1;
-            return Err(Box::new(error(
-                diagnostics::SYNTAX,
-                self.span(),
-                format!("syntax error: nesting deeper than {MAX_DEPTH} levels"),
-            )));
+            return Err(Box::new(
+                error(
+                    diagnostics::TOO_DEEP,
+                    self.span(),
+                    format!(
+                        "parentheses, signs, calls or aggregates nest deeper than {MAX_DEPTH} levels"
+                    ),
+                )
+                .with_hint("name the inner parts with bindings (`S = A + B`) or helper rules"),
+            ));
         }
         Ok(())
     }
@@ -458,8 +489,23 @@ impl<'a> Parser<'a> {
         r
     }
 
+    /// An E0002 when an operator chain makes an expression taller than [`MAX_EXPR_HEIGHT`].
+    fn too_tall(&self, start: Span) -> Box<Diagnostic> {
+        Box::new(
+            error(
+                diagnostics::TOO_DEEP,
+                start.to(self.prev_span()),
+                format!("this expression nests more than {MAX_EXPR_HEIGHT} operators deep"),
+            )
+            .with_hint(
+                "split it with intermediate bindings, e.g. `S1 = A + B + C, S2 = S1 + D + E`",
+            ),
+        )
+    }
+
     fn additive(&mut self) -> PResult<Expr> {
         let mut lhs = self.multiplicative()?;
+        let mut height = expr_height(&lhs);
         loop {
             let op = match self.peek() {
                 Tok::Plus => BinOp::Add,
@@ -468,6 +514,10 @@ impl<'a> Parser<'a> {
             };
             self.bump();
             let rhs = self.multiplicative()?;
+            height = height.max(expr_height(&rhs)) + 1;
+            if height > MAX_EXPR_HEIGHT {
+                return Err(self.too_tall(lhs.span));
+            }
             lhs = Expr {
                 span: lhs.span.to(rhs.span),
                 kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
@@ -477,6 +527,7 @@ impl<'a> Parser<'a> {
 
     fn multiplicative(&mut self) -> PResult<Expr> {
         let mut lhs = self.unary()?;
+        let mut height = expr_height(&lhs);
         loop {
             let op = match self.peek() {
                 Tok::Star => BinOp::Mul,
@@ -485,6 +536,10 @@ impl<'a> Parser<'a> {
             };
             self.bump();
             let rhs = self.unary()?;
+            height = height.max(expr_height(&rhs)) + 1;
+            if height > MAX_EXPR_HEIGHT {
+                return Err(self.too_tall(lhs.span));
+            }
             lhs = Expr {
                 span: lhs.span.to(rhs.span),
                 kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
@@ -511,6 +566,9 @@ impl<'a> Parser<'a> {
             let inner = self.unary();
             self.depth -= 1;
             let inner = inner?;
+            if expr_height(&inner) + 1 > MAX_EXPR_HEIGHT {
+                return Err(self.too_tall(start));
+            }
             return Ok(Expr {
                 span: start.to(inner.span),
                 kind: ExprKind::Neg(Box::new(inner)),
@@ -573,6 +631,9 @@ impl<'a> Parser<'a> {
                         )
                         .with_hint("abs(E), min(E1, E2), max(E1, E2)"),
                     ));
+                }
+                if args.iter().map(expr_height).max().unwrap_or(0) + 1 > MAX_EXPR_HEIGHT {
+                    return Err(self.too_tall(span));
                 }
                 return Ok(Expr {
                     kind: ExprKind::Call(func, args),

@@ -203,19 +203,21 @@ pub fn stratify(program: &Program) -> (Vec<Stratum>, Vec<Diagnostic>) {
         .iter()
         .map(|c| index.get(c.head.pred.as_str()).copied())
         .collect();
+    // Each edge and each clause is visited once (not once per component): 100k rules check in
+    // linear time.
+    let mut self_loop = vec![false; graph.preds.len()];
+    for e in graph.edges.iter().filter(|e| e.from == e.to) {
+        self_loop[e.from] = true;
+    }
+    let mut clauses_of: Vec<Vec<usize>> = vec![Vec::new(); comps.len()];
+    for (i, p) in clause_pred.iter().enumerate() {
+        if let Some(&p) = p.as_ref() {
+            clauses_of[comp_of[p]].push(i);
+        }
+    }
     let mut strata = Vec::new();
-    for comp in &comps {
-        let recursive = comp.len() > 1
-            || graph
-                .edges
-                .iter()
-                .any(|e| e.from == comp[0] && e.to == comp[0]);
-        let clauses: Vec<usize> = clause_pred
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.is_some_and(|p| comp.contains(&p)))
-            .map(|(i, _)| i)
-            .collect();
+    for (comp, clauses) in comps.iter().zip(clauses_of) {
+        let recursive = comp.len() > 1 || self_loop[comp[0]];
         strata.push(Stratum {
             predicates: comp.iter().map(|&i| graph.preds[i].clone()).collect(),
             clauses,

@@ -72,6 +72,34 @@ fn e0001_unterminated_string_and_bad_character() {
 }
 
 #[test]
+fn e0002_long_operator_chain_is_too_deep() {
+    // 128 operators fit, the 129th does not; the span covers the chain up to it.
+    let fits = format!(
+        "referred(X, T) :- present(X, T), S = T{}, S > 0.\n",
+        " + T".repeat(128)
+    );
+    assert!(check(&fits, &CheckOptions::default()).program.is_some());
+    let src = format!(
+        "referred(X, T) :- present(X, T), S = T{}, S > 0.\n",
+        " + T".repeat(129)
+    );
+    let under = format!("T{}", " + T".repeat(129));
+    let d = expect(&src, "E0002", &under, "intermediate bindings");
+    assert!(d.message.contains("128 operators"), "{}", d.message);
+}
+
+#[test]
+fn e0002_deep_parentheses_are_too_deep() {
+    let src = format!(
+        "referred(X, T) :- present(X, T), T > {}1{}.\n",
+        "(".repeat(70),
+        ")".repeat(70)
+    );
+    let d = expect(&src, "E0002", "(", "helper rules");
+    assert!(d.message.contains("64 levels"), "{}", d.message);
+}
+
+#[test]
 fn e0101_unknown_predicate_suggests_catalog_and_program_names() {
     let src = "stopped_car(X, T) :- speed(X, T, S), S < 0.5.\nreferred(X, T) :- stoped_car(X, T), nearr(X, _, T, _).\n";
     let all = diags(src);

@@ -194,7 +194,35 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
         ),
     ] {
         let out = check(&src, &CheckOptions::default());
-        assert!(out.diagnostics.iter().any(|d| d.code == "E0001"));
+        assert!(out.diagnostics.iter().any(|d| d.code == "E0002"));
+    }
+}
+
+/// Operator chains are trees as tall as they are long: 100,000 terms of `+`, `*`, mixed, or
+/// under signs and calls are a diagnostic, and the clauses after them still parse.
+#[test]
+fn long_operator_chains_are_an_error_not_a_stack_overflow() {
+    let n = 100_000;
+    for chain in [
+        vec!["T"; n].join(" + "),
+        vec!["T"; n].join(" * "),
+        vec!["T"; n].join(" - 1 * "),
+        format!("-({})", vec!["T"; n].join(" + ")),
+        format!("abs({})", vec!["T"; n].join(" / ")),
+        format!("{}T", "- ".repeat(n)),
+    ] {
+        let src = format!(
+            "referred(X, T) :- present(X, T), S = {chain}, S > 0.\nreferred(X, T) :- present(X, T), bad(X).\n"
+        );
+        let out = check(&src, &CheckOptions::default());
+        assert!(out.program.is_none());
+        assert!(
+            out.diagnostics.iter().any(|d| d.code == "E0002"),
+            "{:?}",
+            out.diagnostics.first()
+        );
+        // Recovery: the unknown predicate of the next clause is still reported.
+        assert!(out.diagnostics.iter().any(|d| d.code == "E0101"));
     }
 }
 

@@ -18,6 +18,10 @@
 //! predictions for (log, description) pairs not in G are written but not scored, and G's
 //! sequences the run did not mine are left out of the score.
 //!
+//! `--max-tuples N` is one pair's budget over all its relations, extracted ones included
+//! (default: half the machine's memory shared by the threads); `--timeout-ms MS` one pair's time
+//! limit (default 120 s). A pair past either fails, naming the relation, and the others run.
+//!
 //! Exit code: 0 when everything ran; 1 when a log, program, synthesis or the scoring failed
 //! (the rest ran and was written); 2 when the arguments or inputs are unusable.
 
@@ -26,6 +30,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::cli::synth::{synth_config, SynthArgs};
+use crate::pipeline::budget::{default_max_tuples, machine_memory, DEFAULT_TIMEOUT};
 use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
 use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions, RunReport};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
@@ -89,9 +94,15 @@ pub struct Options {
     /// Output timestamps per log: a JSON object {"<log_id>": [timestamp_ns, …]}.
     #[arg(long, value_name = "FILE.json")]
     pub eval_timestamps: Option<PathBuf>,
-    /// Most tuples one relation may hold in one evaluation (a program past it fails on that log).
-    #[arg(long, default_value_t = 20_000_000, value_name = "N")]
-    pub max_tuples: usize,
+    /// Most tuples one (log, program) pair may hold, across all its relations (extracted and
+    /// derived); a pair past it fails, naming the relation, and the other pairs run on
+    /// [default: half the machine's memory shared by the threads, at 256 bytes a tuple].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_tuples: Option<u64>,
+    /// Longest one (log, program) pair may take to extract and evaluate, in milliseconds; a pair
+    /// past it fails, naming the relation being built, and the other pairs run [default: 120000].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..))]
+    pub timeout_ms: Option<u64>,
     /// Descriptions synthesized at once with `--descriptions`.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub jobs: u32,
@@ -233,7 +244,19 @@ pub fn run(args: Args) -> ExitCode {
         timestamps,
         threads: args.threads.map(|n| n as usize),
         engine: scenalog_engine::Options {
-            max_tuples: args.max_tuples,
+            max_tuples: args.max_tuples.map_or_else(
+                || {
+                    let threads = args
+                        .threads
+                        .map_or_else(rayon::current_num_threads, |n| n as usize);
+                    default_max_tuples(machine_memory(), threads)
+                },
+                |n| usize::try_from(n).unwrap_or(usize::MAX),
+            ),
+            timeout: Some(
+                args.timeout_ms
+                    .map_or(DEFAULT_TIMEOUT, std::time::Duration::from_millis),
+            ),
             ..scenalog_engine::Options::default()
         },
         progress: true,

@@ -23,7 +23,8 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Stop when the derived relations hold more tuples than this.
+    /// Stop when the program's relations together (its facts and every derived relation) hold
+    /// more tuples than this.
     #[arg(long, value_name = "N")]
     pub max_tuples: Option<usize>,
     /// Stop when evaluation runs longer than this many milliseconds.

@@ -4,8 +4,10 @@
 //! engine's provider; [`tracks`] turns derived tuples into labelled output frames (dilation, 2 Hz
 //! frames, the related-object range); [`predictions`] turns those into the evaluation's data model;
 //! [`run`] mines every (log, program) pair of a run in parallel and writes what [`output`]
-//! describes; [`summary`] renders a run for a person and scores it against ground truth.
+//! describes; [`summary`] renders a run for a person and scores it against ground truth;
+//! [`budget`] sizes a pair's default tuple budget and time limit.
 
+pub mod budget;
 pub mod explain;
 pub mod output;
 pub mod predictions;

@@ -2,9 +2,11 @@
 //! the extractors as the engine's provider. Shared by `mine` and `explain`.
 
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
+use scenalog_extractors::Budget;
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, render_human, CheckOptions, CheckedProgram};
 
@@ -82,17 +84,21 @@ pub fn evaluate_on_whole(
     evaluate_with(extractor, program, options, true)
 }
 
+/// The extractor computes each relation under the evaluation's budget (its tuple budget and the
+/// time left of its timeout), so a dense log fails the pair naming the relation instead of
+/// filling memory, and a slow extraction stops at the deadline.
 fn evaluate_with(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     options: &Options,
     whole: bool,
 ) -> Result<Evaluation, EngineError> {
+    let budget = Budget::new(options.max_tuples, Instant::now(), options.timeout);
     let mut provider = |r: &Request| -> Result<RelationData, String> {
         let extracted = if whole {
-            extractor.extract(&Request::all(&r.name))
+            extractor.extract_within(&Request::all(&r.name), &budget)
         } else {
-            extractor.extract(r)
+            extractor.extract_within(r, &budget)
         };
         extracted.map(|d| (*d).clone()).map_err(|e| e.to_string())
     };

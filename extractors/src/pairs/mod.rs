@@ -207,6 +207,9 @@ pub(crate) fn radius(q: &Query, col: Option<usize>) -> f64 {
         .map_or(PAIR_MAX_DISTANCE_M, |b| b.min(PAIR_MAX_DISTANCE_M))
 }
 
+/// Candidate pairs visited between two checks of the budget's clock and count.
+const BUDGET_STRIDE: usize = 256;
+
 /// Y sets at most this large are looked up directly per X instead of through the R-tree.
 const DIRECT_LOOKUP_MAX: usize = 16;
 
@@ -312,7 +315,18 @@ pub(crate) fn for_each_pair_in<T: Send>(
         .filter(|(x, _)| q.allows_track(0, *x))
         .map(|(xt, rows)| {
             let mut out = Vec::new();
-            for r in rows {
+            // The budget: once passed (here or on another thread) every X stops; the clock is
+            // read every BUDGET_STRIDE candidate pairs.
+            if q.spent.over() {
+                return out;
+            }
+            for (i, r) in rows.iter().enumerate() {
+                if i % BUDGET_STRIDE == BUDGET_STRIDE - 1
+                    && (q.spent.tick(&q.budget) || q.spent.would_pass(&q.budget, out.len()))
+                {
+                    q.spent.add(&q.budget, out.len());
+                    return Vec::new();
+                }
                 if !frames.contains(&r.frame) || !q.allows_track(1, r.y) {
                     continue;
                 }
@@ -335,6 +349,9 @@ pub(crate) fn for_each_pair_in<T: Send>(
                     radius,
                 };
                 f(r.frame, x, y, &d, &mut out);
+            }
+            if q.spent.add(&q.budget, out.len()) {
+                return Vec::new();
             }
             // Already in order when `f` pushes in key order: then this only checks it.
             out.sort_unstable_by_key(|r| packed(key(r)));
