@@ -123,7 +123,7 @@ fn sustained_runs_by_t_plus_one_recursion() {
 
 #[test]
 fn strings_sort_by_text_and_repeated_variables_select() {
-    let src = ".decl n(X: string, Y: string)\n.decl same(X: string)\n\
+    let src = ".decl n(X: str, Y: str)\n.decl same(X: str)\n\
         n(\"b\", \"b\"). n(\"a\", \"c\"). n(\"c\", \"c\").\n\
         same(X) :- n(X, X).\n";
     let e = run(src);
