@@ -5,6 +5,7 @@ pub mod check;
 pub mod eval;
 pub mod explain;
 pub mod facts;
+pub mod import;
 pub mod mine;
 pub mod run;
 pub mod synth;
