@@ -191,6 +191,8 @@ pub const HEADINGS: &[&str] = &["same", "perpendicular", "opposite"];
 pub const LANE_TYPES: &[&str] = &["VEHICLE", "BIKE", "BUS"];
 /// Road sides.
 pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
+/// The sense in which an object crosses another's midplane, about it seen from above.
+pub const SENSES: &[&str] = &["clockwise", "counterclockwise"];
 
 const CATALOG: &[RelationSpec] = &[
     // Objects and time
@@ -376,6 +378,20 @@ const CATALOG: &[RelationSpec] = &[
         name: "crossing",
         columns: &[X, Y, T, enum_col("Dir", DIRECTIONS)],
         doc: "Y crosses the half-plane extending 10 m from X's Dir side at T",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "crossing_detail",
+        columns: &[
+            X,
+            Y,
+            T,
+            enum_col("Dir", DIRECTIONS),
+            enum_col("Sense", SENSES),
+            col("Reach", ColType::Float),
+            col("Off", ColType::Float),
+        ],
+        doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front: overtaking X), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
         group: Group::Pairs,
     },
     RelationSpec {

@@ -58,6 +58,10 @@ impl Val {
     }
 }
 
+/// The largest `forward_thresh` / `lateral_thresh` the catalog's `crossing_detail` covers.
+const CROSSING_MAX_REACH: f64 = 30.0;
+const CROSSING_MAX_OFF: f64 = 15.0;
+
 /// Names the catalog and the output use, which helpers must not take.
 const RESERVED: &[&str] = &["referred", "related"];
 
@@ -707,6 +711,15 @@ impl Translator<'_> {
             }
             Kind::Wrapper => match a("func") {
                 Val::Func(inner) => {
+                    if f == "reverse_relationship" && inner.kind != Kind::Relational {
+                        return Err(self.broken(
+                            f,
+                            format!(
+                                "TypeError: reverse_relationship({})(...) calls {}() with (track_candidates, related_candidates, log_dir), which it does not take",
+                                inner.name, inner.name
+                            ),
+                        ));
+                    }
                     if f == "scenario_not" && !matches!(inner.kind, Kind::Filter | Kind::Relational)
                     {
                         return Err(self.broken(
@@ -985,19 +998,35 @@ impl Translator<'_> {
                     .unwrap_or_default();
                 let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
                 let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
-                if in_dir != "either" || fwd != 10.0 || lat != 5.0 {
-                    return Err(self.err(
-                        f,
-                        format!(
-                            "being_crossed_by(in_direction='{in_dir}', forward_thresh={}, lateral_thresh={}): the catalog's crossing fixes either direction, 10 m and 5 m",
-                            fmt_num(fwd),
-                            fmt_num(lat)
-                        ),
+                if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
+                    ));
+                } else {
+                    if !(0.0..=CROSSING_MAX_REACH).contains(&fwd)
+                        || !(0.0..=CROSSING_MAX_OFF).contains(&lat)
+                    {
+                        return Err(self.err(
+                            f,
+                            format!(
+                                "being_crossed_by(forward_thresh={}, lateral_thresh={}): crossing_detail covers 0-{} m and 0-{} m",
+                                fmt_num(fwd),
+                                fmt_num(lat),
+                                fmt_num(CROSSING_MAX_REACH),
+                                fmt_num(CROSSING_MAX_OFF)
+                            ),
+                        ));
+                    }
+                    let sense = match in_dir.as_str() {
+                        "either" => "_".to_string(),
+                        s => format!("\"{s}\""),
+                    };
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
                     ));
                 }
-                self.emit(format!(
-                    "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
-                ));
             }
             "facing_toward" => {
                 let ang = self.num(f, "within_angle", &a("within_angle"))?;
