@@ -752,15 +752,15 @@ impl Translator<'_> {
     fn category(&self, f: &str, v: &Val) -> Res<String> {
         match v {
             Val::Str(s)
-                if !s.is_empty()
-                    && s.chars().all(|c| c.is_ascii_uppercase() || c == '_' || c.is_ascii_digit()) =>
+                if scenalog_facts::scene::ALL_CATEGORIES.contains(&s.as_str())
+                    || scenalog_facts::scene::SUPER_CATEGORIES.contains(&s.as_str()) =>
             {
                 Ok(s.clone())
             }
             other => Err(self.err(
                 f,
                 format!(
-                    "{f}(): category must be an AV2 category name such as 'REGULAR_VEHICLE', got {}",
+                    "{f}(): category must be an AV2 category such as 'REGULAR_VEHICLE' (or 'VEHICLE', 'ANY'), got {} (RefAV would silently find nothing)",
                     match other {
                         Val::Str(s) => format!("'{s}'"),
                         o => o.kind_name().into(),
@@ -946,7 +946,7 @@ impl Translator<'_> {
                     // the max_number closest (ties: RefAV's stable sort keeps the earlier one;
                     // here every tied candidate is kept)
                     self.emit(format!(
-                        "{pairs}(X, Y, T) :- {cand}(X, Y, T, D), R = count : {{ {cand}(X, _, T, D2), D2 < D }}, R < {}.",
+                        "{pairs}(X, Y, T) :- {cand}(X, Y, T, D), R = count : {{ {cand}(X, Y2, T, D2), D2 < D }}, R < {}.",
                         max as i64
                     ));
                 } else {
@@ -1097,7 +1097,7 @@ impl Translator<'_> {
         // The result: tracks with at least `min_count` related candidates at the frame.
         if min_count > 1.0 {
             self.emit(format!(
-                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, _, T) }}, N >= {}.",
+                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
                 tracks.rel, min_count as i64
             ));
             // only the pairs at kept frames are the function's relationships
