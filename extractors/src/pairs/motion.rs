@@ -418,7 +418,7 @@ pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
         .filter_map(|w| DIRECTIONS.iter().position(|d| d == w))
         .collect();
     let names = str_values(&DIRECTIONS);
-    let senses = str_values(&SENSES);
+    let senses = str_values(SENSES);
     let out_frames = frame_range(q, 2, ctx.index.num_frames());
     let empty = || {
         vec![
