@@ -734,7 +734,10 @@ impl Translator<'_> {
                 }
                 other => Err(self.broken(
                     f,
-                    format!("{f}() wraps a RefAV function, got {}", other.kind_name()),
+                    format!(
+                        "ValueError: {f}() wraps a RefAV function that takes log_dir, got {}",
+                        other.kind_name()
+                    ),
                 )),
             },
             Kind::Output => {

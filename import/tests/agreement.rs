@@ -24,7 +24,40 @@ const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 const EXPLAIN_BELOW: f64 = 0.5;
 
 /// Programs whose results differ from RefAV's for a known reason (file name, reason).
-const KNOWN: &[(&str, &str)] = &[];
+const KNOWN: &[(&str, &str)] = &[
+    (
+        "ego vehicle following vehicle that is being overtaken on the right.txt",
+        "RefAV's being_crossed_by overwrites its direction argument after the first crossing it finds",
+    ),
+    (
+        "ego vehicle following vehicle being overtaken on right.txt",
+        "RefAV's being_crossed_by overwrites its direction argument after the first crossing it finds",
+    ),
+    (
+        "vehicle being overtaken on the right.txt",
+        "RefAV's being_crossed_by overwrites its direction argument (same tracks in part, other frames)",
+    ),
+    (
+        "pedestrian crossing at bollard.txt",
+        "same tracks; RefAV's being_crossed_by bounds the span on the far side only, so its events last longer",
+    ),
+    (
+        "vehicle to the back right of the ego vehicle.txt",
+        "same tracks; RefAV's ego box has its back edge at +1.0 m (sign slip), so 'behind the ego' starts beside it",
+    ),
+    (
+        "ego vehicle two cars ahead of another vehicle.txt",
+        "RefAV's ego back-edge sign slip ('backward' of the ego starts 1 m ahead of the rear axle)",
+    ),
+    (
+        "making a left lane change while there is a vehicle to the right.txt",
+        "lane changes differ: RefAV follows AV2's neighbour links across the centre line (not verified frame by frame)",
+    ),
+    (
+        "high lateral acceleration.txt",
+        "2 frames in RefAV, none here: its lateral acceleration differentiates unsmoothed positions (not verified frame by frame)",
+    ),
+];
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
