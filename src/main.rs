@@ -36,6 +36,8 @@ enum Command {
     Eval(cli::eval::Args),
     /// Write a rule program from a description with an LLM, repairing it on diagnostics.
     Synth(cli::synth::Args),
+    /// Translate programs of another system into Scenalog programs (`import refav DIR -o OUT`).
+    Import(cli::import::Args),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +51,7 @@ fn main() -> ExitCode {
         Command::Explain(a) => cli::explain::run(a),
         Command::Eval(a) => cli::eval::run(a),
         Command::Synth(a) => cli::synth::run(a),
+        Command::Import(a) => cli::import::run(a),
     };
     cli::stdout::exit_code(code)
 }

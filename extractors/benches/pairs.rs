@@ -55,6 +55,7 @@ fn one(ctx: &PairContext, req: &Request) -> RelationData {
         "heading_relative" => pairs::heading_relative,
         "heading_toward" => pairs::heading_toward,
         "crossing" => pairs::crossing,
+        "crossing_detail" => pairs::crossing_detail,
         "same_lane" => pairs::same_lane,
         "following" => pairs::following,
         "road_side" => pairs::road_side,

@@ -4,8 +4,9 @@
 //!   filtered rate has one sign and exceeds [`TURN_DEAD_BAND_DEG_S`] are integrated over real time;
 //!   every frame of a run turning more than [`TURN_MIN_ANGLE_DEG`] in all is `turning` that way.
 //! - **lane_change**: when a track's assigned lane changes from A to B and B is A's left or right
-//!   neighbour (also across a segment joint: a neighbour of A's successor or predecessor, or of
-//!   B's), the move counts when, at the first box in B, the velocity component across the crossed
+//!   neighbour running the same way (also across a segment joint: a neighbour of A's successor or
+//!   predecessor, or of B's; AV2 also links the lanes either side of a centre line as each other's
+//!   left neighbour, and moving into oncoming traffic is not a lane change), the move counts when, at the first box in B, the velocity component across the crossed
 //!   boundary towards B is at least [`LANE_CHANGE_MIN_LATERAL_SPEED`] and the velocity runs roughly
 //!   along the boundary (|cos| ≥ [`LANE_CHANGE_MIN_ABS_COS`]). The event spans the boxes around that
 //!   moment over which the smoothed centre keeps moving across the boundary towards B at that
@@ -102,13 +103,32 @@ fn neighbour_link(map: &VectorMap, index: &MapIndex, a: usize, b: usize) -> Opti
             (seg.right_neighbor, Side::Right),
         ] {
             if let Some(q) = nb.and_then(|id| map.lane_index(id)) {
-                if near_b.contains(&q) {
+                if near_b.contains(&q) && same_direction(map, p, q) {
                     return Some((p, side));
                 }
             }
         }
     }
     None
+}
+
+/// Whether lanes `p` and `q` (indices) run the same way: their overall directions (first to last
+/// point of both boundaries) make an acute angle. AV2 marks the lanes on either side of a centre
+/// line as each other's left neighbour; moving between those is not a lane change.
+fn same_direction(map: &VectorMap, p: usize, q: usize) -> bool {
+    let dir = |i: usize| -> [f64; 2] {
+        let lane = &map.lanes[i];
+        let mut d = [0.0, 0.0];
+        for b in [&lane.left_boundary, &lane.right_boundary] {
+            if let (Some(first), Some(last)) = (b.first(), b.last()) {
+                d[0] += last.x - first.x;
+                d[1] += last.y - first.y;
+            }
+        }
+        d
+    };
+    let (a, b) = (dir(p), dir(q));
+    a[0] * b[0] + a[1] * b[1] > 0.0
 }
 
 /// Signed distance of `p` across the polyline segment nearest to it, positive towards `side`,

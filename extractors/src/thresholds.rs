@@ -125,6 +125,14 @@ pub const CROSSING_REACH_M: f64 = 10.0;
 /// midplane (either side; RefAV's `lateral_thresh`, which it only bounded on the far side).
 pub const CROSSING_SPAN_M: f64 = 5.0;
 
+/// `crossing_detail`: crossings are found up to this far beyond X's Dir side (the `Reach` column
+/// is at most this; RefAV programs pass `forward_thresh` 1-20 m).
+pub const CROSSING_DETAIL_MAX_REACH_M: f64 = 30.0;
+
+/// `crossing_detail`: the event spans the frames while Y's centre is within this distance of the
+/// midplane (the `Off` column is at most this; RefAV programs pass `lateral_thresh` 2-10 m).
+pub const CROSSING_DETAIL_MAX_OFF_M: f64 = 15.0;
+
 /// `crossing`: Y moves across the midplane, relative to X, faster than this (m/s), at the crossing
 /// and at every frame of the span.
 pub const CROSSING_MIN_SPEED_M_S: f64 = 0.2;

@@ -34,6 +34,7 @@ fn run(scene: &Scene, req: &Request) -> Vec<Row> {
         "heading_relative" => pairs::heading_relative,
         "heading_toward" => pairs::heading_toward,
         "crossing" => pairs::crossing,
+        "crossing_detail" => pairs::crossing_detail,
         "same_lane" => pairs::same_lane,
         "following" => pairs::following,
         "road_side" => pairs::road_side,
@@ -377,6 +378,75 @@ fn pedestrian_crossing_in_front_of_a_stopped_bus() {
         &request("crossing", vec![(2, Constraint::Eq(Value::Time(60)))]),
     );
     assert!(at60.iter().any(|r| r.0 == "bus" && r.1 == "ped"));
+}
+
+/// `crossing_detail` on the same scene: the extents are columns a rule compares (RefAV's
+/// `forward_thresh` / `lateral_thresh`), and the sense tells the two ways across apart.
+#[test]
+fn crossing_detail_gives_reach_offset_and_sense() {
+    let scene = crossing_scene();
+    let rows = all(&scene, "crossing_detail");
+    let fixed = all(&scene, "crossing");
+    let float = |v: &Value| match v {
+        Value::Float(x) => *x,
+        other => panic!("not a float: {other:?}"),
+    };
+    // (frame, sense, reach, off) of one pair in one direction
+    let of_dir = |y: &str, dir: &str| -> Vec<(Frame, String, f64, f64)> {
+        of(&rows, "bus", y)
+            .iter()
+            .filter(|r| string(&r.3[0]) == dir)
+            .map(|r| {
+                (
+                    r.2,
+                    string(&r.3[1]).to_string(),
+                    float(&r.3[2]),
+                    float(&r.3[3]),
+                )
+            })
+            .collect()
+    };
+    // "ped" walks to the bus's left 3 m beyond its front (x = 9, half length 6): counterclockwise.
+    let ped = of_dir("ped", "forward");
+    assert!(!ped.is_empty());
+    assert!(ped.iter().all(|r| r.1 == "counterclockwise"), "{ped:?}");
+    assert!(ped.iter().all(|r| (r.2 - 3.0).abs() < 0.05), "{ped:?}");
+    // The span now reaches 15 m from the midplane: |y| <= 15 at every frame.
+    assert_eq!(ped.len(), 120);
+    // Off <= 5 gives back the fixed crossing's frames exactly.
+    let within5: Vec<Frame> = ped.iter().filter(|r| r.3 <= 5.0).map(|r| r.0).collect();
+    assert_eq!(within5, frames(&fixed, "bus", "ped"));
+    // "ped2" crosses the other way: clockwise.
+    let ped2 = of_dir("ped2", "forward");
+    assert!(
+        !ped2.is_empty() && ped2.iter().all(|r| r.1 == "clockwise"),
+        "{ped2:?}"
+    );
+    // "far" crosses 19 m beyond the front: found here, so Reach <= 10 (the fixed crossing) is a
+    // near miss while Reach <= 20 holds.
+    let far = of_dir("far", "forward");
+    assert!(!far.is_empty(), "the far crossing is found up to 30 m");
+    assert!(far.iter().all(|r| (r.2 - 19.0).abs() < 0.05), "{far:?}");
+    assert!(of(&fixed, "bus", "far").is_empty());
+    // "along" passes the bus's left side back to front: clockwise, i.e. overtaking the bus.
+    let along = of_dir("along", "left");
+    assert!(along.iter().any(|r| r.0 == 67), "{along:?}");
+    assert!(along.iter().all(|r| r.1 == "clockwise"), "{along:?}");
+    // Pushdown of the sense keeps only that sense.
+    let ccw = run(
+        &scene,
+        &request(
+            "crossing_detail",
+            vec![(4, Constraint::Eq(Value::Str("counterclockwise".into())))],
+        ),
+    );
+    assert!(ccw.iter().all(|r| string(&r.3[1]) == "counterclockwise"));
+    let bus_front: Vec<&Row> = ccw
+        .iter()
+        .filter(|r| r.0 == "bus" && string(&r.3[0]) == "forward")
+        .collect();
+    assert!(bus_front.iter().any(|r| r.1 == "ped"));
+    assert!(!bus_front.iter().any(|r| r.1 == "ped2"));
 }
 
 const ROAD_FRAMES: u32 = 60;

@@ -50,6 +50,7 @@ fn answer(ex: &Extractor, req: &Request) -> RelationData {
         "heading_relative" => pairs::heading_relative,
         "heading_toward" => pairs::heading_toward,
         "crossing" => pairs::crossing,
+        "crossing_detail" => pairs::crossing_detail,
         "same_lane" => pairs::same_lane,
         "following" => pairs::following,
         "road_side" => pairs::road_side,
@@ -484,6 +485,44 @@ fn box_relations_agree_with_independent_geometry() {
             scene.log_id,
             facing.len(),
             following.len()
+        );
+    }
+}
+
+/// On the real logs, `crossing_detail` bounded to `crossing`'s extents (`Reach <= 10`,
+/// `Off <= 5`) contains every `crossing` tuple; the extra tuples are only those of events whose
+/// first sample past the plane is already more than 5 m from it (documented), so they are few.
+#[test]
+fn crossing_detail_bounded_to_ten_and_five_contains_crossing() {
+    for scene in scenes() {
+        let ex = Extractor::new(scene);
+        let fixed: BTreeSet<String> = rows(&answer(&ex, &Request::all("crossing")))
+            .iter()
+            .map(|r| format!("{:?}", &r[..4]))
+            .collect();
+        let detail = answer(&ex, &Request::all("crossing_detail"));
+        let bounded: BTreeSet<String> = rows(&detail)
+            .iter()
+            .filter(|r| {
+                matches!((&r[5], &r[6]), (Value::Float(reach), Value::Float(off)) if *reach <= 10.0 && *off <= 5.0)
+            })
+            .map(|r| format!("{:?}", &r[..4]))
+            .collect();
+        let missing: Vec<&String> = fixed.difference(&bounded).collect();
+        assert!(missing.is_empty(), "{}: {missing:?}", scene.log_id);
+        let extra = bounded.len() - fixed.len();
+        println!(
+            "{}: crossing {} tuples, crossing_detail {} ({} within 10 m / 5 m, {extra} more than crossing)",
+            scene.log_id,
+            fixed.len(),
+            detail.len(),
+            bounded.len()
+        );
+        assert!(
+            extra * 10 <= fixed.len().max(10),
+            "{}: {extra} extra of {}",
+            scene.log_id,
+            fixed.len()
         );
     }
 }

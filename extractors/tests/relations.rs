@@ -252,6 +252,71 @@ fn lane_change_to_the_right() {
     assert_eq!(lanes[60].1, json!(1));
 }
 
+/// Lane 1 (+x) has lane 2 on its left running the other way (AV2 links the lanes either side of
+/// a centre line as each other's left neighbour) and lane 3 on its right running the same way.
+/// "into_oncoming" drifts from lane 1 into lane 2 (not a lane change); "to_right" changes into
+/// lane 3 the same way (a lane change to the right).
+#[test]
+fn moving_into_an_opposite_direction_neighbour_is_not_a_lane_change() {
+    let lateral = |from: f64, to: f64| -> Vec<Waypoint> {
+        (0..FRAMES as u32)
+            .map(|f| {
+                let s = ((f as f64 - 20.0) / 30.0).clamp(0.0, 1.0);
+                let y = from + (to - from) * (1.0 - (PI * s).cos()) / 2.0;
+                let vy = if (20..=50).contains(&f) {
+                    (to - from) * PI / 2.0 / 3.0 * (PI * s).sin()
+                } else {
+                    0.0
+                };
+                (f, f as f64, y, vy.atan2(10.0))
+            })
+            .collect()
+    };
+    let scene = SceneBuilder::new(FRAMES)
+        .lane(
+            1,
+            &[[0.0, 3.5], [100.0, 3.5]],
+            &[[0.0, 0.0], [100.0, 0.0]],
+            &[],
+            Some(2),
+            Some(3),
+            false,
+        )
+        .lane(
+            2,
+            &[[100.0, 3.5], [0.0, 3.5]],
+            &[[100.0, 7.0], [0.0, 7.0]],
+            &[],
+            Some(1),
+            None,
+            false,
+        )
+        .lane(
+            3,
+            &[[0.0, 0.0], [100.0, 0.0]],
+            &[[0.0, -3.5], [100.0, -3.5]],
+            &[],
+            Some(1),
+            None,
+            false,
+        )
+        .track("into_oncoming", "REGULAR_VEHICLE", CAR, lateral(1.75, 5.25))
+        .track("to_right", "REGULAR_VEHICLE", CAR, lateral(1.75, -1.75))
+        .build();
+    let lanes = rows(&scene, "in_lane");
+    // both really move between the lanes
+    assert_eq!(frames_of(&lanes, "into_oncoming")[10].1, json!(1));
+    assert_eq!(frames_of(&lanes, "into_oncoming")[60].1, json!(2));
+    assert_eq!(frames_of(&lanes, "to_right")[60].1, json!(3));
+    let lc = rows(&scene, "lane_change");
+    assert!(frames_of(&lc, "into_oncoming").is_empty(), "{lc:?}");
+    let right = frames_of(&lc, "to_right");
+    assert!(
+        right.iter().any(|(f, d)| *f == 35 && d == "right"),
+        "{right:?}"
+    );
+}
+
 #[test]
 fn lanes_and_map_features() {
     let scene = road_scene();

@@ -192,6 +192,8 @@ pub const HEADINGS: &[&str] = &["same", "perpendicular", "opposite"];
 pub const LANE_TYPES: &[&str] = &["VEHICLE", "BIKE", "BUS"];
 /// Road sides.
 pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
+/// The sense in which an object crosses another's midplane, about it seen from above.
+pub const SENSES: &[&str] = &["clockwise", "counterclockwise"];
 
 const CATEGORY_COUNT: usize = ALL_CATEGORIES.len() + SUPER_CATEGORIES.len();
 
@@ -472,6 +474,20 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Pairs,
     },
     RelationSpec {
+        name: "crossing_detail",
+        columns: &[
+            X,
+            Y,
+            T,
+            enum_col("Dir", DIRECTIONS),
+            enum_col("Sense", SENSES),
+            col("Reach", ColType::Float),
+            col("Off", ColType::Float),
+        ],
+        doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front: overtaking X), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
+        group: Group::Pairs,
+    },
+    RelationSpec {
         name: "same_lane",
         columns: &[X, Y, T],
         doc: "Y is in X's lane as a driver sees it (the straight chain of predecessors and successors) at T",
@@ -591,12 +607,14 @@ mod tests {
 
     #[test]
     fn catalog_has_every_relation_of_the_design() {
-        // The 32 relations DESIGN.md's catalog names.
-        assert_eq!(catalog().len(), 32);
+        // The 32 relations DESIGN.md's catalog names, and crossing_detail (crossing with its
+        // extents and sense as columns, for RefAV's being_crossed_by arguments).
+        assert_eq!(catalog().len(), 33);
+        assert!(relation("crossing_detail").is_some());
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(32));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(33));
         let text = render_text();
-        assert!(text.starts_with("32 relations."));
+        assert!(text.starts_with("33 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

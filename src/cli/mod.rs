@@ -11,6 +11,7 @@ pub mod eval;
 pub mod explain;
 pub mod facts;
 pub mod flags;
+pub mod import;
 pub mod mine;
 pub mod run;
 pub mod synth;

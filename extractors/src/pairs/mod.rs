@@ -49,6 +49,7 @@ pub const PAIR_RELATIONS: &[&str] = &[
     "facing",
     "heading_toward",
     "crossing",
+    "crossing_detail",
     "same_lane",
     "following",
     "road_side",
@@ -138,6 +139,7 @@ pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
         "heading_relative" => motion::heading_relative(ctx, q),
         "heading_toward" => motion::heading_toward(ctx, q),
         "crossing" => motion::crossing(ctx, q),
+        "crossing_detail" => motion::crossing_detail(ctx, q),
         "same_lane" => lanes::same_lane(ctx, q),
         "following" => lanes::following(ctx, q),
         "road_side" => lanes::road_side(ctx, q),
@@ -186,6 +188,10 @@ relation_fn!(
 relation_fn!(
     crossing,
     "`crossing(X, Y, T, Dir)`: see [`motion::crossing`]."
+);
+relation_fn!(
+    crossing_detail,
+    "`crossing_detail(X, Y, T, Dir, Sense, Reach, Off)`: see [`motion::crossing_detail`]."
 );
 relation_fn!(same_lane, "`same_lane(X, Y, T)`: see [`lanes::same_lane`].");
 relation_fn!(following, "`following(X, Y, T)`: see [`lanes::following`].");

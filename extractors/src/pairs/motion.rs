@@ -3,6 +3,7 @@
 
 use std::collections::BTreeSet;
 
+use scenalog_facts::catalog::SENSES;
 use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::{Frame, TrackId};
 
@@ -14,9 +15,10 @@ use super::{
 use crate::kinematics::TrackKinematics;
 use crate::query::Query;
 use crate::thresholds::{
-    CROSSING_MIN_SPEED_M_S, CROSSING_REACH_M, CROSSING_SPAN_M, HEADING_MIN_SPEED_M_S,
-    HEADING_OPPOSITE_MIN_DEG, HEADING_SAME_MAX_DEG, HEADING_TOWARD_MAX_ANGLE_DEG,
-    HEADING_TOWARD_MIN_CLOSING_M_S, HEADING_TOWARD_MIN_SPEED_M_S, PAIR_MAX_DISTANCE_M,
+    CROSSING_DETAIL_MAX_OFF_M, CROSSING_DETAIL_MAX_REACH_M, CROSSING_MIN_SPEED_M_S,
+    CROSSING_REACH_M, CROSSING_SPAN_M, HEADING_MIN_SPEED_M_S, HEADING_OPPOSITE_MIN_DEG,
+    HEADING_SAME_MAX_DEG, HEADING_TOWARD_MAX_ANGLE_DEG, HEADING_TOWARD_MIN_CLOSING_M_S,
+    HEADING_TOWARD_MIN_SPEED_M_S, PAIR_MAX_DISTANCE_M,
 };
 
 /// The values of `heading_relative`'s Rel column, in catalog order.
@@ -244,19 +246,30 @@ fn samples(motion: &[(Frame, [f64; 4])], dir: usize) -> Vec<Sample> {
         .collect()
 }
 
-/// The frames of every crossing event in `s` (a direction's samples) for an object whose extent
-/// along the direction from its centre is `reach0` (half its length or width).
+/// One crossing event of Y over a half-midplane of X: how far beyond X's side Y crossed, the
+/// sense (+1: `v` increasing, counterclockwise about X seen from above), and its frames with Y's
+/// distance from the midplane at each.
+#[derive(Debug, Clone)]
+struct CrossingEvent {
+    reach: f64,
+    sense: f64,
+    frames: Vec<(Frame, f64)>,
+}
+
+/// Every crossing event in `s` (a direction's samples) for an object whose extent along the
+/// direction from its centre is `reach0` (half its length or width), with the half-midplane
+/// extending `max_reach` beyond it and the span bounded by `max_off`.
 ///
-/// A crossing happens between consecutive samples whose `v` changes sign, both within
-/// [`CROSSING_SPAN_M`] of the midplane (so a box heading flipping by 180° does not swing a distant
-/// object across), where the interpolated crossing point lies on the half-midplane
-/// (`reach0 <= u <= reach0 + CROSSING_REACH_M`) and Y moves across it in that sense faster than
+/// A crossing happens between consecutive samples whose `v` changes sign, both within `max_off`
+/// of the midplane (so a box heading flipping by 180° does not swing a distant object across),
+/// where the interpolated crossing point lies on the half-midplane
+/// (`reach0 <= u <= reach0 + max_reach`) and Y moves across it in that sense faster than
 /// [`CROSSING_MIN_SPEED_M_S`]. The event spans the two samples and extends each way while Y keeps
-/// moving across that fast and stays within [`CROSSING_SPAN_M`] of the midplane.
-fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
-    let mut frames = BTreeSet::new();
+/// moving across that fast and stays within `max_off` of the midplane.
+fn crossing_events(s: &[Sample], reach0: f64, max_reach: f64, max_off: f64) -> Vec<CrossingEvent> {
+    let mut events = Vec::new();
     let moving = |k: usize, sign: f64| sign * s[k].dv > CROSSING_MIN_SPEED_M_S;
-    let near_plane = |k: usize| s[k].v.abs() <= CROSSING_SPAN_M;
+    let near_plane = |k: usize| s[k].v.abs() <= max_off;
     for j in 1..s.len() {
         let (a, b) = (&s[j - 1], &s[j]);
         if (a.v < 0.0) == (b.v < 0.0) || !near_plane(j - 1) || !near_plane(j) {
@@ -264,27 +277,41 @@ fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
         }
         let t = a.v / (a.v - b.v);
         let u = a.u + t * (b.u - a.u);
-        if !(reach0..=reach0 + CROSSING_REACH_M).contains(&u) {
+        if !(reach0..=reach0 + max_reach).contains(&u) {
             continue;
         }
         let sign = if b.v > a.v { 1.0 } else { -1.0 };
         if !moving(j, sign) {
             continue;
         }
-        frames.insert(a.frame);
-        frames.insert(b.frame);
+        let mut frames = vec![(a.frame, a.v.abs()), (b.frame, b.v.abs())];
         let mut k = j - 1;
         while k > 0 && near_plane(k - 1) && moving(k - 1, sign) {
             k -= 1;
-            frames.insert(s[k].frame);
+            frames.push((s[k].frame, s[k].v.abs()));
         }
         let mut k = j;
         while k + 1 < s.len() && near_plane(k + 1) && moving(k + 1, sign) {
             k += 1;
-            frames.insert(s[k].frame);
+            frames.push((s[k].frame, s[k].v.abs()));
         }
+        frames.sort_by_key(|f| f.0);
+        events.push(CrossingEvent {
+            reach: u - reach0,
+            sense: sign,
+            frames,
+        });
     }
-    frames
+    events
+}
+
+/// The frames of every crossing event in `s` with the catalog's fixed extents
+/// ([`CROSSING_REACH_M`], [`CROSSING_SPAN_M`]).
+fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
+    crossing_events(s, reach0, CROSSING_REACH_M, CROSSING_SPAN_M)
+        .into_iter()
+        .flat_map(|e| e.frames.into_iter().map(|f| f.0))
+        .collect()
 }
 
 /// `crossing(X, Y, T, Dir)`: Y's centre crosses the half-midplane of X that extends
@@ -370,6 +397,110 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
             Column::Str(ds),
         ],
     )
+}
+
+/// `crossing_detail(X, Y, T, Dir, Sense, Reach, Off)`: the crossings of [`crossing`] with their
+/// extents as columns instead of fixed: events are found with the half-midplane reaching
+/// [`CROSSING_DETAIL_MAX_REACH_M`] beyond X's side and spans bounded by
+/// [`CROSSING_DETAIL_MAX_OFF_M`]; `Reach` is how far beyond X's Dir side Y crossed (one value per
+/// event), `Off` Y's distance from the midplane at T, and `Sense` "counterclockwise" when Y's
+/// offset across the plane grows (in front of X: moving to X's left; on X's left: moving
+/// backwards), "clockwise" otherwise (on X's left: back to front, overtaking X). RefAV's
+/// `being_crossed_by(forward_thresh=F, lateral_thresh=L, in_direction=S)` is
+/// `Reach <= F, Off <= L, Sense = S`. Because Y moves monotonically across during an event,
+/// bounding `Off` per frame gives the event's span for a smaller bound, except that an event
+/// whose first sample past the plane is already farther than the bound is kept from the frames
+/// within it (the fixed-extent [`crossing`] drops such an event).
+pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
+    use rayon::prelude::*;
+    let want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
+        .iter()
+        .filter_map(|w| DIRECTIONS.iter().position(|d| d == w))
+        .collect();
+    let names = str_values(&DIRECTIONS);
+    let senses = str_values(SENSES);
+    let out_frames = frame_range(q, 2, ctx.index.num_frames());
+    let empty = || {
+        vec![
+            Column::Track(Vec::new()),
+            Column::Track(Vec::new()),
+            Column::Time(Vec::new()),
+            Column::Str(Vec::new()),
+            Column::Str(Vec::new()),
+            Column::Float(Vec::new()),
+            Column::Float(Vec::new()),
+        ]
+    };
+    if want.is_empty() || out_frames.is_empty() {
+        return rel(q, empty());
+    }
+    let all_frames = 0..ctx.index.num_frames() as Frame;
+    let mut pairs = for_each_pair_in(
+        ctx,
+        q,
+        all_frames,
+        CROSSING_DETAIL_MAX_REACH_M + CROSSING_CANDIDATE_MARGIN_M,
+        |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
+        |_, x, y, d, out| {
+            if d.within() {
+                out.push((x.track, y.track));
+            }
+        },
+    );
+    pairs.sort_unstable();
+    pairs.dedup();
+    let dir_ranks = text_ranks(&DIRECTIONS);
+    let mut rows: Vec<(TrackId, TrackId, Frame, usize, usize, f64, f64)> = pairs
+        .par_iter()
+        .flat_map_iter(|&(x, y)| {
+            let mut rows = Vec::new();
+            let motion = relative_motion(ctx, x, y);
+            for &dir in &want {
+                let s = samples(&motion, dir);
+                let r0 = reach0(ctx, x, dir, &s);
+                for e in crossing_events(
+                    &s,
+                    r0,
+                    CROSSING_DETAIL_MAX_REACH_M,
+                    CROSSING_DETAIL_MAX_OFF_M,
+                ) {
+                    let sense = usize::from(e.sense > 0.0); // SENSES[1] is counterclockwise
+                    for (f, off) in e.frames {
+                        if out_frames.contains(&f) && within_pair_distance(ctx, x, y, f) {
+                            rows.push((x, y, f, dir, sense, e.reach, off));
+                        }
+                    }
+                }
+            }
+            rows
+        })
+        .collect();
+    rows.sort_unstable_by(|a, b| {
+        (a.0, a.1, a.2, dir_ranks[a.3], a.4)
+            .cmp(&(b.0, b.1, b.2, dir_ranks[b.3], b.4))
+            .then(a.5.total_cmp(&b.5))
+            .then(a.6.total_cmp(&b.6))
+    });
+    rows.dedup_by(|a, b| {
+        (a.0, a.1, a.2, a.3, a.4) == (b.0, b.1, b.2, b.3, b.4)
+            && a.5.to_bits() == b.5.to_bits()
+            && a.6.to_bits() == b.6.to_bits()
+    });
+    let mut cols = empty();
+    for (x, y, t, d, sense, reach, off) in rows {
+        if let [Column::Track(xs), Column::Track(ys), Column::Time(ts), Column::Str(ds), Column::Str(ss), Column::Float(rs), Column::Float(os)] =
+            cols.as_mut_slice()
+        {
+            xs.push(x);
+            ys.push(y);
+            ts.push(t);
+            ds.push(names[d].clone());
+            ss.push(senses[sense].clone());
+            rs.push(reach);
+            os.push(off);
+        }
+    }
+    rel(q, cols)
 }
 
 /// X's extent from its centre along direction `dir`: half its length (forward/backward) or width

@@ -1,0 +1,1283 @@
+//! The translation proper: a RefAV program's Python AST, statement by statement, into Scenalog
+//! clauses.
+//!
+//! Every RefAV value of scenario type (a dict of track → timestamps, possibly with related
+//! objects) becomes a helper relation `name(X, T)` holding its (track, frame) pairs, plus, when it
+//! can have related objects, `name_r(X, Y, T)`. Each assignment gives one such relation named
+//! after the Python variable; nested calls give intermediate helpers named after the function.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
+
+use crate::signatures::{self, Default, Kind, Signature};
+use crate::{ImportError, Imported};
+
+/// A scenario value: the relation holding its (track, frame) pairs and, if it can have related
+/// objects, the relation holding (track, related, frame).
+#[derive(Debug, Clone)]
+struct Scen {
+    rel: String,
+    rel_r: Option<String>,
+}
+
+/// A Python value the importer can follow.
+#[derive(Debug, Clone)]
+enum Val {
+    Scen(Scen),
+    LogDir,
+    OutputDir,
+    Str(String),
+    Num(f64),
+    Bool(bool),
+    None,
+    List(Vec<Val>),
+    /// A RefAV function named as a value (the argument of a wrapper).
+    Func(&'static Signature),
+    /// `scenario_not(f)` or `reverse_relationship(f)`.
+    Wrapped(&'static str, &'static Signature),
+    /// The value of an assignment that failed to translate (already reported).
+    Poison,
+}
+
+impl Val {
+    fn kind_name(&self) -> &'static str {
+        match self {
+            Val::Scen(_) => "a scenario",
+            Val::LogDir => "log_dir",
+            Val::OutputDir => "output_dir",
+            Val::Str(_) => "a string",
+            Val::Num(_) => "a number",
+            Val::Bool(_) => "a boolean",
+            Val::None => "None",
+            Val::List(_) => "a list",
+            Val::Func(_) => "a function",
+            Val::Wrapped(..) => "a wrapped function",
+            Val::Poison => "an untranslated value",
+        }
+    }
+}
+
+/// The largest `forward_thresh` / `lateral_thresh` the catalog's `crossing_detail` covers.
+const CROSSING_MAX_REACH: f64 = 30.0;
+const CROSSING_MAX_OFF: f64 = 15.0;
+
+/// Names the catalog and the output use, which helpers must not take.
+const RESERVED: &[&str] = &["referred", "related"];
+
+struct Translator<'a> {
+    source: &'a str,
+    line_starts: Vec<usize>,
+    vars: BTreeMap<String, Val>,
+    used_names: BTreeSet<String>,
+    clauses: Vec<String>,
+    notes: Vec<String>,
+    outputs: Vec<(usize, Scen, Option<String>)>,
+    errors: Vec<ImportError>,
+    /// The line of the statement being translated.
+    line: usize,
+}
+
+type Res<T> = Result<T, ImportError>;
+
+/// The construct of the error raised by a use of [`Val::Poison`], never reported.
+const POISON: &str = "\0poison";
+
+/// Translates one RefAV program; see [`crate::translate`].
+pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>> {
+    let mut t = Translator {
+        source,
+        line_starts: std::iter::once(0)
+            .chain(source.match_indices('\n').map(|(i, _)| i + 1))
+            .collect(),
+        vars: BTreeMap::new(),
+        used_names: BTreeSet::new(),
+        clauses: Vec::new(),
+        notes: Vec::new(),
+        outputs: Vec::new(),
+        errors: Vec::new(),
+        line: 0,
+    };
+    use rustpython_parser::Parse;
+    let suite = match ast::Suite::parse(source, path) {
+        Ok(s) => s,
+        Err(e) => {
+            let line = t.line_of(usize::from(e.offset));
+            return Err(vec![ImportError {
+                line,
+                construct: "Python syntax".into(),
+                message: format!("not valid Python: {}", e.error),
+                refav_broken: true,
+            }]);
+        }
+    };
+    // RefAV runs a program with `description` (the file's description), `log_dir`,
+    // `output_dir` and `is_gt` defined.
+    let stem = path
+        .rsplit(['/', '\\'])
+        .next()
+        .unwrap_or(path)
+        .trim_end_matches(".txt")
+        .trim_end_matches(".py");
+    t.vars
+        .insert("description".into(), Val::Str(stem.to_string()));
+    t.vars.insert("is_gt".into(), Val::Bool(false));
+    for stmt in &suite {
+        t.line = t.line_of(usize::from(stmt.range().start()));
+        if let Err(e) = t.stmt(stmt) {
+            if e.construct == POISON {
+                continue; // a use of a value whose error is already reported
+            }
+            let stop = e.refav_broken;
+            t.errors.push(e);
+            if stop {
+                break; // Python stops at the first exception
+            }
+        }
+    }
+    if !t.errors.is_empty() {
+        return Err(t.errors);
+    }
+    let Some((out_line, scen, desc)) = t.outputs.last().cloned() else {
+        return Err(vec![ImportError {
+            line: t.line_starts.len(),
+            construct: "output_scenario".into(),
+            message: "the program never calls output_scenario(...), so it has no result".into(),
+            refav_broken: true,
+        }]);
+    };
+    if t.outputs.len() > 1 {
+        t.notes.push(format!(
+            "output_scenario is called {} times; the last call (line {out_line}) is the result, as \
+             each call overwrites RefAV's output for the description",
+            t.outputs.len()
+        ));
+    }
+    let description = desc.or_else(|| match t.vars.get("description") {
+        Some(Val::Str(s)) => Some(s.clone()),
+        _ => None,
+    });
+    let mut text = String::new();
+    if let Some(d) = &description {
+        text.push_str(&format!("// description: {}\n", one_line(d)));
+    }
+    text.push_str(&format!(
+        "// Imported from the RefAV program {} by `scenalog import refav`.\n",
+        one_line(path)
+    ));
+    for n in &t.notes {
+        text.push_str(&format!("// note: {}\n", one_line(n)));
+    }
+    text.push('\n');
+    for c in &t.clauses {
+        text.push_str(c);
+        text.push('\n');
+    }
+    text.push_str(&format!("\n// line {out_line}: output_scenario\n"));
+    text.push_str(&format!("referred(X, T) :- {}(X, T).\n", scen.rel));
+    if let Some(r) = &scen.rel_r {
+        text.push_str(&format!("related(X, Y, T) :- {r}(X, Y, T).\n"));
+    }
+    Ok(Imported {
+        description,
+        program: text,
+        notes: t.notes,
+    })
+}
+
+fn one_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+fn fmt_num(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x:.1}")
+    } else {
+        format!("{x}")
+    }
+}
+
+impl Translator<'_> {
+    fn line_of(&self, offset: usize) -> usize {
+        match self.line_starts.binary_search(&offset) {
+            Ok(i) => i + 1,
+            Err(i) => i,
+        }
+    }
+
+    fn err(&self, construct: &str, message: String) -> ImportError {
+        ImportError {
+            line: self.line,
+            construct: construct.into(),
+            message,
+            refav_broken: false,
+        }
+    }
+
+    /// An error RefAV itself raises on this program (Python's `TypeError`, `NameError`, …).
+    fn broken(&self, construct: &str, message: String) -> ImportError {
+        ImportError {
+            line: self.line,
+            construct: construct.into(),
+            message: format!("{message} (RefAV raises on this too)"),
+            refav_broken: true,
+        }
+    }
+
+    fn src(&self, e: &impl Ranged) -> String {
+        let r = e.range();
+        self.source
+            .get(usize::from(r.start())..usize::from(r.end()))
+            .unwrap_or("")
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    fn fresh(&mut self, hint: &str) -> String {
+        let mut base: String = hint
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_lowercase()
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        if base.is_empty() || !base.starts_with(|c: char| c.is_ascii_lowercase()) {
+            base = format!("v_{base}");
+        }
+        let taken = |n: &str, used: &BTreeSet<String>| {
+            used.contains(n)
+                || RESERVED.contains(&n)
+                || scenalog_facts::catalog::relation(n).is_some()
+                || used.contains(&format!("{n}_r"))
+        };
+        let mut name = base.clone();
+        let mut k = 2;
+        while taken(&name, &self.used_names) || taken(&format!("{name}_r"), &self.used_names) {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
+        self.used_names.insert(name.clone());
+        self.used_names.insert(format!("{name}_r"));
+        name
+    }
+
+    fn emit(&mut self, clause: String) {
+        self.clauses.push(clause);
+    }
+
+    fn stmt(&mut self, stmt: &Stmt) -> Res<()> {
+        match stmt {
+            Stmt::Assign(a) => {
+                let [target] = a.targets.as_slice() else {
+                    return Err(self.err(
+                        "chained assignment",
+                        "only `name = value` assignments are translated".into(),
+                    ));
+                };
+                let Expr::Name(name) = target else {
+                    return Err(self.err(
+                        "assignment target",
+                        format!(
+                            "only assignments to a plain name are translated, not `{}`",
+                            self.src(target)
+                        ),
+                    ));
+                };
+                let var = name.id.as_str().to_string();
+                self.emit(format!(
+                    "\n// line {}: {}",
+                    self.line,
+                    one_line(&self.src(stmt))
+                ));
+                match self.expr(&a.value, Some(&var)) {
+                    Ok(v) => {
+                        self.vars.insert(var, v);
+                        Ok(())
+                    }
+                    Err(e) => {
+                        self.vars.insert(var, Val::Poison);
+                        Err(e)
+                    }
+                }
+            }
+            Stmt::Expr(e) => match e.value.as_ref() {
+                Expr::Constant(_) => Ok(()), // a docstring or a bare literal does nothing
+                Expr::Call(_) => {
+                    self.expr(&e.value, None)?;
+                    Ok(())
+                }
+                other => Err(self.err(
+                    "expression statement",
+                    format!("`{}` on its own does nothing RefAV defines", self.src(other)),
+                )),
+            },
+            Stmt::Import(_) | Stmt::ImportFrom(_) => {
+                self.notes
+                    .push(format!("line {}: the import is ignored", self.line));
+                Ok(())
+            }
+            Stmt::Pass(_) => Ok(()),
+            other => Err(self.err(
+                stmt_name(other),
+                format!(
+                    "a {} cannot be translated: only assignments and calls of RefAV's functions are",
+                    stmt_name(other)
+                ),
+            )),
+        }
+    }
+
+    fn expr(&mut self, e: &Expr, hint: Option<&str>) -> Res<Val> {
+        match e {
+            Expr::Name(n) => {
+                let id = n.id.as_str();
+                if let Some(v) = self.vars.get(id) {
+                    if let Val::Poison = v {
+                        return Err(self.err(POISON, String::new()));
+                    }
+                    return Ok(v.clone());
+                }
+                match id {
+                    "log_dir" => Ok(Val::LogDir),
+                    "output_dir" => Ok(Val::OutputDir),
+                    _ => {
+                        if let Some(sig) = signatures::lookup(id) {
+                            Ok(Val::Func(sig))
+                        } else {
+                            Err(self.broken(
+                                "name",
+                                format!("name '{id}' is not defined before line {}", self.line),
+                            ))
+                        }
+                    }
+                }
+            }
+            Expr::Constant(c) => {
+                match &c.value {
+                    Constant::Str(s) => Ok(Val::Str(s.clone())),
+                    Constant::Int(i) => i.to_string().parse::<f64>().map(Val::Num).map_err(|_| {
+                        self.err("integer", format!("the integer {i} is out of range"))
+                    }),
+                    Constant::Float(f) => Ok(Val::Num(*f)),
+                    Constant::Bool(b) => Ok(Val::Bool(*b)),
+                    Constant::None => Ok(Val::None),
+                    _ => Err(self.err(
+                        "constant",
+                        format!("the constant `{}` has no RefAV meaning", self.src(e)),
+                    )),
+                }
+            }
+            Expr::UnaryOp(u) if matches!(u.op, ast::UnaryOp::USub) => {
+                match self.expr(&u.operand, None)? {
+                    Val::Num(x) => Ok(Val::Num(-x)),
+                    v => Err(self.err(
+                        "unary minus",
+                        format!("cannot negate {} in `{}`", v.kind_name(), self.src(e)),
+                    )),
+                }
+            }
+            Expr::Attribute(a) => {
+                if let Expr::Name(m) = a.value.as_ref() {
+                    if matches!(m.id.as_str(), "np" | "numpy" | "math") && a.attr.as_str() == "inf"
+                    {
+                        return Ok(Val::Num(f64::INFINITY));
+                    }
+                }
+                Err(self.err(
+                    "attribute",
+                    format!("`{}` is not translated (only np.inf is)", self.src(e)),
+                ))
+            }
+            Expr::List(l) => {
+                let mut items = Vec::new();
+                for x in &l.elts {
+                    items.push(self.expr(x, None)?);
+                }
+                Ok(Val::List(items))
+            }
+            Expr::Tuple(l) => {
+                let mut items = Vec::new();
+                for x in &l.elts {
+                    items.push(self.expr(x, None)?);
+                }
+                Ok(Val::List(items))
+            }
+            Expr::Call(c) => self.call(c, hint),
+            other => Err(self.err(
+                expr_name(other),
+                format!(
+                    "a {} (`{}`) cannot be translated",
+                    expr_name(other),
+                    self.src(other)
+                ),
+            )),
+        }
+    }
+
+    fn call(&mut self, c: &ast::ExprCall, hint: Option<&str>) -> Res<Val> {
+        // `float('inf')`
+        if let Expr::Name(n) = c.func.as_ref() {
+            if n.id.as_str() == "float" {
+                if let [Expr::Constant(k)] = c.args.as_slice() {
+                    if let Constant::Str(s) = &k.value {
+                        match s.trim().to_ascii_lowercase().as_str() {
+                            "inf" | "+inf" | "infinity" => return Ok(Val::Num(f64::INFINITY)),
+                            "-inf" | "-infinity" => return Ok(Val::Num(f64::NEG_INFINITY)),
+                            _ => {}
+                        }
+                    }
+                }
+            }
+        }
+        let callee = match c.func.as_ref() {
+            Expr::Name(n) => {
+                let id = n.id.as_str();
+                if let Some((_, why)) = signatures::UNSUPPORTED.iter().find(|u| u.0 == id) {
+                    return Err(self.err(
+                        id,
+                        format!("RefAV's {id}() {why}, which Scenalog does not have"),
+                    ));
+                }
+                match self.vars.get(id) {
+                    Some(Val::Poison) => return Err(self.err(POISON, String::new())),
+                    Some(v) => v.clone(),
+                    None => match signatures::lookup(id) {
+                        Some(sig) => Val::Func(sig),
+                        None => {
+                            return Err(
+                                self.broken(id, format!("RefAV has no function named '{id}'"))
+                            )
+                        }
+                    },
+                }
+            }
+            Expr::Call(_) => self.expr(&c.func, None)?,
+            other => {
+                return Err(self.err(
+                    "call",
+                    format!(
+                        "only RefAV's functions can be called, not `{}`",
+                        self.src(other)
+                    ),
+                ))
+            }
+        };
+        if let (Val::Func(sig), [Expr::Lambda(l)]) = (&callee, c.args.as_slice()) {
+            let takes_log_dir = l.args.args.iter().any(|a| a.def.arg.as_str() == "log_dir");
+            if sig.name == "scenario_not" && !takes_log_dir {
+                return Err(self.broken(
+                    "scenario_not",
+                    "ValueError: the function scenario_not wraps (a lambda) does not have 'log_dir' as a parameter".into(),
+                ));
+            }
+        }
+        let mut pos = Vec::new();
+        for a in &c.args {
+            if let Expr::Starred(_) = a {
+                return Err(self.err("*args", "star arguments are not translated".into()));
+            }
+            pos.push(self.expr(a, None)?);
+        }
+        let mut kw = Vec::new();
+        for k in &c.keywords {
+            let Some(name) = &k.arg else {
+                return Err(self.err("**kwargs", "`**` arguments are not translated".into()));
+            };
+            kw.push((name.as_str().to_string(), self.expr(&k.value, None)?));
+        }
+        match callee {
+            Val::Func(sig) => {
+                let args = self.bind(sig, pos, kw)?;
+                self.apply(sig, args, hint)
+            }
+            Val::Wrapped(wrapper, sig) => self.apply_wrapped(wrapper, sig, pos, kw, hint),
+            v => Err(self.broken(
+                "call",
+                format!("{} is not callable ({})", v.kind_name(), self.src(c)),
+            )),
+        }
+    }
+
+    /// Binds arguments to parameters as Python does; what Python rejects is an error here.
+    fn bind(
+        &self,
+        sig: &'static Signature,
+        pos: Vec<Val>,
+        kw: Vec<(String, Val)>,
+    ) -> Res<BTreeMap<&'static str, Val>> {
+        let mut out: BTreeMap<&'static str, Val> = BTreeMap::new();
+        if pos.len() > sig.params.len() {
+            return Err(self.broken(
+                sig.name,
+                format!(
+                    "TypeError: {}() takes {} positional arguments but {} were given",
+                    sig.name,
+                    sig.params.len(),
+                    pos.len()
+                ),
+            ));
+        }
+        for (p, v) in sig.params.iter().zip(pos) {
+            out.insert(p.0, v);
+        }
+        for (k, v) in kw {
+            match sig.params.iter().find(|p| p.0 == k) {
+                Some(p) => {
+                    if out.insert(p.0, v).is_some() {
+                        return Err(self.broken(
+                            sig.name,
+                            format!(
+                                "TypeError: {}() got multiple values for argument '{k}'",
+                                sig.name
+                            ),
+                        ));
+                    }
+                }
+                None if sig.var_kwargs => {}
+                None => {
+                    return Err(self.broken(
+                        sig.name,
+                        format!(
+                            "TypeError: {}() got an unexpected keyword argument '{k}'",
+                            sig.name
+                        ),
+                    ))
+                }
+            }
+        }
+        for (name, d) in sig.params {
+            if out.contains_key(name) {
+                continue;
+            }
+            let v = match d {
+                Default::Required => {
+                    return Err(self.broken(
+                        sig.name,
+                        format!(
+                            "TypeError: {}() missing required argument '{name}'",
+                            sig.name
+                        ),
+                    ))
+                }
+                Default::Num(x) => Val::Num(*x),
+                Default::Str(s) => Val::Str((*s).to_string()),
+                Default::None => Val::None,
+                Default::Bool(b) => Val::Bool(*b),
+            };
+            out.insert(name, v);
+        }
+        Ok(out)
+    }
+
+    fn scen(&self, f: &str, param: &str, v: &Val) -> Res<Scen> {
+        match v {
+            Val::Scen(s) => Ok(s.clone()),
+            other => Err(self.broken(
+                f,
+                format!(
+                    "{f}()'s argument '{param}' must be a scenario, got {}",
+                    other.kind_name()
+                ),
+            )),
+        }
+    }
+
+    fn num(&self, f: &str, param: &str, v: &Val) -> Res<f64> {
+        match v {
+            Val::Num(x) if !x.is_nan() => Ok(*x),
+            Val::Bool(b) => Ok(if *b { 1.0 } else { 0.0 }),
+            other => Err(self.broken(
+                f,
+                format!(
+                    "{f}()'s argument '{param}' must be a number, got {}",
+                    other.kind_name()
+                ),
+            )),
+        }
+    }
+
+    /// A string argument that must be one of `allowed` (None allowed when `none_ok`).
+    fn word(
+        &self,
+        f: &str,
+        param: &str,
+        v: &Val,
+        allowed: &[&str],
+        none_ok: bool,
+    ) -> Res<Option<String>> {
+        match v {
+            Val::None if none_ok => Ok(None),
+            Val::Str(s) if allowed.is_empty() || allowed.contains(&s.as_str()) => {
+                if s.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ')
+                {
+                    Ok(Some(s.clone()))
+                } else {
+                    Err(self.err(f, format!("{f}(): '{s}' is not a value Scenalog knows")))
+                }
+            }
+            other => Err(self.err(
+                f,
+                format!(
+                    "{f}()'s argument '{param}' is {}; it must be one of {}{}",
+                    match other {
+                        Val::Str(s) => format!("'{s}'"),
+                        o => o.kind_name().to_string(),
+                    },
+                    allowed
+                        .iter()
+                        .map(|a| format!("'{a}'"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    if none_ok { " or None" } else { "" }
+                ),
+            )),
+        }
+    }
+
+    fn log_dir(&self, f: &str, args: &BTreeMap<&'static str, Val>) -> Res<()> {
+        match args.get("log_dir") {
+            Some(Val::LogDir) | None => Ok(()),
+            Some(v) => Err(self.broken(
+                f,
+                format!(
+                    "{f}()'s argument 'log_dir' must be log_dir, got {}",
+                    v.kind_name()
+                ),
+            )),
+        }
+    }
+
+    fn apply(
+        &mut self,
+        sig: &'static Signature,
+        args: BTreeMap<&'static str, Val>,
+        hint: Option<&str>,
+    ) -> Res<Val> {
+        self.log_dir(sig.name, &args)?;
+        let f = sig.name;
+        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
+        match sig.kind {
+            Kind::Source => {
+                let cat = self.category(f, &a("category"))?;
+                let out = self.fresh(hint.unwrap_or("objects"));
+                self.emit(format!(
+                    "{out}(X, T) :- category(X, \"{cat}\"), present(X, T)."
+                ));
+                Ok(Val::Scen(Scen {
+                    rel: out,
+                    rel_r: None,
+                }))
+            }
+            Kind::Filter => {
+                let input = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
+                let body = self.filter_body(f, &args)?;
+                Ok(Val::Scen(self.filter(&input, &body, hint.unwrap_or(f))))
+            }
+            Kind::Relational => {
+                if f == "get_objects_in_relative_direction" {
+                    let (sel, _) = self.relational(sig, &args, "objects_in_direction", false)?;
+                    return Ok(Val::Scen(self.reverse(&sel, hint.unwrap_or(f))));
+                }
+                let (_, scen) = self.relational(sig, &args, hint.unwrap_or(f), true)?;
+                Ok(Val::Scen(scen))
+            }
+            Kind::Combine => {
+                let Val::List(items) = a("scenario_dicts") else {
+                    return Err(self.broken(
+                        f,
+                        format!(
+                            "{f}() takes a list of scenarios, got {}",
+                            a("scenario_dicts").kind_name()
+                        ),
+                    ));
+                };
+                let mut scens = Vec::new();
+                for (i, v) in items.iter().enumerate() {
+                    scens.push(self.scen(f, &format!("scenario_dicts[{i}]"), v)?);
+                }
+                if scens.is_empty() {
+                    return Err(self.broken(f, format!("{f}([]) has nothing to combine")));
+                }
+                Ok(Val::Scen(self.combine(
+                    f == "scenario_and",
+                    &scens,
+                    hint.unwrap_or(f),
+                )))
+            }
+            Kind::Wrapper => match a("func") {
+                Val::Func(inner) => {
+                    if f == "reverse_relationship" && inner.kind != Kind::Relational {
+                        return Err(self.broken(
+                            f,
+                            format!(
+                                "TypeError: reverse_relationship({})(...) calls {}() with (track_candidates, related_candidates, log_dir), which it does not take",
+                                inner.name, inner.name
+                            ),
+                        ));
+                    }
+                    if f == "scenario_not" && !matches!(inner.kind, Kind::Filter | Kind::Relational)
+                    {
+                        return Err(self.broken(
+                            f,
+                            format!(
+                                "scenario_not({}) needs a function that takes log_dir",
+                                inner.name
+                            ),
+                        ));
+                    }
+                    Ok(Val::Wrapped(sig.name, inner))
+                }
+                other => Err(self.broken(
+                    f,
+                    format!(
+                        "ValueError: {f}() wraps a RefAV function that takes log_dir, got {}",
+                        other.kind_name()
+                    ),
+                )),
+            },
+            Kind::Output => {
+                let scen = self.scen(f, "scenario", &a("scenario"))?;
+                let desc = match a("description") {
+                    Val::Str(s) => Some(s),
+                    _ => None,
+                };
+                self.outputs.push((self.line, scen, desc));
+                Ok(Val::None)
+            }
+        }
+    }
+
+    fn category(&self, f: &str, v: &Val) -> Res<String> {
+        match v {
+            Val::Str(s)
+                if scenalog_facts::scene::ALL_CATEGORIES.contains(&s.as_str())
+                    || scenalog_facts::scene::SUPER_CATEGORIES.contains(&s.as_str()) =>
+            {
+                Ok(s.clone())
+            }
+            other => Err(self.err(
+                f,
+                format!(
+                    "{f}(): category must be an AV2 category such as 'REGULAR_VEHICLE' (or 'VEHICLE', 'ANY'), got {} (RefAV would silently find nothing)",
+                    match other {
+                        Val::Str(s) => format!("'{s}'"),
+                        o => o.kind_name().into(),
+                    }
+                ),
+            )),
+        }
+    }
+
+    /// Body literals over `X` and `T` for a filter function (RefAV's `@composable`).
+    fn filter_body(&self, f: &str, args: &BTreeMap<&'static str, Val>) -> Res<Vec<String>> {
+        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
+        let range = |col: &str, lo: f64, hi: f64| {
+            let mut v = Vec::new();
+            if lo.is_finite() {
+                v.push(format!("{col} >= {}", fmt_num(lo)));
+            } else if lo == f64::INFINITY {
+                v.push(format!("{col} > {col}"));
+            }
+            if hi.is_finite() {
+                v.push(format!("{col} <= {}", fmt_num(hi)));
+            } else if hi == f64::NEG_INFINITY {
+                v.push(format!("{col} < {col}"));
+            }
+            v
+        };
+        Ok(match f {
+            "is_category" => vec![format!(
+                "category(X, \"{}\")",
+                self.category(f, &a("category"))?
+            )],
+            "turning" | "changing_lanes" => {
+                let rel = if f == "turning" {
+                    "turning"
+                } else {
+                    "lane_change"
+                };
+                // RefAV: any other direction prints a warning and means None.
+                let dir = match a("direction") {
+                    Val::Str(s) if s == "left" || s == "right" => format!("\"{s}\""),
+                    _ => "_".to_string(),
+                };
+                vec![format!("{rel}(X, T, {dir})")]
+            }
+            "has_lateral_acceleration" | "accelerating" | "has_velocity" => {
+                let (rel, lo, hi) = match f {
+                    "has_lateral_acceleration" => ("lat_accel", "min_accel", "max_accel"),
+                    "accelerating" => ("accel", "min_accel", "max_accel"),
+                    _ => ("speed", "min_velocity", "max_velocity"),
+                };
+                let lo = self.num(f, lo, &a(lo))?;
+                let hi = self.num(f, hi, &a(hi))?;
+                let mut v = vec![format!("{rel}(X, T, V)")];
+                v.extend(range("V", lo, hi));
+                // RefAV returns nothing for a stationary (parked) object in these three.
+                v.push("!stationary(X)".into());
+                v
+            }
+            "at_pedestrian_crossing" => {
+                let d = self.num(f, "within_distance", &a("within_distance"))?;
+                let mut v = vec!["at_crosswalk(X, T, D)".to_string()];
+                v.extend(range("D", f64::NEG_INFINITY, d));
+                v
+            }
+            "on_lane_type" => {
+                let ty = self.word(
+                    f,
+                    "lane_type",
+                    &a("lane_type"),
+                    &["BUS", "VEHICLE", "BIKE"],
+                    false,
+                )?;
+                vec![
+                    format!("in_lane(X, T, L)"),
+                    format!("lane_type(L, \"{}\")", ty.unwrap_or_default()),
+                ]
+            }
+            "near_intersection" => {
+                let d = self.num(f, "threshold", &a("threshold"))?;
+                let mut v = vec!["near_intersection(X, T, D)".to_string()];
+                v.extend(range("D", f64::NEG_INFINITY, d));
+                v
+            }
+            "on_intersection" => vec!["on_intersection(X, T)".into()],
+            "stationary" => vec!["stationary(X)".into()],
+            "in_drivable_area" => vec!["in_drivable_area(X, T)".into()],
+            "on_road" => vec!["on_road(X, T)".into()],
+            "at_stop_sign" => {
+                let d = self.num(f, "forward_thresh", &a("forward_thresh"))?;
+                if d != 10.0 {
+                    return Err(self.err(
+                        f,
+                        format!("at_stop_sign(forward_thresh={}) : the catalog's at_stop_sign fixes 10 m", fmt_num(d)),
+                    ));
+                }
+                vec!["at_stop_sign(X, _, T)".into()]
+            }
+            _ => return Err(self.err(f, format!("{f}() is not a filter"))),
+        })
+    }
+
+    fn filter(&mut self, input: &Scen, body: &[String], hint: &str) -> Scen {
+        let out = self.fresh(hint);
+        self.emit(format!(
+            "{out}(X, T) :- {}(X, T), {}.",
+            input.rel,
+            body.join(", ")
+        ));
+        let rel_r = input.rel_r.as_ref().map(|r| {
+            let out_r = format!("{out}_r");
+            self.emit(format!("{out_r}(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
+            out_r
+        });
+        Scen { rel: out, rel_r }
+    }
+
+    /// A relational function: its selected (track, candidate, frame) pairs, and its result.
+    fn relational(
+        &mut self,
+        sig: &'static Signature,
+        args: &BTreeMap<&'static str, Val>,
+        hint: &str,
+        want_result: bool,
+    ) -> Res<(String, Scen)> {
+        let f = sig.name;
+        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
+        let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
+        let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
+        let base = format!("{}(X, T), {}(Y, T), X != Y", tracks.rel, cands.rel);
+        let out = self.fresh(hint);
+        let pairs = format!("{out}_pairs");
+        self.used_names.insert(pairs.clone());
+        let mut min_count = 1.0;
+        match f {
+            "has_objects_in_relative_direction" | "get_objects_in_relative_direction" => {
+                let dir = self
+                    .word(
+                        f,
+                        "direction",
+                        &a("direction"),
+                        &["forward", "backward", "left", "right"],
+                        false,
+                    )?
+                    .unwrap_or_default();
+                let min = self.num(f, "min_number", &a("min_number"))?;
+                let max = self.num(f, "max_number", &a("max_number"))?;
+                let within = self.num(f, "within_distance", &a("within_distance"))?;
+                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
+                if within > 50.0 {
+                    self.notes.push(format!(
+                        "line {}: within_distance={} is capped at 50 m, the range of the catalog's pair relations",
+                        self.line,
+                        fmt_num(within)
+                    ));
+                }
+                // RefAV counts the closest candidates within the distance, up to max_number;
+                // a timestamp with no candidate is never kept, so min_number 0 means 1.
+                min_count = min.max(1.0).ceil();
+                if max < min_count {
+                    return Err(self.err(
+                        f,
+                        format!(
+                            "{f}(min_number={}, max_number={}) can never hold",
+                            fmt_num(min),
+                            fmt_num(max)
+                        ),
+                    ));
+                }
+                let cand = format!("{out}_cand");
+                self.used_names.insert(cand.clone());
+                let mut conds = vec![format!("direction(X, Y, T, \"{dir}\", D, Lat)")];
+                if within.is_finite() {
+                    conds.push(format!("D <= {}", fmt_num(within)));
+                }
+                if lat.is_finite() {
+                    conds.push(format!("Lat < {}", fmt_num(lat)));
+                }
+                self.emit(format!(
+                    "{cand}(X, Y, T, D) :- {base}, {}.",
+                    conds.join(", ")
+                ));
+                if max.is_finite() {
+                    // the max_number closest (ties: RefAV's stable sort keeps the earlier one;
+                    // here every tied candidate is kept)
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {cand}(X, Y, T, D), R = count : {{ {cand}(X, Y2, T, D2), D2 < D }}, R < {}.",
+                        max as i64
+                    ));
+                } else {
+                    self.emit(format!("{pairs}(X, Y, T) :- {cand}(X, Y, T, _)."));
+                }
+            }
+            "near_objects" => {
+                let d = self.num(f, "distance_thresh", &a("distance_thresh"))?;
+                let min = match a("min_objects") {
+                    Val::None => 0.0,
+                    v => self.num(f, "min_objects", &v)?,
+                };
+                if min <= 0.0 {
+                    return Err(self.err(
+                        f,
+                        "near_objects(min_objects=0) means \"all candidates\", a count Scenalog does not translate".into(),
+                    ));
+                }
+                min_count = min.ceil();
+                let include_self = matches!(a("include_self"), Val::Bool(true));
+                let base = if include_self {
+                    format!("{}(X, T), {}(Y, T)", tracks.rel, cands.rel)
+                } else {
+                    base.clone()
+                };
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, near(X, Y, T, D), D <= {}.",
+                    fmt_num(d)
+                ));
+            }
+            "being_crossed_by" => {
+                let dir = self
+                    .word(
+                        f,
+                        "direction",
+                        &a("direction"),
+                        &["forward", "backward", "left", "right"],
+                        false,
+                    )?
+                    .unwrap_or_default();
+                let in_dir = self
+                    .word(
+                        f,
+                        "in_direction",
+                        &a("in_direction"),
+                        &["clockwise", "counterclockwise", "either"],
+                        false,
+                    )?
+                    .unwrap_or_default();
+                let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
+                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
+                if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
+                    ));
+                } else {
+                    if !(0.0..=CROSSING_MAX_REACH).contains(&fwd)
+                        || !(0.0..=CROSSING_MAX_OFF).contains(&lat)
+                    {
+                        return Err(self.err(
+                            f,
+                            format!(
+                                "being_crossed_by(forward_thresh={}, lateral_thresh={}): crossing_detail covers 0-{} m and 0-{} m",
+                                fmt_num(fwd),
+                                fmt_num(lat),
+                                fmt_num(CROSSING_MAX_REACH),
+                                fmt_num(CROSSING_MAX_OFF)
+                            ),
+                        ));
+                    }
+                    let sense = match in_dir.as_str() {
+                        "either" => "_".to_string(),
+                        s => format!("\"{s}\""),
+                    };
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
+                    ));
+                }
+            }
+            "facing_toward" => {
+                let ang = self.num(f, "within_angle", &a("within_angle"))?;
+                let d = self.num(f, "max_distance", &a("max_distance"))?;
+                if ang != 22.5 {
+                    return Err(self.err(
+                        f,
+                        format!(
+                            "facing_toward(within_angle={}): the catalog's facing fixes 22.5°",
+                            fmt_num(ang)
+                        ),
+                    ));
+                }
+                let mut c = format!("{pairs}(X, Y, T) :- {base}, facing(X, Y, T)");
+                if d.is_finite() {
+                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                }
+                self.emit(c + ".");
+            }
+            "heading_toward" => {
+                let ang = self.num(f, "angle_threshold", &a("angle_threshold"))?;
+                let sp = self.num(f, "minimum_speed", &a("minimum_speed"))?;
+                let d = self.num(f, "max_distance", &a("max_distance"))?;
+                if ang != 22.5 || sp != 0.5 {
+                    return Err(self.err(f, format!("heading_toward(angle_threshold={}, minimum_speed={}): the catalog's heading_toward fixes 22.5° and 0.5 m/s", fmt_num(ang), fmt_num(sp))));
+                }
+                let mut c = format!("{pairs}(X, Y, T) :- {base}, heading_toward(X, Y, T)");
+                if d.is_finite() {
+                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                }
+                self.emit(c + ".");
+            }
+            "following" => self.emit(format!("{pairs}(X, Y, T) :- {base}, following(X, Y, T).")),
+            "in_same_lane" => self.emit(format!("{pairs}(X, Y, T) :- {base}, same_lane(X, Y, T).")),
+            "heading_in_relative_direction_to" => {
+                let d = self
+                    .word(
+                        f,
+                        "direction",
+                        &a("direction"),
+                        &["same", "opposite", "perpendicular"],
+                        false,
+                    )?
+                    .unwrap_or_default();
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, heading_relative(X, Y, T, \"{d}\")."
+                ));
+            }
+            "on_relative_side_of_road" => {
+                let s = self
+                    .word(f, "side", &a("side"), &["same", "opposite"], false)?
+                    .unwrap_or_default();
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, road_side(X, Y, T, \"{s}\")."
+                ));
+            }
+            _ => return Err(self.err(f, format!("{f}() is not a relational function"))),
+        }
+        if !want_result {
+            return Ok((
+                pairs,
+                Scen {
+                    rel: out,
+                    rel_r: None,
+                },
+            ));
+        }
+        // The result: tracks with at least `min_count` related candidates at the frame.
+        if min_count > 1.0 {
+            self.emit(format!(
+                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
+                tracks.rel, min_count as i64
+            ));
+            // only the pairs at kept frames are the function's relationships
+            let sel = format!("{out}_sel");
+            self.used_names.insert(sel.clone());
+            self.emit(format!("{sel}(X, Y, T) :- {out}(X, T), {pairs}(X, Y, T)."));
+            self.finish_relational(&out, &sel, &tracks, &cands)
+        } else {
+            self.emit(format!("{out}(X, T) :- {pairs}(X, _, T)."));
+            self.finish_relational(&out, &pairs, &tracks, &cands)
+        }
+    }
+
+    fn finish_relational(
+        &mut self,
+        out: &str,
+        sel: &str,
+        tracks: &Scen,
+        cands: &Scen,
+    ) -> Res<(String, Scen)> {
+        let out_r = format!("{out}_r");
+        self.emit(format!("{out_r}(X, Y, T) :- {sel}(X, Y, T)."));
+        if let Some(r) = &tracks.rel_r {
+            self.emit(format!("{out_r}(X, Z, T) :- {out}(X, T), {r}(X, Z, T)."));
+        }
+        if let Some(r) = &cands.rel_r {
+            self.emit(format!("{out_r}(X, Z, T) :- {sel}(X, Y, T), {r}(Y, Z, T)."));
+        }
+        Ok((
+            sel.to_string(),
+            Scen {
+                rel: out.to_string(),
+                rel_r: Some(out_r),
+            },
+        ))
+    }
+
+    /// The candidates of a relational result become the tracks, and its tracks their related.
+    fn reverse(&mut self, pairs: &str, hint: &str) -> Scen {
+        let out = self.fresh(hint);
+        self.emit(format!("{out}(Y, T) :- {pairs}(_, Y, T)."));
+        self.emit(format!("{out}_r(Y, X, T) :- {pairs}(X, Y, T)."));
+        Scen {
+            rel: out.clone(),
+            rel_r: Some(format!("{out}_r")),
+        }
+    }
+
+    fn combine(&mut self, and: bool, scens: &[Scen], hint: &str) -> Scen {
+        let out = self.fresh(hint);
+        if and {
+            let body: Vec<String> = scens.iter().map(|s| format!("{}(X, T)", s.rel)).collect();
+            self.emit(format!("{out}(X, T) :- {}.", body.join(", ")));
+        } else {
+            for s in scens {
+                self.emit(format!("{out}(X, T) :- {}(X, T).", s.rel));
+            }
+        }
+        let rs: Vec<&String> = scens.iter().filter_map(|s| s.rel_r.as_ref()).collect();
+        let rel_r = if rs.is_empty() {
+            None
+        } else {
+            for r in rs {
+                self.emit(format!("{out}_r(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
+            }
+            Some(format!("{out}_r"))
+        };
+        Scen { rel: out, rel_r }
+    }
+
+    fn apply_wrapped(
+        &mut self,
+        wrapper: &'static str,
+        inner: &'static Signature,
+        pos: Vec<Val>,
+        kw: Vec<(String, Val)>,
+        hint: Option<&str>,
+    ) -> Res<Val> {
+        if wrapper == "reverse_relationship" {
+            if inner.kind != Kind::Relational {
+                return Err(self.broken(
+                    "reverse_relationship",
+                    format!(
+                        "reverse_relationship({})(...): the wrapper calls its function with (track_candidates, related_candidates, log_dir), which {}() does not take",
+                        inner.name, inner.name
+                    ),
+                ));
+            }
+            let args = self.bind(inner, pos, kw)?;
+            self.log_dir(inner.name, &args)?;
+            let hint = hint.unwrap_or("reversed");
+            if inner.name == "get_objects_in_relative_direction" {
+                // RefAV special-cases this: the reverse is has_objects_in_relative_direction
+                // (with get_objects' defaults, min_number 0).
+                let (_, scen) = self.relational(inner, &args, hint, true)?;
+                return Ok(Val::Scen(scen));
+            }
+            let (sel, _) = self.relational(inner, &args, &format!("{}_fwd", inner.name), false)?;
+            return Ok(Val::Scen(self.reverse(&sel, hint)));
+        }
+        // scenario_not
+        let args = self.bind(inner, pos, kw)?;
+        let base_param = if inner.name == "get_objects_in_relative_direction" {
+            inner.params[1].0
+        } else {
+            inner.params[0].0
+        };
+        let base = self.scen(
+            inner.name,
+            base_param,
+            args.get(base_param).unwrap_or(&Val::None),
+        )?;
+        let hint = hint.unwrap_or("not");
+        // A filter whose body is one literal over X (and T) is negated in place.
+        if inner.kind == Kind::Filter {
+            let body = self.filter_body(inner.name, &args)?;
+            self.log_dir(inner.name, &args)?;
+            if let [lit] = body.as_slice() {
+                if !lit.starts_with('!') && !lit.contains(" _") && !lit.contains("L)") {
+                    let neg = format!("!{lit}");
+                    return Ok(Val::Scen(self.filter(&base, &[neg], hint)));
+                }
+            }
+        }
+        let positive = match self.apply(inner, args, Some(&format!("{}_yes", inner.name)))? {
+            Val::Scen(s) => s,
+            _ => {
+                return Err(self.err(
+                    "scenario_not",
+                    "the wrapped function gave no scenario".into(),
+                ))
+            }
+        };
+        let neg = format!("!{}(X, T)", positive.rel);
+        Ok(Val::Scen(self.filter(&base, &[neg], hint)))
+    }
+}
+
+fn stmt_name(s: &Stmt) -> &'static str {
+    match s {
+        Stmt::FunctionDef(_) | Stmt::AsyncFunctionDef(_) => "function definition",
+        Stmt::ClassDef(_) => "class definition",
+        Stmt::Return(_) => "return statement",
+        Stmt::Delete(_) => "del statement",
+        Stmt::AugAssign(_) => "augmented assignment",
+        Stmt::AnnAssign(_) => "annotated assignment",
+        Stmt::For(_) | Stmt::AsyncFor(_) => "for loop",
+        Stmt::While(_) => "while loop",
+        Stmt::If(_) => "if statement",
+        Stmt::With(_) | Stmt::AsyncWith(_) => "with statement",
+        Stmt::Match(_) => "match statement",
+        Stmt::Raise(_) => "raise statement",
+        Stmt::Try(_) | Stmt::TryStar(_) => "try statement",
+        Stmt::Assert(_) => "assert statement",
+        Stmt::Global(_) | Stmt::Nonlocal(_) => "global declaration",
+        _ => "statement",
+    }
+}
+
+fn expr_name(e: &Expr) -> &'static str {
+    match e {
+        Expr::BoolOp(_) => "boolean operator",
+        Expr::NamedExpr(_) => "walrus assignment",
+        Expr::BinOp(_) => "arithmetic expression",
+        Expr::UnaryOp(_) => "unary operator",
+        Expr::Lambda(_) => "lambda",
+        Expr::IfExp(_) => "conditional expression",
+        Expr::Dict(_) => "dict literal",
+        Expr::Set(_) => "set literal",
+        Expr::ListComp(_) | Expr::SetComp(_) | Expr::DictComp(_) | Expr::GeneratorExp(_) => {
+            "comprehension"
+        }
+        Expr::Compare(_) => "comparison",
+        Expr::Subscript(_) => "subscript",
+        Expr::JoinedStr(_) | Expr::FormattedValue(_) => "f-string",
+        Expr::Starred(_) => "starred expression",
+        Expr::Slice(_) => "slice",
+        _ => "expression",
+    }
+}

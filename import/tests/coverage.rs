@@ -1,0 +1,72 @@
+//! Coverage: the 262 RefAV programs of `tests/data/refav_programs/` (the reference system's own
+//! LLM output) imported into a temporary directory. Every one either imports and checks clean
+//! or fails with an error that RefAV itself raises on it too (an unknown keyword, an undefined
+//! name, a syntax error); none fails on Scenalog's side. Prints the failures by reason.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+#[test]
+fn every_refav_program_imports_unless_refav_itself_rejects_it() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/refav_programs");
+    let out = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let report = scenalog_import::import_path(&input, out.path()).unwrap_or_else(|e| panic!("{e}"));
+    let mut reasons: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for f in &report.files {
+        if let Some(e) = f.errors.first() {
+            let name = f
+                .source
+                .file_name()
+                .map(|n| n.to_string_lossy().to_string());
+            // group by the message without the line-specific name it mentions
+            let key = e
+                .message
+                .split(" before line")
+                .next()
+                .unwrap_or("")
+                .to_string();
+            let key = if key.starts_with("name '") {
+                "NameError: a name used before it is assigned".into()
+            } else {
+                key
+            };
+            reasons.entry(key).or_default().push(format!(
+                "{} (line {})",
+                name.unwrap_or_default(),
+                e.line
+            ));
+        }
+    }
+    println!(
+        "{} programs: {} imported and checked clean, {} broken in RefAV itself, {} not imported",
+        report.files.len(),
+        report.imported(),
+        report.refav_broken(),
+        report.failed_here()
+    );
+    for (reason, files) in &reasons {
+        println!("{:>3}  {reason}: {}", files.len(), files.join(", "));
+    }
+    assert_eq!(report.files.len(), 262);
+    // every written program is there and checks (import_checked ran the checker; read it back)
+    for f in report.files.iter().filter_map(|f| f.output.as_ref()) {
+        let text = std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let outcome = scenalog_rules::check(&text, &scenalog_rules::CheckOptions::default());
+        assert!(outcome.program.is_some(), "{} does not check", f.display());
+        assert!(text.starts_with("// description: "), "{}", f.display());
+    }
+    let not_imported: Vec<String> = report
+        .files
+        .iter()
+        .filter(|f| f.output.is_none() && !f.refav_broken())
+        .map(|f| format!("{}: {:?}", f.source.display(), f.errors))
+        .collect();
+    assert!(
+        not_imported.is_empty(),
+        "failed on Scenalog's side:\n{}",
+        not_imported.join("\n")
+    );
+    // The RefAV-broken ones are the known 28 (20 of them `accelerating(..., thresh=...)`).
+    assert_eq!(report.refav_broken(), 28);
+    assert_eq!(report.imported(), 234);
+}

@@ -1,0 +1,283 @@
+//! The translation of each RefAV construct. Meaning is tested on the real sample log 3b3570b4:
+//! RefAV's algebra must hold on what the imported programs find (a `scenario_not` and its
+//! positive part split the input, `reverse_relationship` of `get_objects_in_relative_direction`
+//! is `has_objects_in_relative_direction`, `max_number` caps the related objects, …), and errors
+//! must name the line and the construct.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::sync::OnceLock;
+
+use scenalog_engine::{evaluate, Options};
+use scenalog_extractors::cache::Extractor;
+use scenalog_facts::read::load_scene;
+use scenalog_facts::relation::{RelationData, Request, Value};
+use scenalog_facts::Scene;
+use scenalog_import::{import_checked, ImportError};
+use scenalog_rules::{check, CheckOptions};
+
+fn scene() -> &'static Scene {
+    static SCENE: OnceLock<Scene> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        let log = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+        load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
+    })
+}
+
+const HEAD: &str = "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n\
+                    peds = get_objects_of_category(log_dir, category='PEDESTRIAN')\n\
+                    objects = get_objects_of_category(log_dir, category='ANY')\n";
+
+fn imported(body: &str) -> String {
+    let src = format!("{HEAD}{body}\noutput_scenario(result, description, log_dir, output_dir)\n");
+    match import_checked(&src, "test program.txt") {
+        Ok(p) => p.program,
+        Err(e) => panic!("does not import: {e:?}\n{src}"),
+    }
+}
+
+fn errors(src: &str) -> Vec<ImportError> {
+    match import_checked(src, "test program.txt") {
+        Ok(p) => panic!("imported, expected an error:\n{}", p.program),
+        Err(e) => e,
+    }
+}
+
+type Pairs = BTreeSet<(u32, u32)>;
+type Triples = BTreeSet<(u32, u32, u32)>;
+
+/// Referred (track, frame) and related (track, other, frame) of `result` on the sample log.
+fn run(body: &str) -> (Pairs, Triples) {
+    let program = imported(body);
+    let Some(checked) = check(&program, &CheckOptions::default()).program else {
+        panic!("does not check:\n{program}")
+    };
+    let ex = Extractor::new(scene());
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        ex.extract(r)
+            .map(|d| (*d).clone())
+            .map_err(|e| e.to_string())
+    };
+    let e = evaluate(&checked, &mut provider, &Options::default())
+        .unwrap_or_else(|e| panic!("{e}\n{program}"));
+    let id = |v: &Value| match v {
+        Value::Track(t) => t.0,
+        Value::Time(f) => *f,
+        other => panic!("{other:?}"),
+    };
+    let referred = e
+        .tuples("referred")
+        .unwrap_or(&[])
+        .iter()
+        .map(|t| (id(&t[0]), id(&t[1])))
+        .collect();
+    let related = e
+        .tuples("related")
+        .unwrap_or(&[])
+        .iter()
+        .map(|t| (id(&t[0]), id(&t[1]), id(&t[2])))
+        .collect();
+    (referred, related)
+}
+
+#[test]
+fn scenario_not_and_its_positive_part_split_the_input() {
+    let (all, _) = run("result = vehicles");
+    let (moving, _) = run("result = scenario_not(stationary)(vehicles, log_dir)");
+    let (parked, _) = run("result = stationary(vehicles, log_dir)");
+    assert!(!moving.is_empty() && !parked.is_empty());
+    assert!(moving.is_disjoint(&parked));
+    assert_eq!(moving.union(&parked).copied().collect::<Pairs>(), all);
+    // has_velocity returns nothing for stationary objects, so its negation keeps them all
+    let (not_fast, _) =
+        run("result = scenario_not(has_velocity)(vehicles, log_dir, min_velocity=3)");
+    assert!(parked.is_subset(&not_fast));
+    let (fast, _) = run("result = has_velocity(vehicles, log_dir, 3)"); // positional min_velocity
+    assert!(fast.is_disjoint(&not_fast));
+    assert_eq!(fast.union(&not_fast).copied().collect::<Pairs>(), all);
+}
+
+#[test]
+fn and_or_of_filters() {
+    let (a, _) = run("result = has_velocity(vehicles, log_dir, min_velocity=2)");
+    let (b, _) = run("result = on_intersection(vehicles, log_dir)");
+    let (and, _) = run(
+        "a = has_velocity(vehicles, log_dir, min_velocity=2)\nb = on_intersection(vehicles, log_dir)\nresult = scenario_and([a, b])",
+    );
+    let (or, _) = run(
+        "result = scenario_or([has_velocity(vehicles, log_dir, min_velocity=2), on_intersection(vehicles, log_dir)])",
+    );
+    assert!(!and.is_empty());
+    assert_eq!(and, a.intersection(&b).copied().collect());
+    assert_eq!(or, a.union(&b).copied().collect());
+}
+
+#[test]
+fn relative_direction_min_max_number_and_reverse() {
+    let call = |extra: &str| {
+        format!("result = has_objects_in_relative_direction(vehicles, vehicles, log_dir, direction='forward', within_distance=30{extra})")
+    };
+    let (one, rel_one) = run(&call(""));
+    let (two, _) = run(&call(", min_number=2"));
+    let (capped, rel_capped) = run(&call(", max_number=1"));
+    assert!(
+        !two.is_empty() && two.len() < one.len(),
+        "{} vs {}",
+        two.len(),
+        one.len()
+    );
+    assert!(two.is_subset(&one));
+    assert_eq!(
+        capped, one,
+        "max_number caps the related objects, not the referred"
+    );
+    // at most one related object per (track, frame) with max_number=1, and fewer in all
+    let mut seen = BTreeSet::new();
+    for (x, _, t) in &rel_capped {
+        assert!(seen.insert((*x, *t)), "two related for {x} at {t}");
+    }
+    assert!(rel_capped.len() < rel_one.len());
+    // get_objects_in_relative_direction is the reverse: the related objects become the referred
+    let (got, got_rel) = run(
+        "result = get_objects_in_relative_direction(vehicles, vehicles, log_dir, direction='forward', within_distance=30)",
+    );
+    let expect: Pairs = rel_one.iter().map(|(_, y, t)| (*y, *t)).collect();
+    assert_eq!(got, expect);
+    assert!(got_rel
+        .iter()
+        .all(|(y, x, t)| rel_one.contains(&(*x, *y, *t))));
+    // and reversing that again gives has_objects_in_relative_direction (RefAV special-cases it)
+    let (back, _) = run(
+        "result = reverse_relationship(get_objects_in_relative_direction)(vehicles, vehicles, log_dir, direction='forward', within_distance=30, min_number=1)",
+    );
+    assert_eq!(back, one);
+    // a nested call as an argument
+    let (nested, _) = run(
+        "result = has_objects_in_relative_direction(scenario_not(stationary)(vehicles, log_dir), vehicles, log_dir, 'forward', 1, np.inf, 30)",
+    );
+    let (moving, _) = run("result = scenario_not(stationary)(vehicles, log_dir)");
+    assert_eq!(nested, one.intersection(&moving).copied().collect());
+}
+
+#[test]
+fn reverse_relationship_of_near_objects() {
+    let (near, rel) = run("result = near_objects(vehicles, peds, log_dir, distance_thresh=5)");
+    let (rev, rev_rel) = run(
+        "result = reverse_relationship(near_objects)(vehicles, peds, log_dir, distance_thresh=5)",
+    );
+    assert!(!near.is_empty());
+    assert_eq!(rev, rel.iter().map(|(_, p, t)| (*p, *t)).collect::<Pairs>());
+    assert_eq!(
+        rev_rel,
+        rel.iter()
+            .map(|(v, p, t)| (*p, *v, *t))
+            .collect::<Triples>()
+    );
+    let (three, _) =
+        run("result = near_objects(vehicles, peds, log_dir, distance_thresh=5, min_objects=3)");
+    assert!(three.is_subset(&near) && three.len() < near.len());
+}
+
+#[test]
+fn crossing_extents_and_sense() {
+    let (default, _) = run("result = being_crossed_by(vehicles, objects, log_dir)");
+    let (wide, _) = run(
+        "result = being_crossed_by(vehicles, objects, log_dir, forward_thresh=20, lateral_thresh=10)",
+    );
+    let (cw, _) = run("result = being_crossed_by(vehicles, objects, log_dir, forward_thresh=20, lateral_thresh=10, in_direction='clockwise')");
+    let (ccw, _) = run("result = being_crossed_by(vehicles, objects, log_dir, forward_thresh=20, lateral_thresh=10, in_direction='counterclockwise')");
+    assert!(!default.is_empty());
+    assert!(
+        default.is_subset(&wide),
+        "larger extents find at least as much"
+    );
+    assert!(wide.len() > default.len());
+    assert_eq!(cw.union(&ccw).copied().collect::<Pairs>(), wide);
+    assert!(!cw.is_empty() && !ccw.is_empty());
+}
+
+#[test]
+fn the_emitted_program_names_its_description_and_lines() {
+    let p = imported("result = changing_lanes(vehicles, log_dir, direction='left')");
+    assert!(p.starts_with("// description: test program\n"), "{p}");
+    assert!(
+        p.contains("// line 4: result = changing_lanes(vehicles, log_dir, direction='left')"),
+        "{p}"
+    );
+    assert!(p.contains("lane_change(X, T, \"left\")"), "{p}");
+    let p = imported("description = 'my words'\nresult = turning(vehicles, log_dir)");
+    assert!(p.starts_with("// description: my words\n"), "{p}");
+}
+
+#[test]
+fn errors_name_the_line_and_the_construct() {
+    let e = errors(&format!("{HEAD}for v in vehicles:\n    pass\noutput_scenario(vehicles, description, log_dir, output_dir)\n"));
+    assert_eq!(
+        (e[0].line, e[0].construct.as_str(), e[0].refav_broken),
+        (4, "for loop", false)
+    );
+    let e = errors(&format!("{HEAD}x = accelerating(vehicles, log_dir, thresh=1.0)\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    assert_eq!(
+        (e[0].line, e[0].construct.as_str(), e[0].refav_broken),
+        (4, "accelerating", true)
+    );
+    assert!(
+        e[0].message
+            .contains("unexpected keyword argument 'thresh'"),
+        "{}",
+        e[0].message
+    );
+    let e = errors(&format!("{HEAD}x = on_road_lane(vehicles, log_dir)\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    assert!(e[0].refav_broken && e[0].message.contains("no function named 'on_road_lane'"));
+    let e = errors(&format!("{HEAD}x = near_objects(vehicles, peds, log_dir, distance_thresh=2 * 5)\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    assert_eq!(
+        (e[0].line, e[0].construct.as_str()),
+        (4, "arithmetic expression")
+    );
+    let e = errors(&format!("{HEAD}x = get_objects_in_relative_direction(vehicles, peds, log_dir, direction='above')\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    assert!(e[0].message.contains("'above'"), "{}", e[0].message);
+    // a category AV2 does not have is an error (RefAV silently finds nothing)
+    let e = errors("cars = get_objects_of_category(log_dir, category='CAR')\noutput_scenario(cars, description, log_dir, output_dir)\n");
+    assert_eq!((e[0].line, e[0].refav_broken), (1, false), "{e:?}");
+    assert!(e[0].message.contains("'CAR'"), "{e:?}");
+    // no output_scenario
+    let e = errors(HEAD);
+    assert_eq!(e[0].construct, "output_scenario");
+    // a syntax error
+    let e = errors("x = (\n");
+    assert!(e[0].refav_broken && e[0].construct == "Python syntax");
+    // an undefined name stops the program, as Python does
+    let e = errors("x = is_category(cars, log_dir, category='BUS')\ny = is_category(x, log_dir, category='BUS')\noutput_scenario(y, description, log_dir, output_dir)\n");
+    assert_eq!(e.len(), 1);
+    assert!(e[0].message.contains("name 'cars' is not defined"));
+}
+
+mod fuzz {
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// No input makes the importer panic, and what it accepts checks.
+        #[test]
+        fn never_panics(src in "[a-z_=()\\[\\]',. 0-9\\n]{0,120}") {
+            if let Ok(p) = scenalog_import::import_checked(&src, "fuzz.py") {
+                let ok = scenalog_rules::check(&p.program, &scenalog_rules::CheckOptions::default()).program.is_some();
+                prop_assert!(ok);
+            }
+        }
+
+        /// Mutations of a real program (a character deleted or replaced) never panic.
+        #[test]
+        fn mutated_real_program_never_panics(at in 0usize..400, c in proptest::char::any()) {
+            let src = include_str!("data/refav_programs/vehicle with a bicycle to its right.txt");
+            let mut chars: Vec<char> = src.chars().collect();
+            if !chars.is_empty() {
+                let i = at % chars.len();
+                chars[i] = c;
+            }
+            let mutated: String = chars.into_iter().collect();
+            let _ = scenalog_import::import_checked(&mutated, "mutated.txt");
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! `scenalog import refav FILE.py|DIR -o OUT`: translate RefAV scenario programs into Scenalog
+//! programs (scenalog-import does the work). Prints one line per program that did not import,
+//! naming the line and construct, and a summary. Exit 0 when every program imported except those
+//! RefAV itself fails on, 1 when some program failed on Scenalog's side, 2 when the input cannot
+//! be read or the output cannot be written.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Arguments of `scenalog import`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    source: Source,
+}
+
+#[derive(clap::Subcommand)]
+enum Source {
+    /// RefAV programs (Python over RefAV's atomic functions), a file or a directory of them.
+    Refav {
+        /// A RefAV program (`.py` or `.txt`), or a directory of them.
+        input: PathBuf,
+        /// Where to write the Scenalog programs (one `.dl` per program; created if missing).
+        #[arg(short, long)]
+        out: PathBuf,
+        /// Print one JSON object per program instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Imports and prints the report.
+pub fn run(args: Args) -> ExitCode {
+    let Source::Refav { input, out, json } = args.source;
+    let report = match scenalog_import::import_path(&input, &out) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("scenalog import: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if json {
+        let rows: Vec<serde_json::Value> = report
+            .files
+            .iter()
+            .map(|f| {
+                serde_json::json!({
+                    "source": f.source.display().to_string(),
+                    "output": f.output.as_ref().map(|p| p.display().to_string()),
+                    "refav_broken": f.refav_broken(),
+                    "notes": f.notes,
+                    "errors": f.errors.iter().map(|e| serde_json::json!({
+                        "line": e.line, "construct": e.construct, "message": e.message,
+                        "refav_broken": e.refav_broken,
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        outln!("{}", serde_json::Value::Array(rows));
+    } else {
+        for f in &report.files {
+            for e in &f.errors {
+                let kind = if e.refav_broken {
+                    "broken in RefAV"
+                } else {
+                    "not imported"
+                };
+                outln!(
+                    "{}:{}: {kind}: {}: {}",
+                    f.source.display(),
+                    e.line,
+                    e.construct,
+                    e.message
+                );
+            }
+        }
+        outln!(
+            "{} programs: {} imported and checked clean into {}, {} broken in RefAV itself, {} not imported",
+            report.files.len(),
+            report.imported(),
+            out.display(),
+            report.refav_broken(),
+            report.failed_here()
+        );
+    }
+    if report.failed_here() > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}

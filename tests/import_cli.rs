@@ -1,0 +1,117 @@
+//! `scenalog import refav` end to end, as a new user runs it: the 262 RefAV programs of
+//! `import/tests/data/refav_programs/` into a directory (exit 0: every failure is one RefAV
+//! itself raises), then `scenalog mine` on some of the imported programs over a real log.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scenalog(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .args(args)
+        .output()
+        .expect("run scenalog")
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+#[test]
+fn import_the_refav_programs_then_mine_them() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("imported");
+    let input = root().join("import/tests/data/refav_programs");
+    let o = scenalog(&[
+        "import",
+        "refav",
+        &input.to_string_lossy(),
+        "-o",
+        &out.to_string_lossy(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        stdout.contains("262 programs: 234 imported and checked clean"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("28 broken in RefAV itself, 0 not imported"),
+        "{stdout}"
+    );
+    // each failure names its file, line and construct
+    assert!(
+        stdout.contains("accelerating truck.txt:12: broken in RefAV: accelerating: TypeError"),
+        "{stdout}"
+    );
+    let written = std::fs::read_dir(&out).expect("output dir").count();
+    assert_eq!(written, 234);
+    // mine two of them on one real log
+    let rules: Vec<String> = ["stopped_car.dl", "vehicle_with_a_bicycle_to_its_right.dl"]
+        .iter()
+        .map(|f| out.join(f).to_string_lossy().to_string())
+        .collect();
+    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let mine_out = dir.path().join("mine");
+    let o = scenalog(&[
+        "mine",
+        "--rules",
+        &rules[0],
+        &rules[1],
+        "--logs",
+        &log.to_string_lossy(),
+        "--out",
+        &mine_out.to_string_lossy(),
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let matches = v["matches"].as_array().expect("matches");
+    assert!(
+        matches.iter().any(|m| m["description"] == "stopped car"),
+        "{v}"
+    );
+    assert!(matches
+        .iter()
+        .any(|m| m["description"] == "vehicle with a bicycle to its right"));
+    assert!(
+        v["failures"].as_array().is_some_and(|f| f.is_empty()),
+        "{v}"
+    );
+}
+
+#[test]
+fn unreadable_input_exits_2_and_a_bad_program_names_its_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let o = scenalog(&[
+        "import",
+        "refav",
+        "/nonexistent/programs",
+        "-o",
+        &dir.path().to_string_lossy(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let bad = dir.path().join("bad.py");
+    std::fs::write(
+        &bad,
+        "cars = get_objects_of_category(log_dir, category='VEHICLE')\nfor c in cars:\n    pass\noutput_scenario(cars, description, log_dir, output_dir)\n",
+    )
+    .expect("write");
+    let o = scenalog(&[
+        "import",
+        "refav",
+        &bad.to_string_lossy(),
+        "-o",
+        &dir.path().join("o").to_string_lossy(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("bad.py:2: not imported: for loop"),
+        "{stdout}"
+    );
+}
