@@ -19,6 +19,6 @@ pub use arrow_table::{read_any, read_table, write_table};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
-pub use pickle::{read_pickle, read_pickle_bytes};
-pub use pickle_write::{pickle_bytes, write_pickle};
+pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
+pub use pickle_write::{encode_value, pickle_bytes, write_pickle, PyValue};
 pub use roi::{RoiMaps, RoiRaster};

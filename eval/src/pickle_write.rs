@@ -187,6 +187,102 @@ impl W {
     }
 }
 
+/// A Python value to pickle with [`encode_value`]: the few shapes other formats of the benchmark
+/// need (the 3D-tracking submission: a dict of lists of dicts of numpy arrays).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PyValue {
+    /// A `str`.
+    Str(String),
+    /// A numpy `int64` scalar.
+    I64(i64),
+    /// A `list`.
+    List(Vec<PyValue>),
+    /// A `dict`, items in this order.
+    Dict(Vec<(PyValue, PyValue)>),
+    /// A `float64` ndarray of this shape (row-major values).
+    F64Array(Vec<usize>, Vec<f64>),
+    /// A `float32` ndarray of this shape.
+    F32Array(Vec<usize>, Vec<f32>),
+    /// A 1-d `int64` ndarray.
+    I64Array(Vec<i64>),
+    /// A 1-d unicode ndarray (`U<n>`, n the longest string, at least 1).
+    StrArray(Vec<String>),
+}
+
+impl W {
+    fn value(&mut self, v: &PyValue) {
+        match v {
+            PyValue::Str(s) => self.str(s),
+            PyValue::I64(i) => self.scalar("i8", &i.to_le_bytes()),
+            PyValue::List(items) => {
+                self.op(b']');
+                if !items.is_empty() {
+                    self.op(b'(');
+                    for i in items {
+                        self.value(i);
+                    }
+                    self.op(b'e');
+                }
+            }
+            PyValue::Dict(items) => {
+                self.op(b'}');
+                if !items.is_empty() {
+                    self.op(b'(');
+                    for (k, v) in items {
+                        self.value(k);
+                        self.value(v);
+                    }
+                    self.op(b'u');
+                }
+            }
+            PyValue::F64Array(shape, vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(shape, |w| w.num_dtype("f8"), &raw);
+            }
+            PyValue::F32Array(shape, vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(shape, |w| w.num_dtype("f4"), &raw);
+            }
+            PyValue::I64Array(vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(&[vals.len()], |w| w.num_dtype("i8"), &raw);
+            }
+            PyValue::StrArray(items) => {
+                let width = items
+                    .iter()
+                    .map(|s| s.chars().count())
+                    .max()
+                    .unwrap_or(0)
+                    .max(1);
+                let mut raw = Vec::with_capacity(items.len() * width * 4);
+                for s in items {
+                    let mut c = 0;
+                    for ch in s.chars() {
+                        raw.extend_from_slice(&(ch as u32).to_le_bytes());
+                        c += 1;
+                    }
+                    raw.resize(raw.len() + (width - c) * 4, 0);
+                }
+                let code = format!("U{width}");
+                self.array(
+                    &[items.len()],
+                    |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
+                    &raw,
+                );
+            }
+        }
+    }
+}
+
+/// Encodes one Python value as pickle bytes (protocol 4, numpy arrays as `pickle.dump` writes
+/// them).
+pub fn encode_value(v: &PyValue) -> Vec<u8> {
+    let mut w = W { out: vec![0x80, 4] };
+    w.value(v);
+    w.op(b'.');
+    w.out
+}
+
 /// Encodes a submission as pickle bytes (protocol 4).
 pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
     let mut w = W { out: vec![0x80, 4] };
@@ -217,11 +313,15 @@ pub fn write_pickle(sub: &Submission, path: &Path) -> Result<(), EvalError> {
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
     let io = |e| EvalError::Io(path.display().to_string(), e);
-    let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(&bytes).map_err(io)?;
-    f.sync_all().map_err(io)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| {
+    // The temporary file is removed on any failure (a full disk must not stay full of it).
+    let written = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(&bytes)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         io(e)
     })
