@@ -71,6 +71,9 @@ pub fn city_box_to_ego(ego: &Pose, centre: [f64; 3], yaw: f64) -> (Pose, Pose) {
     (in_ego, ego * in_ego)
 }
 
+/// A track before numbering: uuid, category, tracker id (`None` for the ego), scored boxes.
+type Assembled = (String, String, Option<i64>, Vec<(TrackBox, f32)>);
+
 /// Builds the scene of `log_id` from its detections (frames in any order, one per timestamp)
 /// and the ego poses and map of `log_dir` (the log's directory in the AV2 split). `file` names
 /// the tracker file in errors.
@@ -133,7 +136,7 @@ pub fn tracked_log(
             ));
         }
     }
-    let mut tracks: Vec<(String, String, Option<i64>, Vec<(TrackBox, f32)>)> = by_id
+    let mut tracks: Vec<Assembled> = by_id
         .into_iter()
         .map(|(id, mut b)| {
             let category = b
