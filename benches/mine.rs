@@ -66,6 +66,8 @@ fn options(out: &Path, threads: usize) -> RunOptions {
         threads: Some(threads),
         engine: scenalog_engine::Options::default(),
         progress: false,
+        names: Default::default(),
+        keep_submission: false,
     }
 }
 

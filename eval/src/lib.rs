@@ -20,5 +20,8 @@ pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
 pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
-pub use pickle_write::{encode_value, pickle_bytes, write_pickle, PyValue};
+pub use pickle_write::{
+    encode_value, pickle_bytes, sequences_bytes, write_pickle, PyValue, SUBMISSION_HEAD,
+    SUBMISSION_TAIL,
+};
 pub use roi::{RoiMaps, RoiRaster};

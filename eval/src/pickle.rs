@@ -422,7 +422,7 @@ pub struct Pickle {
     arena: Vec<Obj>,
     root: usize,
     /// Bytes still allowed to be decoded out of the arena.
-    budget: std::cell::Cell<usize>,
+    budget: std::sync::atomic::AtomicUsize,
     what: String,
 }
 
@@ -465,7 +465,7 @@ pub fn parse_pickle(data: &[u8], what: &str) -> Result<Pickle, EvalError> {
     Ok(Pickle {
         arena: m.arena,
         root,
-        budget: std::cell::Cell::new(budget),
+        budget: std::sync::atomic::AtomicUsize::new(budget),
         what: what.to_string(),
     })
 }
@@ -486,20 +486,22 @@ impl Pickle {
 
     /// Bytes still allowed to be decoded out of this pickle.
     pub fn budget(&self) -> usize {
-        self.budget.get()
+        self.budget.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// Charges `bytes` of decoded output to the budget.
     fn charge(&self, bytes: usize) -> Result<(), String> {
-        let left = self.budget.get();
-        if bytes > left {
-            self.budget.set(0);
+        use std::sync::atomic::Ordering::Relaxed;
+        let charged = self
+            .budget
+            .fetch_update(Relaxed, Relaxed, |left| left.checked_sub(bytes));
+        if charged.is_err() {
+            self.budget.store(0, Relaxed);
             return Err(format!(
                 "decodes to more than {EXPANSION_FACTOR} times the file's size (objects repeated \
                  by reference without bound?)"
             ));
         }
-        self.budget.set(left - bytes);
         Ok(())
     }
 

@@ -283,11 +283,17 @@ pub fn encode_value(v: &PyValue) -> Vec<u8> {
     w.out
 }
 
-/// Encodes a submission as pickle bytes (protocol 4).
-pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
-    let mut w = W { out: vec![0x80, 4] };
-    w.op(b'}');
-    w.op(b'(');
+/// The bytes a submission pickle starts with (protocol 4, an empty dict, a MARK).
+pub const SUBMISSION_HEAD: &[u8] = &[0x80, 4, b'}', b'('];
+/// The bytes a submission pickle ends with (SETITEMS, STOP).
+pub const SUBMISSION_TAIL: &[u8] = b"u.";
+
+/// The middle of a submission pickle: each sequence's key and frames, in key order. A file made
+/// of [`SUBMISSION_HEAD`], the bodies of submissions with disjoint keys in key order, and
+/// [`SUBMISSION_TAIL`] is byte for byte [`pickle_bytes`] of their union, so a run can write its
+/// submission one log at a time.
+pub fn sequences_bytes(sub: &Submission) -> Vec<u8> {
+    let mut w = W { out: Vec::new() };
     for (key, frames) in &sub.sequences {
         w.str(&key.0);
         w.str(&key.1);
@@ -299,9 +305,15 @@ pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
         }
         w.op(b'e');
     }
-    w.op(b'u');
-    w.op(b'.');
     w.out
+}
+
+/// Encodes a submission as pickle bytes (protocol 4).
+pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
+    let mut out = SUBMISSION_HEAD.to_vec();
+    out.extend(sequences_bytes(sub));
+    out.extend_from_slice(SUBMISSION_TAIL);
+    out
 }
 
 /// Writes a submission as a pickle file atomically (a temporary file in the same directory, then rename).

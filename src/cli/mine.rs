@@ -237,6 +237,8 @@ pub fn run(args: Args) -> ExitCode {
             ..scenalog_engine::Options::default()
         },
         progress: true,
+        names: Default::default(),
+        keep_submission: gt.is_some(),
     };
     let report = match run_mining(&scenarios, &logs, &options) {
         Ok(r) => r,
