@@ -6,5 +6,6 @@ pub mod eval;
 pub mod explain;
 pub mod facts;
 pub mod mine;
+pub mod mine_pairs;
 pub mod run;
 pub mod synth;
