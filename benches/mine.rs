@@ -125,6 +125,7 @@ fn per_pair(scenarios: &[Scenario], logs: &[LogInput]) {
                     &scene,
                     &s.description,
                     &labelled,
+                    None,
                 ));
                 times.push(t.elapsed());
             }

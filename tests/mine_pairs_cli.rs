@@ -87,6 +87,9 @@ fn exact_tracker_scores_as_annotations_and_noisy_lower() {
             ]
         );
         no_temporary_files(&out);
+        // Joined from per-log parts, the file is byte for byte the whole submission's pickle.
+        let bytes = std::fs::read(out.join("submission.pkl")).expect("read");
+        assert!(bytes == scenalog_eval::pickle_bytes(&sub), "{name}");
         scores.insert(name, hota_temporal(&sub));
     }
     assert_eq!(scores["exact"], scores["annotations"], "{scores:?}");

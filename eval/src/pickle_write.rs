@@ -96,6 +96,31 @@ impl W {
         self.op(b't');
         self.op(b'b');
     }
+    /// A 1-d unicode array, `U<n>` with n the longest string (at least `min_width`).
+    fn str_array(&mut self, items: &[String], min_width: usize) {
+        let width = items
+            .iter()
+            .map(|s| s.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(min_width);
+        let mut raw = Vec::with_capacity(items.len() * width * 4);
+        for s in items {
+            let mut c = 0;
+            for ch in s.chars() {
+                raw.extend_from_slice(&(ch as u32).to_le_bytes());
+                c += 1;
+            }
+            raw.resize(raw.len() + (width - c) * 4, 0);
+        }
+        let code = format!("U{width}");
+        self.array(
+            &[items.len()],
+            |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
+            &raw,
+        );
+    }
+
     fn frame(&mut self, key: &(String, String), f: &FrameData) {
         let n = f.len();
         self.op(b'}');
@@ -146,28 +171,7 @@ impl W {
         let raw: Vec<u8> = f.label.iter().flat_map(|v| v.to_le_bytes()).collect();
         self.array(&[f.label.len()], |w| w.num_dtype("i4"), &raw);
         self.str("name");
-        let width = f
-            .name
-            .iter()
-            .map(|s| s.chars().count())
-            .max()
-            .unwrap_or(0)
-            .max(31);
-        let mut raw = Vec::with_capacity(f.name.len() * width * 4);
-        for s in &f.name {
-            let mut c = 0;
-            for ch in s.chars() {
-                raw.extend_from_slice(&(ch as u32).to_le_bytes());
-                c += 1;
-            }
-            raw.resize(raw.len() + (width - c) * 4, 0);
-        }
-        let code = format!("U{width}");
-        self.array(
-            &[f.name.len()],
-            |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
-            &raw,
-        );
+        self.str_array(&f.name, 31);
         self.str("track_id");
         let raw: Vec<u8> = f.track_id.iter().flat_map(|v| v.to_le_bytes()).collect();
         self.array(&[f.track_id.len()], |w| w.num_dtype("i4"), &raw);
@@ -247,29 +251,7 @@ impl W {
                 let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
                 self.array(&[vals.len()], |w| w.num_dtype("i8"), &raw);
             }
-            PyValue::StrArray(items) => {
-                let width = items
-                    .iter()
-                    .map(|s| s.chars().count())
-                    .max()
-                    .unwrap_or(0)
-                    .max(1);
-                let mut raw = Vec::with_capacity(items.len() * width * 4);
-                for s in items {
-                    let mut c = 0;
-                    for ch in s.chars() {
-                        raw.extend_from_slice(&(ch as u32).to_le_bytes());
-                        c += 1;
-                    }
-                    raw.resize(raw.len() + (width - c) * 4, 0);
-                }
-                let code = format!("U{width}");
-                self.array(
-                    &[items.len()],
-                    |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
-                    &raw,
-                );
-            }
+            PyValue::StrArray(items) => self.str_array(items, 1),
         }
     }
 }

@@ -274,16 +274,8 @@ pub fn run(args: &Options) -> ExitCode {
             _ => None,
         })
         .collect();
-    let resumed = report
-        .pairs
-        .iter()
-        .filter(|p| p.status == PairStatus::Resumed)
-        .count();
-    let with_matches = report
-        .pairs
-        .iter()
-        .filter(|p| !p.matches.is_empty())
-        .count();
+    let resumed = report.resumed();
+    let with_matches = report.with_matches();
     let listed: usize = pairs
         .values()
         .map(|v| v.iter().collect::<BTreeSet<_>>().len())

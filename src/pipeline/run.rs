@@ -183,6 +183,19 @@ impl RunReport {
                 .any(|p| matches!(p.status, PairStatus::Failed(_)))
     }
 
+    /// How many pairs were resumed from an earlier run.
+    pub fn resumed(&self) -> usize {
+        self.pairs
+            .iter()
+            .filter(|p| p.status == PairStatus::Resumed)
+            .count()
+    }
+
+    /// How many pairs referred at least one track.
+    pub fn with_matches(&self) -> usize {
+        self.pairs.iter().filter(|p| !p.matches.is_empty()).count()
+    }
+
     /// Every match of every finished pair, in pair order.
     pub fn matches(&self) -> Vec<&Match> {
         self.pairs.iter().flat_map(|p| &p.matches).collect()
@@ -414,8 +427,11 @@ fn log_fingerprint(log: &LogInput) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// A log's scene and, for tracker input, each box's score (`scores[track][box]`).
+type LoadedLog = (Scene, Option<Vec<Vec<f32>>>);
+
 /// The log's scene and, for tracker input, each box's score.
-fn load_log(log: &LogInput) -> Result<(Scene, Option<Vec<Vec<f32>>>), String> {
+fn load_log(log: &LogInput) -> Result<LoadedLog, String> {
     match &log.tracker {
         None => scenalog_facts::load_scene(&log.dir)
             .map(|s| (s, None))

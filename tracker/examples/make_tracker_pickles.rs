@@ -16,6 +16,11 @@
 //!
 //! Run from the workspace: `cargo run -p scenalog-tracker --example make_tracker_pickles --
 //! tests/data/av2/logs tests/data/av2/tracker`.
+//!
+//! `… -- LOGS OUT --scaled N LIBRARY` writes instead a simulated split for the scale benchmark:
+//! `OUT/split/<id>/` for N log ids (the sample logs in turn, their files linked), `OUT/tracks.pkl`
+//! (each log's noisy detections, seeded by its position) and `OUT/log_prompt_pairs.json` (the
+//! first 30 library descriptions for every log).
 
 use std::path::{Path, PathBuf};
 
@@ -155,10 +160,108 @@ fn noisy_rows(scene: &Scene, seed: u64) -> Vec<Vec<Row>> {
     frames
 }
 
+/// The scaled split (see the module documentation).
+fn scaled(
+    dirs: &[PathBuf],
+    out: &Path,
+    n: usize,
+    library: &Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let scenes: Vec<Scene> = dirs
+        .iter()
+        .map(|d| scenalog_facts::load_scene(d))
+        .collect::<Result<_, _>>()?;
+    let mut prompts: Vec<String> = std::fs::read_dir(library)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "dl"))
+        .filter_map(|p| std::fs::read_to_string(p).ok())
+        .filter_map(|t| {
+            t.lines().find_map(|l| {
+                l.strip_prefix("// description:")
+                    .map(|d| d.trim().to_string())
+            })
+        })
+        .collect();
+    prompts.sort();
+    prompts.dedup();
+    prompts.truncate(30);
+    let split = out.join("split");
+    let mut logs = Vec::new();
+    let mut pairs: Vec<(String, Vec<String>)> = Vec::new();
+    for i in 0..n {
+        let k = i % scenes.len();
+        let id = format!("{i:08x}-5ca1-4000-8000-{:012x}", k);
+        let dir = split.join(&id);
+        std::fs::create_dir_all(dir.join("map"))?;
+        link(
+            &dirs[k].join("city_SE3_egovehicle.feather"),
+            &dir.join("city_SE3_egovehicle.feather"),
+        )?;
+        for e in std::fs::read_dir(dirs[k].join("map"))?.flatten() {
+            link(&e.path(), &dir.join("map").join(e.file_name()))?;
+        }
+        let stamps = scenes[k].timeline.timestamps_ns().to_vec();
+        let rows = noisy_rows(&scenes[k], i as u64 + 100);
+        let frames = P::List(
+            rows.iter()
+                .zip(&stamps)
+                .map(|(r, &ts)| frame_value(ts, r, false))
+                .collect(),
+        );
+        logs.push((P::Str(id.clone()), frames));
+        pairs.push((id, prompts.clone()));
+    }
+    std::fs::write(
+        out.join("tracks.pkl"),
+        scenalog_eval::encode_value(&P::Dict(logs)),
+    )?;
+    let json: Vec<String> = pairs
+        .iter()
+        .map(|(id, ps)| {
+            let list: Vec<String> = ps.iter().map(|p| format!("{p:?}")).collect();
+            format!("  {id:?}: [{}]", list.join(", "))
+        })
+        .collect();
+    std::fs::write(
+        out.join("log_prompt_pairs.json"),
+        format!("{{\n{}\n}}\n", json.join(",\n")),
+    )?;
+    println!(
+        "{n} logs x {} prompts under {}",
+        prompts.len(),
+        out.display()
+    );
+    Ok(())
+}
+
+/// A symbolic link (a copy where links are not available).
+fn link(from: &Path, to: &Path) -> std::io::Result<()> {
+    let from = from.canonicalize()?;
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&from, to)
+    }
+    #[cfg(not(unix))]
+    {
+        std::fs::copy(&from, to).map(|_| ())
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<PathBuf> = std::env::args_os().skip(1).map(PathBuf::from).collect();
+    if let [logs, out, flag, n, library] = args.as_slice() {
+        if flag.as_os_str() == "--scaled" {
+            let n: usize = n.to_string_lossy().parse()?;
+            let mut dirs: Vec<PathBuf> = std::fs::read_dir(logs)?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_dir())
+                .collect();
+            dirs.sort();
+            return scaled(&dirs, out, n, library);
+        }
+    }
     let [logs, out] = args.as_slice() else {
-        return Err("usage: make_tracker_pickles LOGS_DIR OUT_DIR".into());
+        return Err("usage: make_tracker_pickles LOGS_DIR OUT_DIR [--scaled N LIBRARY_DIR]".into());
     };
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(logs)?
         .filter_map(|e| e.ok().map(|e| e.path()))
