@@ -66,6 +66,8 @@ fn options(out: &Path, threads: usize) -> RunOptions {
         threads: Some(threads),
         engine: scenalog_engine::Options::default(),
         progress: false,
+        names: Default::default(),
+        keep_submission: false,
     }
 }
 
@@ -123,6 +125,7 @@ fn per_pair(scenarios: &[Scenario], logs: &[LogInput]) {
                     &scene,
                     &s.description,
                     &labelled,
+                    None,
                 ));
                 times.push(t.elapsed());
             }

@@ -19,6 +19,9 @@ pub use arrow_table::{read_any, read_table, table_from_bytes, write_table};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
-pub use pickle::{read_pickle, read_pickle_bytes};
-pub use pickle_write::{pickle_bytes, write_pickle};
+pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
+pub use pickle_write::{
+    encode_value, pickle_bytes, sequences_bytes, write_pickle, PyValue, SUBMISSION_HEAD,
+    SUBMISSION_TAIL,
+};
 pub use roi::{RoiMaps, RoiRaster};

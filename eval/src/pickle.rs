@@ -1,5 +1,13 @@
 //! A reader for exactly the subset of Python pickle (protocol 2-5) the official scenario-mining files use,
 //! numpy arrays, dtypes and scalars included, into [`crate::Submission`].
+//!
+//! Two layers: [`parse_pickle`] runs the pickle machine into a [`Pickle`] (an arena of objects; an
+//! object repeated by reference is stored once, and arrays point at their raw bytes instead of
+//! copying them, so the arena is linear in the input), and [`Node`] is a lazy, generic view of it that
+//! other formats (the 3D-tracking submission) read without a second unpickler. Decoding arrays and
+//! strings out of the arena is charged to an expansion budget ([`Pickle::budget`]): a pickle whose
+//! objects repeat by reference (a memo bomb) is an error once it would decode to more than
+//! [`EXPANSION_FACTOR`] times its own size, instead of growing without bound.
 
 use crate::error::EvalError;
 use crate::model::{FrameData, SeqKey, Submission};
@@ -27,9 +35,10 @@ enum Obj {
     Dict(Vec<(usize, usize)>),
     Global(String, String),
     Dtype(Dtype),
-    /// An ndarray: dtype, shape, fortran order, raw bytes (filled by BUILD).
-    Array(Option<Dtype>, Vec<usize>, bool, Vec<u8>),
-    Scalar(Dtype, Vec<u8>),
+    /// An ndarray: dtype, shape, fortran order, the arena index of its raw bytes (filled by BUILD).
+    Array(Option<Dtype>, Vec<usize>, bool, Option<usize>),
+    /// A numpy scalar: dtype and the arena index of its raw bytes.
+    Scalar(Dtype, usize),
 }
 
 struct Machine<'a> {
@@ -327,14 +336,14 @@ impl<'a> Machine<'a> {
                     "numpy.dtype without a type code at byte {at}"
                 ))),
             },
-            (_, "_reconstruct") if numpy_mod => Ok(Obj::Array(None, Vec::new(), false, Vec::new())),
+            (_, "_reconstruct") if numpy_mod => Ok(Obj::Array(None, Vec::new(), false, None)),
             (_, "scalar") if numpy_mod => {
-                let (d, b) = match args.as_slice() {
-                    [d, b] => (&self.arena[*d], &self.arena[*b]),
+                let (d, bi) = match args.as_slice() {
+                    [d, b] => (&self.arena[*d], *b),
                     _ => return Err(perr(format!("numpy scalar needs 2 arguments at byte {at}"))),
                 };
-                match (d, b) {
-                    (Obj::Dtype(d), Obj::Bytes(b)) => Ok(Obj::Scalar(d.clone(), b.clone())),
+                match (d, &self.arena[bi]) {
+                    (Obj::Dtype(d), Obj::Bytes(_)) => Ok(Obj::Scalar(d.clone(), bi)),
                     _ => Err(perr(format!(
                         "numpy scalar with unexpected arguments at byte {at}"
                     ))),
@@ -385,14 +394,14 @@ impl<'a> Machine<'a> {
                 };
                 let fortran = matches!(self.arena[*fortran], Obj::Bool(true));
                 let raw = match &self.arena[*raw] {
-                    Obj::Bytes(b) => b.clone(),
+                    Obj::Bytes(_) => *raw,
                     _ => {
                         return Err(perr(format!(
                             "ndarray data is not raw bytes (object array?) at byte {at}"
                         )))
                     }
                 };
-                Obj::Array(Some(dtype), shape, fortran, raw)
+                Obj::Array(Some(dtype), shape, fortran, Some(raw))
             }
             _ => return Err(perr(format!("BUILD on an unsupported object at byte {at}"))),
         };
@@ -401,8 +410,42 @@ impl<'a> Machine<'a> {
     }
 }
 
-/// Reads a scenario-mining pickle from bytes; `what` names the source in errors.
-pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalError> {
+/// How many times its own size a pickle may decode to (arrays widened to `f64`, strings), before
+/// [`Node`] accessors fail: a legitimate file decodes to a few times its size; a memo bomb would
+/// decode to without bound.
+pub const EXPANSION_FACTOR: usize = 16;
+/// Bytes every pickle may decode to whatever its size (small files with many tiny arrays).
+const EXPANSION_FLOOR: usize = 64 << 20;
+
+/// A parsed pickle: the objects its opcodes built, each once (see the module documentation).
+pub struct Pickle {
+    arena: Vec<Obj>,
+    root: usize,
+    /// Bytes still allowed to be decoded out of the arena.
+    budget: std::sync::atomic::AtomicUsize,
+    what: String,
+}
+
+/// A lazy view of one object of a [`Pickle`].
+#[derive(Clone, Copy)]
+pub struct Node<'a> {
+    pickle: &'a Pickle,
+    index: usize,
+}
+
+/// A numeric numpy array decoded to `f64`, row-major, with its shape.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumArray {
+    /// The values, row-major.
+    pub values: Vec<f64>,
+    /// The shape.
+    pub shape: Vec<usize>,
+    /// The numpy type code, e.g. "f8", "f4", "i8".
+    pub dtype: String,
+}
+
+/// Runs the pickle machine over `data`; `what` names the source in errors.
+pub fn parse_pickle(data: &[u8], what: &str) -> Result<Pickle, EvalError> {
     let mut m = Machine {
         data,
         pos: 0,
@@ -415,11 +458,232 @@ pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalErro
         EvalError::Pickle(s) => EvalError::Pickle(format!("{what}: {s}")),
         e => e,
     })?;
-    Conv {
-        arena: &m.arena,
-        what,
+    let budget = data
+        .len()
+        .saturating_mul(EXPANSION_FACTOR)
+        .saturating_add(EXPANSION_FLOOR);
+    Ok(Pickle {
+        arena: m.arena,
+        root,
+        budget: std::sync::atomic::AtomicUsize::new(budget),
+        what: what.to_string(),
+    })
+}
+
+impl Pickle {
+    /// The object the pickle returns.
+    pub fn root(&self) -> Node<'_> {
+        Node {
+            pickle: self,
+            index: self.root,
+        }
     }
-    .submission(root)
+
+    /// What the pickle was read from (for error messages).
+    pub fn source(&self) -> &str {
+        &self.what
+    }
+
+    /// Bytes still allowed to be decoded out of this pickle.
+    pub fn budget(&self) -> usize {
+        self.budget.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Charges `bytes` of decoded output to the budget.
+    fn charge(&self, bytes: usize) -> Result<(), String> {
+        use std::sync::atomic::Ordering::Relaxed;
+        let charged = self
+            .budget
+            .fetch_update(Relaxed, Relaxed, |left| left.checked_sub(bytes));
+        if charged.is_err() {
+            self.budget.store(0, Relaxed);
+            return Err(format!(
+                "decodes to more than {EXPANSION_FACTOR} times the file's size (objects repeated \
+                 by reference without bound?)"
+            ));
+        }
+        Ok(())
+    }
+
+    fn raw(&self, i: usize) -> &[u8] {
+        match &self.arena[i] {
+            Obj::Bytes(b) => b,
+            _ => &[],
+        }
+    }
+
+    fn node(&self, index: usize) -> Node<'_> {
+        Node {
+            pickle: self,
+            index,
+        }
+    }
+}
+
+impl<'a> Node<'a> {
+    fn obj(&self) -> &'a Obj {
+        &self.pickle.arena[self.index]
+    }
+
+    /// A short name of the object's type, for error messages ("dict", "list", "ndarray", …).
+    pub fn kind(&self) -> &'static str {
+        match self.obj() {
+            Obj::None => "None",
+            Obj::Bool(_) => "bool",
+            Obj::Int(_) => "int",
+            Obj::Float(_) => "float",
+            Obj::Str(_) => "str",
+            Obj::Bytes(_) => "bytes",
+            Obj::Tuple(_) => "tuple",
+            Obj::List(_) => "list",
+            Obj::Dict(_) => "dict",
+            Obj::Global(..) => "global",
+            Obj::Dtype(_) => "dtype",
+            Obj::Array(..) => "ndarray",
+            Obj::Scalar(..) => "numpy scalar",
+        }
+    }
+
+    /// The items of a dict, in the pickle's order.
+    pub fn dict(&self) -> Option<Vec<(Node<'a>, Node<'a>)>> {
+        match self.obj() {
+            Obj::Dict(items) => Some(
+                items
+                    .iter()
+                    .map(|&(k, v)| (self.pickle.node(k), self.pickle.node(v)))
+                    .collect(),
+            ),
+            _ => None,
+        }
+    }
+
+    /// The items of a list or tuple.
+    pub fn items(&self) -> Option<Vec<Node<'a>>> {
+        match self.obj() {
+            Obj::List(items) | Obj::Tuple(items) => {
+                Some(items.iter().map(|&i| self.pickle.node(i)).collect())
+            }
+            _ => None,
+        }
+    }
+
+    /// A string.
+    pub fn str(&self) -> Option<&'a str> {
+        match self.obj() {
+            Obj::Str(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// An integer: a Python int or an integer numpy scalar (exactly, even past 2^53).
+    pub fn int(&self) -> Option<i64> {
+        match self.obj() {
+            Obj::Int(i) => Some(*i),
+            Obj::Bool(b) => Some(*b as i64),
+            Obj::Scalar(d, b) => scalar_i64(d, self.pickle.raw(*b)),
+            _ => None,
+        }
+    }
+
+    /// A number: a Python int or float, or a numeric numpy scalar.
+    pub fn float(&self) -> Option<f64> {
+        match self.obj() {
+            Obj::Int(i) => Some(*i as f64),
+            Obj::Float(f) => Some(*f),
+            Obj::Scalar(d, b) => decode(d, self.pickle.raw(*b))
+                .ok()
+                .and_then(|x| x.first().copied()),
+            _ => None,
+        }
+    }
+
+    /// A numeric numpy array (C order), decoded to `f64` and charged to the budget; the error
+    /// says what is wrong (not an array, an unsupported dtype, data of the wrong size).
+    pub fn num_array(&self) -> Result<NumArray, String> {
+        let Obj::Array(Some(d), shape, fortran, Some(raw)) = self.obj() else {
+            return Err(format!("expected a numpy array, got {}", self.kind()));
+        };
+        if *fortran && shape.len() > 1 {
+            return Err("Fortran-order arrays are not supported".into());
+        }
+        let raw = self.pickle.raw(*raw);
+        let want = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+        let width = dtype_width(d).ok_or_else(|| format!("unsupported dtype {:?}", d.code))?;
+        if want.and_then(|n| n.checked_mul(width)) != Some(raw.len()) {
+            return Err(format!(
+                "{} bytes of {} data for shape {shape:?}",
+                raw.len(),
+                d.code
+            ));
+        }
+        self.pickle.charge(raw.len() / width * 8)?;
+        let values = decode(d, raw)?;
+        Ok(NumArray {
+            values,
+            shape: shape.clone(),
+            dtype: d.code.trim_start_matches(['<', '>', '=', '|']).to_string(),
+        })
+    }
+
+    /// A 1-d numpy unicode array (`U<n>`) as strings, charged to the budget.
+    pub fn str_array(&self) -> Result<Vec<String>, String> {
+        let Obj::Array(Some(d), shape, _, Some(raw)) = self.obj() else {
+            return Err(format!(
+                "expected a numpy string array, got {}",
+                self.kind()
+            ));
+        };
+        if shape.len() != 1 {
+            return Err(format!("expected a 1-d array, got shape {shape:?}"));
+        }
+        let raw = self.pickle.raw(*raw);
+        let chars: usize = d
+            .code
+            .strip_prefix('U')
+            .and_then(|n| n.parse().ok())
+            .ok_or_else(|| format!("expected a unicode dtype, got {:?}", d.code))?;
+        let n = shape[0];
+        if n.checked_mul(chars).and_then(|x| x.checked_mul(4)) != Some(raw.len()) {
+            return Err("string array data of the wrong size".into());
+        }
+        self.pickle.charge(raw.len() / 4 + n * 24)?;
+        let mut out = Vec::with_capacity(n);
+        for i in 0..n {
+            let mut s = String::new();
+            for c in 0..chars {
+                let o = (i * chars + c) * 4;
+                let b = [raw[o], raw[o + 1], raw[o + 2], raw[o + 3]];
+                let cp = if d.endian == '>' {
+                    u32::from_be_bytes(b)
+                } else {
+                    u32::from_le_bytes(b)
+                };
+                if cp == 0 {
+                    break;
+                }
+                s.push(char::from_u32(cp).ok_or("invalid code point")?);
+            }
+            out.push(s);
+        }
+        Ok(out)
+    }
+}
+
+/// Bytes per value of a numeric dtype.
+fn dtype_width(d: &Dtype) -> Option<usize> {
+    match d.code.trim_start_matches(['<', '>', '=', '|']) {
+        "f8" | "i8" | "u8" => Some(8),
+        "f4" | "i4" | "u4" => Some(4),
+        "i2" | "u2" => Some(2),
+        "i1" | "u1" | "b1" => Some(1),
+        _ => None,
+    }
+}
+
+/// Reads a scenario-mining pickle from bytes; `what` names the source in errors.
+pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalError> {
+    let pickle = parse_pickle(data, what)?;
+    Conv { pickle: &pickle }.submission(pickle.root)
 }
 
 /// Reads a scenario-mining pickle file.
@@ -429,30 +693,27 @@ pub fn read_pickle(path: &std::path::Path) -> Result<Submission, EvalError> {
 }
 
 struct Conv<'a> {
-    arena: &'a [Obj],
-    what: &'a str,
-}
-
-/// A decoded numeric array: values as f64 plus the shape.
-struct Num {
-    vals: Vec<f64>,
-    shape: Vec<usize>,
+    pickle: &'a Pickle,
 }
 
 impl Conv<'_> {
     fn ferr(&self, place: &str, msg: impl std::fmt::Display) -> EvalError {
-        EvalError::Format(format!("{}: {place}: {msg}", self.what))
+        EvalError::Format(format!("{}: {place}: {msg}", self.pickle.what))
+    }
+
+    fn node(&self, i: usize) -> Node<'_> {
+        self.pickle.node(i)
     }
 
     fn submission(&self, root: usize) -> Result<Submission, EvalError> {
-        let Obj::Dict(items) = &self.arena[root] else {
+        let Obj::Dict(items) = &self.pickle.arena[root] else {
             return Err(self.ferr("top level", "expected a dict of (log_id, prompt) -> frames"));
         };
         let mut sequences = BTreeMap::new();
         for &(k, v) in items {
             let key = self.seq_key(k)?;
             let place = format!("sequence {key:?}");
-            let Obj::List(frames) = &self.arena[v] else {
+            let Obj::List(frames) = &self.pickle.arena[v] else {
                 return Err(self.ferr(&place, "expected a list of frames"));
             };
             let mut out = Vec::with_capacity(frames.len());
@@ -467,11 +728,13 @@ impl Conv<'_> {
     }
 
     fn seq_key(&self, k: usize) -> Result<SeqKey, EvalError> {
-        match &self.arena[k] {
-            Obj::Tuple(v) if v.len() == 2 => match (&self.arena[v[0]], &self.arena[v[1]]) {
-                (Obj::Str(a), Obj::Str(b)) => Ok((a.clone(), b.clone())),
-                _ => Err(self.ferr("sequence key", "expected (log_id, prompt) strings")),
-            },
+        match &self.pickle.arena[k] {
+            Obj::Tuple(v) if v.len() == 2 => {
+                match (&self.pickle.arena[v[0]], &self.pickle.arena[v[1]]) {
+                    (Obj::Str(a), Obj::Str(b)) => Ok((a.clone(), b.clone())),
+                    _ => Err(self.ferr("sequence key", "expected (log_id, prompt) strings")),
+                }
+            }
             Obj::Str(s) => parse_seq_str(s)
                 .ok_or_else(|| self.ferr("sequence key", format!("cannot parse {s:?}"))),
             _ => Err(self.ferr("sequence key", "expected a (log_id, prompt) tuple")),
@@ -479,14 +742,14 @@ impl Conv<'_> {
     }
 
     fn frame(&self, f: usize, place: &str) -> Result<FrameData, EvalError> {
-        let Obj::Dict(items) = &self.arena[f] else {
+        let Obj::Dict(items) = &self.pickle.arena[f] else {
             return Err(self.ferr(place, "expected a dict"));
         };
         let mut fr = FrameData::default();
         let mut n: Option<(usize, &'static str)> = None;
         let mut has_ts = false;
         for &(k, v) in items {
-            let Obj::Str(key) = &self.arena[k] else {
+            let Obj::Str(key) = &self.pickle.arena[k] else {
                 return Err(self.ferr(place, "non-string key"));
             };
             let fp = format!("{place} field {key:?}");
@@ -517,18 +780,18 @@ impl Conv<'_> {
                     };
                     fr.ego_translation_m = [*a, *b, *c];
                 }
-                "description" => match &self.arena[v] {
+                "description" => match &self.pickle.arena[v] {
                     Obj::Str(s) => fr.description = Some(s.clone()),
                     Obj::None => {}
                     _ => return Err(self.ferr(&fp, "expected a string")),
                 },
                 "is_positive" => {
-                    fr.is_positive = Some(match &self.arena[v] {
+                    fr.is_positive = Some(match &self.pickle.arena[v] {
                         Obj::None => None,
                         Obj::Bool(b) => Some(*b),
                         Obj::Int(i) => Some(*i != 0),
                         Obj::Scalar(d, b) if d.code == "b1" || d.code == "?" => {
-                            Some(b.first().copied().unwrap_or(0) != 0)
+                            Some(self.pickle.raw(*b).first().copied().unwrap_or(0) != 0)
                         }
                         _ => return Err(self.ferr(&fp, "expected True, False or None")),
                     })
@@ -567,8 +830,8 @@ impl Conv<'_> {
                             format!("expected a 1-d array, got shape {:?}", a.shape),
                         ));
                     }
-                    check(a.vals.len(), if key == "yaw" { "yaw" } else { "score" })?;
-                    let v32: Vec<f32> = a.vals.iter().map(|&x| x as f32).collect();
+                    check(a.values.len(), if key == "yaw" { "yaw" } else { "score" })?;
+                    let v32: Vec<f32> = a.values.iter().map(|&x| x as f32).collect();
                     if key == "yaw" {
                         fr.yaw = v32;
                     } else {
@@ -584,11 +847,11 @@ impl Conv<'_> {
                         ));
                     }
                     check(
-                        a.vals.len(),
+                        a.values.len(),
                         if key == "label" { "label" } else { "track_id" },
                     )?;
-                    let mut out = Vec::with_capacity(a.vals.len());
-                    for &x in &a.vals {
+                    let mut out = Vec::with_capacity(a.values.len());
+                    for &x in &a.values {
                         if x.fract() != 0.0 || x < i32::MIN as f64 || x > i32::MAX as f64 {
                             return Err(
                                 self.ferr(&fp, format!("value {x} is not a 32-bit integer"))
@@ -635,93 +898,34 @@ impl Conv<'_> {
     }
 
     fn int(&self, v: usize) -> Option<i64> {
-        match &self.arena[v] {
-            Obj::Int(i) => Some(*i),
-            Obj::Scalar(d, b) => scalar_i64(d, b),
-            _ => None,
+        match &self.pickle.arena[v] {
+            Obj::Bool(_) => None,
+            _ => self.node(v).int(),
         }
     }
 
     fn float_list(&self, v: usize) -> Option<Vec<f64>> {
-        let items = match &self.arena[v] {
-            Obj::List(x) | Obj::Tuple(x) => x,
-            Obj::Array(Some(d), _, _, raw) => return decode(d, raw).ok(),
-            _ => return None,
-        };
-        items
-            .iter()
-            .map(|&i| match &self.arena[i] {
-                Obj::Float(f) => Some(*f),
-                Obj::Int(n) => Some(*n as f64),
-                Obj::Scalar(d, b) => decode(d, b).ok().and_then(|x| x.first().copied()),
-                _ => None,
-            })
-            .collect()
-    }
-
-    fn num(&self, v: usize, fp: &str) -> Result<Num, EvalError> {
-        match &self.arena[v] {
-            Obj::Array(Some(d), shape, fortran, raw) => {
-                if *fortran && shape.len() > 1 {
-                    return Err(self.ferr(fp, "Fortran-order arrays are not supported"));
-                }
-                let vals = decode(d, raw).map_err(|m| self.ferr(fp, m))?;
-                let want = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
-                if want != Some(vals.len()) {
-                    return Err(self.ferr(fp, format!("{} values for shape {shape:?}", vals.len())));
-                }
-                Ok(Num {
-                    vals,
-                    shape: shape.clone(),
-                })
-            }
-            _ => Err(self.ferr(fp, "expected a numpy array")),
+        let node = self.node(v);
+        if let Ok(a) = node.num_array() {
+            return Some(a.values);
         }
+        node.items()?.iter().map(|n| n.float()).collect()
     }
 
-    fn rows3(&self, a: &Num, fp: &str) -> Result<Vec<[f64; 3]>, EvalError> {
+    fn num(&self, v: usize, fp: &str) -> Result<NumArray, EvalError> {
+        self.node(v).num_array().map_err(|m| self.ferr(fp, m))
+    }
+
+    fn rows3(&self, a: &NumArray, fp: &str) -> Result<Vec<[f64; 3]>, EvalError> {
         match a.shape.as_slice() {
-            [_, 3] => Ok(a.vals.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()),
+            [_, 3] => Ok(a.values.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()),
             [0] | [0, _] => Ok(Vec::new()),
             s => Err(self.ferr(fp, format!("expected shape (N, 3), got {s:?}"))),
         }
     }
 
     fn strings(&self, v: usize, fp: &str) -> Result<Vec<String>, EvalError> {
-        let Obj::Array(Some(d), shape, _, raw) = &self.arena[v] else {
-            return Err(self.ferr(fp, "expected a numpy string array"));
-        };
-        if shape.len() != 1 {
-            return Err(self.ferr(fp, format!("expected a 1-d array, got shape {shape:?}")));
-        }
-        let chars: usize = d
-            .code
-            .strip_prefix('U')
-            .and_then(|n| n.parse().ok())
-            .ok_or_else(|| self.ferr(fp, format!("expected a unicode dtype, got {:?}", d.code)))?;
-        let n = shape[0];
-        if n.checked_mul(chars).and_then(|x| x.checked_mul(4)) != Some(raw.len()) {
-            return Err(self.ferr(fp, "string array data of the wrong size"));
-        }
-        let mut out = Vec::with_capacity(n);
-        for i in 0..n {
-            let mut s = String::new();
-            for c in 0..chars {
-                let o = (i * chars + c) * 4;
-                let b = [raw[o], raw[o + 1], raw[o + 2], raw[o + 3]];
-                let cp = if d.endian == '>' {
-                    u32::from_be_bytes(b)
-                } else {
-                    u32::from_le_bytes(b)
-                };
-                if cp == 0 {
-                    break;
-                }
-                s.push(char::from_u32(cp).ok_or_else(|| self.ferr(fp, "invalid code point"))?);
-            }
-            out.push(s);
-        }
-        Ok(out)
+        self.node(v).str_array().map_err(|m| self.ferr(fp, m))
     }
 }
 

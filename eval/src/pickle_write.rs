@@ -96,6 +96,31 @@ impl W {
         self.op(b't');
         self.op(b'b');
     }
+    /// A 1-d unicode array, `U<n>` with n the longest string (at least `min_width`).
+    fn str_array(&mut self, items: &[String], min_width: usize) {
+        let width = items
+            .iter()
+            .map(|s| s.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(min_width);
+        let mut raw = Vec::with_capacity(items.len() * width * 4);
+        for s in items {
+            let mut c = 0;
+            for ch in s.chars() {
+                raw.extend_from_slice(&(ch as u32).to_le_bytes());
+                c += 1;
+            }
+            raw.resize(raw.len() + (width - c) * 4, 0);
+        }
+        let code = format!("U{width}");
+        self.array(
+            &[items.len()],
+            |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
+            &raw,
+        );
+    }
+
     fn frame(&mut self, key: &(String, String), f: &FrameData) {
         let n = f.len();
         self.op(b'}');
@@ -146,28 +171,7 @@ impl W {
         let raw: Vec<u8> = f.label.iter().flat_map(|v| v.to_le_bytes()).collect();
         self.array(&[f.label.len()], |w| w.num_dtype("i4"), &raw);
         self.str("name");
-        let width = f
-            .name
-            .iter()
-            .map(|s| s.chars().count())
-            .max()
-            .unwrap_or(0)
-            .max(31);
-        let mut raw = Vec::with_capacity(f.name.len() * width * 4);
-        for s in &f.name {
-            let mut c = 0;
-            for ch in s.chars() {
-                raw.extend_from_slice(&(ch as u32).to_le_bytes());
-                c += 1;
-            }
-            raw.resize(raw.len() + (width - c) * 4, 0);
-        }
-        let code = format!("U{width}");
-        self.array(
-            &[f.name.len()],
-            |w| w.dtype(&code, "<", (width * 4) as i32, 4, 8),
-            &raw,
-        );
+        self.str_array(&f.name, 31);
         self.str("track_id");
         let raw: Vec<u8> = f.track_id.iter().flat_map(|v| v.to_le_bytes()).collect();
         self.array(&[f.track_id.len()], |w| w.num_dtype("i4"), &raw);
@@ -187,11 +191,91 @@ impl W {
     }
 }
 
-/// Encodes a submission as pickle bytes (protocol 4).
-pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
+/// A Python value to pickle with [`encode_value`]: the few shapes other formats of the benchmark
+/// need (the 3D-tracking submission: a dict of lists of dicts of numpy arrays).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PyValue {
+    /// A `str`.
+    Str(String),
+    /// A numpy `int64` scalar.
+    I64(i64),
+    /// A `list`.
+    List(Vec<PyValue>),
+    /// A `dict`, items in this order.
+    Dict(Vec<(PyValue, PyValue)>),
+    /// A `float64` ndarray of this shape (row-major values).
+    F64Array(Vec<usize>, Vec<f64>),
+    /// A `float32` ndarray of this shape.
+    F32Array(Vec<usize>, Vec<f32>),
+    /// A 1-d `int64` ndarray.
+    I64Array(Vec<i64>),
+    /// A 1-d unicode ndarray (`U<n>`, n the longest string, at least 1).
+    StrArray(Vec<String>),
+}
+
+impl W {
+    fn value(&mut self, v: &PyValue) {
+        match v {
+            PyValue::Str(s) => self.str(s),
+            PyValue::I64(i) => self.scalar("i8", &i.to_le_bytes()),
+            PyValue::List(items) => {
+                self.op(b']');
+                if !items.is_empty() {
+                    self.op(b'(');
+                    for i in items {
+                        self.value(i);
+                    }
+                    self.op(b'e');
+                }
+            }
+            PyValue::Dict(items) => {
+                self.op(b'}');
+                if !items.is_empty() {
+                    self.op(b'(');
+                    for (k, v) in items {
+                        self.value(k);
+                        self.value(v);
+                    }
+                    self.op(b'u');
+                }
+            }
+            PyValue::F64Array(shape, vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(shape, |w| w.num_dtype("f8"), &raw);
+            }
+            PyValue::F32Array(shape, vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(shape, |w| w.num_dtype("f4"), &raw);
+            }
+            PyValue::I64Array(vals) => {
+                let raw: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
+                self.array(&[vals.len()], |w| w.num_dtype("i8"), &raw);
+            }
+            PyValue::StrArray(items) => self.str_array(items, 1),
+        }
+    }
+}
+
+/// Encodes one Python value as pickle bytes (protocol 4, numpy arrays as `pickle.dump` writes
+/// them).
+pub fn encode_value(v: &PyValue) -> Vec<u8> {
     let mut w = W { out: vec![0x80, 4] };
-    w.op(b'}');
-    w.op(b'(');
+    w.value(v);
+    w.op(b'.');
+    w.out
+}
+
+/// The bytes a submission pickle starts with (protocol 4, an empty dict, a MARK).
+pub const SUBMISSION_HEAD: &[u8] = &[0x80, 4, b'}', b'('];
+/// The bytes a submission pickle ends with (SETITEMS, STOP).
+pub const SUBMISSION_TAIL: &[u8] = b"u.";
+
+/// The middle of a submission pickle: each sequence's key and frames, in key order. A file made
+/// of [`SUBMISSION_HEAD`], the bodies of submissions with disjoint keys in key order, and
+/// [`SUBMISSION_TAIL`] is byte for byte [`pickle_bytes`] of their union, so a run can write its
+/// submission one log at a time.
+pub fn sequences_bytes(sub: &Submission) -> Vec<u8> {
+    let mut w = W { out: Vec::new() };
     for (key, frames) in &sub.sequences {
         w.str(&key.0);
         w.str(&key.1);
@@ -203,9 +287,15 @@ pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
         }
         w.op(b'e');
     }
-    w.op(b'u');
-    w.op(b'.');
     w.out
+}
+
+/// Encodes a submission as pickle bytes (protocol 4).
+pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
+    let mut out = SUBMISSION_HEAD.to_vec();
+    out.extend(sequences_bytes(sub));
+    out.extend_from_slice(SUBMISSION_TAIL);
+    out
 }
 
 /// Writes a submission as a pickle file atomically (a temporary file in the same directory, then rename).
@@ -217,11 +307,15 @@ pub fn write_pickle(sub: &Submission, path: &Path) -> Result<(), EvalError> {
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
     let io = |e| EvalError::Io(path.display().to_string(), e);
-    let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(&bytes).map_err(io)?;
-    f.sync_all().map_err(io)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| {
+    // The temporary file is removed on any failure (a full disk must not stay full of it).
+    let written = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(&bytes)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         io(e)
     })

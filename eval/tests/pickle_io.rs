@@ -159,3 +159,63 @@ fn inconsistent_submissions_name_the_place() {
         "{e}"
     );
 }
+
+/// A frame of `n` objects as a Python value (the fields the reader checks).
+fn frame_value(n: usize) -> scenalog_eval::PyValue {
+    use scenalog_eval::PyValue as P;
+    let s = |x: &str| P::Str(x.to_string());
+    P::Dict(vec![
+        (s("timestamp_ns"), P::I64(315_969_904_359_876_000)),
+        (
+            s("translation_m"),
+            P::F64Array(vec![n, 3], vec![1.5; n * 3]),
+        ),
+        (s("size"), P::F32Array(vec![n, 3], vec![2.0; n * 3])),
+        (s("yaw"), P::F32Array(vec![n], vec![0.1; n])),
+        (s("label"), P::I64Array(vec![0; n])),
+        (s("name"), P::StrArray(vec!["REFERRED_OBJECT".into(); n])),
+        (s("track_id"), P::I64Array((0..n as i64).collect())),
+        (s("score"), P::F32Array(vec![n], vec![0.5; n])),
+    ])
+}
+
+/// A pickle `{("log", "prompt"): [frame, frame, …]}` whose frames are one frame dict repeated by
+/// reference (MEMOIZE once, then BINGET), as a memo bomb is built.
+fn memo_bomb(n: usize, repeats: usize) -> Vec<u8> {
+    let frame = scenalog_eval::encode_value(&frame_value(n));
+    let body = &frame[2..frame.len() - 1];
+    let mut out = vec![0x80, 4, b'}', b'('];
+    for s in ["log", "prompt"] {
+        out.push(b'X');
+        out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+        out.extend_from_slice(s.as_bytes());
+    }
+    out.extend_from_slice(&[0x86, b']', b'(']);
+    out.extend_from_slice(body);
+    out.push(0x94);
+    for _ in 1..repeats {
+        out.extend_from_slice(&[b'h', 0]);
+    }
+    out.extend_from_slice(b"eu.");
+    out
+}
+
+#[test]
+fn a_frame_repeated_by_reference_reads_when_small() {
+    let sub = read_pickle_bytes(&memo_bomb(10, 50), "small").expect("a few shared frames read");
+    let frames = &sub.sequences[&("log".to_string(), "prompt".to_string())];
+    assert_eq!(frames.len(), 50);
+    assert!(frames.iter().all(|f| f.translation_m.len() == 10));
+}
+
+/// A 2.6 MB pickle that repeats a 20,000-object frame 100,000 times by reference would decode to
+/// about 100 GB: it is an error naming the cause, found after a bounded amount of decoding.
+#[test]
+fn a_memo_bomb_is_an_error_not_unbounded_memory() {
+    let bytes = memo_bomb(20_000, 100_000);
+    assert!(bytes.len() < 3_000_000, "{}", bytes.len());
+    let e = read_pickle_bytes(&bytes, "bomb.pkl").expect_err("a memo bomb must not decode");
+    let msg = e.to_string();
+    assert!(msg.contains("bomb.pkl"), "{msg}");
+    assert!(msg.contains("times the file's size"), "{msg}");
+}

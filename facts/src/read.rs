@@ -131,6 +131,31 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
     })
 }
 
+/// The ego pose at each of `stamps` (sorted, distinct) from `log_dir/city_SE3_egovehicle.feather`,
+/// for scenes whose objects come from elsewhere (a tracker's output): a timestamp without a pose
+/// is a [`LoadError::NoEgoPose`] naming `source` as where the timestamp came from.
+pub fn ego_poses(log_dir: &Path, source: &Path, stamps: &[i64]) -> Result<Vec<Pose>, LoadError> {
+    ego_poses_at(&log_dir.join(EGO_POSES_FILE), source, stamps)
+}
+
+/// The vector map of a log directory (`map/log_map_archive_*.json`) and its city code.
+pub fn log_map(log_dir: &Path) -> Result<(crate::map::VectorMap, String), LoadError> {
+    let map_path = map_json::find_map_file(log_dir)?;
+    let map = map_json::read_map(&map_path)?;
+    let city = map_path
+        .file_name()
+        .map(|n| city_from_map_name(&n.to_string_lossy()))
+        .unwrap_or_default();
+    Ok((map, city))
+}
+
+/// The ego track a scene without an `EGO_VEHICLE` track gets: uuid [`ADDED_EGO_UUID`], identity
+/// pose in the ego frame, size [`EGO_SIZE`], one box per frame.
+pub fn added_ego(ego_poses: &[Pose]) -> (String, Vec<TrackBox>) {
+    let b = added_ego_track(ego_poses);
+    (b.uuid.to_string(), b.boxes)
+}
+
 /// The log id: the directory's name (resolving `.` and the like).
 fn log_id_of(log_dir: &Path) -> String {
     let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());

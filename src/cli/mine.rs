@@ -21,6 +21,9 @@
 //! `--max-tuples N` is one pair's budget over all its relations, extracted ones included
 //! (default: half the machine's memory shared by the threads); `--timeout-ms MS` one pair's time
 //! limit (default 120 s). A pair past either fails, naming the relation, and the others run.
+//! `--log-prompts log_prompt_pairs.json --dataset-dir SPLIT [--tracks TRACKER.pkl]` mines a
+//! split's (log, prompt) pairs and only those (see [`crate::cli::mine_pairs`]), into
+//! `OUT/submission.pkl`.
 //!
 //! Exit code: 0 when everything ran; 1 when a log, program, synthesis or the scoring failed
 //! (the rest ran and was written); 2 when the arguments or inputs are unusable.
@@ -39,7 +42,7 @@ use crate::pipeline::summary::{render_score, render_table, score};
 /// Where the workspace was built: the bundled library and sample logs are found from here.
 const MANIFEST_DIR: &str = env!("CARGO_MANIFEST_DIR");
 /// The scenario library, relative to the workspace.
-const LIBRARY: &str = "rules/library";
+pub(crate) const LIBRARY: &str = "rules/library";
 /// The bundled sample logs, relative to the workspace.
 const SAMPLE_LOGS: &str = "tests/data/av2/logs";
 /// The bundled ground truth of the sample logs, relative to the workspace.
@@ -109,16 +112,37 @@ pub struct Options {
     /// The LLM server, the cache and the prompt (for `--descriptions`).
     #[command(flatten, next_help_heading = "Synthesis (--descriptions)")]
     pub synth: SynthArgs,
+    /// A split's (log, prompt) pairs, `{"<log_id>": ["prompt", …]}`: mine those and only those
+    /// into OUT/submission.pkl (needs --dataset-dir).
+    #[arg(long, value_name = "FILE.json", help_heading = "A split's pairs")]
+    pub log_prompts: Option<PathBuf>,
+    /// The AV2 split directory (`SPLIT/<log_id>/`: ego poses, map, and annotations when there is
+    /// no --tracks).
+    #[arg(long, value_name = "SPLIT", help_heading = "A split's pairs")]
+    pub dataset_dir: Option<PathBuf>,
+    /// A 3D tracker's output (the AV2 tracking-submission pickle) to mine instead of annotations.
+    #[arg(long, value_name = "TRACKER.pkl", help_heading = "A split's pairs")]
+    pub tracks: Option<PathBuf>,
+    /// Programs for the prompts, matched by their `// description:` line (before the library).
+    #[arg(long, value_name = "DIR", help_heading = "A split's pairs")]
+    pub programs: Option<PathBuf>,
+    /// Synthesize a program with the LLM for each prompt that has none (cached, resumable).
+    #[arg(long, help_heading = "A split's pairs")]
+    pub synthesize: bool,
+    /// Keep every tracker track (by default RefAV's confidence filter drops one-frame tracks
+    /// scoring at most 0.05 and longer ones whose lowest score is at most 0.005).
+    #[arg(long, help_heading = "A split's pairs")]
+    pub no_confidence_filter: bool,
 }
 
-fn fail(message: impl std::fmt::Display) -> ExitCode {
+pub(crate) fn fail(message: impl std::fmt::Display) -> ExitCode {
     eprintln!("scenalog mine: {message}");
     ExitCode::from(2)
 }
 
 /// A bundled path: under the workspace the binary was built from, else under the current
 /// directory; `None` when neither exists.
-fn bundled(rel: &str) -> Option<PathBuf> {
+pub(crate) fn bundled(rel: &str) -> Option<PathBuf> {
     [Path::new(MANIFEST_DIR).join(rel), PathBuf::from(rel)]
         .into_iter()
         .find(|p| p.exists())
@@ -127,7 +151,7 @@ fn bundled(rel: &str) -> Option<PathBuf> {
 /// `target/scenalog-mine` in the workspace the binary was built from (ignored by git, even when
 /// the build itself went to another `CARGO_TARGET_DIR`), else `./scenalog-out` when the binary
 /// runs away from its sources.
-fn default_out() -> PathBuf {
+pub(crate) fn default_out() -> PathBuf {
     let workspace = Path::new(MANIFEST_DIR);
     if workspace.join("Cargo.toml").is_file() {
         workspace.join("target").join("scenalog-mine")
@@ -139,6 +163,20 @@ fn default_out() -> PathBuf {
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
+    if args.log_prompts.is_some() {
+        return crate::cli::mine_pairs::run(&args);
+    }
+    for (set, flag) in [
+        (args.dataset_dir.is_some(), "--dataset-dir"),
+        (args.tracks.is_some(), "--tracks"),
+        (args.programs.is_some(), "--programs"),
+        (args.synthesize, "--synthesize"),
+        (args.no_confidence_filter, "--no-confidence-filter"),
+    ] {
+        if set {
+            return fail(format!("{flag} goes with --log-prompts"));
+        }
+    }
     let no_arguments = args.rules.is_empty() && args.logs.is_empty() && args.descriptions.is_none();
     let rule_paths = if args.rules.is_empty() && args.descriptions.is_none() {
         match bundled(LIBRARY) {
@@ -243,23 +281,10 @@ pub fn run(args: Args) -> ExitCode {
         resume: args.resume,
         timestamps,
         threads: args.threads.map(|n| n as usize),
-        engine: scenalog_engine::Options {
-            max_tuples: args.max_tuples.map_or_else(
-                || {
-                    let threads = args
-                        .threads
-                        .map_or_else(rayon::current_num_threads, |n| n as usize);
-                    default_max_tuples(machine_memory(), threads)
-                },
-                |n| usize::try_from(n).unwrap_or(usize::MAX),
-            ),
-            timeout: Some(
-                args.timeout_ms
-                    .map_or(DEFAULT_TIMEOUT, std::time::Duration::from_millis),
-            ),
-            ..scenalog_engine::Options::default()
-        },
+        engine: engine_options(&args),
         progress: true,
+        names: Default::default(),
+        keep_submission: gt.is_some(),
     };
     let report = match run_mining(&scenarios, &logs, &options) {
         Ok(r) => r,
@@ -399,7 +424,7 @@ fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
 }
 
 /// The `.dl` files named by `--rules`: files as given, directories' `.dl` files sorted by name.
-fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
@@ -518,11 +543,11 @@ fn scenarios_of(
 }
 
 /// Synthesized programs (their file and text) and the descriptions that gave none.
-type Synthesized = (Vec<(PathBuf, String)>, Vec<String>);
+pub(crate) type Synthesized = (Vec<(PathBuf, String)>, Vec<String>);
 
 /// Synthesizes the descriptions of `file` into OUT/programs (see `scenalog synth
 /// --descriptions`): the programs that check clean, and a failure per description that did not.
-fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synthesized, String> {
+pub(crate) fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synthesized, String> {
     let config = synth_config(&args.synth, Some(out.join(".llm-cache")))?;
     let dir = out.join("programs");
     let report =
@@ -557,4 +582,25 @@ fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synthesized, St
         }
     }
     Ok((programs, problems))
+}
+
+/// The engine's limits for one pair: `--max-tuples` (default sized to the machine's memory and
+/// the worker threads) and `--timeout-ms` (default [`DEFAULT_TIMEOUT`]).
+pub(crate) fn engine_options(args: &Options) -> scenalog_engine::Options {
+    scenalog_engine::Options {
+        max_tuples: args.max_tuples.map_or_else(
+            || {
+                let threads = args
+                    .threads
+                    .map_or_else(rayon::current_num_threads, |n| n as usize);
+                default_max_tuples(machine_memory(), threads)
+            },
+            |n| usize::try_from(n).unwrap_or(usize::MAX),
+        ),
+        timeout: Some(
+            args.timeout_ms
+                .map_or(DEFAULT_TIMEOUT, std::time::Duration::from_millis),
+        ),
+        ..scenalog_engine::Options::default()
+    }
 }

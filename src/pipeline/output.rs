@@ -9,7 +9,18 @@
 //! - `matches.json`: one entry per referred track of every (log, program) pair;
 //! - `summary.json`: every pair's status, match count and times, and the stage totals;
 //! - `pairs/<log_id>/<program>.json`: one pair's record (its derived tuples), which marks the
-//!   pair done for `--resume` and from which its predictions are rebuilt.
+//!   pair done for `--resume` and from which its predictions are rebuilt; it carries the pair's
+//!   fingerprint (tool version, the log's input files, program, timestamps), and a pair whose
+//!   fingerprint changed is mined again.
+//!
+//! With `--log-prompts` the pickle and table are `submission.pkl` and `submission.feather`.
+//!
+//! **One generation.** A run writes its outputs (the pickle and table joined from per-log parts,
+//! `matches.json`, `summary.json`) into its own staging directory `OUT/.staging-<pid>-<n>/` and
+//! only at the end renames them into `OUT/`, one after the other, in the same instant; a run that
+//! dies before that leaves the previous run's outputs untouched (no set mixed from two runs), and
+//! whatever a killed run left behind (its staging directory, `.*.tmp` files of a process no
+//! longer running) is removed by the next run into the same `OUT/`.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -68,6 +79,11 @@ pub struct PairRecord {
     pub source: String,
     /// The output timestamps the run was given for this log (`None`: every 5th frame).
     pub timestamps: Option<Vec<i64>>,
+    /// The pair's resume key: SHA-256 of the tool version, the log's input files, the program
+    /// text, the description and the output timestamps (empty in records of older versions,
+    /// which are therefore redone).
+    #[serde(default)]
+    pub fingerprint: String,
     /// The number of tracks of the log (a check that the log is the same).
     pub tracks: usize,
     /// `referred(track index, frame)` tuples.
@@ -132,9 +148,245 @@ pub fn read_record(path: &Path) -> Option<PairRecord> {
     serde_json::from_str(&text).ok()
 }
 
+/// The file names of a run's pickle and Arrow table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputNames {
+    /// The official pickle.
+    pub pickle: &'static str,
+    /// The long Arrow table.
+    pub table: &'static str,
+}
+
+impl Default for OutputNames {
+    fn default() -> Self {
+        OutputNames {
+            pickle: PREDICTIONS_PICKLE,
+            table: PREDICTIONS_TABLE,
+        }
+    }
+}
+
+/// The submission pickle of `--log-prompts`.
+pub const SUBMISSION_PICKLE: &str = "submission.pkl";
+/// The submission's Arrow table.
+pub const SUBMISSION_TABLE: &str = "submission.feather";
+
+/// Prefix of a run's staging directory under `OUT/`.
+const STAGING_PREFIX: &str = ".staging-";
+
+/// Whether process `pid` is running (Linux `/proc`; elsewhere, assumed running, so nothing of a
+/// live run is ever removed).
+fn alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// The process id a staging directory (`.staging-<pid>-<n>`) or temporary file
+/// (`.<name>.<pid>-<n>.tmp`, `.<name>.tmp<pid>`) name carries.
+fn owner_pid(name: &str) -> Option<u32> {
+    if let Some(rest) = name.strip_prefix(STAGING_PREFIX) {
+        return rest.split('-').next()?.parse().ok();
+    }
+    let stem = name.strip_prefix('.')?;
+    if let Some(body) = stem.strip_suffix(".tmp") {
+        let last = body.rsplit('.').next()?;
+        return last.split('-').next()?.parse().ok();
+    }
+    let (_, pid) = stem.rsplit_once(".tmp")?;
+    pid.parse().ok()
+}
+
+/// Removes what killed runs left in `out` (staging directories and temporary files of processes
+/// no longer running), in `out` itself and in `out/pairs/*/`. Best effort: what cannot be
+/// removed stays.
+pub fn clean_orphans(out: &Path) {
+    let mut dirs = vec![out.to_path_buf()];
+    if let Ok(entries) = std::fs::read_dir(out.join(PAIRS_DIR)) {
+        dirs.extend(
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_dir()),
+        );
+    }
+    for dir in dirs {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for e in entries.filter_map(|e| e.ok()) {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let Some(pid) = owner_pid(&name) else {
+                continue;
+            };
+            if pid == std::process::id() || alive(pid) {
+                continue;
+            }
+            let path = e.path();
+            let _ = if path.is_dir() {
+                std::fs::remove_dir_all(&path)
+            } else {
+                std::fs::remove_file(&path)
+            };
+        }
+    }
+}
+
+static STAGING_COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+/// A run's staging directory: per-log parts and the outputs before they are published. Removed
+/// when dropped.
+pub struct Staging {
+    out: PathBuf,
+    dir: PathBuf,
+}
+
+impl Staging {
+    /// Creates `out/.staging-<pid>-<n>/`.
+    pub fn new(out: &Path) -> Result<Staging, String> {
+        let n = STAGING_COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir = out.join(format!("{STAGING_PREFIX}{}-{n}", std::process::id()));
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| format!("cannot create directory `{}`: {e}", dir.display()))?;
+        Ok(Staging {
+            out: out.to_path_buf(),
+            dir,
+        })
+    }
+
+    /// A file in the staging directory.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    fn part(&self, index: usize, ext: &str) -> PathBuf {
+        self.dir.join(format!("part-{index}.{ext}"))
+    }
+
+    /// Writes log number `index`'s predictions: its pickle body and its Arrow table.
+    pub fn write_part(&self, index: usize, part: &scenalog_eval::Submission) -> Result<(), String> {
+        write_atomic(
+            &self.part(index, "pkl"),
+            &scenalog_eval::sequences_bytes(part),
+            false,
+        )?;
+        scenalog_eval::write_table(part, &self.part(index, "feather")).map_err(|e| e.to_string())
+    }
+
+    /// Joins the parts, in `order`, into the run's pickle (byte for byte the pickle of the whole
+    /// submission when `order` sorts the logs by id) and Arrow table (one record batch a log).
+    pub fn join_parts(&self, order: &[usize], names: &OutputNames) -> Result<(), String> {
+        let pickle = self.path(names.pickle);
+        let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
+        {
+            let mut f = std::io::BufWriter::new(
+                std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?,
+            );
+            f.write_all(scenalog_eval::SUBMISSION_HEAD)
+                .map_err(|e| io(&pickle, e))?;
+            for &i in order {
+                let part = self.part(i, "pkl");
+                let mut r = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
+                std::io::copy(&mut r, &mut f).map_err(|e| io(&pickle, e))?;
+            }
+            f.write_all(scenalog_eval::SUBMISSION_TAIL)
+                .map_err(|e| io(&pickle, e))?;
+            let f = f.into_inner().map_err(|e| io(&pickle, e.into_error()))?;
+            f.sync_all().map_err(|e| io(&pickle, e))?;
+        }
+        let table = self.path(names.table);
+        let arrow = |e: arrow_schema::ArrowError| format!("`{}`: {e}", table.display());
+        let mut writer: Option<arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>> =
+            None;
+        for &i in order {
+            let part = self.part(i, "feather");
+            let file = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
+            let reader = arrow_ipc::reader::FileReader::try_new(file, None).map_err(arrow)?;
+            if writer.is_none() {
+                let f = std::fs::File::create(&table).map_err(|e| io(&table, e))?;
+                writer = Some(
+                    arrow_ipc::writer::FileWriter::try_new(
+                        std::io::BufWriter::new(f),
+                        &reader.schema(),
+                    )
+                    .map_err(arrow)?,
+                );
+            }
+            if let Some(w) = writer.as_mut() {
+                for batch in reader {
+                    w.write(&batch.map_err(arrow)?).map_err(arrow)?;
+                }
+            }
+        }
+        match writer {
+            Some(mut w) => {
+                w.finish().map_err(arrow)?;
+                let f = w.into_inner().map_err(arrow)?;
+                let f = f.into_inner().map_err(|e| io(&table, e.into_error()))?;
+                f.sync_all().map_err(|e| io(&table, e))?;
+            }
+            None => scenalog_eval::write_table(&scenalog_eval::Submission::default(), &table)
+                .map_err(|e| e.to_string())?,
+        }
+        Ok(())
+    }
+
+    /// Moves the run's outputs into `OUT/` (after every one of them is complete).
+    pub fn publish(&self, names: &OutputNames) -> Result<(), String> {
+        for name in [names.pickle, names.table, MATCHES_JSON, SUMMARY_JSON] {
+            let (from, to) = (self.path(name), self.out.join(name));
+            std::fs::rename(&from, &to)
+                .map_err(|e| format!("cannot move `{}` into place: {e}", to.display()))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn owner_pids_of_temporary_names() {
+        assert_eq!(owner_pid(".staging-4242-0"), Some(4242));
+        assert_eq!(owner_pid(".x.json.4242-17.tmp"), Some(4242));
+        assert_eq!(owner_pid(".predictions.pkl.tmp4242"), Some(4242));
+        assert_eq!(owner_pid("predictions.pkl"), None);
+        assert_eq!(owner_pid(".hidden"), None);
+    }
+
+    #[test]
+    fn orphans_of_dead_processes_are_removed_and_live_ones_kept() {
+        let dir = tempfile_dir("orphans");
+        // pid 0 is never a user process with a /proc entry of its own; ours is alive.
+        let dead = dir.join(".staging-0-3");
+        std::fs::create_dir_all(&dead).unwrap();
+        std::fs::write(dead.join("part-0.pkl"), b"x").unwrap();
+        std::fs::write(dir.join(".predictions.pkl.tmp0"), b"x").unwrap();
+        std::fs::create_dir_all(dir.join("pairs/log")).unwrap();
+        std::fs::write(dir.join("pairs/log/.p.json.0-1.tmp"), b"x").unwrap();
+        let live = dir.join(format!(".m.json.{}-1.tmp", std::process::id()));
+        std::fs::write(&live, b"x").unwrap();
+        std::fs::write(dir.join("predictions.pkl"), b"keep").unwrap();
+        clean_orphans(&dir);
+        assert!(!dead.exists());
+        assert!(!dir.join(".predictions.pkl.tmp0").exists());
+        assert!(!dir.join("pairs/log/.p.json.0-1.tmp").exists());
+        assert!(live.exists());
+        assert!(dir.join("predictions.pkl").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    fn tempfile_dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("scenalog-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
 
     #[test]
     fn atomic_write_replaces_and_leaves_no_temporary_file() {

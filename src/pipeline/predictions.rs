@@ -15,9 +15,20 @@ pub fn label_name(label: Label) -> &'static str {
     }
 }
 
+/// Each box's score: `scores[track][i]` for `scene.tracks[track].boxes[i]` (a tracker's
+/// confidence), or `None` for ground truth, whose boxes all score 1.0.
+pub type BoxScores<'a> = Option<&'a [Vec<f32>]>;
+
 /// One prediction frame per labelled frame: every annotated object with its city-frame box,
-/// label, track id (the scene's track index) and score 1.0 (rules give no confidence).
-pub fn to_frames(scene: &Scene, description: &str, frames: &[LabelledFrame]) -> Vec<FrameData> {
+/// label, track id (the scene's track index) and score: the tracker's score of that box at that
+/// frame when `scores` is given (whatever its label), else 1.0 (ground truth; rules give no
+/// confidence of their own).
+pub fn to_frames(
+    scene: &Scene,
+    description: &str,
+    frames: &[LabelledFrame],
+    scores: BoxScores<'_>,
+) -> Vec<FrameData> {
     frames
         .iter()
         .filter_map(|lf| {
@@ -31,9 +42,14 @@ pub fn to_frames(scene: &Scene, description: &str, frames: &[LabelledFrame]) -> 
                 ..FrameData::default()
             };
             for &(track, label) in &lf.objects {
-                let Some(b) = scene.track(track).box_at(lf.frame) else {
+                let t = scene.track(track);
+                let Ok(i) = t.boxes.binary_search_by_key(&lf.frame, |b| b.frame) else {
                     continue;
                 };
+                let b = &t.boxes[i];
+                let score = scores
+                    .and_then(|s| s.get(track.index())?.get(i).copied())
+                    .unwrap_or(1.0);
                 let c = b.city_center();
                 out.translation_m.push([c.x, c.y, c.z]);
                 out.size
@@ -44,7 +60,7 @@ pub fn to_frames(scene: &Scene, description: &str, frames: &[LabelledFrame]) -> 
                 out.name.push(label_name(label).to_string());
                 out.track_id.push(track.0 as i32);
                 if let Some(s) = &mut out.score {
-                    s.push(1.0);
+                    s.push(score);
                 }
             }
             Some(out)

@@ -5,12 +5,19 @@
 //! gathered by index, so the output is the same whatever the thread count. A log that cannot be
 //! read, or a program that fails on a log, is reported and skipped; the rest of the run goes on.
 //! Each finished pair is written at once under `OUT/pairs/` (see [`super::output`]), so with
-//! `resume` a rerun skips what a crashed or interrupted one finished.
+//! `resume` a rerun skips what a crashed or interrupted one finished, when its fingerprint (tool
+//! version, the log's input files, program text, output timestamps) is unchanged.
+//!
+//! A log's scene comes from its directory's annotations, or from a tracker's output
+//! ([`LogInput::tracker`]) with the directory giving ego poses and map. Outputs are streamed: as
+//! soon as a log is done its predictions are written to a part file in a staging directory and
+//! dropped, so memory holds the logs in flight, not the run; at the end the parts are joined into
+//! the run's pickle and Arrow table and every output file is moved into place together.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -21,17 +28,38 @@ use scenalog_facts::relation::Value;
 use scenalog_facts::{Frame, Scene, TrackId};
 
 use super::output::{self, Match, PairRecord};
-use super::predictions::to_frames;
+use super::predictions::{to_frames, BoxScores};
 use super::scenario::{evaluate_on, Scenario};
 use super::tracks::{eval_frames, label_frames};
 
-/// One log to mine: its directory and its id (the directory's name).
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// One log to mine: its directory, its id (the directory's name), where its objects come from
+/// and which programs to run on it.
+#[derive(Debug, Clone)]
 pub struct LogInput {
     /// The log directory.
     pub dir: PathBuf,
     /// The log id.
     pub log_id: String,
+    /// The tracker output its objects come from (`None`: the directory's annotations).
+    pub tracker: Option<Arc<TrackerInput>>,
+    /// The indices of the scenarios to run on it (`None`: every one).
+    pub programs: Option<Vec<usize>>,
+}
+
+/// A tracker's output shared by the logs of a run.
+pub struct TrackerInput {
+    /// The parsed tracking pickle.
+    pub pickle: scenalog_tracker::TrackerPickle,
+    /// The confidence filter.
+    pub filter: scenalog_tracker::Filter,
+    /// A fingerprint of the file's bytes and the filter (part of each pair's resume key).
+    pub fingerprint: String,
+}
+
+impl std::fmt::Debug for TrackerInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "TrackerInput({}, {:?})", self.pickle.file(), self.filter)
+    }
 }
 
 impl LogInput {
@@ -41,7 +69,20 @@ impl LogInput {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| dir.display().to_string());
-        LogInput { dir, log_id }
+        LogInput {
+            dir,
+            log_id,
+            tracker: None,
+            programs: None,
+        }
+    }
+
+    /// The scenario indices to run on this log, out of `n`.
+    pub fn program_indices(&self, n: usize) -> Vec<usize> {
+        match &self.programs {
+            Some(p) => p.iter().copied().filter(|&i| i < n).collect(),
+            None => (0..n).collect(),
+        }
     }
 }
 
@@ -61,6 +102,11 @@ pub struct RunOptions {
     pub engine: Options,
     /// Draw a progress bar (only when stderr is a terminal).
     pub progress: bool,
+    /// The file names of the run's pickle and Arrow table.
+    pub names: output::OutputNames,
+    /// Read the run's predictions back into [`RunReport::submission`] (for scoring); without it
+    /// the submission there is empty and memory stays bounded by the logs in flight.
+    pub keep_submission: bool,
 }
 
 /// How one pair ended.
@@ -118,7 +164,8 @@ pub struct RunReport {
     pub pairs: Vec<PairResult>,
     /// Logs that could not be read (or whose output timestamps do not fit), with the reason.
     pub log_failures: Vec<(String, String)>,
-    /// The run's predictions, keyed `(log_id, description)` (finished pairs only).
+    /// The run's predictions, keyed `(log_id, description)` (finished pairs only), when
+    /// [`RunOptions::keep_submission`]; else empty.
     pub submission: Submission,
     /// Times per stage.
     pub timings: Timings,
@@ -134,6 +181,19 @@ impl RunReport {
                 .pairs
                 .iter()
                 .any(|p| matches!(p.status, PairStatus::Failed(_)))
+    }
+
+    /// How many pairs were resumed from an earlier run.
+    pub fn resumed(&self) -> usize {
+        self.pairs
+            .iter()
+            .filter(|p| p.status == PairStatus::Resumed)
+            .count()
+    }
+
+    /// How many pairs referred at least one track.
+    pub fn with_matches(&self) -> usize {
+        self.pairs.iter().filter(|p| !p.matches.is_empty()).count()
     }
 
     /// Every match of every finished pair, in pair order.
@@ -164,7 +224,12 @@ pub fn run(
             options.out.display()
         )
     })?;
-    let total = (logs.len() * scenarios.len()) as u64;
+    output::clean_orphans(&options.out);
+    let staging = output::Staging::new(&options.out)?;
+    let total: u64 = logs
+        .iter()
+        .map(|l| l.program_indices(scenarios.len()).len() as u64)
+        .sum();
     let bar = if options.progress && std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(total);
         bar.set_style(
@@ -178,57 +243,37 @@ pub fn run(
         indicatif::ProgressBar::hidden()
     };
     let load_time = Mutex::new(Duration::ZERO);
-    let per_log: Vec<(Vec<PairResult>, Option<String>)> = pool.install(|| {
+    type LogOutcome = (Vec<PairResult>, Option<String>, Result<(), String>);
+    let per_log: Vec<LogOutcome> = pool.install(|| {
         logs.par_iter()
-            .map(|log| {
-                let (pairs, failure, load) = mine_log(log, scenarios, options, &bar);
+            .enumerate()
+            .map(|(i, log)| {
+                let (mut pairs, failure, load) = mine_log(log, scenarios, options, &bar);
                 if let Ok(mut t) = load_time.lock() {
                     *t += load;
                 }
-                (pairs, failure)
+                // The log's predictions go to its part file now and leave memory.
+                let part = staging.write_part(i, &log_part(log, scenarios, &mut pairs));
+                (pairs, failure, part)
             })
             .collect()
     });
     bar.finish_and_clear();
     let mut pairs = Vec::with_capacity(total as usize);
     let mut log_failures = Vec::new();
-    for (log, (p, failure)) in logs.iter().zip(per_log) {
+    for (log, (p, failure, part)) in logs.iter().zip(per_log) {
         pairs.extend(p);
+        part?;
         if let Some(f) = failure {
             log_failures.push((log.log_id.clone(), f));
         }
     }
-    let mut submission = Submission::default();
-    for p in &mut pairs {
-        if !matches!(p.status, PairStatus::Failed(_)) {
-            submission.sequences.insert(
-                (p.log_id.clone(), scenarios[p.scenario].description.clone()),
-                std::mem::take(&mut p.frames),
-            );
-        }
-    }
     let write_start = Instant::now();
-    // The two big files are written at once.
-    let (pickled, tabled) = pool.install(|| {
-        rayon::join(
-            || {
-                scenalog_eval::write_pickle(
-                    &submission,
-                    &options.out.join(output::PREDICTIONS_PICKLE),
-                )
-            },
-            || {
-                scenalog_eval::write_table(
-                    &submission,
-                    &options.out.join(output::PREDICTIONS_TABLE),
-                )
-            },
-        )
-    });
-    pickled.map_err(|e| e.to_string())?;
-    tabled.map_err(|e| e.to_string())?;
+    let mut order: Vec<usize> = (0..logs.len()).collect();
+    order.sort_by(|&a, &b| logs[a].log_id.cmp(&logs[b].log_id));
+    staging.join_parts(&order, &options.names)?;
     let matches: Vec<&Match> = pairs.iter().flat_map(|p| &p.matches).collect();
-    output::write_json(&options.out.join(output::MATCHES_JSON), &matches, true)?;
+    output::write_json(&staging.path(output::MATCHES_JSON), &matches, true)?;
     let mut timings = Timings {
         load: load_time.into_inner().unwrap_or_else(|e| e.into_inner()),
         ..Timings::default()
@@ -241,17 +286,22 @@ pub fn run(
     let mut report = RunReport {
         pairs,
         log_failures,
-        submission,
+        submission: Submission::default(),
         timings,
         threads: pool.current_num_threads(),
     };
     report.timings.write += write_start.elapsed();
     report.timings.wall = start.elapsed();
     output::write_json(
-        &options.out.join(output::SUMMARY_JSON),
+        &staging.path(output::SUMMARY_JSON),
         &summary_json(&report, scenarios),
         true,
     )?;
+    staging.publish(&options.names)?;
+    if options.keep_submission {
+        let path = options.out.join(options.names.pickle);
+        report.submission = scenalog_eval::read_pickle(&path).map_err(|e| e.to_string())?;
+    }
     Ok(report)
 }
 
@@ -296,7 +346,12 @@ fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value
 
 /// A pair's earlier record, when `resume` is on and the record matches this run (same program
 /// text, description and output timestamps).
-fn resumable(log: &LogInput, scenario: &Scenario, options: &RunOptions) -> Option<PairRecord> {
+fn resumable(
+    log: &LogInput,
+    scenario: &Scenario,
+    options: &RunOptions,
+    fingerprint: &str,
+) -> Option<PairRecord> {
     if !options.resume {
         return None;
     }
@@ -305,8 +360,112 @@ fn resumable(log: &LogInput, scenario: &Scenario, options: &RunOptions) -> Optio
     let same = record.log_id == log.log_id
         && record.description == scenario.description
         && record.source == scenario.source
-        && record.timestamps.as_ref() == options.timestamps.get(&log.log_id);
+        && record.timestamps.as_ref() == options.timestamps.get(&log.log_id)
+        && record.fingerprint == fingerprint;
     same.then_some(record)
+}
+
+/// A pair's resume key: SHA-256 over the tool's version, the log's input fingerprint, the
+/// program text, its description and the output timestamps.
+fn pair_fingerprint(
+    log_fingerprint: &str,
+    scenario: &Scenario,
+    timestamps: Option<&Vec<i64>>,
+) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    for part in [
+        env!("CARGO_PKG_VERSION"),
+        log_fingerprint,
+        &scenario.source,
+        &scenario.description,
+        &format!("{timestamps:?}"),
+    ] {
+        h.update((part.len() as u64).to_le_bytes());
+        h.update(part.as_bytes());
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// A fingerprint of what a log's scene is made of: the bytes of its annotations (or the tracker
+/// file's fingerprint), ego poses and map files. Unreadable files count as absent (the load
+/// itself reports them).
+fn log_fingerprint(log: &LogInput) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    let mut files: Vec<PathBuf> = Vec::new();
+    match &log.tracker {
+        Some(t) => {
+            h.update(t.fingerprint.as_bytes());
+            h.update(log.log_id.as_bytes());
+        }
+        None => {
+            for name in [
+                scenalog_facts::read::ANNOTATIONS_WITH_EGO_FILE,
+                scenalog_facts::read::ANNOTATIONS_FILE,
+            ] {
+                files.push(log.dir.join(name));
+            }
+        }
+    }
+    files.push(log.dir.join(scenalog_facts::read::EGO_POSES_FILE));
+    if let Ok(entries) = std::fs::read_dir(log.dir.join("map")) {
+        let mut maps: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        maps.sort();
+        files.extend(maps);
+    }
+    for f in files {
+        h.update(f.to_string_lossy().as_bytes());
+        match std::fs::read(&f) {
+            Ok(bytes) => {
+                h.update((bytes.len() as u64).to_le_bytes());
+                h.update(&bytes);
+            }
+            Err(_) => h.update(b"absent"),
+        }
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// A log's scene and, for tracker input, each box's score (`scores[track][box]`).
+type LoadedLog = (Scene, Option<Vec<Vec<f32>>>);
+
+/// The log's scene and, for tracker input, each box's score.
+fn load_log(log: &LogInput) -> Result<LoadedLog, String> {
+    match &log.tracker {
+        None => scenalog_facts::load_scene(&log.dir)
+            .map(|s| (s, None))
+            .map_err(|e| format!("cannot read log `{}`: {e}", log.dir.display())),
+        Some(t) => {
+            let frames = t.pickle.frames(&log.log_id).map_err(|e| e.to_string())?;
+            let tracked = scenalog_tracker::tracked_log(
+                &log.log_id,
+                &frames,
+                &log.dir,
+                t.filter,
+                t.pickle.file(),
+            )
+            .map_err(|e| e.to_string())?;
+            Ok((tracked.scene, Some(tracked.scores)))
+        }
+    }
+}
+
+/// The log's predictions (its finished pairs' frames, moved out of `pairs`).
+fn log_part(log: &LogInput, scenarios: &[Scenario], pairs: &mut [PairResult]) -> Submission {
+    let mut part = Submission::default();
+    for p in pairs {
+        if !matches!(p.status, PairStatus::Failed(_)) {
+            part.sequences.insert(
+                (
+                    log.log_id.clone(),
+                    scenarios[p.scenario].description.clone(),
+                ),
+                std::mem::take(&mut p.frames),
+            );
+        }
+    }
+    part
 }
 
 fn failed(log: &LogInput, index: usize, reason: String) -> PairResult {
@@ -332,36 +491,41 @@ fn mine_log(
     bar: &indicatif::ProgressBar,
 ) -> (Vec<PairResult>, Option<String>, Duration) {
     let t0 = Instant::now();
-    let scene = scenalog_facts::load_scene(&log.dir)
-        .map_err(|e| format!("cannot read log `{}`: {e}", log.dir.display()));
+    let indices = log.program_indices(scenarios.len());
+    let scene = load_log(log);
     let load = t0.elapsed();
-    let frames = scene.and_then(|scene| {
+    let frames = scene.and_then(|(scene, scores)| {
         let frames = output_frames(&scene, options.timestamps.get(&log.log_id))?;
-        Ok((scene, frames))
+        Ok((scene, scores, frames))
     });
-    let (scene, frames) = match frames {
+    let (scene, scores, frames) = match frames {
         Ok(x) => x,
         Err(e) => {
             bar.suspend(|| eprintln!("scenalog mine: {e}"));
-            bar.inc(scenarios.len() as u64);
-            let pairs = (0..scenarios.len())
-                .map(|i| failed(log, i, e.clone()))
-                .collect();
+            bar.inc(indices.len() as u64);
+            let pairs = indices.iter().map(|&i| failed(log, i, e.clone())).collect();
             return (pairs, Some(e), load);
         }
     };
+    let log_fp = log_fingerprint(log);
     let extractor = Extractor::new(&scene);
-    let indices: Vec<usize> = (0..scenarios.len()).collect();
+    let ctx = PairContext {
+        log,
+        scene: &scene,
+        scores: scores.as_deref(),
+        frames: &frames,
+        options,
+    };
     let pairs: Vec<PairResult> = indices
         .par_iter()
         .map(|&i| {
             let s = &scenarios[i];
             bar.set_message(format!("{} on {}", s.name, short_id(&log.log_id)));
+            let fingerprint = pair_fingerprint(&log_fp, s, options.timestamps.get(&log.log_id));
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                let earlier =
-                    resumable(log, s, options).and_then(|r| resume_pair(&scene, s, i, &frames, r));
-                earlier
-                    .unwrap_or_else(|| mine_pair(log, &scene, &extractor, s, i, &frames, options))
+                let earlier = resumable(log, s, options, &fingerprint)
+                    .and_then(|r| resume_pair(&ctx, s, i, r));
+                earlier.unwrap_or_else(|| mine_pair(&ctx, &extractor, s, i, &fingerprint))
             }))
             .unwrap_or_else(|_| {
                 failed(
@@ -383,12 +547,12 @@ fn mine_log(
 /// Rebuilds a finished pair from its record; `None` when the record's tuples do not fit the
 /// scene (the log changed), so the pair is mined again.
 fn resume_pair(
-    scene: &Scene,
+    ctx: &PairContext<'_>,
     scenario: &Scenario,
     index: usize,
-    frames: &[Frame],
     record: PairRecord,
 ) -> Option<PairResult> {
+    let scene = ctx.scene;
     let t = Instant::now();
     let n_tracks = scene.tracks.len();
     let n_frames = scene.num_frames();
@@ -407,7 +571,7 @@ fn resume_pair(
     if record.tracks != n_tracks {
         return None;
     }
-    let (out, matches) = build_pair(scene, scenario, &referred, &related, frames);
+    let (out, matches) = build_pair(ctx, scenario, &referred, &related);
     Some(PairResult {
         log_id: scene.log_id.clone(),
         scenario: index,
@@ -420,17 +584,27 @@ fn resume_pair(
     })
 }
 
+/// What every pair of one log shares.
+struct PairContext<'a> {
+    log: &'a LogInput,
+    scene: &'a Scene,
+    /// Each box's tracker score (`None`: ground truth).
+    scores: BoxScores<'a>,
+    /// The output frames.
+    frames: &'a [Frame],
+    options: &'a RunOptions,
+}
+
 /// The prediction frames and matches of a pair from its tuples.
 fn build_pair(
-    scene: &Scene,
+    ctx: &PairContext<'_>,
     scenario: &Scenario,
     referred: &[(TrackId, Frame)],
     related: &[(TrackId, TrackId, Frame)],
-    frames: &[Frame],
 ) -> (Vec<FrameData>, Vec<Match>) {
-    let labelled = label_frames(scene, referred, related, frames);
-    let out = to_frames(scene, &scenario.description, &labelled);
-    (out, matches_of(scene, scenario, referred, related))
+    let labelled = label_frames(ctx.scene, referred, related, ctx.frames);
+    let out = to_frames(ctx.scene, &scenario.description, &labelled, ctx.scores);
+    (out, matches_of(ctx.scene, scenario, referred, related))
 }
 
 /// The first 8 characters of a log id, for messages and tables.
@@ -461,14 +635,13 @@ fn output_frames(scene: &Scene, given: Option<&Vec<i64>>) -> Result<Vec<Frame>, 
 
 /// Evaluates one program on one log and writes the pair's files.
 fn mine_pair(
-    log: &LogInput,
-    scene: &Scene,
+    ctx: &PairContext<'_>,
     extractor: &Extractor<'_>,
     scenario: &Scenario,
     index: usize,
-    frames: &[Frame],
-    options: &RunOptions,
+    fingerprint: &str,
 ) -> PairResult {
+    let (log, options) = (ctx.log, ctx.options);
     let t0 = Instant::now();
     let evaluation = match evaluate_on(extractor, &scenario.program, &options.engine) {
         Ok(e) => e,
@@ -487,10 +660,10 @@ fn mine_pair(
     let t1 = Instant::now();
     let referred = referred_tuples(&evaluation);
     let related = related_tuples(&evaluation);
-    let (frames, matches) = build_pair(scene, scenario, &referred, &related, frames);
+    let (frames, matches) = build_pair(ctx, scenario, &referred, &related);
     let tracks = t1.elapsed();
     let t2 = Instant::now();
-    let written = write_pair(log, scene, scenario, &referred, &related, options);
+    let written = write_pair(ctx, scenario, &referred, &related, fingerprint);
     let write = t2.elapsed();
     let status = match written {
         Ok(()) => PairStatus::Done,
@@ -510,14 +683,15 @@ fn mine_pair(
 
 /// Writes the pair's record (its tuples, from which `--resume` rebuilds it).
 fn write_pair(
-    log: &LogInput,
-    scene: &Scene,
+    ctx: &PairContext<'_>,
     scenario: &Scenario,
     referred: &[(TrackId, Frame)],
     related: &[(TrackId, TrackId, Frame)],
-    options: &RunOptions,
+    fingerprint: &str,
 ) -> Result<(), String> {
+    let (log, scene, options) = (ctx.log, ctx.scene, ctx.options);
     let record = PairRecord {
+        fingerprint: fingerprint.to_string(),
         log_id: log.log_id.clone(),
         description: scenario.description.clone(),
         program: scenario.name.clone(),

@@ -54,16 +54,8 @@ pub fn render_table(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput
         .iter()
         .filter(|p| matches!(p.status, PairStatus::Failed(_)))
         .count();
-    let resumed = report
-        .pairs
-        .iter()
-        .filter(|p| p.status == PairStatus::Resumed)
-        .count();
-    let with_matches = report
-        .pairs
-        .iter()
-        .filter(|p| !p.matches.is_empty())
-        .count();
+    let resumed = report.resumed();
+    let with_matches = report.with_matches();
     let total: usize = totals.iter().sum();
     let _ = writeln!(
         out,
