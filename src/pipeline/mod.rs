@@ -8,6 +8,7 @@
 
 pub mod explain;
 pub mod output;
+pub mod picture;
 pub mod predictions;
 pub mod run;
 pub mod scenario;
