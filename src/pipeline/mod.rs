@@ -10,6 +10,7 @@ pub mod explain;
 pub mod output;
 pub mod picture;
 pub mod predictions;
+pub mod report;
 pub mod run;
 pub mod scenario;
 pub mod summary;
