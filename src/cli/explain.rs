@@ -65,6 +65,9 @@ pub struct Args {
     /// Also draw the scene from above into this file (.png, .svg, or .gif for an animation).
     #[arg(long, value_name = "OUT")]
     pub picture: Option<PathBuf>,
+    /// The picture's width and height in pixels.
+    #[arg(long, default_value_t = 800, value_name = "PX", value_parser = clap::value_parser!(u32).range(200..=4000))]
+    pub picture_size: u32,
     /// Whose frame the picture is drawn in (that object at the centre, heading up).
     #[arg(long, value_enum, default_value_t = ViewFrom::Ego)]
     pub view: ViewFrom,
@@ -117,7 +120,9 @@ fn draw(
         ViewFrom::Ego => Reference::Ego,
         ViewFrom::Object => Reference::Referred,
     };
-    let picture = explanation_picture(renderer, explanation, related, reference);
+    let mut picture = explanation_picture(renderer, explanation, related, reference);
+    picture.width = args.picture_size;
+    picture.height = args.picture_size;
     let view_err = |e: ViewError| {
         let code = if matches!(e, ViewError::Render(_)) {
             1

@@ -7,7 +7,7 @@ use scenalog_facts::LaneType;
 use scenalog_view::picture::picture_view;
 use scenalog_view::{render_png, render_rgba, scene_svg, style, Picture};
 
-/// The ego at the origin heading +x, a car 5 m to its left (+y), a pedestrian ahead, a bike lane
+/// The ego at the origin heading +x, a car 5 m to its left (+y), a pedestrian and a bus ahead, a bike lane
 /// on the ego's right, all still for 10 frames.
 fn scene() -> Scene {
     SceneBuilder::new(10)
@@ -28,6 +28,12 @@ fn scene() -> Scene {
             "PEDESTRIAN",
             [0.6, 0.6, 1.7],
             straight(0, 5, 12.0, 0.0, 0.0, 0.0),
+        )
+        .track(
+            "bus-ahead",
+            "BUS",
+            [12.0, 2.6, 3.2],
+            straight(0, 10, 20.0, 0.0, 0.0, 0.0),
         )
         .straight_lane(7, -40.0, 40.0, -9.0, -5.0)
         .lane_type(LaneType::Bike)
@@ -75,11 +81,12 @@ fn the_referred_car_left_of_the_ego_is_drawn_left_in_the_highlight_colour() {
     }
     // Inside the ego's box: the ego's colour, not the highlight.
     assert_eq!(pixel(&rgba, w, view.px([-1.5, 0.5])), hex(style::EGO));
-    // The pedestrian ahead: the pedestrian colour.
+    // The bus ahead: the bus colour, above the ego in the picture.
     assert_eq!(
-        pixel(&rgba, w, view.px([12.0, 0.15])),
-        hex(style::category_colour("PEDESTRIAN"))
+        pixel(&rgba, w, view.px([18.0, 0.7])),
+        hex(style::category_colour("BUS"))
     );
+    assert!(view.px([20.0, 0.0])[1] < ego[1] - 100.0);
 }
 
 #[test]
