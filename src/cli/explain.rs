@@ -123,6 +123,10 @@ fn draw(
     let mut picture = explanation_picture(renderer, explanation, related, reference);
     picture.width = args.picture_size;
     picture.height = args.picture_size;
+    if reference == Reference::Referred {
+        // Centred on the object: closer in (it grows to show the related objects).
+        picture.half_extent = 18.0;
+    }
     let view_err = |e: ViewError| {
         let code = if matches!(e, ViewError::Render(_)) {
             1

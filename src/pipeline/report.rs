@@ -121,7 +121,7 @@ pub fn write_run_report(
         }
         all.extend(p.matches.iter().map(|m| (p.scenario, li, m)));
     }
-    all.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
+    all.sort_by_key(|a| (a.0, a.1));
     let chosen = choose(&all, max_pictures);
     let mut notes = vec![format!(
         "{} programs × {} logs, {} matched tracks; {} pictured (at most {max_pictures}, \

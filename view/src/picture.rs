@@ -402,13 +402,19 @@ pub struct Label {
 pub fn draw_labels(svg: &mut Svg, mut labels: Vec<Label>) {
     labels.sort_by_key(|l| std::cmp::Reverse(l.priority));
     let mut placed: Vec<[f64; 4]> = Vec::new();
-    for l in labels {
+    for mut l in labels {
         let width = 0.62 * l.size * l.text.chars().count() as f64;
-        let x0 = if l.start {
+        let mut x0 = if l.start {
             l.at[0]
         } else {
             l.at[0] - width / 2.0
         };
+        // Kept inside the picture: moved left when it would run off the right edge.
+        let overflow = x0 + width - (svg.width() as f64 - 4.0);
+        if overflow > 0.0 {
+            x0 -= overflow;
+            l.at[0] -= overflow;
+        }
         let rect = [x0, l.at[1] - l.size, x0 + width, l.at[1] + 2.0];
         if placed
             .iter()

@@ -107,6 +107,7 @@ function fromHash() {
   sec.scrollIntoView();
 }
 window.addEventListener('hashchange', fromHash);
+window.addEventListener('load', fromHash);
 fromHash();
 "#;
 

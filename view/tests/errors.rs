@@ -105,6 +105,8 @@ fn path_ranges_are_checked() {
     path.last = 9;
     let svg = path_svg(&path).expect("a path");
     // Two referred frames are filled dots in the highlight colour.
-    assert_eq!(svg.matches(r##"<circle"##).count() >= 5, true);
+    assert_eq!(svg.matches(r##"r="3.20" fill="#e6007e""##).count(), 2);
+    // The other three frames are hollow dots.
+    assert_eq!(svg.matches(r##"r="2.60" fill="#ffffff""##).count(), 3);
     assert_eq!(animation_frames(&path).expect("frames").len(), 5);
 }
