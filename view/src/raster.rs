@@ -41,16 +41,20 @@ pub fn render_pixmap(svg: &str) -> Result<Pixmap, ViewError> {
     Ok(pixmap)
 }
 
-/// Rasterises SVG text: width, height and straight (not premultiplied) RGBA bytes, row-major.
-pub fn render_rgba(svg: &str) -> Result<(u32, u32, Vec<u8>), ViewError> {
-    let pixmap = render_pixmap(svg)?;
+/// A pixmap's width, height and straight (not premultiplied) RGBA bytes, row-major.
+fn straight_rgba(pixmap: &Pixmap) -> (u32, u32, Vec<u8>) {
     let (w, h) = (pixmap.width(), pixmap.height());
     let mut out = Vec::with_capacity((w * h * 4) as usize);
     for p in pixmap.pixels() {
         let c = p.demultiply();
         out.extend_from_slice(&[c.red(), c.green(), c.blue(), c.alpha()]);
     }
-    Ok((w, h, out))
+    (w, h, out)
+}
+
+/// Rasterises SVG text: width, height and straight (not premultiplied) RGBA bytes, row-major.
+pub fn render_rgba(svg: &str) -> Result<(u32, u32, Vec<u8>), ViewError> {
+    Ok(straight_rgba(&render_pixmap(svg)?))
 }
 
 /// Rasterises SVG text into PNG bytes.
@@ -63,11 +67,5 @@ pub fn render_png(svg: &str) -> Result<Vec<u8>, ViewError> {
 /// Decodes PNG bytes (a picture or a browser's screenshot): width, height, straight RGBA.
 pub fn decode_png(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), ViewError> {
     let pixmap = Pixmap::decode_png(bytes).map_err(|e| ViewError::Render(e.to_string()))?;
-    let (w, h) = (pixmap.width(), pixmap.height());
-    let mut out = Vec::with_capacity((w * h * 4) as usize);
-    for p in pixmap.pixels() {
-        let c = p.demultiply();
-        out.extend_from_slice(&[c.red(), c.green(), c.blue(), c.alpha()]);
-    }
-    Ok((w, h, out))
+    Ok(straight_rgba(&pixmap))
 }
