@@ -24,6 +24,9 @@
 //! `--log-prompts log_prompt_pairs.json --dataset-dir SPLIT [--tracks TRACKER.pkl]` mines a
 //! split's (log, prompt) pairs and only those (see [`crate::cli::mine_pairs`]), into
 //! `OUT/submission.pkl`.
+//! `--report` also writes `OUT/report/index.html` after the run: the table of programs × logs
+//! and, for up to `--report-max-pictures` matches, pictures over the referred span with a frame
+//! scrubber and the proof (see [`crate::pipeline::report`]).
 //!
 //! Exit code: 0 when everything ran; 1 when a log, program, synthesis or the scoring failed
 //! (the rest ran and was written); 2 when the arguments or inputs are unusable.
@@ -35,6 +38,7 @@ use std::process::ExitCode;
 use crate::cli::synth::{synth_config, SynthArgs};
 use crate::pipeline::budget::{default_max_tuples, machine_memory, DEFAULT_TIMEOUT};
 use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
+use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions, RunReport};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
 use crate::pipeline::summary::{render_score, render_table, score};
@@ -109,6 +113,14 @@ pub struct Options {
     /// Descriptions synthesized at once with `--descriptions`.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub jobs: u32,
+    /// Also write a browsable report of the run, OUT/report/index.html (a static page with
+    /// pictures of the matches; opens from disk, works offline).
+    #[arg(long)]
+    pub report: bool,
+    /// Most matches the report pictures (the rest are listed with the command that pictures
+    /// them).
+    #[arg(long, default_value_t = 40, value_name = "N")]
+    pub report_max_pictures: usize,
     /// The LLM server, the cache and the prompt (for `--descriptions`).
     #[command(flatten, next_help_heading = "Synthesis (--descriptions)")]
     pub synth: SynthArgs,
@@ -329,6 +341,15 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     let any_failed = report.any_failed() || !failures.is_empty() || !log_problems.is_empty();
+    if args.report {
+        match write_run_report(&out, &report, &scenarios, &logs, args.report_max_pictures) {
+            Ok(page) => eprintln!("scenalog mine: wrote the report {}", page.display()),
+            Err(e) => {
+                eprintln!("scenalog mine: the report: {e}");
+                score_failed = true;
+            }
+        }
+    }
 
     match args.format {
         Format::Json => {

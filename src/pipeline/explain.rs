@@ -259,7 +259,7 @@ impl Renderer<'_> {
         self.scenario.path.display().to_string()
     }
 
-    fn literal(&self, clause: Option<usize>, li: usize) -> Option<&Literal> {
+    pub(crate) fn literal(&self, clause: Option<usize>, li: usize) -> Option<&Literal> {
         self.scenario
             .program
             .program
@@ -320,7 +320,7 @@ impl Renderer<'_> {
         format!("{l} {} {r}", op.as_str())
     }
 
-    fn body_fact_text(&self, clause: Option<usize>, f: &BodyFact) -> String {
+    pub(crate) fn body_fact_text(&self, clause: Option<usize>, f: &BodyFact) -> String {
         match f {
             BodyFact::Atom {
                 relation, tuple, ..
@@ -465,7 +465,7 @@ impl Renderer<'_> {
         })
     }
 
-    fn step_text(&self, clause: usize, s: Step) -> String {
+    pub(crate) fn step_text(&self, clause: usize, s: Step) -> String {
         match s {
             Step::Body(i) => self
                 .literal(Some(clause), i)

@@ -10,7 +10,9 @@
 pub mod budget;
 pub mod explain;
 pub mod output;
+pub mod picture;
 pub mod predictions;
+pub mod report;
 pub mod run;
 pub mod scenario;
 pub mod summary;

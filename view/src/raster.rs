@@ -1,0 +1,71 @@
+//! SVG to pixels with `resvg`, text in the DejaVu Sans font shipped inside the `dejavu` crate
+//! (loaded once), and PNG encoding and decoding.
+
+use std::sync::{Arc, OnceLock};
+
+use resvg::tiny_skia::Pixmap;
+use resvg::usvg;
+
+use crate::error::ViewError;
+
+/// The font database: DejaVu Sans regular and bold, nothing from the system.
+fn fonts() -> Arc<usvg::fontdb::Database> {
+    static FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    FONTS
+        .get_or_init(|| {
+            let mut db = usvg::fontdb::Database::new();
+            db.load_font_data(dejavu::sans::regular().to_vec());
+            db.load_font_data(dejavu::sans::bold().to_vec());
+            db.set_sans_serif_family(crate::style::FONT);
+            Arc::new(db)
+        })
+        .clone()
+}
+
+/// Rasterises SVG text into a pixmap (premultiplied RGBA) of the SVG's own size.
+pub fn render_pixmap(svg: &str) -> Result<Pixmap, ViewError> {
+    let options = usvg::Options {
+        fontdb: fonts(),
+        font_family: crate::style::FONT.to_string(),
+        ..usvg::Options::default()
+    };
+    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| ViewError::Render(e.to_string()))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap = Pixmap::new(size.width(), size.height())
+        .ok_or_else(|| ViewError::Render(format!("empty picture size {size:?}")))?;
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
+    Ok(pixmap)
+}
+
+/// A pixmap's width, height and straight (not premultiplied) RGBA bytes, row-major.
+fn straight_rgba(pixmap: &Pixmap) -> (u32, u32, Vec<u8>) {
+    let (w, h) = (pixmap.width(), pixmap.height());
+    let mut out = Vec::with_capacity((w * h * 4) as usize);
+    for p in pixmap.pixels() {
+        let c = p.demultiply();
+        out.extend_from_slice(&[c.red(), c.green(), c.blue(), c.alpha()]);
+    }
+    (w, h, out)
+}
+
+/// Rasterises SVG text: width, height and straight (not premultiplied) RGBA bytes, row-major.
+pub fn render_rgba(svg: &str) -> Result<(u32, u32, Vec<u8>), ViewError> {
+    Ok(straight_rgba(&render_pixmap(svg)?))
+}
+
+/// Rasterises SVG text into PNG bytes.
+pub fn render_png(svg: &str) -> Result<Vec<u8>, ViewError> {
+    render_pixmap(svg)?
+        .encode_png()
+        .map_err(|e| ViewError::Render(e.to_string()))
+}
+
+/// Decodes PNG bytes (a picture or a browser's screenshot): width, height, straight RGBA.
+pub fn decode_png(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), ViewError> {
+    let pixmap = Pixmap::decode_png(bytes).map_err(|e| ViewError::Render(e.to_string()))?;
+    Ok(straight_rgba(&pixmap))
+}
