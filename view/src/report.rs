@@ -80,6 +80,7 @@ section.match .text{flex:1;min-width:320px}
 pre{font-size:.78em;background:#f4f4f4;padding:.6em;overflow:auto;max-height:28em}
 input.scrub{width:480px}
 .label{font-size:.9em}
+details.rest summary h2{display:inline}
 .referred{color:#e6007e;font-weight:bold}
 "#;
 
@@ -225,7 +226,7 @@ pub fn report_html(r: &Report) -> String {
     if !rest.is_empty() {
         let _ = writeln!(
             h,
-            "<h2>Matches without pictures ({}): past --report-max-pictures</h2>\
+            "<details class=\"rest\"><summary><h2>Matches without pictures ({}): past --report-max-pictures</h2></summary>\
              <table class=\"counts\"><tr><th>program</th><th>log</th><th>track</th><th>span</th><th>picture</th></tr>",
             rest.len()
         );
@@ -243,7 +244,7 @@ pub fn report_html(r: &Report) -> String {
                 escape(&m.command)
             );
         }
-        h.push_str("</table>\n");
+        h.push_str("</table></details>\n");
     }
     let _ = write!(h, "<script>{SCRIPT}</script>\n</body></html>\n");
     h
