@@ -314,6 +314,27 @@ fn crossing_frames(s: &[Sample], reach0: f64) -> BTreeSet<Frame> {
         .collect()
 }
 
+/// The (X, Y) pairs that come within `reach` (plus the candidate margin) of each other at some
+/// frame of the whole log, sorted and distinct: an event may start before the requested frames.
+fn crossing_candidates(ctx: &PairContext, q: &Query, reach: f64) -> Vec<(TrackId, TrackId)> {
+    let all_frames = 0..ctx.index.num_frames() as Frame;
+    let mut pairs = for_each_pair_in(
+        ctx,
+        q,
+        all_frames,
+        reach + CROSSING_CANDIDATE_MARGIN_M,
+        |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
+        |_, x, y, d, out| {
+            if d.within() {
+                out.push((x.track, y.track));
+            }
+        },
+    );
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
 /// `crossing(X, Y, T, Dir)`: Y's centre crosses the half-midplane of X that extends
 /// [`CROSSING_REACH_M`] beyond X's Dir side (forward: the plane through X's length axis in front
 /// of X; left: the plane through its width axis beside it; ...), and T lies in the event's span.
@@ -346,22 +367,7 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
             ],
         );
     }
-    // Candidate pairs over the whole log: an event may start before the requested frames.
-    let all_frames = 0..ctx.index.num_frames() as Frame;
-    let mut pairs = for_each_pair_in(
-        ctx,
-        q,
-        all_frames,
-        CROSSING_REACH_M + CROSSING_CANDIDATE_MARGIN_M,
-        |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
-        |_, x, y, d, out| {
-            if d.within() {
-                out.push((x.track, y.track));
-            }
-        },
-    );
-    pairs.sort_unstable();
-    pairs.dedup();
+    let pairs = crossing_candidates(ctx, q, CROSSING_REACH_M);
     let ranks = text_ranks(&DIRECTIONS);
     let mut rows: Vec<(TrackId, TrackId, Frame, usize)> = pairs
         .par_iter()
@@ -434,21 +440,7 @@ pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
     if want.is_empty() || out_frames.is_empty() {
         return rel(q, empty());
     }
-    let all_frames = 0..ctx.index.num_frames() as Frame;
-    let mut pairs = for_each_pair_in(
-        ctx,
-        q,
-        all_frames,
-        CROSSING_DETAIL_MAX_REACH_M + CROSSING_CANDIDATE_MARGIN_M,
-        |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
-        |_, x, y, d, out| {
-            if d.within() {
-                out.push((x.track, y.track));
-            }
-        },
-    );
-    pairs.sort_unstable();
-    pairs.dedup();
+    let pairs = crossing_candidates(ctx, q, CROSSING_DETAIL_MAX_REACH_M);
     let dir_ranks = text_ranks(&DIRECTIONS);
     let mut rows: Vec<(TrackId, TrackId, Frame, usize, usize, f64, f64)> = pairs
         .par_iter()
