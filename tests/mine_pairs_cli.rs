@@ -381,3 +381,90 @@ fn resume_redoes_pairs_whose_log_files_changed() {
     assert_eq!(changed[LOG_A], "done", "{changed:?}");
     assert_eq!(changed[LOG_B], "resumed", "{changed:?}");
 }
+
+/// RefAV's per-log form of a tracker's output (`sm_annotations.feather`: the annotation columns
+/// plus `score`, the ego as a track) works as a split directory as it is: its scores reach the
+/// predictions as a tracker pickle's do.
+#[test]
+fn refav_per_log_feather_with_scores_is_read_and_its_scores_carried() {
+    use std::sync::Arc;
+
+    use arrow_array::{Array, Float32Array, RecordBatch, StringArray};
+    use arrow_schema::{DataType, Field, Schema};
+
+    let dir = tempfile::tempdir().expect("tempdir");
+    let from = data("logs").join(LOG_B);
+    let to = dir.path().join("split").join(LOG_B);
+    std::fs::create_dir_all(to.join("map")).expect("mkdir");
+    let poses = "city_SE3_egovehicle.feather";
+    std::fs::copy(from.join(poses), to.join(poses)).expect("copy");
+    for e in std::fs::read_dir(from.join("map")).expect("map").flatten() {
+        std::fs::copy(e.path(), to.join("map").join(e.file_name())).expect("copy");
+    }
+    // The annotations with a float32 `score` column: 0.25 for every object, 1 for the ego.
+    let file = std::fs::File::open(from.join("annotations_with_ego.feather")).expect("open");
+    let reader = arrow_ipc::reader::FileReader::try_new(file, None).expect("arrow");
+    let mut fields: Vec<Field> = reader
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| f.as_ref().clone())
+        .collect();
+    fields.push(Field::new("score", DataType::Float32, false));
+    let schema = Arc::new(Schema::new(fields));
+    let out_file = std::fs::File::create(to.join("sm_annotations.feather")).expect("create");
+    let mut writer = arrow_ipc::writer::FileWriter::try_new(out_file, &schema).expect("writer");
+    for batch in reader {
+        let batch = batch.expect("batch");
+        let category = batch
+            .column_by_name("category")
+            .and_then(|c| c.as_any().downcast_ref::<StringArray>().cloned())
+            .expect("category column");
+        let score: Float32Array = (0..category.len())
+            .map(|i| {
+                Some(if category.value(i) == "EGO_VEHICLE" {
+                    1.0
+                } else {
+                    0.25
+                })
+            })
+            .collect();
+        let mut columns = batch.columns().to_vec();
+        columns.push(Arc::new(score));
+        let batch = RecordBatch::try_new(schema.clone(), columns).expect("batch with score");
+        writer.write(&batch).expect("write");
+    }
+    writer.finish().expect("finish");
+
+    let pairs = dir.path().join("pairs.json");
+    std::fs::write(&pairs, format!("{{\"{LOG_B}\": [\"stopped car\"]}}")).expect("pairs");
+    let out = dir.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        .arg("mine")
+        .arg("--log-prompts")
+        .arg(&pairs)
+        .arg("--dataset-dir")
+        .arg(dir.path().join("split"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("scenalog runs");
+    assert!(o.status.success(), "{}", text(&o));
+    let sub = submission(&out);
+    let frames = &sub.sequences[&(LOG_B.to_string(), "stopped car".to_string())];
+    let (mut quarter, mut other) = (0usize, 0usize);
+    for f in frames {
+        let scores = f.score.as_ref().expect("scores");
+        for (i, &s) in scores.iter().enumerate() {
+            if s == 0.25 {
+                quarter += 1;
+            } else if !(s == 1.0 && f.name[i] == "OTHER_OBJECT") {
+                other += 1;
+            }
+        }
+    }
+    assert!(
+        quarter > 100 && other == 0,
+        "{quarter} scored 0.25, {other} other"
+    );
+}

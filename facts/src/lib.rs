@@ -24,7 +24,7 @@ pub mod time;
 pub use error::LoadError;
 pub use intern::{Interner, Sym};
 pub use map::{DrivableArea, PedestrianCrossing};
-pub use read::load_scene;
+pub use read::{box_scores, load_scene};
 pub use summary::SceneSummary;
 
 pub use map::{LaneId, LaneSegment, LaneType, VectorMap};

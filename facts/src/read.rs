@@ -2,7 +2,8 @@
 //!
 //! A log directory holds:
 //! - `annotations_with_ego.feather` (preferred when present; has one `EGO_VEHICLE` row per
-//!   timestamp) or `annotations.feather` (no ego rows): Arrow IPC files, LZ4-compressed, one row
+//!   timestamp), `annotations.feather` (no ego rows) or RefAV's `sm_annotations.feather` (a
+//!   tracker's output with a `score` column, read by [`box_scores`]): Arrow IPC files, one row
 //!   per (track, timestamp) with the box in the ego frame;
 //! - `city_SE3_egovehicle.feather`: the ego pose in the city frame at ~200 Hz;
 //! - `map/log_map_archive_*.json`: the vector map; the city code is taken from its name.
@@ -33,7 +34,7 @@ use crate::error::LoadError;
 use crate::scene::{Frame, Pose, Scene, Track, TrackBox, TrackId, EGO_CATEGORY, EGO_SIZE};
 use crate::time::Timeline;
 
-use arrow_file::{f64s, file_error, i64s, read_table, Kind, Strs, Table};
+use arrow_file::{any_floats, f64s, file_error, i64s, read_table, Kind, Strs, Table};
 pub use map_json::{city_from_map_name, MAP_FILE_PREFIX};
 use scenalog_input::FileProblem;
 
@@ -164,11 +165,79 @@ fn log_id_of(log_dir: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// The annotations file: the first of the two names that is there. Something there that is
+/// RefAV's per-log form of a tracker's output (`sm_annotations.feather`): the annotation
+/// columns, a `score` column, and the ego as an `EGO_VEHICLE` track with uuid `ego`.
+pub const REFAV_ANNOTATIONS_FILE: &str = "sm_annotations.feather";
+
+/// The per-box confidence of a log whose annotations carry a `score` column (RefAV's per-log
+/// form of a tracker's output, [`REFAV_ANNOTATIONS_FILE`]): `scores[track][box]`, aligned with
+/// `scene.tracks[track].boxes[box]`; `None` when there is no such column (ground truth). A box
+/// the file has no score for (the ego added to a plain log) scores 1.0; a score that is not a
+/// finite number is an error naming the row.
+pub fn box_scores(log_dir: &Path, scene: &Scene) -> Result<Option<Vec<Vec<f32>>>, LoadError> {
+    const COLUMNS: &[(&str, Kind)] = &[
+        ("timestamp_ns", Kind::Int64),
+        ("track_uuid", Kind::Str),
+        ("score", Kind::AnyFloat),
+    ];
+    let path = annotations_path(log_dir)?;
+    let table = match read_table(&path, COLUMNS) {
+        Ok(t) => t,
+        Err(LoadError::MissingColumn {
+            column: "score", ..
+        }) => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    let mut by_box: HashMap<(&str, i64), f32> = HashMap::new();
+    let mut first_row = 0;
+    for b in &table.batches {
+        let stamps = i64s(b.column(0));
+        let uuids = Strs::of(b.column(1));
+        let scores = any_floats(b.column(2));
+        for (row, (&t, &score)) in stamps.iter().zip(&scores).enumerate() {
+            if !score.is_finite() {
+                return Err(LoadError::NonFinite {
+                    path: path.clone(),
+                    column: "score",
+                    row: first_row + row,
+                    value: score,
+                });
+            }
+            by_box.insert((uuids.get(row), t), score as f32);
+        }
+        first_row += b.num_rows();
+    }
+    let stamps = scene.timeline.timestamps_ns();
+    Ok(Some(
+        scene
+            .tracks
+            .iter()
+            .map(|track| {
+                track
+                    .boxes
+                    .iter()
+                    .map(|b| {
+                        stamps
+                            .get(b.frame as usize)
+                            .and_then(|&t| by_box.get(&(track.uuid.as_str(), t)))
+                            .copied()
+                            .unwrap_or(1.0)
+                    })
+                    .collect()
+            })
+            .collect(),
+    ))
+}
+
+/// The annotations file: the first of the three names that is there. Something there that is
 /// not a readable regular file (a FIFO, a symlink loop, a directory that cannot be searched) is
 /// reported as what it is, not as missing.
 fn annotations_path(log_dir: &Path) -> Result<PathBuf, LoadError> {
-    for name in [ANNOTATIONS_WITH_EGO_FILE, ANNOTATIONS_FILE] {
+    for name in [
+        ANNOTATIONS_WITH_EGO_FILE,
+        ANNOTATIONS_FILE,
+        REFAV_ANNOTATIONS_FILE,
+    ] {
         let p = log_dir.join(name);
         match scenalog_input::regular_file(&p) {
             Ok(_) => return Ok(p),
@@ -178,7 +247,7 @@ fn annotations_path(log_dir: &Path) -> Result<PathBuf, LoadError> {
     }
     Err(LoadError::MissingFile {
         path: log_dir.join(ANNOTATIONS_FILE),
-        expected: "annotations_with_ego.feather or annotations.feather in the log directory",
+        expected: "annotations_with_ego.feather, annotations.feather or sm_annotations.feather in the log directory",
     })
 }
 

@@ -433,9 +433,13 @@ type LoadedLog = (Scene, Option<Vec<Vec<f32>>>);
 /// The log's scene and, for tracker input, each box's score.
 fn load_log(log: &LogInput) -> Result<LoadedLog, String> {
     match &log.tracker {
-        None => scenalog_facts::load_scene(&log.dir)
-            .map(|s| (s, None))
-            .map_err(|e| format!("cannot read log `{}`: {e}", log.dir.display())),
+        // Annotations, or RefAV's per-log form of a tracker's output (scores in a column).
+        None => {
+            let read = |e| format!("cannot read log `{}`: {e}", log.dir.display());
+            let scene = scenalog_facts::load_scene(&log.dir).map_err(read)?;
+            let scores = scenalog_facts::box_scores(&log.dir, &scene).map_err(read)?;
+            Ok((scene, scores))
+        }
         Some(t) => {
             let frames = t.pickle.frames(&log.log_id).map_err(|e| e.to_string())?;
             let tracked = scenalog_tracker::tracked_log(

@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use arrow_array::{
-    Array, ArrayRef, Float64Array, Int64Array, LargeStringArray, RecordBatch, StringArray,
-    StringViewArray,
+    Array, ArrayRef, Float32Array, Float64Array, Int64Array, LargeStringArray, RecordBatch,
+    StringArray, StringViewArray,
 };
 use arrow_schema::DataType;
 use scenalog_input::FileProblem;
@@ -20,6 +20,8 @@ pub(crate) enum Kind {
     Float64,
     /// UTF-8 strings (`utf8`, `large_utf8` or `utf8_view`).
     Str,
+    /// 32- or 64-bit floats (a tracker's scores are often float32).
+    AnyFloat,
 }
 
 impl Kind {
@@ -28,6 +30,7 @@ impl Kind {
             Kind::Int64 => "int64",
             Kind::Float64 => "double (float64)",
             Kind::Str => "string (utf8)",
+            Kind::AnyFloat => "float or double",
         }
     }
 
@@ -39,6 +42,7 @@ impl Kind {
                 ty,
                 DataType::Utf8 | DataType::LargeUtf8 | DataType::Utf8View
             ),
+            Kind::AnyFloat => matches!(ty, DataType::Float32 | DataType::Float64),
         }
     }
 }
@@ -156,6 +160,15 @@ pub(crate) fn f64s(col: &ArrayRef) -> &[f64] {
         .downcast_ref::<Float64Array>()
         .map(|a| a.values().as_ref())
         .unwrap_or(&[])
+}
+
+/// The values of a float32 or float64 column as `f64` (type checked by [`read_table`]).
+pub(crate) fn any_floats(col: &ArrayRef) -> Vec<f64> {
+    if let Some(a) = col.as_any().downcast_ref::<Float32Array>() {
+        a.values().iter().map(|&v| f64::from(v)).collect()
+    } else {
+        f64s(col).to_vec()
+    }
 }
 
 /// A string column of any of the accepted string layouts.
