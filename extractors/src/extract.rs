@@ -7,7 +7,7 @@ use scenalog_facts::Scene;
 
 use crate::cache::Extractor;
 use crate::query::{ExtractError, Query};
-use crate::relations::{map, motion, objects};
+use crate::relations::{between, lane_direction, map, motion, objects, towing};
 
 /// Computes the tuples of `query`'s relation (unfiltered, unsorted), then filters and sorts them.
 pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, ExtractError> {
@@ -41,6 +41,9 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "near_intersection" => map::near_intersection(ex, q),
         "at_crosswalk" => map::at_crosswalk(ex, q),
         "at_stop_sign" => map::at_stop_sign(ex, q),
+        "lane_direction" => lane_direction::lane_direction(ex, q),
+        "towing" => towing::towing(ex, q),
+        "in_between" => between::in_between(ex, q),
         other => match crate::pairs::provide(ex, q) {
             Some(data) => data,
             None => return Err(ExtractError::NotProvided(other.to_string())),

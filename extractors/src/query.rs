@@ -62,9 +62,12 @@ pub enum ExtractError {
 }
 
 /// Whether `category` (a track's AV2 category) matches a category constraint (an AV2 category or
-/// the super-categories "VEHICLE" and "ANY").
+/// the super-categories "VEHICLE", "CONSTRUCTION" and "ANY").
 pub fn category_matches(category: &str, wanted: &str) -> bool {
-    wanted == "ANY" || category == wanted || (wanted == "VEHICLE" && is_vehicle_category(category))
+    wanted == "ANY"
+        || category == wanted
+        || (wanted == "VEHICLE" && is_vehicle_category(category))
+        || (wanted == "CONSTRUCTION" && scenalog_facts::scene::is_construction_category(category))
 }
 
 /// A validated request, with the tracks each track column may take.

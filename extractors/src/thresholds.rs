@@ -149,3 +149,34 @@ pub const FOLLOWING_MIN_HEADING_COS: f64 = 0.5;
 /// `following`: an object faster than this (m/s) is headed along its velocity, a slower one along
 /// its box heading.
 pub const FOLLOWING_HEADING_MIN_SPEED_M_S: f64 = 0.5;
+
+// ---------------------------------------------------------------------------------------------
+// Concepts descriptions name (towing, in_between, lane_direction; issue #14). RefAV has no atomic
+// function for any of them: the values are the ones RefAV's own scenario programs pass to
+// `has_objects_in_relative_direction` when they approximate the concept.
+// ---------------------------------------------------------------------------------------------
+
+/// `towing`: at most this gap (m) between the towing vehicle's and the trailer's ground
+/// rectangles (RefAV's "truck without trailer" program: `within_distance=3`, "trailers should be
+/// directly attached").
+pub const TOWING_MAX_GAP_M: f64 = 3.0;
+
+/// `towing`: the trailer's centre lies at most this far (m) outside the towing vehicle's sides
+/// (the same program: `lateral_thresh=2`, "some lateral offset for turning").
+pub const TOWING_MAX_LATERAL_M: f64 = 2.0;
+
+/// `towing`: the two box headings differ by at most this (degrees): a trailer swings behind a
+/// turning cab, but one standing across the cab's rear is not in tow.
+pub const TOWING_MAX_HEADING_DEG: f64 = 60.0;
+
+/// `in_between`: both outer objects are at most this far (m, box to box) from the one between
+/// them (RefAV's "motorcycle between two vehicles" program: `within_distance=5`).
+pub const BETWEEN_MAX_GAP_M: f64 = 5.0;
+
+/// `in_between`: the middle object's centre lies at most this far (m) from the segment joining the
+/// outer objects' centres (the same program: `lateral_thresh=2`).
+pub const BETWEEN_MAX_OFFSET_M: f64 = 2.0;
+
+/// `lane_direction`: an object at least this fast (m/s) travels along its velocity, a slower one
+/// along its box heading (as `heading_relative`, [`HEADING_MIN_SPEED_M_S`]).
+pub const LANE_DIRECTION_MIN_SPEED_M_S: f64 = HEADING_MIN_SPEED_M_S;

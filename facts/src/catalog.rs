@@ -270,6 +270,9 @@ pub const VALUE_ALIASES: &[ValueAlias] = &[
     alias(CATEGORY_VALUES, "CHILD", &["PEDESTRIAN"], "AV2 does not tell children from adults: PEDESTRIAN"),
     alias(CATEGORY_VALUES, "CAT", &["ANIMAL"], "AV2 has DOG and ANIMAL for all other animals"),
     alias(CATEGORY_VALUES, "OBJECT", &["ANY"], "every object is in the super-category ANY"),
+    alias(CATEGORY_VALUES, "CONSTRUCTION_SIGN", &["CONSTRUCTION", "SIGN"], "AV2 has no construction-sign class: CONSTRUCTION is every road-works object, SIGN any sign"),
+    alias(CATEGORY_VALUES, "CONSTRUCTION_OBJECT", &["CONSTRUCTION"], "the super-category of road-works objects is CONSTRUCTION"),
+    alias(CATEGORY_VALUES, "BARRIER", &["CONSTRUCTION_BARREL", "BOLLARD"], "AV2 has no barrier class: CONSTRUCTION_BARREL, BOLLARD or the super-category CONSTRUCTION"),
     alias(DIRECTIONS, "front", &["forward"], "directions are forward, backward, left, right"),
     alias(DIRECTIONS, "ahead", &["forward"], "directions are forward, backward, left, right"),
     alias(DIRECTIONS, "behind", &["backward"], "directions are forward, backward, left, right"),
@@ -277,6 +280,8 @@ pub const VALUE_ALIASES: &[ValueAlias] = &[
     alias(HEADINGS, "oncoming", &["opposite"], "relative headings are same, perpendicular, opposite"),
     alias(HEADINGS, "parallel", &["same"], "relative headings are same, perpendicular, opposite"),
     alias(HEADINGS, "crossing", &["perpendicular"], "relative headings are same, perpendicular, opposite"),
+    alias(HEADINGS, "against", &["opposite"], "relative headings (and lane directions) are same, perpendicular, opposite: against traffic is opposite"),
+    alias(HEADINGS, "wrong_way", &["opposite"], "relative headings (and lane directions) are same, perpendicular, opposite: the wrong way is opposite"),
 ];
 
 /// The alias entry for a value written in a closed column with these values, if there is one
@@ -292,7 +297,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "category",
         columns: &[X, enum_col("C", CATEGORY_VALUES)],
-        doc: "X's AV2 category, e.g. \"REGULAR_VEHICLE\", \"PEDESTRIAN\", \"EGO_VEHICLE\"; also the super-categories \"VEHICLE\" and \"ANY\"",
+        doc: "X's AV2 category, e.g. \"REGULAR_VEHICLE\", \"PEDESTRIAN\", \"EGO_VEHICLE\"; also the super-categories \"VEHICLE\", \"ANY\" and \"CONSTRUCTION\" (cones, barrels, message-board and traffic-light trailers, mobile crossing signs)",
         group: Group::Objects,
     },
     RelationSpec {
@@ -424,6 +429,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Map,
     },
     RelationSpec {
+        name: "lane_direction",
+        columns: &[X, T, enum_col("Rel", HEADINGS)],
+        doc: "X travels in the \"same\" direction as its lane (in_lane) at T (<= 45°), \"perpendicular\" or \"opposite\" (>= 135°: against traffic); along its velocity at >= 1 m/s, else its box",
+        group: Group::Map,
+    },
+    RelationSpec {
         name: "at_stop_sign",
         columns: &[X, col("S", ColType::Track), T],
         doc: "X is in stop sign S's lane, within 10 m before it and facing it, at T",
@@ -497,6 +508,18 @@ const CATALOG: &[RelationSpec] = &[
         name: "following",
         columns: &[X, Y, T],
         doc: "X follows lead Y at T: same lane (or Y in a successor), Y 0-25 m ahead, |lateral| < 5 m, headings within 60° (every such lead, not only the nearest)",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "towing",
+        columns: &[X, Y, T],
+        doc: "vehicle X tows trailer Y at T: Y is a \"VEHICULAR_TRAILER\" behind X, rectangles <= 3 m apart, Y's centre <= 2 m outside X's sides, headings within 60° (a trailer parked right behind a vehicle holds too)",
+        group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "in_between",
+        columns: &[X, Y, col("Z", ColType::Track), T],
+        doc: "X is between Y and Z at T: both within 5 m of X (box to box) and X's centre within 2 m of the segment joining their centres, strictly inside it; holds for (Y, Z) and (Z, Y)",
         group: Group::Pairs,
     },
     RelationSpec {
@@ -607,14 +630,17 @@ mod tests {
 
     #[test]
     fn catalog_has_every_relation_of_the_design() {
-        // The 32 relations DESIGN.md's catalog names, and crossing_detail (crossing with its
-        // extents and sense as columns, for RefAV's being_crossed_by arguments).
-        assert_eq!(catalog().len(), 33);
-        assert!(relation("crossing_detail").is_some());
+        // The 32 relations DESIGN.md's catalog names, crossing_detail (crossing with its
+        // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
+        // concepts of issue #14: lane_direction, towing, in_between.
+        assert_eq!(catalog().len(), 36);
+        for name in ["crossing_detail", "lane_direction", "towing", "in_between"] {
+            assert!(relation(name).is_some(), "{name}");
+        }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(33));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(36));
         let text = render_text();
-        assert!(text.starts_with("33 relations."));
+        assert!(text.starts_with("36 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -80,11 +80,28 @@ pub const ALL_CATEGORIES: &[&str] = &[
 ];
 
 /// Super-categories that name groups of AV2 categories ("ANY" is every object).
-pub const SUPER_CATEGORIES: &[&str] = &["VEHICLE", "ANY"];
+pub const SUPER_CATEGORIES: &[&str] = &["VEHICLE", "ANY", "CONSTRUCTION"];
 
 /// Whether `category` belongs to the "VEHICLE" super-category.
 pub fn is_vehicle_category(category: &str) -> bool {
     VEHICLE_CATEGORIES.contains(&category)
+}
+
+/// The AV2 categories of the "CONSTRUCTION" super-category: the temporary traffic-control
+/// objects of road works (cones, barrels, message-board and traffic-light trailers, mobile
+/// pedestrian-crossing signs). AV2 has no construction-sign class (`SIGN` is any sign) and
+/// bollards are permanent, so neither is included; nor is `OFFICIAL_SIGNALER` (a person).
+pub const CONSTRUCTION_CATEGORIES: &[&str] = &[
+    "CONSTRUCTION_BARREL",
+    "CONSTRUCTION_CONE",
+    "MESSAGE_BOARD_TRAILER",
+    "MOBILE_PEDESTRIAN_CROSSING_SIGN",
+    "TRAFFIC_LIGHT_TRAILER",
+];
+
+/// Whether `category` belongs to the "CONSTRUCTION" super-category.
+pub fn is_construction_category(category: &str) -> bool {
+    CONSTRUCTION_CATEGORIES.contains(&category)
 }
 
 /// A rigid pose: rotation then translation, `p_out = R p_in + t`.

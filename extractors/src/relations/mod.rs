@@ -2,9 +2,12 @@
 //! kinematics and events, map. Each takes the per-scene [`crate::Extractor`] and a checked
 //! [`crate::Query`] and returns the relation's columns (the caller filters and sorts).
 
+pub mod between;
+pub mod lane_direction;
 pub mod map;
 pub mod motion;
 pub mod objects;
+pub mod towing;
 
 use std::sync::Arc;
 

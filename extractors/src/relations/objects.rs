@@ -1,16 +1,18 @@
 //! Objects and time: `category`, `ego`, `present`, `frame_ns`, `seconds`.
 
 use scenalog_facts::relation::{Column, RelationData};
-use scenalog_facts::scene::{is_vehicle_category, SUPER_CATEGORIES};
+use scenalog_facts::scene::{is_construction_category, is_vehicle_category, SUPER_CATEGORIES};
 
 use super::s;
 use crate::cache::Extractor;
 use crate::query::Query;
 
-/// `category(X, C)`: each track's category, plus "VEHICLE" for vehicles and "ANY" for all.
+/// `category(X, C)`: each track's category, plus "VEHICLE" for vehicles, "CONSTRUCTION" for
+/// road-works objects and "ANY" for all.
 pub fn category(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
     let (any, vehicle) = (s(SUPER_CATEGORIES[1]), s(SUPER_CATEGORIES[0]));
+    let construction = s(SUPER_CATEGORIES[2]);
     let (mut xs, mut cs) = (Vec::new(), Vec::new());
     for t in q.tracks(scene, 0) {
         let cat = &scene.track(t).category;
@@ -19,6 +21,10 @@ pub fn category(ex: &Extractor, q: &Query) -> RelationData {
         if is_vehicle_category(cat) {
             xs.push(t);
             cs.push(vehicle.clone());
+        }
+        if is_construction_category(cat) {
+            xs.push(t);
+            cs.push(construction.clone());
         }
         xs.push(t);
         cs.push(any.clone());

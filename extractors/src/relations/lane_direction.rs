@@ -1,0 +1,69 @@
+//! `lane_direction(X, T, Rel)`: how X travels relative to the direction of the lane it is in
+//! ("opposite" is driving against traffic).
+
+use scenalog_facts::relation::{Column, RelationData};
+
+use super::s;
+use crate::cache::Extractor;
+use crate::kinematics::wrap_angle;
+use crate::map::geometry::{heading, nearest_on_polyline};
+use crate::pairs::motion::{HEADINGS, SELF_MOVING_CATEGORIES};
+use crate::query::Query;
+use crate::thresholds::{
+    HEADING_OPPOSITE_MIN_DEG, HEADING_SAME_MAX_DEG, LANE_DIRECTION_MIN_SPEED_M_S,
+};
+
+/// The `Rel` value (its index in [`HEADINGS`]) for an angle (degrees, 0-180) between a direction
+/// of travel and a lane's: "same", "perpendicular" or "opposite", with `heading_relative`'s
+/// thresholds.
+pub fn classify(angle_deg: f64) -> usize {
+    if angle_deg <= HEADING_SAME_MAX_DEG {
+        0
+    } else if angle_deg >= HEADING_OPPOSITE_MIN_DEG {
+        2
+    } else {
+        1
+    }
+}
+
+/// `lane_direction(X, T, Rel)`: per box with an assigned lane (`in_lane`) and a direction of
+/// travel (the velocity at [`LANE_DIRECTION_MIN_SPEED_M_S`] or more; slower, the box heading of an
+/// object that moves by itself; a slow cone has none), the angle to the lane's centreline at its
+/// nearest point.
+pub fn lane_direction(ex: &Extractor, q: &Query) -> RelationData {
+    let (scene, kin) = (ex.scene(), ex.kinematics());
+    let (lanes, map) = (ex.lane_indices(), ex.map_index());
+    let values: Vec<_> = HEADINGS.iter().map(|v| s(v)).collect();
+    let (mut xs, mut ts, mut rs) = (Vec::new(), Vec::new(), Vec::new());
+    for x in q.tracks(scene, 0) {
+        let (Some(k), Some(track_lanes)) = (kin.tracks.get(x.index()), lanes.get(x.index())) else {
+            continue;
+        };
+        let self_moving = SELF_MOVING_CATEGORIES.contains(&scene.track(x).category.as_str());
+        for i in q.box_range(1, scene.num_frames(), &k.frames) {
+            let Some(geom) = track_lanes.get(i).copied().flatten().and_then(|l| map.lanes.get(l))
+            else {
+                continue;
+            };
+            let travel = if k.speed[i] >= LANE_DIRECTION_MIN_SPEED_M_S {
+                k.vel[i][1].atan2(k.vel[i][0])
+            } else if self_moving {
+                k.yaw[i]
+            } else {
+                continue;
+            };
+            let Some((seg, _, _)) = nearest_on_polyline(&geom.centerline, k.center[i]) else {
+                continue;
+            };
+            let lane = heading(geom.centerline[seg], geom.centerline[seg + 1]);
+            let angle = wrap_angle(travel - lane).abs().to_degrees();
+            xs.push(x);
+            ts.push(k.frames[i]);
+            rs.push(values[classify(angle)].clone());
+        }
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Time(ts), Column::Str(rs)],
+    }
+}
