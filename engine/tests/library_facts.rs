@@ -9,7 +9,8 @@
 //! columns with the catalog's types (a track column takes an integer track id, a time column a
 //! frame, a lane column an integer lane id) and served to the engine as the provider. The
 //! harness completes the facts as the extractors would: a category fact also gives the
-//! super-categories ("VEHICLE" for vehicle categories, "ANY" for every track), an "EGO_VEHICLE"
+//! super-categories ("VEHICLE" for vehicle categories, "CONSTRUCTION" for road-works objects,
+//! "ANY" for every track), an "EGO_VEHICLE"
 //! track is `ego`, and the symmetric pair relations `near` and `heading_relative` are given in
 //! both orders (a scene states each pair once). It applies every constraint of the engine's
 //! requests, as the extractors do, so a constraint the engine derives wrongly loses a staged
@@ -25,7 +26,7 @@ use std::path::{Path, PathBuf};
 use scenalog_engine::{evaluate, Options};
 use scenalog_facts::catalog::{self, ColType};
 use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
-use scenalog_facts::scene::is_vehicle_category;
+use scenalog_facts::scene::{is_construction_category, is_vehicle_category};
 use scenalog_facts::{LaneId, TrackId};
 use scenalog_rules::ast::{Clause, Expr, ExprKind};
 use scenalog_rules::{check, parse, CheckOptions, CheckedProgram, Severity};
@@ -120,6 +121,12 @@ impl Facts {
                     push(
                         "category",
                         vec![Value::Track(*x), Value::Str("VEHICLE".into())],
+                    );
+                }
+                if is_construction_category(c) {
+                    push(
+                        "category",
+                        vec![Value::Track(*x), Value::Str("CONSTRUCTION".into())],
                     );
                 }
                 push("category", vec![Value::Track(*x), Value::Str("ANY".into())]);
@@ -1946,4 +1953,146 @@ fn vehicle_starts_to_change_lanes_then_goes_back() {
     nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
     // Creeping at 2 m/s: not moving along a lane.
     nothing(name, &swap(base, "speed(1, 10, 8.0)", "speed(1, 10, 2.0)"));
+}
+
+// ---- concepts of issue #14 --------------------------------------------------------------------
+
+#[test]
+fn group_of_three_people() {
+    let name = "group_of_three_people";
+    // Three pedestrians in a line 1.5 m apart at frame 5: one group of three, though 1 and 3
+    // are 3 m apart (a neighbour count within 2 m would give 1 and 3 only one neighbour).
+    let base = r#"
+        category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN"). category(3, "PEDESTRIAN").
+        near(1, 2, 5, 1.5). near(2, 3, 5, 1.5). near(1, 3, 5, 3.0).
+    "#;
+    finds(
+        name,
+        base,
+        &[(1, 5), (2, 5), (3, 5)],
+        &[(1, 2, 5), (1, 3, 5), (2, 1, 5), (2, 3, 5), (3, 1, 5), (3, 2, 5)],
+    );
+    // The chain broken (2 and 3 are 2.1 m apart): a pair and a lone pedestrian.
+    nothing(name, &swap(base, "near(2, 3, 5, 1.5)", "near(2, 3, 5, 2.1)"));
+    // A fourth pedestrian joins the chain: a group of four, not three.
+    nothing(
+        name,
+        &format!(r#"{base} category(4, "PEDESTRIAN"). near(3, 4, 5, 1.0)."#),
+    );
+    // A car in the chain's place does not link pedestrians.
+    nothing(name, &swap(base, "category(2, \"PEDESTRIAN\")", "category(2, \"REGULAR_VEHICLE\")"));
+    // Two groups of three at one frame are found apart (4-5-6 is 10 m from 1-2-3).
+    let two = format!(
+        r#"{base} category(4, "PEDESTRIAN"). category(5, "PEDESTRIAN"). category(6, "PEDESTRIAN").
+        near(4, 5, 5, 1.0). near(5, 6, 5, 1.0). near(3, 4, 5, 10.0)."#
+    );
+    let found = run(name, &two);
+    assert_eq!(found.referred.len(), 6, "{found:?}");
+    assert!(!found.related.contains(&(3, 4, 5)));
+}
+
+#[test]
+fn construction_zone() {
+    let name = "construction_zone";
+    // A cone, a barrel and a message-board trailer 8 m apart in a row at frame 2: one zone.
+    let base = r#"
+        category(1, "CONSTRUCTION_CONE"). category(2, "CONSTRUCTION_BARREL").
+        category(3, "MESSAGE_BOARD_TRAILER").
+        near(1, 2, 2, 8.0). near(2, 3, 2, 8.0). near(1, 3, 2, 16.0).
+    "#;
+    finds(name, base, &[(1, 2), (2, 2), (3, 2)], &[]);
+    // 10.5 m between the barrel and the trailer (> 10): two objects are no zone.
+    nothing(name, &swap(base, "near(2, 3, 2, 8.0)", "near(2, 3, 2, 10.5)"));
+    // A plain sign is not a road-works object.
+    nothing(name, &swap(base, "\"MESSAGE_BOARD_TRAILER\"", "\"SIGN\""));
+}
+
+#[test]
+fn passenger_vehicle_swerving_left() {
+    let name = "passenger_vehicle_swerving_left";
+    // A car at 12 m/s pushed 2.5 m/s² to the left at frame 30, neither turning nor changing lanes.
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). lat_accel(1, 30, 2.5). speed(1, 30, 12.0).
+    "#;
+    finds(name, base, &[(1, 30)], &[]);
+    // To the right (+ is left).
+    nothing(name, &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, -2.5)"));
+    // Just under 2 m/s².
+    nothing(name, &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, 1.9)"));
+    // Turning left at that frame: a turn, not a swerve; changing lanes: a lane change.
+    nothing(name, &format!(r#"{base} turning(1, 30, "left")."#));
+    nothing(name, &format!(r#"{base} lane_change(1, 30, "left")."#));
+    // Creeping at 2 m/s.
+    nothing(name, &swap(base, "speed(1, 30, 12.0)", "speed(1, 30, 2.0)"));
+}
+
+#[test]
+fn truck_cab_towing_a_trailer() {
+    let name = "truck_cab_towing_a_trailer";
+    let base = r#"
+        category(1, "TRUCK_CAB"). category(2, "VEHICULAR_TRAILER"). towing(1, 2, 7).
+    "#;
+    finds(name, base, &[(1, 7)], &[(1, 2, 7)]);
+    // A box truck towing a trailer is not a truck cab.
+    nothing(name, &swap(base, "TRUCK_CAB", "BOX_TRUCK"));
+    // A truck cab alone.
+    nothing(name, r#"category(1, "TRUCK_CAB"). category(2, "VEHICULAR_TRAILER")."#);
+}
+
+#[test]
+fn vehicle_driving_against_traffic() {
+    let name = "vehicle_driving_against_traffic";
+    let base = r#"
+        category(1, "REGULAR_VEHICLE"). speed(1, 4, 8.0). lane_direction(1, 4, "opposite").
+    "#;
+    finds(name, base, &[(1, 4)], &[]);
+    // With traffic; crossing the lane; parked facing the wrong way (0.2 m/s).
+    nothing(name, &swap(base, "\"opposite\"", "\"same\""));
+    nothing(name, &swap(base, "\"opposite\"", "\"perpendicular\""));
+    nothing(name, &swap(base, "speed(1, 4, 8.0)", "speed(1, 4, 0.2)"));
+    // A pedestrian walking against the lane is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+}
+
+#[test]
+fn vehicle_approaching_intersection() {
+    let name = "vehicle_approaching_intersection";
+    // 20 m from an intersection at frame 0 and 12 m one second later.
+    let base = r#"
+        category(1, "BUS"). near_intersection(1, 0, 20.0). near_intersection(1, 10, 12.0).
+    "#;
+    finds(name, base, &[(1, 0)], &[]);
+    // Only 0.5 m closer (< 1 m): waiting, not approaching.
+    nothing(name, &swap(base, "near_intersection(1, 10, 12.0)", "near_intersection(1, 10, 19.5)"));
+    // Driving away.
+    nothing(name, &swap(base, "near_intersection(1, 10, 12.0)", "near_intersection(1, 10, 28.0)"));
+    // Already on it (distance 0).
+    nothing(name, &swap(base, "near_intersection(1, 0, 20.0)", "near_intersection(1, 0, 0.0)"));
+    // 35 m away (> 30).
+    nothing(
+        name,
+        &swap(
+            &swap(base, "near_intersection(1, 0, 20.0)", "near_intersection(1, 0, 35.0)"),
+            "near_intersection(1, 10, 12.0)",
+            "near_intersection(1, 10, 27.0)",
+        ),
+    );
+}
+
+#[test]
+fn pedestrian_walking_between_two_stopped_vehicles() {
+    let name = "pedestrian_walking_between_two_stopped_vehicles";
+    let base = r#"
+        category(1, "PEDESTRIAN"). speed(1, 3, 1.2).
+        category(2, "REGULAR_VEHICLE"). speed(2, 3, 0.0).
+        category(3, "BOX_TRUCK"). speed(3, 3, 0.1).
+        in_between(1, 2, 3, 3). in_between(1, 3, 2, 3).
+    "#;
+    finds(name, base, &[(1, 3)], &[(1, 2, 3), (1, 3, 3)]);
+    // One of the vehicles moving.
+    nothing(name, &swap(base, "speed(3, 3, 0.1)", "speed(3, 3, 4.0)"));
+    // The pedestrian standing still.
+    nothing(name, &swap(base, "speed(1, 3, 1.2)", "speed(1, 3, 0.3)"));
+    // Between a car and a cone, not two vehicles.
+    nothing(name, &swap(base, "\"BOX_TRUCK\"", "\"CONSTRUCTION_CONE\""));
 }

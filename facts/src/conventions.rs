@@ -86,9 +86,51 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "at an intersection, a crosswalk",
-        idiom: "`on_intersection(X, T)`; approaching one: `near_intersection(X, T, D), D < 10`; at a crosswalk: `at_crosswalk(X, T, D), D < 1`",
+        idiom: "`on_intersection(X, T)`; near one: `near_intersection(X, T, D), D < 10`; at a crosswalk: `at_crosswalk(X, T, D), D < 1`",
         example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), at_crosswalk(X, T, D), D < 1.0.",
         library: &[],
+    },
+    Convention {
+        phrase: "approaching a place or an object",
+        idiom: "a place along one's path: its distance shrinks, at least 1 m within the next second: `near_intersection(X, T, D), D > 0, D <= 30, T2 = T + 10, near_intersection(X, T2, D2), D2 <= D - 1` (the same with `at_crosswalk`); a stop sign: `at_stop_sign(X, S, T)` while moving; an object ahead: `heading_toward(X, Y, T)` (X's velocity points at Y and it closes in)",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), near_intersection(X, T, D), D > 0.0, D <= 30.0, T2 = T + 10, near_intersection(X, T2, D2), D2 <= D - 1.0.",
+        library: &[("vehicle_approaching_intersection", "D2 <= D - 1.0")],
+    },
+    Convention {
+        phrase: "between",
+        idiom: "`in_between(X, Y, Z, T)`: X between Y and Z (both within 5 m, X within 2 m of the line joining them); it holds for (Y, Z) and (Z, Y), so put the same conditions on both; \"vehicles on both sides\" of X is `direction(X, Y, T, \"left\", _, _), direction(X, Z, T, \"right\", _, _)`",
+        example: "referred(P, T) :- category(P, \"PEDESTRIAN\"), in_between(P, A, B, T), category(A, \"VEHICLE\"), category(B, \"VEHICLE\").",
+        library: &[("pedestrian_walking_between_two_stopped_vehicles", "in_between(P, A, B, T)")],
+    },
+    Convention {
+        phrase: "against traffic, wrong way, oncoming",
+        idiom: "driving against traffic: `lane_direction(X, T, \"opposite\")` (X travels against its own lane) with `speed(X, T, V), V > 1`; oncoming traffic or an oncoming vehicle: `heading_relative(X, Y, T, \"opposite\")` with Y ahead, `direction(X, Y, T, \"forward\", _, _)`; the oncoming side of the road: `road_side(X, Y, T, \"opposite\")`",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V > 1.0, lane_direction(X, T, \"opposite\").",
+        library: &[("vehicle_driving_against_traffic", "lane_direction(V, T, \"opposite\")")],
+    },
+    Convention {
+        phrase: "swerving",
+        idiom: "a sudden sideways move that is neither a turn nor a lane change: `lat_accel(X, T, A), A >= 2` (left; `A <= -2` right), `speed(X, T, V), V > 3`, `!turning(X, T, _), !lane_change(X, T, _)`",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), lat_accel(X, T, A), A <= -2.0, speed(X, T, V), V > 3.0, !turning(X, T, _), !lane_change(X, T, _).",
+        library: &[("passenger_vehicle_swerving_left", "A >= 2.0")],
+    },
+    Convention {
+        phrase: "towing, with a trailer",
+        idiom: "`towing(X, Y, T)`: X pulls trailer Y (a semi is a \"TRUCK_CAB\" and a \"VEHICULAR_TRAILER\", two objects); without a trailer: `!towing(X, _, T)`",
+        example: "referred(X, T) :- category(X, \"TRUCK_CAB\"), present(X, T), !towing(X, _, T).",
+        library: &[("truck_cab_towing_a_trailer", "towing(C, _, T)")],
+    },
+    Convention {
+        phrase: "construction objects, a construction zone",
+        idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is a cluster: link objects within 10 m and close the links by recursion, then count, as for a group",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10.0, category(C, \"CONSTRUCTION\").",
+        library: &[("construction_zone", "category(C, \"CONSTRUCTION\")")],
+    },
+    Convention {
+        phrase: "a group of N people",
+        idiom: "a group is connected, not a neighbour count: `link(P, Q, T)` for pedestrians within 2 m, `grouped(P, Q, T) :- link(P, Q, T).` `grouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).` then `N = count : { grouped(P, Q, T) }` is P's group size (P included)",
+        example: "link(P, Q, T) :- category(P, \"PEDESTRIAN\"), category(Q, \"PEDESTRIAN\"), P != Q, near(P, Q, T, D), D <= 2.0.\ngrouped(P, Q, T) :- link(P, Q, T).\ngrouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).\nreferred(P, T) :- grouped(P, _, T), N = count : { grouped(P, Q, T) }, N >= 3.",
+        library: &[("group_of_three_people", "grouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).")],
     },
     Convention {
         phrase: "time: frames",

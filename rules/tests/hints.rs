@@ -337,3 +337,28 @@ fn warnings_that_change_meaning_are_reported() {
         diags(ok)
     );
 }
+
+#[test]
+fn the_concepts_closed_columns_are_checked_and_their_aliases_fixed() {
+    // lane_direction's Rel column takes the relative headings: "against" is an alias of
+    // "opposite", a typo is an error with a did-you-mean.
+    fixes_to(
+        "referred(X, T) :- lane_direction(X, T, \"against\").\n",
+        "E0104",
+        "\"against\"",
+        "against traffic is opposite",
+        "referred(X, T) :- lane_direction(X, T, \"opposite\").\n",
+    );
+    let d = diags("referred(X, T) :- lane_direction(X, T, \"oposite\").\n");
+    assert!(d.iter().any(|d| d.code == "E0104"), "{d:#?}");
+    // The construction super-category is a value; a construction sign is an alias.
+    let clean = diags("referred(X, T) :- category(X, \"CONSTRUCTION\"), present(X, T).\n");
+    assert!(clean.iter().all(|d| !d.is_error()), "{clean:#?}");
+    fixes_to(
+        "referred(X, T) :- category(X, \"CONSTRUCTION_SIGN\"), present(X, T).\n",
+        "E0104",
+        "\"CONSTRUCTION_SIGN\"",
+        "no construction-sign class",
+        "referred(X, T) :- category(X, \"CONSTRUCTION\"), present(X, T).\n",
+    );
+}

@@ -7,7 +7,9 @@
 
 use std::collections::BTreeSet;
 
-use scenalog_facts::scene::{ALL_CATEGORIES, SUPER_CATEGORIES, VEHICLE_CATEGORIES};
+use scenalog_facts::scene::{
+    ALL_CATEGORIES, CONSTRUCTION_CATEGORIES, SUPER_CATEGORIES, VEHICLE_CATEGORIES,
+};
 use scenalog_facts::{catalog, conventions};
 
 use crate::client::Message;
@@ -54,9 +56,10 @@ pub fn system_message() -> String {
     s.push_str("\n# Categories (the second column of `category`)\n");
     s.push_str(&ALL_CATEGORIES.join(", "));
     s.push_str(&format!(
-        "\nSuper-categories: {} (\"VEHICLE\" is {}; \"ANY\" is every object).\n",
+        "\nSuper-categories: {} (\"VEHICLE\" is {}; \"CONSTRUCTION\" is {}; \"ANY\" is every object).\n",
         SUPER_CATEGORIES.join(", "),
-        VEHICLE_CATEGORIES.join(", ")
+        VEHICLE_CATEGORIES.join(", "),
+        CONSTRUCTION_CATEGORIES.join(", ")
     ));
     s
 }
