@@ -346,3 +346,127 @@ fn eval_reports_a_description_set_with_held_out_prompts_on_the_sample_logs() {
         first[1]
     );
 }
+
+/// The JSON report of `--eval` on `set` (one description a line) with the scripted `replies`.
+fn eval_json(set: &str, replies: Vec<Reply>, extra: &[&str]) -> serde_json::Value {
+    let server = Server::scripted(replies);
+    let url = server.base_url();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("set.txt");
+    fs::write(&file, set).expect("write descriptions");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let mut args = vec![
+        "--eval",
+        file.to_str().expect("utf-8 path"),
+        "--logs",
+        logs,
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let o = scenalog(&args, &[("SCENALOG_LLM_BASE_URL", url.as_str())]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).unwrap_or_else(|e| panic!("{e}: {}", stdout(&o)))
+}
+
+#[test]
+fn eval_scores_the_fixture_prompts_as_mine_does() {
+    // The model answers the two fixture prompts with the library's programs, and a third
+    // description that is no prompt of the fixture: the fixture score is the main job's
+    // (README.md: `scenalog mine` scores 0.5708605517786205 with the same two programs).
+    let stopped = include_str!("../rules/library/stopped_car.dl");
+    let bike = include_str!("../rules/library/vehicle_with_bicycle_to_its_right.dl");
+    const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
+    let report = eval_json(
+        "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
+        vec![program(stopped), program(TRAIN), program(bike)],
+        &[],
+    );
+    assert_eq!(report["descriptions"], 3, "{report:#}");
+    assert_eq!(report["clean_first_round"], 3);
+    let f = &report["fixture"];
+    assert_eq!(
+        f["prompts"],
+        serde_json::json!(["stopped car", "vehicle with a bicycle to its right"])
+    );
+    assert_eq!(f["without_program"], serde_json::json!([]));
+    let hota = f["hota_temporal"].as_f64().expect("a number");
+    assert!((hota - 0.5708605517786205).abs() < 1e-12, "{f:#}");
+    let per: Vec<(String, f64)> = f["by_prompt"]
+        .as_array()
+        .expect("by_prompt")
+        .iter()
+        .map(|p| {
+            (
+                p["prompt"].as_str().unwrap_or_default().to_string(),
+                p["hota_temporal"].as_f64().unwrap_or(-1.0),
+            )
+        })
+        .collect();
+    assert_eq!(per.len(), 2, "{per:?}");
+    assert_eq!(per[0].0, "stopped car");
+    assert!((per[0].1 - 0.8527).abs() < 5e-5, "{per:?}");
+    assert!((per[1].1 - 0.2890).abs() < 5e-5, "{per:?}");
+    // Each clean program is in its item.
+    assert!(report["items"][0]["program"]
+        .as_str()
+        .is_some_and(|p| p.contains("REGULAR_VEHICLE")));
+}
+
+#[test]
+fn eval_scores_a_fixture_prompt_without_a_clean_program_as_predicting_nothing() {
+    // One round, an unknown relation: no clean program for "stopped car", which then predicts
+    // nothing and scores 0 instead of being left out of the score.
+    let report = eval_json("stopped car\n", vec![program(UNKNOWN)], &["--rounds", "1"]);
+    let f = &report["fixture"];
+    assert_eq!(f["prompts"], serde_json::json!(["stopped car"]), "{report:#}");
+    assert_eq!(f["without_program"], serde_json::json!(["stopped car"]));
+    assert_eq!(f["hota_temporal"].as_f64(), Some(0.0), "{f:#}");
+    // A set without fixture prompts has no fixture score.
+    const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
+    let none = eval_json("tram crossing\n", vec![program(TRAIN)], &[]);
+    assert!(none["fixture"].is_null(), "{none:#}");
+}
+
+#[test]
+fn eval_text_report_shows_the_fixture_score() {
+    // README.md's held-out synthesis report, exactly: three descriptions, two of them the
+    // fixture's prompts answered with the library's programs, one repaired once.
+    let stopped = include_str!("../rules/library/stopped_car.dl");
+    let bike = include_str!("../rules/library/vehicle_with_bicycle_to_its_right.dl");
+    const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
+    let server = Server::scripted(vec![
+        program(stopped),
+        program(UNKNOWN),
+        program(TRAIN),
+        program(bike),
+    ]);
+    let url = server.base_url();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("set.txt");
+    fs::write(
+        &file,
+        "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
+    )
+    .expect("write descriptions");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let o = scenalog(
+        &["--eval", file.to_str().expect("utf-8 path"), "--logs", logs],
+        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let readme = include_str!("../README.md");
+    let start = readme
+        .find("~~~\ndescriptions                      3\n")
+        .expect("README.md shows the report");
+    let block = &readme[start + 4..];
+    let block = &block[..block.find("~~~").expect("the block ends")];
+    assert_eq!(text, block);
+    // A --gt that is not a file is refused before anything is asked.
+    let o = scenalog(
+        &["--eval", file.to_str().expect("utf-8 path"), "--gt", "/nonexistent/gt.pkl"],
+        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("/nonexistent/gt.pkl"), "{}", stderr(&o));
+}

@@ -50,7 +50,7 @@ pub(crate) const LIBRARY: &str = "rules/library";
 /// The bundled sample logs, relative to the workspace.
 const SAMPLE_LOGS: &str = "tests/data/av2/logs";
 /// The bundled ground truth of the sample logs, relative to the workspace.
-const SAMPLE_GT: &str = "tests/data/av2/eval/combined_gt_dev.pkl";
+pub(crate) const SAMPLE_GT: &str = "tests/data/av2/eval/combined_gt_dev.pkl";
 
 /// Arguments of `scenalog mine` (boxed: they are many, and the command enum stays small).
 #[derive(clap::Args)]
@@ -478,7 +478,7 @@ fn is_log_dir(p: &Path) -> bool {
 
 /// The logs named by `--logs` (a log directory, or a directory whose subdirectories are logs,
 /// sorted by name), and the duplicates left out (same log id twice).
-fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), String> {
+pub(crate) fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), String> {
     let mut dirs = Vec::new();
     for p in paths {
         if !p.is_dir() {

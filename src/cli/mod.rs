@@ -16,3 +16,4 @@ pub mod mine;
 pub mod mine_pairs;
 pub mod run;
 pub mod synth;
+pub mod synth_fixture;

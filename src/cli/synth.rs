@@ -40,6 +40,14 @@ pub struct Options {
     /// The sample logs `--eval` runs programs on (each subdirectory one AV2 log).
     #[arg(long, value_name = "DIR", default_value = "tests/data/av2/logs")]
     pub logs: PathBuf,
+    /// The ground truth `--eval` scores the descriptions that are its prompts against (their
+    /// programs mined on `--logs`, as `scenalog mine` scores them) [default: the bundled
+    /// fixture's, tests/data/av2/eval/combined_gt_dev.pkl, when present].
+    #[arg(long, value_name = "G", requires = "eval")]
+    pub gt: Option<PathBuf>,
+    /// With `--eval`: print the report as one JSON object instead of text.
+    #[arg(long, requires = "eval")]
+    pub json: bool,
     /// Held-out prompts: leave out the description's own library program and its near-duplicates
     /// (always on with `--eval`).
     #[arg(long)]
@@ -200,7 +208,11 @@ pub fn run(args: Args) -> ExitCode {
         return ExitCode::SUCCESS;
     }
     if let Some(file) = &args.eval {
-        return eval(&synth, file, &args.logs);
+        let gt = args
+            .gt
+            .clone()
+            .or_else(|| crate::cli::mine::bundled(crate::cli::mine::SAMPLE_GT));
+        return eval(&synth, file, &args.logs, gt.as_deref(), args.json);
     }
     match (&args.description, &args.descriptions, &args.out) {
         (Some(d), _, _) => one(&synth, d, &args),
@@ -210,12 +222,25 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// `--eval FILE`: every description synthesized with held-out prompts, each clean program run on
-/// the sample logs; the report on stdout. Exit 0 when it ran, 2 when an input is unusable.
-fn eval(synth: &Synthesizer, file: &std::path::Path, logs: &std::path::Path) -> ExitCode {
+/// the sample logs, the descriptions that are prompts of the ground truth `gt` mined and scored;
+/// the report on stdout. Exit 0 when it ran, 1 when the fixture scoring failed (the rest is
+/// reported), 2 when an input is unusable.
+fn eval(
+    synth: &Synthesizer,
+    file: &std::path::Path,
+    logs: &std::path::Path,
+    gt: Option<&std::path::Path>,
+    json: bool,
+) -> ExitCode {
     let descriptions = match batch::read_descriptions(file) {
         Ok(d) => d,
         Err(e) => return fail(e),
     };
+    if let Some(g) = gt {
+        if !g.is_file() {
+            return fail(format!("--gt `{}` is not a file", g.display()));
+        }
+    }
     let mut dirs: Vec<PathBuf> = match std::fs::read_dir(logs) {
         Ok(rd) => rd
             .filter_map(|e| e.ok().map(|e| e.path()))
@@ -250,8 +275,27 @@ fn eval(synth: &Synthesizer, file: &std::path::Path, logs: &std::path::Path) -> 
         }
         Ok(n)
     });
-    out!("{}", report.render());
-    ExitCode::SUCCESS
+    let mut report = report;
+    let mut code = ExitCode::SUCCESS;
+    if let Some(g) = gt {
+        let scratch = std::env::temp_dir();
+        match crate::cli::synth_fixture::fixture_score(&report, g, logs, &scratch) {
+            Ok(f) => report.fixture = f,
+            Err(e) => {
+                eprintln!("scenalog synth: the fixture score: {e}");
+                code = ExitCode::from(1);
+            }
+        }
+    }
+    if json {
+        match serde_json::to_string_pretty(&report.to_json()) {
+            Ok(text) => outln!("{text}"),
+            Err(e) => return fail(format!("cannot encode the report: {e}")),
+        }
+    } else {
+        out!("{}", report.render());
+    }
+    code
 }
 
 fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {

@@ -5,6 +5,9 @@
 //!
 //! Whether a program matches anything is asked of a caller-supplied function (the command runs
 //! the program on the sample logs with the engine), so this crate stays free of the pipeline.
+//! Likewise the fixture score ([`FixtureScore`]: the synthesized programs of the descriptions
+//! that are prompts of the official evaluation fixture, mined on its logs and scored as
+//! `scenalog mine` scores them) is computed by the command and attached to the report.
 
 use serde::Serialize;
 
@@ -25,6 +28,77 @@ pub struct EvalItem {
     pub matches: Option<usize>,
     /// The server's or the run's error, if any.
     pub error: Option<String>,
+    /// The clean program (`None`: none checked clean).
+    pub program: Option<String>,
+}
+
+/// One prompt's scores on the fixture.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PromptScore {
+    /// The prompt (a description of the set).
+    pub prompt: String,
+    /// HOTA-Temporal over the prompt's sequences.
+    pub hota_temporal: f64,
+    /// HOTA-Track over the prompt's sequences.
+    pub hota_track: f64,
+    /// Timestamp-level balanced accuracy.
+    pub timestamp_ba: f64,
+    /// Log-level balanced accuracy.
+    pub log_ba: f64,
+}
+
+/// The fixture score of the ground-truth prompts: the synthesized programs of the descriptions
+/// that are prompts of the fixture's ground truth, mined on its logs and scored against it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FixtureScore {
+    /// The ground truth scored against (a path).
+    pub ground_truth: String,
+    /// The descriptions of the set that are ground-truth prompts, in set order.
+    pub prompts: Vec<String>,
+    /// Of those, the ones without a clean program: scored as predicting nothing (not left out,
+    /// so a failed synthesis lowers the score).
+    pub without_program: Vec<String>,
+    /// Sequences scored ((log, prompt) pairs in both the predictions and the ground truth).
+    pub sequences: usize,
+    /// HOTA-Temporal over every scored sequence (the benchmark's main metric).
+    pub hota_temporal: f64,
+    /// HOTA-Track.
+    pub hota_track: f64,
+    /// Timestamp-level balanced accuracy.
+    pub timestamp_ba: f64,
+    /// Log-level balanced accuracy.
+    pub log_ba: f64,
+    /// Per prompt, in the ground truth's order.
+    pub by_prompt: Vec<PromptScore>,
+}
+
+impl FixtureScore {
+    /// The score as text: the metrics aligned with the report's lines, then one line a prompt.
+    pub fn render(&self) -> String {
+        let mut s = format!(
+            "fixture prompts scored            {} ({} without a clean program)\n\
+             fixture HOTA-Temporal             {:.4}\n\
+             fixture HOTA-Track                {:.4}\n\
+             fixture timestamp BA              {:.4}\n\
+             fixture log BA                    {:.4}\n",
+            self.prompts.len(),
+            self.without_program.len(),
+            self.hota_temporal,
+            self.hota_track,
+            self.timestamp_ba,
+            self.log_ba,
+        );
+        for p in &self.by_prompt {
+            s.push_str(&format!(
+                "  {}: HOTA-Temporal {:.4}, HOTA-Track {:.4}, timestamp BA {:.4}, log BA {:.4}\n",
+                p.prompt, p.hota_temporal, p.hota_track, p.timestamp_ba, p.log_ba
+            ));
+        }
+        for d in &self.without_program {
+            s.push_str(&format!("  no clean program (predicts nothing): {d}\n"));
+        }
+        s
+    }
 }
 
 /// The report over a description set.
@@ -34,6 +108,9 @@ pub struct EvalReport {
     pub max_rounds: usize,
     /// One item per description, in order.
     pub items: Vec<EvalItem>,
+    /// The fixture score of the descriptions that are ground-truth prompts (`None`: the set has
+    /// none, or no ground truth was given).
+    pub fixture: Option<FixtureScore>,
 }
 
 impl EvalReport {
@@ -70,6 +147,28 @@ impl EvalReport {
             .collect()
     }
 
+    /// Descriptions whose synthesis or run ended in an error.
+    pub fn errors(&self) -> usize {
+        self.items.iter().filter(|i| i.error.is_some()).count()
+    }
+
+    /// The report as one JSON object: the counts of [`EvalReport::render`] (`descriptions`,
+    /// `clean_first_round`, `clean`, `max_rounds`, `mean_rounds`, `match_nothing`, `errors`), the
+    /// `items` (with each clean program) and `fixture` (null without one).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "descriptions": self.items.len(),
+            "clean_first_round": self.clean_first_round(),
+            "clean": self.clean(),
+            "max_rounds": self.max_rounds,
+            "mean_rounds": self.mean_rounds(),
+            "match_nothing": self.match_nothing(),
+            "errors": self.errors(),
+            "items": self.items,
+            "fixture": self.fixture,
+        })
+    }
+
     /// The report as text (the format README.md shows).
     pub fn render(&self) -> String {
         let n = self.items.len();
@@ -81,7 +180,7 @@ impl EvalReport {
             }
         };
         let nothing = self.match_nothing();
-        let errors = self.items.iter().filter(|i| i.error.is_some()).count();
+        let errors = self.errors();
         let mut s = format!(
             "descriptions                      {n}\n\
              clean on round 1                  {} ({:.0} %)\n\
@@ -97,6 +196,9 @@ impl EvalReport {
             self.mean_rounds(),
             nothing.len(),
         );
+        if let Some(f) = &self.fixture {
+            s.push_str(&f.render());
+        }
         for d in nothing {
             s.push_str(&format!("  matches nothing: {d}\n"));
         }
@@ -131,11 +233,13 @@ pub fn evaluate(
             rounds: t.rounds.len(),
             matches: None,
             error: None,
+            program: None,
         };
         match &t.outcome {
             Outcome::Clean { round } => {
                 item.clean_round = Some(*round);
                 if let Some(p) = t.program() {
+                    item.program = Some(p.to_string());
                     match matches(p) {
                         Ok(n) => item.matches = Some(n),
                         Err(e) => item.error = Some(e),
@@ -150,5 +254,6 @@ pub fn evaluate(
     EvalReport {
         max_rounds: synth.config().rounds.max(1),
         items,
+        fixture: None,
     }
 }
