@@ -17,18 +17,22 @@ const PED: [f64; 3] = [0.6, 0.6, 1.7];
 const CONE: [f64; 3] = [0.4, 0.4, 0.7];
 const FRAMES: u32 = 10;
 
-/// A scene with the ego parked far from everything, and the given tracks.
-fn scene(tracks: &[(&str, &str, [f64; 3], Vec<Waypoint>)]) -> Scene {
-    let mut b = SceneBuilder::new(FRAMES as usize).track(
-        "ego",
-        "EGO_VEHICLE",
-        CAR,
-        straight(0, FRAMES, 500.0, 500.0, 0.0, 0.0),
-    );
+/// One track of a test scene: uuid, category, size, waypoints.
+type Spec<'a> = (&'a str, &'a str, [f64; 3], Vec<Waypoint>);
+
+/// `b` with the ego parked far from everything and the given tracks.
+fn with_tracks(b: SceneBuilder, tracks: &[Spec]) -> Scene {
+    let ego = straight(0, FRAMES, 500.0, 500.0, 0.0, 0.0);
+    let mut b = b.track("ego", "EGO_VEHICLE", CAR, ego);
     for (uuid, cat, size, way) in tracks {
         b = b.track(uuid, cat, *size, way.clone());
     }
     b.build()
+}
+
+/// A scene without a map, with the given tracks.
+fn scene(tracks: &[Spec]) -> Scene {
+    with_tracks(SceneBuilder::new(FRAMES as usize), tracks)
 }
 
 /// An object standing at (x, y) with heading `yaw` for the whole scene.
@@ -86,7 +90,12 @@ fn rig(trailer_category: &str, back: f64, side: f64, yaw: f64) -> Scene {
         .map(|(f, x, y, _)| (f, x - back, y + side, yaw))
         .collect();
     scene(&[
-        ("cab", "TRUCK_CAB", CAB, straight(0, FRAMES, 20.0, 0.0, 0.0, 10.0)),
+        (
+            "cab",
+            "TRUCK_CAB",
+            CAB,
+            straight(0, FRAMES, 20.0, 0.0, 0.0, 10.0),
+        ),
         ("trailer", trailer_category, TRAILER, trailer),
     ])
 }
@@ -103,7 +112,11 @@ fn towing_pairs_a_cab_with_the_trailer_hanging_behind_it() {
     let r = rows(&s_swung(1.25 + 1.95, (-40f64).to_radians()), "towing");
     assert_eq!(keys(&r, 2), vec![v(&["cab", "trailer"])]);
     // The category is pushed down: a "VEHICULAR_TRAILER" constraint on Y keeps it, "BUS" on X not.
-    let only = rows_with(&s, "towing", vec![(1, Constraint::Category("VEHICULAR_TRAILER".into()))]);
+    let only = rows_with(
+        &s,
+        "towing",
+        vec![(1, Constraint::Category("VEHICULAR_TRAILER".into()))],
+    );
     assert_eq!(only.len(), FRAMES as usize);
     assert!(rows_with(&s, "towing", vec![(0, Constraint::Category("BUS".into()))]).is_empty());
 }
@@ -121,7 +134,11 @@ fn towing_near_misses_find_nothing() {
     // 2.05 m outside the cab's side (> 2), the gap under 1 m.
     assert!(rows(&s_swung(1.25 + 2.05, 0.0), "towing").is_empty());
     // Across the cab's rear (90° > 60°), 0.5 m behind it.
-    assert!(rows(&rig("VEHICULAR_TRAILER", 3.0 + 0.5 + 1.25, 0.0, FRAC_PI_2), "towing").is_empty());
+    assert!(rows(
+        &rig("VEHICULAR_TRAILER", 3.0 + 0.5 + 1.25, 0.0, FRAC_PI_2),
+        "towing"
+    )
+    .is_empty());
     // In front of the cab: the cab does not tow it (nor does it tow the cab, a truck).
     assert!(rows(&rig("VEHICULAR_TRAILER", -9.5, 0.0, 0.0), "towing").is_empty());
 }
@@ -168,14 +185,9 @@ fn in_between_near_misses_find_nothing() {
 // ---- lane_direction ----------------------------------------------------------------------------
 
 /// Lane 1 along +x (x 0..100, y 0..3.5) and the given tracks.
-fn road(tracks: &[(&str, &str, [f64; 3], Vec<Waypoint>)]) -> Scene {
-    let mut b = SceneBuilder::new(FRAMES as usize)
-        .straight_lane(1, 0.0, 100.0, 0.0, 3.5)
-        .track("ego", "EGO_VEHICLE", CAR, straight(0, FRAMES, 500.0, 500.0, 0.0, 0.0));
-    for (uuid, cat, size, way) in tracks {
-        b = b.track(uuid, cat, *size, way.clone());
-    }
-    b.build()
+fn road(tracks: &[Spec]) -> Scene {
+    let b = SceneBuilder::new(FRAMES as usize).straight_lane(1, 0.0, 100.0, 0.0, 3.5);
+    with_tracks(b, tracks)
 }
 
 /// The distinct (uuid, Rel) of `lane_direction` on `s`.
@@ -192,16 +204,46 @@ fn directions(s: &Scene) -> Vec<Vec<String>> {
 #[test]
 fn lane_direction_tells_with_from_against_traffic() {
     let s = road(&[
-        ("with", "REGULAR_VEHICLE", CAR, straight(0, FRAMES, 20.0, 1.75, 0.0, 10.0)),
-        ("against", "REGULAR_VEHICLE", CAR, straight(0, FRAMES, 80.0, 1.75, std::f64::consts::PI, 10.0)),
+        (
+            "with",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, FRAMES, 20.0, 1.75, 0.0, 10.0),
+        ),
+        (
+            "against",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, FRAMES, 80.0, 1.75, std::f64::consts::PI, 10.0),
+        ),
         // Slow and parked facing the wrong way: its box heading counts.
-        ("parked", "REGULAR_VEHICLE", CAR, still(50.0, 1.75, std::f64::consts::PI)),
+        (
+            "parked",
+            "REGULAR_VEHICLE",
+            CAR,
+            still(50.0, 1.75, std::f64::consts::PI),
+        ),
         // 44° and 46° to the lane at 2 m/s: the "same" threshold is 45°.
-        ("d44", "BICYCLIST", PED, straight(0, FRAMES, 30.0, 0.5, 44f64.to_radians(), 2.0)),
-        ("d46", "BICYCLIST", PED, straight(0, FRAMES, 60.0, 0.5, 46f64.to_radians(), 2.0)),
+        (
+            "d44",
+            "BICYCLIST",
+            PED,
+            straight(0, FRAMES, 30.0, 0.5, 44f64.to_radians(), 2.0),
+        ),
+        (
+            "d46",
+            "BICYCLIST",
+            PED,
+            straight(0, FRAMES, 60.0, 0.5, 46f64.to_radians(), 2.0),
+        ),
         // A cone has no direction of travel; a car off the road has no lane.
         ("cone", "CONSTRUCTION_CONE", CONE, still(40.0, 1.75, 0.0)),
-        ("off", "REGULAR_VEHICLE", CAR, straight(0, FRAMES, 20.0, 20.0, 0.0, 10.0)),
+        (
+            "off",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, FRAMES, 20.0, 20.0, 0.0, 10.0),
+        ),
     ]);
     assert_eq!(
         directions(&s),
@@ -214,8 +256,15 @@ fn lane_direction_tells_with_from_against_traffic() {
         ]
     );
     // The Rel column is pushed down.
-    let r = rows_with(&s, "lane_direction", vec![(2, Constraint::Eq(Value::Str("opposite".into())))]);
-    assert!(r.iter().all(|r| r[2] == "opposite") && r.len() == 2 * FRAMES as usize, "{r:?}");
+    let r = rows_with(
+        &s,
+        "lane_direction",
+        vec![(2, Constraint::Eq(Value::Str("opposite".into())))],
+    );
+    assert!(
+        r.iter().all(|r| r[2] == "opposite") && r.len() == 2 * FRAMES as usize,
+        "{r:?}"
+    );
 }
 
 // ---- the CONSTRUCTION super-category ---------------------------------------------------------
@@ -244,5 +293,7 @@ fn construction_is_a_super_category_of_road_works_objects() {
         vec![(0, Constraint::Category("CONSTRUCTION".into()))],
     );
     assert!(!near.is_empty());
-    assert!(near.iter().all(|r| ["cone", "barrel", "board"].contains(&r[0].as_str())));
+    assert!(near
+        .iter()
+        .all(|r| ["cone", "barrel", "board"].contains(&r[0].as_str())));
 }

@@ -431,7 +431,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "lane_direction",
         columns: &[X, T, enum_col("Rel", HEADINGS)],
-        doc: "X travels in the \"same\" direction as its lane (in_lane) at T (<= 45°), \"perpendicular\" or \"opposite\" (>= 135°: against traffic); along its velocity at >= 1 m/s, else its box",
+        doc: "X travels in the \"same\" direction as the lane its centre is in at T (<= 45°), \"perpendicular\" or \"opposite\" (>= 135°: against traffic); where lanes overlap, the best-matching one; along its velocity at >= 1 m/s, else its box",
         group: Group::Map,
     },
     RelationSpec {

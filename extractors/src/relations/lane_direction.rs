@@ -7,6 +7,7 @@ use super::s;
 use crate::cache::Extractor;
 use crate::kinematics::wrap_angle;
 use crate::map::geometry::{heading, nearest_on_polyline};
+use crate::map::LaneGeom;
 use crate::pairs::motion::{HEADINGS, SELF_MOVING_CATEGORIES};
 use crate::query::Query;
 use crate::thresholds::{
@@ -26,25 +27,30 @@ pub fn classify(angle_deg: f64) -> usize {
     }
 }
 
-/// `lane_direction(X, T, Rel)`: per box with an assigned lane (`in_lane`) and a direction of
+/// The angle (degrees, 0-180) between `travel` (radians) and the direction of the lane `geom` at
+/// the point of its centreline nearest `p`; `None` for a degenerate centreline.
+fn angle_to_lane(geom: &LaneGeom, p: [f64; 2], travel: f64) -> Option<f64> {
+    let (seg, _, _) = nearest_on_polyline(&geom.centerline, p)?;
+    let lane = heading(geom.centerline[seg], geom.centerline[seg + 1]);
+    Some(wrap_angle(travel - lane).abs().to_degrees())
+}
+
+/// `lane_direction(X, T, Rel)`: per box whose centre is in some lane and that has a direction of
 /// travel (the velocity at [`LANE_DIRECTION_MIN_SPEED_M_S`] or more; slower, the box heading of an
-/// object that moves by itself; a slow cone has none), the angle to the lane's centreline at its
-/// nearest point.
+/// object that moves by itself; a slow cone has none), the smallest angle to the direction of a
+/// lane containing the centre, at the lane centreline's nearest point. Where lanes overlap (an
+/// intersection) the best-matching one counts, so "opposite" means every lane there runs against
+/// X; `in_lane`'s choice among them does not look at headings, so it is not used.
 pub fn lane_direction(ex: &Extractor, q: &Query) -> RelationData {
-    let (scene, kin) = (ex.scene(), ex.kinematics());
-    let (lanes, map) = (ex.lane_indices(), ex.map_index());
+    let (scene, kin, map) = (ex.scene(), ex.kinematics(), ex.map_index());
     let values: Vec<_> = HEADINGS.iter().map(|v| s(v)).collect();
     let (mut xs, mut ts, mut rs) = (Vec::new(), Vec::new(), Vec::new());
     for x in q.tracks(scene, 0) {
-        let (Some(k), Some(track_lanes)) = (kin.tracks.get(x.index()), lanes.get(x.index())) else {
+        let Some(k) = kin.tracks.get(x.index()) else {
             continue;
         };
         let self_moving = SELF_MOVING_CATEGORIES.contains(&scene.track(x).category.as_str());
         for i in q.box_range(1, scene.num_frames(), &k.frames) {
-            let Some(geom) = track_lanes.get(i).copied().flatten().and_then(|l| map.lanes.get(l))
-            else {
-                continue;
-            };
             let travel = if k.speed[i] >= LANE_DIRECTION_MIN_SPEED_M_S {
                 k.vel[i][1].atan2(k.vel[i][0])
             } else if self_moving {
@@ -52,11 +58,14 @@ pub fn lane_direction(ex: &Extractor, q: &Query) -> RelationData {
             } else {
                 continue;
             };
-            let Some((seg, _, _)) = nearest_on_polyline(&geom.centerline, k.center[i]) else {
+            let best = map
+                .lanes_containing(k.center[i])
+                .into_iter()
+                .filter_map(|l| angle_to_lane(map.lanes.get(l)?, k.center[i], travel))
+                .min_by(f64::total_cmp);
+            let Some(angle) = best else {
                 continue;
             };
-            let lane = heading(geom.centerline[seg], geom.centerline[seg + 1]);
-            let angle = wrap_angle(travel - lane).abs().to_degrees();
             xs.push(x);
             ts.push(k.frames[i]);
             rs.push(values[classify(angle)].clone());
