@@ -347,24 +347,27 @@ fn eval_reports_a_description_set_with_held_out_prompts_on_the_sample_logs() {
     );
 }
 
-/// The JSON report of `--eval` on `set` (one description a line) with the scripted `replies`.
-fn eval_json(set: &str, replies: Vec<Reply>, extra: &[&str]) -> serde_json::Value {
+/// `--eval` on `set` (one description a line) with the scripted `replies` and `extra`
+/// arguments, on the sample logs; it must succeed.
+fn run_eval(set: &str, replies: Vec<Reply>, extra: &[&str]) -> Output {
     let server = Server::scripted(replies);
     let url = server.base_url();
     let dir = tempfile::tempdir().expect("tempdir");
     let file = dir.path().join("set.txt");
     fs::write(&file, set).expect("write descriptions");
     let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
-    let mut args = vec![
-        "--eval",
-        file.to_str().expect("utf-8 path"),
-        "--logs",
-        logs,
-        "--json",
-    ];
+    let mut args = vec!["--eval", file.to_str().expect("utf-8 path"), "--logs", logs];
     args.extend_from_slice(extra);
     let o = scenalog(&args, &[("SCENALOG_LLM_BASE_URL", url.as_str())]);
     assert!(o.status.success(), "{}", stderr(&o));
+    o
+}
+
+/// The JSON report of `--eval` on `set` with the scripted `replies`.
+fn eval_json(set: &str, replies: Vec<Reply>, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["--json"];
+    args.extend_from_slice(extra);
+    let o = run_eval(set, replies, &args);
     serde_json::from_str(&stdout(&o)).unwrap_or_else(|e| panic!("{e}: {}", stdout(&o)))
 }
 
@@ -418,7 +421,11 @@ fn eval_scores_a_fixture_prompt_without_a_clean_program_as_predicting_nothing() 
     // nothing and scores 0 instead of being left out of the score.
     let report = eval_json("stopped car\n", vec![program(UNKNOWN)], &["--rounds", "1"]);
     let f = &report["fixture"];
-    assert_eq!(f["prompts"], serde_json::json!(["stopped car"]), "{report:#}");
+    assert_eq!(
+        f["prompts"],
+        serde_json::json!(["stopped car"]),
+        "{report:#}"
+    );
     assert_eq!(f["without_program"], serde_json::json!(["stopped car"]));
     assert_eq!(f["hota_temporal"].as_f64(), Some(0.0), "{f:#}");
     // A set without fixture prompts has no fixture score.
@@ -434,26 +441,16 @@ fn eval_text_report_shows_the_fixture_score() {
     let stopped = include_str!("../rules/library/stopped_car.dl");
     let bike = include_str!("../rules/library/vehicle_with_bicycle_to_its_right.dl");
     const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
-    let server = Server::scripted(vec![
-        program(stopped),
-        program(UNKNOWN),
-        program(TRAIN),
-        program(bike),
-    ]);
-    let url = server.base_url();
-    let dir = tempfile::tempdir().expect("tempdir");
-    let file = dir.path().join("set.txt");
-    fs::write(
-        &file,
+    let o = run_eval(
         "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
-    )
-    .expect("write descriptions");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
-    let o = scenalog(
-        &["--eval", file.to_str().expect("utf-8 path"), "--logs", logs],
-        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+        vec![
+            program(stopped),
+            program(UNKNOWN),
+            program(TRAIN),
+            program(bike),
+        ],
+        &[],
     );
-    assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     let readme = include_str!("../README.md");
     let start = readme
@@ -462,10 +459,18 @@ fn eval_text_report_shows_the_fixture_score() {
     let block = &readme[start + 4..];
     let block = &block[..block.find("~~~").expect("the block ends")];
     assert_eq!(text, block);
-    // A --gt that is not a file is refused before anything is asked.
+    // A --gt that is not a file is refused before anything is asked (no server listens).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("set.txt");
+    fs::write(&file, "stopped car\n").expect("write descriptions");
     let o = scenalog(
-        &["--eval", file.to_str().expect("utf-8 path"), "--gt", "/nonexistent/gt.pkl"],
-        &[("SCENALOG_LLM_BASE_URL", url.as_str())],
+        &[
+            "--eval",
+            file.to_str().expect("utf-8 path"),
+            "--gt",
+            "/nonexistent/gt.pkl",
+        ],
+        &[("SCENALOG_LLM_BASE_URL", "http://127.0.0.1:9/v1")],
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("/nonexistent/gt.pkl"), "{}", stderr(&o));
