@@ -1970,17 +1970,34 @@ fn group_of_three_people() {
         name,
         base,
         &[(1, 5), (2, 5), (3, 5)],
-        &[(1, 2, 5), (1, 3, 5), (2, 1, 5), (2, 3, 5), (3, 1, 5), (3, 2, 5)],
+        &[
+            (1, 2, 5),
+            (1, 3, 5),
+            (2, 1, 5),
+            (2, 3, 5),
+            (3, 1, 5),
+            (3, 2, 5),
+        ],
     );
     // The chain broken (2 and 3 are 2.1 m apart): a pair and a lone pedestrian.
-    nothing(name, &swap(base, "near(2, 3, 5, 1.5)", "near(2, 3, 5, 2.1)"));
+    nothing(
+        name,
+        &swap(base, "near(2, 3, 5, 1.5)", "near(2, 3, 5, 2.1)"),
+    );
     // A fourth pedestrian joins the chain: a group of four, not three.
     nothing(
         name,
         &format!(r#"{base} category(4, "PEDESTRIAN"). near(3, 4, 5, 1.0)."#),
     );
     // A car in the chain's place does not link pedestrians.
-    nothing(name, &swap(base, "category(2, \"PEDESTRIAN\")", "category(2, \"REGULAR_VEHICLE\")"));
+    nothing(
+        name,
+        &swap(
+            base,
+            "category(2, \"PEDESTRIAN\")",
+            "category(2, \"REGULAR_VEHICLE\")",
+        ),
+    );
     // Two groups of three at one frame are found apart (4-5-6 is 10 m from 1-2-3).
     let two = format!(
         r#"{base} category(4, "PEDESTRIAN"). category(5, "PEDESTRIAN"). category(6, "PEDESTRIAN").
@@ -2002,7 +2019,10 @@ fn construction_zone() {
     "#;
     finds(name, base, &[(1, 2), (2, 2), (3, 2)], &[]);
     // 10.5 m between the barrel and the trailer (> 10): two objects are no zone.
-    nothing(name, &swap(base, "near(2, 3, 2, 8.0)", "near(2, 3, 2, 10.5)"));
+    nothing(
+        name,
+        &swap(base, "near(2, 3, 2, 8.0)", "near(2, 3, 2, 10.5)"),
+    );
     // A plain sign is not a road-works object.
     nothing(name, &swap(base, "\"MESSAGE_BOARD_TRAILER\"", "\"SIGN\""));
 }
@@ -2016,9 +2036,15 @@ fn passenger_vehicle_swerving_left() {
     "#;
     finds(name, base, &[(1, 30)], &[]);
     // To the right (+ is left).
-    nothing(name, &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, -2.5)"));
+    nothing(
+        name,
+        &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, -2.5)"),
+    );
     // Just under 2 m/s².
-    nothing(name, &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, 1.9)"));
+    nothing(
+        name,
+        &swap(base, "lat_accel(1, 30, 2.5)", "lat_accel(1, 30, 1.9)"),
+    );
     // Turning left at that frame: a turn, not a swerve; changing lanes: a lane change.
     nothing(name, &format!(r#"{base} turning(1, 30, "left")."#));
     nothing(name, &format!(r#"{base} lane_change(1, 30, "left")."#));
@@ -2036,7 +2062,10 @@ fn truck_cab_towing_a_trailer() {
     // A box truck towing a trailer is not a truck cab.
     nothing(name, &swap(base, "TRUCK_CAB", "BOX_TRUCK"));
     // A truck cab alone.
-    nothing(name, r#"category(1, "TRUCK_CAB"). category(2, "VEHICULAR_TRAILER")."#);
+    nothing(
+        name,
+        r#"category(1, "TRUCK_CAB"). category(2, "VEHICULAR_TRAILER")."#,
+    );
 }
 
 #[test]
@@ -2063,16 +2092,41 @@ fn vehicle_approaching_intersection() {
     "#;
     finds(name, base, &[(1, 0)], &[]);
     // Only 0.5 m closer (< 1 m): waiting, not approaching.
-    nothing(name, &swap(base, "near_intersection(1, 10, 12.0)", "near_intersection(1, 10, 19.5)"));
+    nothing(
+        name,
+        &swap(
+            base,
+            "near_intersection(1, 10, 12.0)",
+            "near_intersection(1, 10, 19.5)",
+        ),
+    );
     // Driving away.
-    nothing(name, &swap(base, "near_intersection(1, 10, 12.0)", "near_intersection(1, 10, 28.0)"));
+    nothing(
+        name,
+        &swap(
+            base,
+            "near_intersection(1, 10, 12.0)",
+            "near_intersection(1, 10, 28.0)",
+        ),
+    );
     // Already on it (distance 0).
-    nothing(name, &swap(base, "near_intersection(1, 0, 20.0)", "near_intersection(1, 0, 0.0)"));
+    nothing(
+        name,
+        &swap(
+            base,
+            "near_intersection(1, 0, 20.0)",
+            "near_intersection(1, 0, 0.0)",
+        ),
+    );
     // 35 m away (> 30).
     nothing(
         name,
         &swap(
-            &swap(base, "near_intersection(1, 0, 20.0)", "near_intersection(1, 0, 35.0)"),
+            &swap(
+                base,
+                "near_intersection(1, 0, 20.0)",
+                "near_intersection(1, 0, 35.0)",
+            ),
             "near_intersection(1, 10, 12.0)",
             "near_intersection(1, 10, 27.0)",
         ),

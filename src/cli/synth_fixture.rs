@@ -92,7 +92,10 @@ pub fn fixture_score(
         .iter()
         .map(|(prompt, ts)| PromptScore {
             prompt: prompt.clone(),
-            hota_temporal: r.hota_temporal_by_prompt.get(prompt).map_or(0.0, |h| h.value),
+            hota_temporal: r
+                .hota_temporal_by_prompt
+                .get(prompt)
+                .map_or(0.0, |h| h.value),
             hota_track: r.hota_track_by_prompt.get(prompt).map_or(0.0, |h| h.value),
             timestamp_ba: *ts,
             log_ba: r.log_ba_by_prompt.get(prompt).copied().unwrap_or(f64::NAN),
