@@ -243,11 +243,14 @@ impl Provenance {
     }
 }
 
+/// A relation and a column order.
+type CopyKey = (String, Vec<usize>);
+
 /// Sorted, permuted copies of relations for one proof: (relation, column order) to the
 /// permuted tuples with the index of each in the stored relation.
 #[derive(Default)]
 struct Indexes {
-    sorted: HashMap<(String, Vec<usize>), Vec<(Row, u32)>>,
+    sorted: HashMap<CopyKey, Vec<(Row, u32)>>,
     /// Per relation with stamps: (round, index) of every tuple, latest round first.
     by_round: HashMap<String, Vec<(usize, u32)>>,
 }
@@ -258,7 +261,7 @@ struct Search<'a> {
     plan: &'a Plan,
     stamp: Stamp,
     same: &'a HashSet<&'a str>,
-    accesses: &'a [(Access, (String, Vec<usize>))],
+    accesses: &'a [(Access, CopyKey)],
     indexes: &'a Indexes,
     target: &'a Row,
 }
@@ -313,9 +316,9 @@ impl Search<'_> {
             }
             // Tuples of the stamp's own stratum: from earlier rounds only.
             if recursive
-                && !stamps
+                && stamps
                     .and_then(|s| s.get(i as usize))
-                    .is_some_and(|s| s.round < self.stamp.round)
+                    .is_none_or(|s| s.round >= self.stamp.round)
             {
                 continue;
             }
