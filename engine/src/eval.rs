@@ -15,6 +15,26 @@ use crate::rows::Rows;
 use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
 use crate::{EngineError, Evaluation, Options};
 
+thread_local! {
+    /// Whether this thread's evaluations run strata on the interpreter (`run_stratum` below)
+    /// instead of datafrog (`crate::frog`): set only by [`evaluate_interpreted`].
+    static INTERPRETER: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// [`evaluate`] with every stratum run by the hand-written interpreter that preceded the
+/// datafrog evaluation, kept only so tests can compare the two; not part of the supported API.
+#[doc(hidden)]
+pub fn evaluate_interpreted(
+    program: &CheckedProgram,
+    provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
+    options: &Options,
+) -> Result<Evaluation, EngineError> {
+    INTERPRETER.with(|i| i.set(true));
+    let out = evaluate(program, provider, options);
+    INTERPRETER.with(|i| i.set(false));
+    out
+}
+
 /// Evaluates a checked program. Catalog relations the program uses are asked from `provider`,
 /// once each, with the constants the program fixes in every use of a column as
 /// [`Constraint::Eq`]; providers may return a superset. Ground facts of the program are inputs
@@ -94,7 +114,16 @@ pub fn evaluate(
             start,
             held,
         };
-        let (derived, origins) = run_stratum(&plans, &defined, &types, &complete, &budget)?;
+        let (derived, origins) = if INTERPRETER.with(|i| i.get()) {
+            run_stratum(&plans, &defined, &types, &complete, &budget)?
+        } else {
+            let budget = crate::frog::Budget {
+                options,
+                start,
+                held,
+            };
+            crate::frog::run_stratum(&plans, &defined, &types, &complete, &budget)?
+        };
         held += derived.values().map(Rows::len).sum::<usize>();
         complete.extend(derived);
         for (name, list) in origins {
@@ -289,7 +318,7 @@ fn flip(op: CmpOp) -> CmpOp {
 
 /// Per derived relation, aligned with its sorted tuples: the round and plan index that first
 /// derived each tuple (with provenance on).
-type Origins = HashMap<String, Vec<(usize, usize)>>;
+pub(crate) type Origins = HashMap<String, Vec<(usize, usize)>>;
 
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
@@ -652,10 +681,10 @@ struct Budget<'a> {
 /// tuples every relation of the evaluation holds (`held`, inputs included) plus those produced,
 /// and [`Options::timeout`] the time since `start`.
 pub(crate) struct Limits<'a> {
-    relation: &'a str,
-    options: &'a Options,
-    start: Instant,
-    held: usize,
+    pub(crate) relation: &'a str,
+    pub(crate) options: &'a Options,
+    pub(crate) start: Instant,
+    pub(crate) held: usize,
 }
 
 impl Limits<'_> {
@@ -666,7 +695,7 @@ impl Limits<'_> {
         }
     }
 
-    fn check(&self, produced: usize) -> Result<(), EngineError> {
+    pub(crate) fn check(&self, produced: usize) -> Result<(), EngineError> {
         if self.held.saturating_add(produced) > self.options.max_tuples {
             return Err(EngineError::TooManyTuples {
                 relation: self.relation.to_string(),

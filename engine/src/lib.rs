@@ -10,6 +10,7 @@
 
 mod agg_body;
 mod eval;
+mod frog;
 mod plan;
 mod prove;
 mod rows;
@@ -23,6 +24,8 @@ use std::time::Duration;
 use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
+#[doc(hidden)]
+pub use eval::evaluate_interpreted;
 pub use prove::{Proof, Stamp};
 pub use why_not::{
     explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,

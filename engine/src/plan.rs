@@ -341,13 +341,13 @@ pub struct AtomStep {
     /// Filters to apply after this atom is joined.
     pub after: Vec<Filter>,
     /// Derived from `args`: (column, slot) of each new variable.
-    news: Vec<(usize, usize)>,
+    pub(crate) news: Vec<(usize, usize)>,
     /// Derived from `args`: the key columns, in order.
-    keys: Vec<usize>,
+    pub(crate) keys: Vec<usize>,
     /// Derived from `args`: (column, constant) selections.
-    consts: Vec<(usize, u64)>,
+    pub(crate) consts: Vec<(usize, u64)>,
     /// Derived from `args`: (column, column that first bound the same variable) equalities.
-    sames: Vec<(usize, usize)>,
+    pub(crate) sames: Vec<(usize, usize)>,
 }
 
 impl AtomStep {

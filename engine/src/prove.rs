@@ -7,6 +7,7 @@ use std::collections::{HashMap, HashSet};
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
+use crate::frog::access::Access;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
 use crate::value::{decode_value, encode, Row, Symbols, V, WIDTH};
@@ -37,13 +38,25 @@ pub struct Proof {
 }
 
 impl Proof {
-    /// Height of the tree (a leaf has height 0).
+    /// Height of the tree (a leaf has height 0), counted without recursion.
     pub fn height(&self) -> usize {
-        self.children
-            .iter()
-            .map(|c| c.height() + 1)
-            .max()
-            .unwrap_or(0)
+        let mut height = 0;
+        let mut stack = vec![(self, 0usize)];
+        while let Some((p, h)) = stack.pop() {
+            height = height.max(h);
+            stack.extend(p.children.iter().map(|c| (c, h + 1)));
+        }
+        height
+    }
+}
+
+impl Drop for Proof {
+    /// Frees the tree without recursion (a proof can be thousands of levels deep).
+    fn drop(&mut self) {
+        let mut stack = std::mem::take(&mut self.children);
+        while let Some(mut p) = stack.pop() {
+            stack.append(&mut p.children);
+        }
     }
 }
 
@@ -113,86 +126,205 @@ impl Provenance {
         self.prove_row(rel, &row)
     }
 
+    /// Builds the proof of a stored tuple with an explicit stack (no recursion per level, so
+    /// a derivation thousands of rounds deep cannot overflow the call stack): each node is
+    /// visited, its body tuples found by [`find_derivation`], its children visited in order,
+    /// and the node assembled from the last proofs built once they are all done.
     fn prove_row(&self, rel: &str, row: &Row) -> Option<Proof> {
-        let tuple = self.decode(rel, row);
-        let Some(stamp) = self.stamp_of(rel, row) else {
-            // Not derived by a clause: a catalog tuple.
-            return Some(Proof {
-                relation: rel.to_string(),
-                tuple,
-                clause: None,
-                children: Vec::new(),
-            });
-        };
-        let (_, plan, clause) = self
-            .plans
-            .get(stamp.stratum)?
-            .iter()
-            .find(|(_, _, c)| *c == stamp.clause)?;
+        enum Task<'a> {
+            Visit(&'a str, Row),
+            Build(&'a str, Row, usize, usize),
+        }
+        let mut indexes = Indexes::default();
+        let mut tasks = vec![Task::Visit(rel, *row)];
+        let mut built: Vec<Proof> = Vec::new();
+        while let Some(task) = tasks.pop() {
+            match task {
+                Task::Visit(rel, row) => {
+                    let Some(stamp) = self.stamp_of(rel, &row) else {
+                        // Not derived by a clause: a catalog tuple.
+                        built.push(Proof {
+                            relation: rel.to_string(),
+                            tuple: self.decode(rel, &row),
+                            clause: None,
+                            children: Vec::new(),
+                        });
+                        continue;
+                    };
+                    let (_, plan, clause) = self
+                        .plans
+                        .get(stamp.stratum)?
+                        .iter()
+                        .find(|(_, _, c)| *c == stamp.clause)?;
+                    let trail = self.find_derivation(plan, stamp, &row, &mut indexes)?;
+                    tasks.push(Task::Build(rel, row, *clause, trail.len()));
+                    // Reversed, so the first atom's proof is built (and pushed) first.
+                    for (atom, t) in plan.atoms.iter().zip(&trail).rev() {
+                        tasks.push(Task::Visit(&atom.pred, *t));
+                    }
+                }
+                Task::Build(rel, row, clause, n) => {
+                    let children = built.split_off(built.len().checked_sub(n)?);
+                    built.push(Proof {
+                        relation: rel.to_string(),
+                        tuple: self.decode(rel, &row),
+                        clause: Some(clause),
+                        children,
+                    });
+                }
+            }
+        }
+        built.pop()
+    }
+
+    /// The body tuples (one per atom, in join order) of a binding of `plan` whose head is
+    /// `target`, using only tuples of the stamp's stratum from earlier rounds (tuples of lower
+    /// strata are all usable). Each atom's candidates are found by a prefix search in a copy of
+    /// its relation sorted with its constants and key columns first.
+    fn find_derivation(
+        &self,
+        plan: &Plan,
+        stamp: Stamp,
+        target: &Row,
+        indexes: &mut Indexes,
+    ) -> Option<Vec<Row>> {
         let same: HashSet<&str> = self
             .strata
             .get(stamp.stratum)
             .map(|s| s.iter().map(|p| p.as_str()).collect())
             .unwrap_or_default();
-        // Sources: tuples of this stratum's relations from earlier rounds only.
-        let sources: Vec<Vec<Row>> = plan
-            .atoms
-            .iter()
-            .map(|a| {
-                let Some(all) = self.rels.get(&a.pred) else {
-                    return Vec::new();
-                };
-                if same.contains(a.pred.as_str()) {
-                    let stamps = self.stamps.get(&a.pred);
-                    all.iter()
-                        .enumerate()
-                        .filter(|(i, _)| {
-                            stamps
-                                .and_then(|s| s.get(*i))
-                                .is_some_and(|s| s.round < stamp.round)
-                        })
-                        .map(|(_, t)| Rows::row(t))
-                        .collect()
-                } else {
-                    all.iter().map(Rows::row).collect()
+        let mut accesses = Vec::new();
+        for a in &plan.atoms {
+            let arity = self.types.get(&a.pred).map_or(0, |t| t.len()).max(1);
+            let acc = Access::of(a, arity);
+            let key = (a.pred.clone(), acc.sig.perm.clone());
+            if !indexes.sorted.contains_key(&key) {
+                let mut copy: Vec<(Row, u32)> = Vec::new();
+                if let Some(rows) = self.rels.get(&a.pred) {
+                    for (i, t) in rows.iter().enumerate() {
+                        let mut r = [0u64; WIDTH];
+                        for (o, &c) in r.iter_mut().zip(&acc.sig.perm) {
+                            *o = t.get(c).copied().unwrap_or(0);
+                        }
+                        copy.push((r, i as u32));
+                    }
                 }
-            })
-            .collect();
-        let trail = find_derivation(plan, &sources, row)?;
-        let mut children = Vec::new();
-        for (atom, t) in plan.atoms.iter().zip(&trail) {
-            children.push(self.prove_row(&atom.pred, t)?);
+                copy.sort_unstable();
+                indexes.sorted.insert(key.clone(), copy);
+            }
+            if acc.prefix_len() == 0 && same.contains(a.pred.as_str()) {
+                if let (false, Some(st)) = (
+                    indexes.by_round.contains_key(&a.pred),
+                    self.stamps.get(&a.pred),
+                ) {
+                    let mut v: Vec<(usize, u32)> = st
+                        .iter()
+                        .enumerate()
+                        .map(|(i, s)| (s.round, i as u32))
+                        .collect();
+                    v.sort_unstable_by(|a, b| b.cmp(a));
+                    indexes.by_round.insert(a.pred.clone(), v);
+                }
+            }
+            accesses.push((acc, key));
         }
-        Some(Proof {
-            relation: rel.to_string(),
-            tuple,
-            clause: Some(*clause),
-            children,
-        })
+        let search = Search {
+            prov: self,
+            plan,
+            stamp,
+            same: &same,
+            accesses: &accesses,
+            indexes,
+            target,
+        };
+        let b = apply(&plan.start, [0u64; WIDTH])?;
+        let mut trail = Vec::new();
+        search.go(0, b, &mut trail).then_some(trail)
     }
 }
 
-/// The body tuples (one per atom, in join order) of a binding of `plan` whose head is `target`.
-fn find_derivation(plan: &Plan, sources: &[Vec<Row>], target: &Row) -> Option<Vec<Row>> {
-    fn go(
-        plan: &Plan,
-        sources: &[Vec<Row>],
-        target: &Row,
-        depth: usize,
-        b: Row,
-        trail: &mut Vec<Row>,
-    ) -> bool {
-        let Some(step) = plan.atoms.get(depth) else {
-            return plan.project(&b).as_ref() == Some(target);
+/// A relation and a column order.
+type CopyKey = (String, Vec<usize>);
+
+/// Sorted, permuted copies of relations for one proof: (relation, column order) to the
+/// permuted tuples with the index of each in the stored relation.
+#[derive(Default)]
+struct Indexes {
+    sorted: HashMap<CopyKey, Vec<(Row, u32)>>,
+    /// Per relation with stamps: (round, index) of every tuple, latest round first.
+    by_round: HashMap<String, Vec<(usize, u32)>>,
+}
+
+/// The search for one derivation of `target` by `plan`.
+struct Search<'a> {
+    prov: &'a Provenance,
+    plan: &'a Plan,
+    stamp: Stamp,
+    same: &'a HashSet<&'a str>,
+    accesses: &'a [(Access, CopyKey)],
+    indexes: &'a Indexes,
+    target: &'a Row,
+}
+
+impl Search<'_> {
+    /// Extends binding `b` from atom `depth` on; the body tuples so far are in `trail`.
+    fn go(&self, depth: usize, b: Row, trail: &mut Vec<Row>) -> bool {
+        let (Some(step), Some((acc, key))) = (self.plan.atoms.get(depth), self.accesses.get(depth))
+        else {
+            return self.plan.project(&b).as_ref() == Some(self.target);
         };
-        let key = step.binding_key(&b);
-        for t in sources.get(depth).into_iter().flatten() {
-            if !step.selects(t) || key != Some(step.tuple_key(t)) {
+        let Some(sorted) = self.indexes.sorted.get(key) else {
+            return false;
+        };
+        let Some(rows) = self.prov.rels.get(&step.pred) else {
+            return false;
+        };
+        let mut prefix: Vec<u64> = acc.consts.clone();
+        if acc.nkeys > 0 {
+            let Some(k) = step.binding_key(&b) else {
+                return false;
+            };
+            prefix.extend_from_slice(&k[..acc.nkeys]);
+        }
+        let l = prefix.len();
+        let recursive = self.same.contains(step.pred.as_str());
+        let stamps = self.prov.stamps.get(&step.pred);
+        // An atom of the stamp's stratum with nothing to look up: its tuples latest round
+        // first, from the round before the stamp's (on a chain, the first one fits).
+        let latest = match (l, recursive, self.indexes.by_round.get(&step.pred)) {
+            (0, true, Some(v)) => {
+                let from = v.partition_point(|&(r, _)| r >= self.stamp.round);
+                Some(v[from..].iter().map(|&(_, i)| i))
+            }
+            _ => None,
+        };
+        let lo = sorted.partition_point(|(r, _)| r[..l] < prefix[..]);
+        let matching = sorted[lo..]
+            .iter()
+            .take_while(|(r, _)| r[..l] == prefix[..])
+            .map(|&(_, i)| i);
+        let candidates: Box<dyn Iterator<Item = u32>> = match latest {
+            Some(it) => Box::new(it),
+            None => Box::new(matching),
+        };
+        for i in candidates {
+            let Some(t) = rows.get(i as usize) else {
+                continue;
+            };
+            if !step.selects(t) {
+                continue;
+            }
+            // Tuples of the stamp's own stratum: from earlier rounds only.
+            if recursive
+                && stamps
+                    .and_then(|s| s.get(i as usize))
+                    .is_none_or(|s| s.round >= self.stamp.round)
+            {
                 continue;
             }
             if let Some(next) = apply(&step.after, step.extend(b, t)) {
-                trail.push(*t);
-                if go(plan, sources, target, depth + 1, next, trail) {
+                trail.push(Rows::row(t));
+                if self.go(depth + 1, next, trail) {
                     return true;
                 }
                 trail.pop();
@@ -200,7 +332,4 @@ fn find_derivation(plan: &Plan, sources: &[Vec<Row>], target: &Row) -> Option<Ve
         }
         false
     }
-    let b = apply(&plan.start, [0u64; WIDTH])?;
-    let mut trail = Vec::new();
-    go(plan, sources, target, 0, b, &mut trail).then_some(trail)
 }

@@ -413,6 +413,39 @@ fn proofs_of_recursive_tuples_bottom_out_in_ground_facts() {
         .is_none());
 }
 
+/// A proof as deep as a 20,000-edge chain is built, measured and dropped without recursion
+/// per level (the test thread's stack is 2 MiB; one frame per level would overflow it).
+#[test]
+fn a_proof_twenty_thousand_rounds_deep_does_not_overflow_the_stack() {
+    const N: i64 = 20_000;
+    let mut src = String::from(".decl edge(X: int, Y: int)\n.decl reach(X: int)\nreach(0).\n");
+    for i in 0..N {
+        src.push_str(&format!("edge({i}, {}).\n", i + 1));
+    }
+    src.push_str("reach(Y) :- reach(X), edge(X, Y).\n");
+    let e = proved(&src);
+    assert_eq!(e.size("reach"), N as usize + 1);
+    let p = match e.prove("reach", &[Value::Int(N)]) {
+        Some(p) => p,
+        None => panic!("no proof"),
+    };
+    assert_eq!(p.height(), N as usize);
+    // Down the left spine: reach(N - 1), reach(N - 2), ... reach(0), each with its edge.
+    let mut node = &p;
+    let mut depth = 0;
+    while let [first, edge] = node.children.as_slice() {
+        assert_eq!(edge.relation, "edge");
+        assert_eq!(
+            edge.tuple,
+            vec![Value::Int(N - 1 - depth), Value::Int(N - depth)]
+        );
+        node = first;
+        depth += 1;
+    }
+    assert_eq!(depth, N);
+    assert_eq!(node.tuple, vec![Value::Int(0)]);
+}
+
 #[test]
 fn proofs_through_negation_bindings_and_t_plus_one() {
     let src =

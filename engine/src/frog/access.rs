@@ -1,0 +1,165 @@
+//! How a join reaches an atom's tuples: each atom reads a sorted copy of its relation whose
+//! columns are permuted so that its constants come first, then its join-key columns, then the
+//! rest; constants and key values then select one contiguous range by a prefix search.
+//! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
+
+use crate::plan::AtomStep;
+use crate::rows::Rows;
+
+/// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
+/// after the arity.
+pub(crate) type Tup<const W: usize> = [u64; W];
+
+/// Which copy of a relation an atom reads: the relation, its column order, and the equalities
+/// between its columns that the copy keeps.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub(crate) struct Sig {
+    /// The relation.
+    pub(crate) pred: String,
+    /// Source column of each stored position.
+    pub(crate) perm: Vec<usize>,
+    /// (column, column) pairs that must hold equal values.
+    pub(crate) sames: Vec<(usize, usize)>,
+}
+
+impl Sig {
+    /// Whether the copy is the relation itself (natural column order, nothing filtered).
+    pub(crate) fn is_identity(&self) -> bool {
+        self.sames.is_empty() && self.perm.iter().enumerate().all(|(i, &c)| i == c)
+    }
+
+    /// The copy of one tuple, or `None` when it fails the equalities.
+    pub(crate) fn apply<const W: usize>(&self, t: &[u64]) -> Option<Tup<W>> {
+        if !self.sames.iter().all(|&(i, j)| t.get(i) == t.get(j)) {
+            return None;
+        }
+        let mut out = [0u64; W];
+        for (o, &c) in out.iter_mut().zip(&self.perm) {
+            *o = t.get(c).copied().unwrap_or(0);
+        }
+        Some(out)
+    }
+
+    /// The sorted, distinct copy of a stored relation.
+    pub(crate) fn copy_rows<const W: usize>(&self, rows: &Rows) -> Vec<Tup<W>> {
+        let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
+        if !self.is_identity() {
+            v.sort_unstable();
+            v.dedup();
+        }
+        v
+    }
+}
+
+/// How one atom of a plan is read: from which copy, with which constant prefix, how many
+/// binding-key words follow the constants, and where its new variables sit in the copy.
+#[derive(Debug, Clone)]
+pub(crate) struct Access {
+    /// The copy read.
+    pub(crate) sig: Sig,
+    /// The constants, in stored order (the first stored positions).
+    pub(crate) consts: Vec<u64>,
+    /// Number of join-key words after the constants.
+    pub(crate) nkeys: usize,
+    /// (stored position, binding slot) of each new variable.
+    pub(crate) news: Vec<(usize, usize)>,
+}
+
+impl Access {
+    /// The access for an atom step over a relation of `arity` stored words.
+    pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
+        let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
+        perm.extend(step.keys.iter().copied());
+        for c in 0..arity {
+            if !perm.contains(&c) {
+                perm.push(c);
+            }
+        }
+        let news = step
+            .news
+            .iter()
+            .map(|&(c, s)| (perm.iter().position(|&p| p == c).unwrap_or(0), s))
+            .collect();
+        Access {
+            sig: Sig {
+                pred: step.pred.clone(),
+                perm,
+                sames: step.sames.clone(),
+            },
+            consts: step.consts.iter().map(|&(_, v)| v).collect(),
+            nkeys: step.keys.len(),
+            news,
+        }
+    }
+
+    /// Words of the lookup prefix.
+    pub(crate) fn prefix_len(&self) -> usize {
+        self.consts.len() + self.nkeys
+    }
+}
+
+/// The tuples of a sorted slice whose first `p.len()` words equal `p`: a galloping search
+/// for the start, then for the end (ranges are usually short).
+pub(crate) fn range<'a, const W: usize>(s: &'a [Tup<W>], p: &[u64]) -> &'a [Tup<W>] {
+    match p.len() {
+        0 => s,
+        1 => {
+            let k = p[0];
+            let lo = s.partition_point(|t| t[0] < k);
+            let rest = &s[lo..];
+            let n = gallop(rest, |t| t[0] == k);
+            &rest[..n]
+        }
+        l => {
+            let lo = s.partition_point(|t| t[..l] < *p);
+            let rest = &s[lo..];
+            let n = gallop(rest, |t| t[..l] == *p);
+            &rest[..n]
+        }
+    }
+}
+
+/// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix
+/// only), found by doubling steps then bisection.
+fn gallop<T>(s: &[T], pred: impl Fn(&T) -> bool) -> usize {
+    if s.first().is_none_or(|t| !pred(t)) {
+        return 0;
+    }
+    // Invariant: pred(s[lo]) holds; hi is past the end or fails.
+    let mut lo = 0;
+    let mut step = 1;
+    while lo + step < s.len() && pred(&s[lo + step]) {
+        lo += step;
+        step <<= 1;
+    }
+    let mut hi = (lo + step).min(s.len());
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if pred(&s[mid]) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_select_exactly_the_prefix_matches() {
+        let s: Vec<Tup<2>> = vec![[1, 1], [2, 0], [2, 5], [2, 9], [3, 1], [3, 2]];
+        assert_eq!(range(&s, &[2]), &s[1..4]);
+        assert_eq!(range(&s, &[3]), &s[4..6]);
+        assert!(range(&s, &[4]).is_empty());
+        assert!(range(&s, &[0]).is_empty());
+        assert_eq!(range(&s, &[2, 5]), &s[2..3]);
+        assert_eq!(range(&s, &[]).len(), 6);
+        let many: Vec<Tup<1>> = (0..1000).map(|i| [i / 100]).collect();
+        for k in 0..10 {
+            assert_eq!(range(&many, &[k]).len(), 100);
+        }
+    }
+}

@@ -1,0 +1,359 @@
+//! Evaluating one stratum on datafrog: one `datafrog::Variable` per relation the stratum
+//! defines, rotated by datafrog's semi-naive `Iteration` (recent tuples, stable batches merged
+//! geometrically, new tuples deduplicated against the stable ones); a sorted, permuted copy per
+//! atom access (keys first, see [`access`]): a `datafrog::Relation` for relations completed
+//! before the stratum, a `Variable` of a second iteration kept in step with its relation for
+//! the stratum's own; and each rule joined by [`join`] once per recursive atom reading that
+//! atom's recent tuples, the recursive atoms before it the stable ones and those after it
+//! both. Tuples are `[u64; W]`, `W` the widest relation of the stratum, monomorphised.
+//!
+//! Negation and aggregates are the planner's filters (our own antijoin by hash lookup against
+//! completed lower strata: datafrog 2.0.1's `Relation::from_antijoin` returns nothing).
+
+pub(crate) mod access;
+pub(crate) mod join;
+
+use std::collections::{HashMap, HashSet};
+use std::time::Instant;
+
+use datafrog::{Iteration, Relation, Variable};
+use scenalog_facts::catalog::ColType;
+
+use crate::eval::{Limits, Origins};
+use crate::plan::Plan;
+use crate::rows::Rows;
+use crate::value::WIDTH;
+use crate::{EngineError, Options};
+use access::{Access, Sig, Tup};
+use join::Join;
+
+/// What a stratum runs under: the options, when the evaluation started, and the tuples the
+/// completed relations already hold.
+pub(crate) struct Budget<'a> {
+    /// The evaluation's options.
+    pub(crate) options: &'a Options,
+    /// When the evaluation started.
+    pub(crate) start: Instant,
+    /// Tuples held by completed relations.
+    pub(crate) held: usize,
+}
+
+/// Runs one stratum to its fixpoint on datafrog. Returns the relations it defines (sorted,
+/// distinct) and, with provenance, the (round, plan) that first derived each tuple, aligned
+/// with them; the same answer as the interpreter's `run_stratum`.
+pub(crate) fn run_stratum(
+    plans: &[(String, Plan)],
+    defined: &HashSet<&str>,
+    types: &HashMap<String, Vec<ColType>>,
+    complete: &HashMap<String, Rows>,
+    budget: &Budget<'_>,
+) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+    let stored = |name: &str| types.get(name).map_or(0, |t| t.len()).max(1);
+    let mut width = 1;
+    for (head, p) in plans {
+        width = width.max(stored(head));
+        for a in &p.atoms {
+            width = width.max(stored(&a.pred));
+        }
+    }
+    for d in defined {
+        width = width.max(stored(d));
+    }
+    let s = Stratum {
+        plans,
+        defined,
+        stored: &stored,
+        complete,
+        budget,
+    };
+    match width {
+        1 => s.run::<1>(),
+        2 => s.run::<2>(),
+        3 => s.run::<3>(),
+        4 => s.run::<4>(),
+        5 | 6 => s.run::<6>(),
+        7 | 8 => s.run::<8>(),
+        _ => s.run::<WIDTH>(),
+    }
+}
+
+/// The inputs of one stratum's run.
+struct Stratum<'a> {
+    plans: &'a [(String, Plan)],
+    defined: &'a HashSet<&'a str>,
+    stored: &'a dyn Fn(&str) -> usize,
+    complete: &'a HashMap<String, Rows>,
+    budget: &'a Budget<'a>,
+}
+
+/// Where an atom's copy lives.
+#[derive(Clone, Copy)]
+enum Src {
+    /// `statics[i]`: a relation completed before the stratum.
+    Static(usize),
+    /// A relation of this stratum: its `vars[rel]` itself, or `indexes[i]`.
+    Own { rel: usize, index: Option<usize> },
+}
+
+/// A stratum relation's sorted parts at the start of a round.
+struct Parts<'a, const W: usize> {
+    stable: std::cell::Ref<'a, Vec<Relation<Tup<W>>>>,
+    recent: std::cell::Ref<'a, Relation<Tup<W>>>,
+}
+
+impl<const W: usize> Parts<'_, W> {
+    fn stable(&self) -> impl Iterator<Item = &[Tup<W>]> {
+        self.stable.iter().map(|r| &r.elements[..])
+    }
+}
+
+impl Stratum<'_> {
+    fn run<const W: usize>(&self) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+        let Budget {
+            options,
+            start,
+            held,
+        } = *self.budget;
+        let mut names: Vec<&str> = self.defined.iter().copied().collect();
+        names.sort_unstable();
+        let rel_of: HashMap<&str, usize> = names.iter().enumerate().map(|(i, n)| (*n, i)).collect();
+        let mut iteration = Iteration::new();
+        // Copies of the stratum's relations in another column order, kept in step with them.
+        let mut aux = Iteration::new();
+        let vars: Vec<Variable<Tup<W>>> = names.iter().map(|n| iteration.variable(n)).collect();
+        let mut statics: Vec<Relation<Tup<W>>> = Vec::new();
+        let mut indexes: Vec<(usize, Sig, Variable<Tup<W>>)> = Vec::new();
+        let mut known: HashMap<Sig, Src> = HashMap::new();
+        let empty = Rows::new(1);
+        // Per plan: the access of each atom and where its copy lives.
+        let mut accesses: Vec<Vec<(Access, Src)>> = Vec::new();
+        for (_, p) in self.plans {
+            let mut list = Vec::new();
+            for a in &p.atoms {
+                let acc = Access::of(a, (self.stored)(&a.pred));
+                let src = match known.get(&acc.sig) {
+                    Some(s) => *s,
+                    None => {
+                        let src = match rel_of.get(a.pred.as_str()) {
+                            Some(&rel) if acc.sig.is_identity() => Src::Own { rel, index: None },
+                            Some(&rel) => {
+                                indexes.push((rel, acc.sig.clone(), aux.variable(&a.pred)));
+                                Src::Own {
+                                    rel,
+                                    index: Some(indexes.len() - 1),
+                                }
+                            }
+                            None => {
+                                let rows = self.complete.get(&a.pred).unwrap_or(&empty);
+                                statics.push(Relation {
+                                    elements: acc.sig.copy_rows(rows),
+                                });
+                                Src::Static(statics.len() - 1)
+                            }
+                        };
+                        known.insert(acc.sig.clone(), src);
+                        src
+                    }
+                };
+                list.push((acc, src));
+            }
+            accesses.push(list);
+        }
+        let heads: Vec<Option<usize>> = self
+            .plans
+            .iter()
+            .map(|(h, _)| rel_of.get(h.as_str()).copied())
+            .collect();
+        // With provenance, per relation: each tuple with its (round, plan) tag, in round order.
+        let mut tagged: Vec<Vec<(Tup<W>, u64)>> = vec![Vec::new(); names.len()];
+        let mut first = true;
+        let mut round: u64 = 0;
+        loop {
+            let stratum_held: usize = vars.iter().map(var_len).sum();
+            // Per relation: this round's output, in plan order, with (end, plan) of each run.
+            let mut outs: Vec<Vec<Tup<W>>> = vec![Vec::new(); names.len()];
+            let mut runs: Vec<Vec<(usize, usize)>> = vec![Vec::new(); names.len()];
+            {
+                let own: Vec<Parts<'_, W>> = vars.iter().map(parts_of).collect();
+                let idx: Vec<Parts<'_, W>> = indexes.iter().map(|(_, _, v)| parts_of(v)).collect();
+                let parts_for = |rel: usize, index: Option<usize>| -> &Parts<'_, W> {
+                    match index {
+                        Some(i) => &idx[i],
+                        None => &own[rel],
+                    }
+                };
+                for (pi, (head, p)) in self.plans.iter().enumerate() {
+                    let Some(h) = heads[pi] else { continue };
+                    let acc = &accesses[pi];
+                    let rec: Vec<usize> = acc
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, (_, s))| matches!(s, Src::Own { .. }))
+                        .map(|(i, _)| i)
+                        .collect();
+                    if first != rec.is_empty() {
+                        // Rules without recursive atoms run in the first round only; rules
+                        // with them from the second on (their atoms are empty before).
+                        continue;
+                    }
+                    let pending: usize = outs.iter().map(Vec::len).sum();
+                    let limits = Limits {
+                        relation: head,
+                        options,
+                        start,
+                        held: held + stratum_held + pending,
+                    };
+                    let access: Vec<Access> = acc.iter().map(|(a, _)| a.clone()).collect();
+                    let out = &mut outs[h];
+                    let variants: Vec<Option<usize>> = if first {
+                        vec![None]
+                    } else {
+                        rec.iter().map(|&k| Some(k)).collect()
+                    };
+                    for delta in variants {
+                        let mut parts: Vec<Vec<&[Tup<W>]>> = Vec::new();
+                        for (j, (_, src)) in acc.iter().enumerate() {
+                            parts.push(match (*src, delta) {
+                                (Src::Static(i), _) => vec![&statics[i].elements[..]],
+                                (Src::Own { rel, index }, Some(k)) if j < k => {
+                                    parts_for(rel, index).stable().collect()
+                                }
+                                (Src::Own { rel, index }, Some(k)) if j == k => {
+                                    vec![&parts_for(rel, index).recent.elements[..]]
+                                }
+                                (Src::Own { rel, index }, _) => {
+                                    let ps = parts_for(rel, index);
+                                    let mut v: Vec<&[Tup<W>]> = ps.stable().collect();
+                                    v.push(&ps.recent.elements[..]);
+                                    v
+                                }
+                            });
+                        }
+                        if let Some(k) = delta {
+                            if parts[k].iter().all(|s| s.is_empty()) {
+                                continue;
+                            }
+                        }
+                        let join = Join {
+                            plan: p,
+                            access: &access,
+                            parts,
+                        };
+                        join.run(out, &limits)?;
+                    }
+                    if options.provenance {
+                        let end = out.len();
+                        let r = &mut runs[h];
+                        if r.last().map_or(0, |&(e, _)| e) < end {
+                            r.push((end, pi));
+                        }
+                    }
+                }
+            }
+            // The round's output: sorted and distinct per relation, into the variables.
+            let mut firsts: Vec<Vec<(Tup<W>, u32)>> = vec![Vec::new(); names.len()];
+            for (r, out) in outs.into_iter().enumerate() {
+                if options.provenance {
+                    let ends = &runs[r];
+                    let mut pairs: Vec<(Tup<W>, u32)> = Vec::with_capacity(out.len());
+                    let mut run = 0;
+                    for (i, t) in out.into_iter().enumerate() {
+                        while ends.get(run).is_some_and(|&(e, _)| e <= i) {
+                            run += 1;
+                        }
+                        let plan = ends.get(run).map_or(u32::MAX, |&(_, p)| p as u32);
+                        pairs.push((t, plan));
+                    }
+                    pairs.sort_unstable();
+                    pairs.dedup_by(|a, b| a.0 == b.0);
+                    vars[r].insert(Relation {
+                        elements: pairs.iter().map(|&(t, _)| t).collect(),
+                    });
+                    firsts[r] = pairs;
+                } else {
+                    let mut out = out;
+                    out.sort_unstable();
+                    out.dedup();
+                    vars[r].insert(Relation { elements: out });
+                }
+            }
+            if !iteration.changed() {
+                break;
+            }
+            let mut total = held + stratum_held;
+            for (r, v) in vars.iter().enumerate() {
+                let recent = v.recent.borrow();
+                total += recent.len();
+                if total > options.max_tuples {
+                    return Err(EngineError::TooManyTuples {
+                        relation: names[r].to_string(),
+                        limit: options.max_tuples,
+                    });
+                }
+                if options.provenance && !recent.is_empty() {
+                    // Each new tuple's plan: the first plan (in order) that produced it.
+                    let firsts = &firsts[r];
+                    let mut at = 0;
+                    for t in recent.iter() {
+                        while firsts.get(at).is_some_and(|(f, _)| f < t) {
+                            at += 1;
+                        }
+                        let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
+                        tagged[r].push((*t, (round << 32) | u64::from(plan)));
+                    }
+                }
+            }
+            for (rel, sig, index) in &indexes {
+                let recent = vars[*rel].recent.borrow();
+                let mut copy: Vec<Tup<W>> = recent.iter().filter_map(|t| sig.apply(t)).collect();
+                copy.sort_unstable();
+                copy.dedup();
+                index.insert(Relation { elements: copy });
+            }
+            aux.changed();
+            first = false;
+            round += 1;
+        }
+        let mut done = HashMap::new();
+        let mut origins = Origins::new();
+        for ((r, v), name) in vars.into_iter().enumerate().zip(&names) {
+            let arity = (self.stored)(name);
+            let all = v.complete();
+            let mut data = Vec::with_capacity(all.len() * arity);
+            for t in all.iter() {
+                data.extend_from_slice(&t[..arity]);
+            }
+            if options.provenance {
+                let mut tags = std::mem::take(&mut tagged[r]);
+                tags.sort_unstable_by_key(|a| a.0);
+                let unpack = |t: u64| {
+                    let plan = (t & 0xffff_ffff) as u32;
+                    let plan = if plan == u32::MAX {
+                        usize::MAX
+                    } else {
+                        plan as usize
+                    };
+                    ((t >> 32) as usize, plan)
+                };
+                origins.insert(
+                    name.to_string(),
+                    tags.into_iter().map(|(_, t)| unpack(t)).collect(),
+                );
+            }
+            done.insert(name.to_string(), Rows::from_flat(arity, data));
+        }
+        Ok((done, origins))
+    }
+}
+
+/// Tuples a variable holds (stable and recent).
+fn var_len<const W: usize>(v: &Variable<Tup<W>>) -> usize {
+    v.stable.borrow().iter().map(|r| r.len()).sum::<usize>() + v.recent.borrow().len()
+}
+
+fn parts_of<const W: usize>(v: &Variable<Tup<W>>) -> Parts<'_, W> {
+    Parts {
+        stable: v.stable.borrow(),
+        recent: v.recent.borrow(),
+    }
+}
