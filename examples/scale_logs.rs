@@ -53,7 +53,9 @@ fn run() -> Result<(), String> {
     let [flag, n, logs, out] = args.as_slice() else {
         return Err(usage.to_string());
     };
-    let n: usize = n.parse().map_err(|_| format!("{n}: not a count; {usage}"))?;
+    let n: usize = n
+        .parse()
+        .map_err(|_| format!("{n}: not a count; {usage}"))?;
     if n == 0 {
         return Err("the factor must be at least 1".to_string());
     }
@@ -111,7 +113,8 @@ fn scale_log(from: &Path, to: &Path, mode: Mode) -> Result<(), String> {
                 .collect::<Result<_, _>>()?,
         };
         let schema = copies[0].schema();
-        let all = arrow_select::concat::concat_batches(&schema, &copies).map_err(|e| e.to_string())?;
+        let all =
+            arrow_select::concat::concat_batches(&schema, &copies).map_err(|e| e.to_string())?;
         write(&to.join(f), &all)?;
     }
     Ok(())
@@ -267,5 +270,8 @@ fn symlink_dir(from: &Path, to: &Path) -> Result<(), String> {
 
 #[cfg(not(unix))]
 fn symlink_dir(_from: &Path, to: &Path) -> Result<(), String> {
-    Err(format!("{}: linking the map needs a Unix system", to.display()))
+    Err(format!(
+        "{}: linking the map needs a Unix system",
+        to.display()
+    ))
 }

@@ -389,13 +389,20 @@ fn deep_expressions_in_a_completion_are_a_diagnostic_and_the_cache_stays_usable(
         let server = Server::scripted(vec![program(&deep), program(GOOD)]);
         let o = run(&server.base_url());
         assert_eq!(o.status.code(), Some(0), "{what}: {}", stderr(&o));
-        assert!(stderr(&o).contains("checked clean in round 2"), "{what}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("checked clean in round 2"),
+            "{what}: {}",
+            stderr(&o)
+        );
         let reqs = server.requests();
         assert_eq!(reqs.len(), 2, "{what}");
         let feedback = reqs[1].last_message();
         assert!(feedback.contains("E0002"), "{what}: {feedback}");
         let written = fs::read_to_string(&out).expect("program");
-        assert!(written.contains("turning(V, T, \"left\")"), "{what}: {written}");
+        assert!(
+            written.contains("turning(V, T, \"left\")"),
+            "{what}: {written}"
+        );
 
         // Rerun: both completions come from the cache, the deep one is diagnosed again.
         let server = Server::start(|_, _| program(UNKNOWN));
@@ -422,9 +429,12 @@ fn deep_expressions_in_a_completion_are_a_diagnostic_and_the_cache_stays_usable(
             &[],
         );
         assert_eq!(o.status.code(), Some(1), "{what}: {}", stderr(&o));
-        assert!(stderr(&o).contains("no clean program after 2 rounds"), "{what}");
-        let diags = fs::read_to_string(dir2.path().join("deep.dl.diagnostics.json"))
-            .expect("diagnostics");
+        assert!(
+            stderr(&o).contains("no clean program after 2 rounds"),
+            "{what}"
+        );
+        let diags =
+            fs::read_to_string(dir2.path().join("deep.dl.diagnostics.json")).expect("diagnostics");
         assert!(diags.contains("E0002"), "{what}: {diags}");
     }
 }
