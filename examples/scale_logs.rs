@@ -120,6 +120,9 @@ fn scale_log(from: &Path, to: &Path, mode: Mode) -> Result<(), String> {
     Ok(())
 }
 
+/// Where a dense copy moves a track's boxes, by track uuid.
+type Offset = Box<dyn FnMut(&str) -> [f64; 2]>;
+
 /// A deterministic offset per (track, copy): copy 0 stays put.
 fn offsets(copy: usize) -> impl FnMut(&str) -> [f64; 2] + 'static {
     let mut memo: HashMap<String, [f64; 2]> = HashMap::new();
@@ -148,7 +151,7 @@ fn transform(
     batch: &RecordBatch,
     copy: usize,
     shift: impl Fn(usize) -> i64,
-    mut offset: Option<Box<dyn FnMut(&str) -> [f64; 2]>>,
+    mut offset: Option<Offset>,
 ) -> Result<RecordBatch, String> {
     let schema = batch.schema();
     let uuids = match batch.column_by_name("track_uuid") {
