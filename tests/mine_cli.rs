@@ -617,3 +617,100 @@ fn no_arguments_mines_the_library_over_the_sample_logs() {
     let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
     assert_eq!(pred.sequences.len(), programs.len() * 3);
 }
+
+/// The programs a published `summary.json` lists, after checking that every output of the set
+/// is read from one generation directory (never a set mixed from two runs).
+#[cfg(unix)]
+fn published_programs(out: &Path) -> std::collections::BTreeSet<String> {
+    let names = [
+        "predictions.pkl",
+        "predictions.feather",
+        "matches.json",
+        "summary.json",
+    ];
+    let dirs: std::collections::BTreeSet<PathBuf> = names
+        .iter()
+        .map(|n| {
+            let real = fs::canonicalize(out.join(n)).unwrap_or_else(|e| panic!("{n}: {e}"));
+            real.parent().expect("a directory").to_path_buf()
+        })
+        .collect();
+    assert_eq!(dirs.len(), 1, "outputs from several generations: {dirs:?}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("summary.json parses");
+    let matches: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("matches.json")).expect("matches"))
+            .expect("matches.json parses");
+    read_pickle(&out.join("predictions.pkl")).expect("predictions.pkl reads");
+    let programs: std::collections::BTreeSet<String> = summary["pairs"]
+        .as_array()
+        .expect("pairs")
+        .iter()
+        .filter_map(|p| p["program"].as_str().map(str::to_string))
+        .collect();
+    for m in matches.as_array().expect("matches") {
+        let p = m["program"].as_str().expect("program").to_string();
+        assert!(programs.contains(&p), "matches.json of another run: {p}");
+    }
+    programs
+}
+
+/// `mine` killed at any moment of a run into an `OUT/` holding a previous run's outputs leaves
+/// either that whole set or the new whole set, and the next run cleans up after it.
+#[cfg(unix)]
+#[test]
+fn a_killed_run_never_leaves_a_mixed_set_of_outputs() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let log = logs_dir().join(FIXTURE_STOPPED_LOG);
+    let (a, b) = (
+        library("stopped_car"),
+        library("vehicle_following_too_closely"),
+    );
+    let run_with = |program: &Path| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+        c.arg("mine")
+            .arg("--rules")
+            .arg(program)
+            .arg("--logs")
+            .arg(&log)
+            .arg("--out")
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        c
+    };
+    let first = run_with(&a).status().expect("mine runs");
+    assert!(first.success());
+    let only = |name: &str| std::collections::BTreeSet::from([name.to_string()]);
+    assert_eq!(published_programs(&out), only("stopped_car"));
+    let mut seen_new = false;
+    for delay_ms in [0u64, 20, 60, 120, 250, 500, 900, 1500, 2500] {
+        let mut child = run_with(&b).spawn().expect("mine starts");
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let _ = child.kill();
+        let _ = child.wait();
+        let programs = published_programs(&out);
+        assert!(
+            programs == only("stopped_car") || programs == only("vehicle_following_too_closely"),
+            "{programs:?}"
+        );
+        seen_new |= programs == only("vehicle_following_too_closely");
+        if seen_new {
+            break;
+        }
+    }
+    // A run to the end publishes the new set and leaves no killed run's files behind.
+    assert!(run_with(&b).status().expect("mine runs").success());
+    assert_eq!(
+        published_programs(&out),
+        only("vehicle_following_too_closely")
+    );
+    let current = fs::read_link(out.join(".current")).expect(".current");
+    for e in fs::read_dir(&out).expect("out").flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let kept = !name.starts_with('.') || name == ".current" || Path::new(&name) == current;
+        assert!(kept, "left behind: {name}");
+    }
+}

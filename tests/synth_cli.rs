@@ -475,3 +475,95 @@ fn eval_text_report_shows_the_fixture_score() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("/nonexistent/gt.pkl"), "{}", stderr(&o));
 }
+
+/// An LLM completion holding a 6,000-term `+` chain, or a condition inside 6,000 parentheses, is
+/// a diagnostic (E0002, too deep) sent back to the model, never an abort of `synth`; and since
+/// the cached completion is checked again when it is read back, a rerun answered by the cache
+/// ends the same way (the cache is not poisoned).
+#[test]
+fn deep_expressions_in_a_completion_are_a_diagnostic_and_the_cache_stays_usable() {
+    let n = 6_000;
+    let chain = format!(
+        "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S > {}.",
+        vec!["1"; n].join(" + ")
+    );
+    let parens = format!(
+        "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), {}S{} > 1.",
+        "(".repeat(n),
+        ")".repeat(n)
+    );
+    for (what, deep) in [("plus chain", chain), ("parentheses", parens)] {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("deep.dl");
+        let out_s = out.to_string_lossy().into_owned();
+        let cache = dir.path().join("cache");
+        let cache_s = cache.to_string_lossy().into_owned();
+        let args = |url: &str| {
+            vec![
+                "vehicle making a left turn".to_string(),
+                "-o".into(),
+                out_s.clone(),
+                "--cache-dir".into(),
+                cache_s.clone(),
+                "--base-url".into(),
+                url.to_string(),
+            ]
+        };
+        let run = |url: &str| {
+            let a = args(url);
+            let a: Vec<&str> = a.iter().map(String::as_str).collect();
+            scenalog(&a, &[])
+        };
+        // Round 1 is the deep completion; round 2 repairs it.
+        let server = Server::scripted(vec![program(&deep), program(GOOD)]);
+        let o = run(&server.base_url());
+        assert_eq!(o.status.code(), Some(0), "{what}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("checked clean in round 2"),
+            "{what}: {}",
+            stderr(&o)
+        );
+        let reqs = server.requests();
+        assert_eq!(reqs.len(), 2, "{what}");
+        let feedback = reqs[1].last_message();
+        assert!(feedback.contains("E0002"), "{what}: {feedback}");
+        let written = fs::read_to_string(&out).expect("program");
+        assert!(
+            written.contains("turning(V, T, \"left\")"),
+            "{what}: {written}"
+        );
+
+        // Rerun: both completions come from the cache, the deep one is diagnosed again.
+        let server = Server::start(|_, _| program(UNKNOWN));
+        let o = run(&server.base_url());
+        assert_eq!(o.status.code(), Some(0), "{what} rerun: {}", stderr(&o));
+        assert_eq!(server.count(), 0, "{what}: the rerun asked the server");
+        assert_eq!(fs::read_to_string(&out).expect("program"), written);
+
+        // A model that only ever answers the deep program: the rounds run out, a clear exit 1
+        // with the diagnostic, no abort.
+        let dir2 = tempfile::tempdir().expect("tempdir");
+        let out2 = dir2.path().join("deep.dl");
+        let server = Server::start(move |_, _| program(&deep));
+        let o = scenalog(
+            &[
+                "vehicle making a left turn",
+                "-o",
+                &out2.to_string_lossy(),
+                "--rounds",
+                "2",
+                "--base-url",
+                &server.base_url(),
+            ],
+            &[],
+        );
+        assert_eq!(o.status.code(), Some(1), "{what}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("no clean program after 2 rounds"),
+            "{what}"
+        );
+        let diags =
+            fs::read_to_string(dir2.path().join("deep.dl.diagnostics.json")).expect("diagnostics");
+        assert!(diags.contains("E0002"), "{what}: {diags}");
+    }
+}

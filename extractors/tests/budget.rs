@@ -52,3 +52,47 @@ fn pair_relations_stop_at_the_budget_and_name_the_relation() {
         Err(ExtractError::TooManyTuples { .. })
     ));
 }
+
+/// The cached list of every pair is kept only within its cap: past it, nothing is kept (the
+/// relations visit their pairs per X track instead, in bounded memory) and every pair relation
+/// answers exactly as with the cache.
+#[test]
+fn a_pair_list_past_its_cap_is_not_kept_and_the_answers_are_unchanged() {
+    use scenalog_extractors::pairs;
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/logs")
+        .join(LOG);
+    let scene = load_scene(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let cached = Extractor::new(&scene);
+    let index = pairs::pair_index(&cached);
+    let rows: usize = index
+        .all_pairs(cached.kinematics(), usize::MAX)
+        .expect("the list fits an unlimited cap")
+        .per_x
+        .iter()
+        .map(|(_, r)| r.len())
+        .sum();
+    assert!(rows > 1_000, "{rows}");
+
+    let streamed = Extractor::new(&scene);
+    let index = pairs::pair_index(&streamed);
+    assert!(index.all_pairs(streamed.kinematics(), 1_000).is_none());
+    assert!(index.all_pairs_too_large());
+    assert!(index.all_pairs_if_built().is_none());
+    for name in [
+        "near",
+        "direction",
+        "facing",
+        "crossing",
+        "following",
+        "road_side",
+    ] {
+        let req = Request::all(name);
+        let a = cached.extract_within(&req, &Budget::UNLIMITED).expect(name);
+        let b = streamed
+            .extract_within(&req, &Budget::UNLIMITED)
+            .expect(name);
+        assert!(!a.is_empty() || name == "road_side", "{name} is empty");
+        assert_eq!(*a, *b, "{name}");
+    }
+}

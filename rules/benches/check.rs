@@ -20,20 +20,9 @@ fn program() -> String {
     src
 }
 
-/// `n` helper rules, each using the next (so `n` strata), and the `referred` rule.
-fn chain_program(n: usize) -> String {
-    let mut src = String::new();
-    for i in 0..n {
-        src.push_str(&format!(
-            "h{i}(V, T) :- h{}(V, T), speed(V, T, S), S > 0.5.\n",
-            i + 1
-        ));
-    }
-    src.push_str(&format!(
-        "h{n}(V, T) :- present(V, T).\nreferred(V, T) :- h0(V, T).\n"
-    ));
-    src
-}
+#[path = "../examples/support/chain.rs"]
+mod chain;
+use chain::chain_program;
 
 fn bench_many(c: &mut Criterion) {
     let mut group = c.benchmark_group("parse+check many rules");

@@ -39,7 +39,7 @@ use crate::cli::synth::{synth_config, SynthArgs};
 use crate::pipeline::budget::{default_max_tuples, machine_memory, DEFAULT_TIMEOUT};
 use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
-use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions, RunReport};
+use crate::pipeline::run::{run_unpublished, LogInput, PairStatus, RunOptions, RunReport};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
 use crate::pipeline::summary::{render_score, render_table, score};
 
@@ -298,7 +298,8 @@ pub fn run(args: Args) -> ExitCode {
         names: Default::default(),
         keep_submission: gt.is_some(),
     };
-    let report = match run_mining(&scenarios, &logs, &options) {
+    // The outputs, the scored pickle and the report are one generation, published together.
+    let (report, generation) = match run_unpublished(&scenarios, &logs, &options) {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
@@ -334,7 +335,7 @@ pub fn run(args: Args) -> ExitCode {
         None => None,
     };
     if let Some(s) = &scored {
-        let path = out.join(SCORED_PICKLE);
+        let path = generation.path(SCORED_PICKLE);
         if let Err(e) = scenalog_eval::write_pickle(&s.predictions, &path) {
             eprintln!("scenalog mine: {e}");
             score_failed = true;
@@ -342,13 +343,24 @@ pub fn run(args: Args) -> ExitCode {
     }
     let any_failed = report.any_failed() || !failures.is_empty() || !log_problems.is_empty();
     if args.report {
-        match write_run_report(&out, &report, &scenarios, &logs, args.report_max_pictures) {
+        let written = write_run_report(
+            generation.dir(),
+            &out,
+            &report,
+            &scenarios,
+            &logs,
+            args.report_max_pictures,
+        );
+        match written {
             Ok(page) => eprintln!("scenalog mine: wrote the report {}", page.display()),
             Err(e) => {
                 eprintln!("scenalog mine: the report: {e}");
                 score_failed = true;
             }
         }
+    }
+    if let Err(e) = generation.publish() {
+        return fail(e);
     }
 
     match args.format {

@@ -16,11 +16,20 @@
 //! With `--log-prompts` the pickle and table are `submission.pkl` and `submission.feather`.
 //!
 //! **One generation.** A run writes its outputs (the pickle and table joined from per-log parts,
-//! `matches.json`, `summary.json`) into its own staging directory `OUT/.staging-<pid>-<n>/` and
-//! only at the end renames them into `OUT/`, one after the other, in the same instant; a run that
-//! dies before that leaves the previous run's outputs untouched (no set mixed from two runs), and
-//! whatever a killed run left behind (its staging directory, `.*.tmp` files of a process no
-//! longer running) is removed by the next run into the same `OUT/`.
+//! `matches.json`, `summary.json`, and `mine`'s `scored.pkl` and `report/`) into its own
+//! generation directory `OUT/.staging-<pid>-<n>/`, then publishes them all at once by switching one
+//! symbolic link, `OUT/.current`, to it (a rename, atomic). Each output's path in `OUT/` is a
+//! link through it (`OUT/predictions.pkl -> .current/predictions.pkl`), made once, so
+//! `OUT/predictions.pkl` and the others keep their paths, and a reader sees either the whole
+//! previous set or the whole new one, never a set mixed from two runs, whenever a run is killed.
+//! An output the new generation does not hold (`scored.pkl` of an earlier run with ground truth)
+//! is removed from `OUT/` with the switch. The generation replaced stays until the next run (for a
+//! reader that had just resolved `.current`); whatever a killed run left behind (its generation
+//! directory, `.*.tmp` files of a process no longer running) is removed by the next run into the
+//! same `OUT/`. Pair records (`pairs/`) are written one by one, atomically, outside generations:
+//! `--resume` reads them, not the published set.
+//! (Where symbolic links are missing, non-Unix systems, the outputs are renamed into place one
+//! after the other, as before.)
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -41,6 +50,22 @@ pub const MATCHES_JSON: &str = "matches.json";
 pub const SUMMARY_JSON: &str = "summary.json";
 /// The directory of per-pair results.
 pub const PAIRS_DIR: &str = "pairs";
+/// The report's directory (`scenalog mine --report`).
+pub const REPORT_DIR: &str = "report";
+/// The symbolic link to the published generation (see the module documentation).
+pub const CURRENT: &str = ".current";
+
+/// Every output a generation may hold: its path in `OUT/` is a link through [`CURRENT`].
+pub const GENERATION_NAMES: &[&str] = &[
+    PREDICTIONS_PICKLE,
+    PREDICTIONS_TABLE,
+    SUBMISSION_PICKLE,
+    SUBMISSION_TABLE,
+    SCORED_PICKLE,
+    MATCHES_JSON,
+    SUMMARY_JSON,
+    REPORT_DIR,
+];
 
 /// One referred track of one (log, program) pair.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -196,9 +221,15 @@ fn owner_pid(name: &str) -> Option<u32> {
     pid.parse().ok()
 }
 
-/// Removes what killed runs left in `out` (staging directories and temporary files of processes
-/// no longer running), in `out` itself and in `out/pairs/*/`. Best effort: what cannot be
-/// removed stays.
+/// The directory name of the generation `OUT/.current` points to, if any.
+pub fn current_generation(out: &Path) -> Option<String> {
+    let target = std::fs::read_link(out.join(CURRENT)).ok()?;
+    Some(target.file_name()?.to_string_lossy().into_owned())
+}
+
+/// Removes what killed runs left in `out` (generation directories other than the published one,
+/// and temporary files, of processes no longer running), in `out` itself and in `out/pairs/*/`.
+/// Best effort: what cannot be removed stays.
 pub fn clean_orphans(out: &Path) {
     let mut dirs = vec![out.to_path_buf()];
     if let Ok(entries) = std::fs::read_dir(out.join(PAIRS_DIR)) {
@@ -208,6 +239,7 @@ pub fn clean_orphans(out: &Path) {
                 .filter(|p| p.is_dir()),
         );
     }
+    let current = current_generation(out);
     for dir in dirs {
         let Ok(entries) = std::fs::read_dir(&dir) else {
             continue;
@@ -218,6 +250,9 @@ pub fn clean_orphans(out: &Path) {
                 continue;
             };
             if pid == std::process::id() || alive(pid) {
+                continue;
+            }
+            if dir == out && current.as_deref() == Some(name.as_str()) {
                 continue;
             }
             let path = e.path();
@@ -232,11 +267,12 @@ pub fn clean_orphans(out: &Path) {
 
 static STAGING_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
-/// A run's staging directory: per-log parts and the outputs before they are published. Removed
-/// when dropped.
+/// A run's generation directory: per-log parts and the outputs before they are published.
+/// Removed when dropped unless published.
 pub struct Staging {
     out: PathBuf,
     dir: PathBuf,
+    published: std::sync::atomic::AtomicBool,
 }
 
 impl Staging {
@@ -249,6 +285,7 @@ impl Staging {
         Ok(Staging {
             out: out.to_path_buf(),
             dir,
+            published: std::sync::atomic::AtomicBool::new(false),
         })
     }
 
@@ -329,10 +366,97 @@ impl Staging {
         Ok(())
     }
 
-    /// Moves the run's outputs into `OUT/` (after every one of them is complete).
-    pub fn publish(&self, names: &OutputNames) -> Result<(), String> {
-        for name in [names.pickle, names.table, MATCHES_JSON, SUMMARY_JSON] {
-            let (from, to) = (self.path(name), self.out.join(name));
+    /// The generation directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Publishes the generation (after every one of its outputs is complete): the per-log parts
+    /// are removed, every output's path in `OUT/` becomes a link through [`CURRENT`] (once), and
+    /// `OUT/.current` is switched to this generation in one rename. Then the outputs this
+    /// generation does not hold, and the generations replaced, are removed.
+    pub fn publish(&self) -> Result<(), String> {
+        if let Ok(entries) = std::fs::read_dir(&self.dir) {
+            for e in entries.filter_map(|e| e.ok()) {
+                if e.file_name().to_string_lossy().starts_with("part-") {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        let held: Vec<&str> = GENERATION_NAMES
+            .iter()
+            .copied()
+            .filter(|n| std::fs::symlink_metadata(self.dir.join(n)).is_ok())
+            .collect();
+        self.switch(&held)?;
+        self.published.store(true, Ordering::Relaxed);
+        Ok(())
+    }
+
+    #[cfg(unix)]
+    fn switch(&self, held: &[&str]) -> Result<(), String> {
+        let out = &self.out;
+        let pid = std::process::id();
+        let cannot = |what: &Path, e: std::io::Error| {
+            format!("cannot publish the outputs in `{}`: {e}", what.display())
+        };
+        for name in held {
+            link_through_current(out, name).map_err(|e| cannot(&out.join(name), e))?;
+        }
+        let previous = current_generation(out);
+        let generation = self
+            .dir
+            .file_name()
+            .map(PathBuf::from)
+            .ok_or_else(|| format!("`{}`: no directory name", self.dir.display()))?;
+        let tmp = out.join(format!("{CURRENT}.tmp{pid}"));
+        let _ = std::fs::remove_file(&tmp);
+        std::os::unix::fs::symlink(&generation, &tmp).map_err(|e| cannot(&tmp, e))?;
+        let current = out.join(CURRENT);
+        if let Err(e) = std::fs::rename(&tmp, &current) {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(cannot(&current, e));
+        }
+        if let Ok(d) = std::fs::File::open(out) {
+            let _ = d.sync_all();
+        }
+        // What the new set does not hold is not part of it.
+        for name in GENERATION_NAMES.iter().filter(|n| !held.contains(n)) {
+            let path = out.join(name);
+            match std::fs::symlink_metadata(&path) {
+                Ok(m) if m.is_dir() => {
+                    let _ = std::fs::remove_dir_all(&path);
+                }
+                Ok(_) => {
+                    let _ = std::fs::remove_file(&path);
+                }
+                Err(_) => {}
+            }
+        }
+        // The generations replaced (files already open in them stay readable).
+        let this = generation.to_string_lossy().into_owned();
+        if let Ok(entries) = std::fs::read_dir(out) {
+            for e in entries.filter_map(|e| e.ok()) {
+                let name = e.file_name().to_string_lossy().into_owned();
+                let old = name.starts_with(STAGING_PREFIX)
+                    && name != this
+                    && (previous.as_deref() == Some(name.as_str())
+                        || owner_pid(&name).is_some_and(|p| p == pid || !alive(p)));
+                if old {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    #[cfg(not(unix))]
+    fn switch(&self, held: &[&str]) -> Result<(), String> {
+        for name in held {
+            let (from, to) = (self.dir.join(name), self.out.join(name));
+            if to.is_dir() {
+                let _ = std::fs::remove_dir_all(&to);
+            }
             std::fs::rename(&from, &to)
                 .map_err(|e| format!("cannot move `{}` into place: {e}", to.display()))?;
         }
@@ -340,9 +464,34 @@ impl Staging {
     }
 }
 
+/// Makes `out/name` the link `.current/name` unless it already is (an output of an older
+/// version, a file or directory, is replaced).
+#[cfg(unix)]
+fn link_through_current(out: &Path, name: &str) -> std::io::Result<()> {
+    let path = out.join(name);
+    let target = Path::new(CURRENT).join(name);
+    if std::fs::read_link(&path).is_ok_and(|t| t == target) {
+        return Ok(());
+    }
+    let pid = std::process::id();
+    let tmp = out.join(format!(".{name}.tmp{pid}"));
+    let _ = std::fs::remove_file(&tmp);
+    std::os::unix::fs::symlink(&target, &tmp)?;
+    if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
+        let old = out.join(format!(".{name}.old.tmp{pid}"));
+        std::fs::rename(&path, &old)?;
+        let _ = std::fs::remove_dir_all(&old);
+    }
+    std::fs::rename(&tmp, &path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}
+
 impl Drop for Staging {
     fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
+        if !self.published.load(Ordering::Relaxed) {
+            let _ = std::fs::remove_dir_all(&self.dir);
+        }
     }
 }
 
@@ -379,6 +528,113 @@ mod tests {
         assert!(live.exists());
         assert!(dir.join("predictions.pkl").exists());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The text of every output of the set as a reader sees it through `OUT/`.
+    fn visible(out: &Path) -> Vec<(&'static str, Option<String>)> {
+        [
+            PREDICTIONS_PICKLE,
+            PREDICTIONS_TABLE,
+            MATCHES_JSON,
+            SUMMARY_JSON,
+            SCORED_PICKLE,
+        ]
+        .into_iter()
+        .map(|n| (n, std::fs::read_to_string(out.join(n)).ok()))
+        .collect()
+    }
+
+    /// A generation holding the four outputs of a run, each reading `tag`.
+    fn generation(out: &Path, tag: &str, scored: bool) -> Staging {
+        let g = Staging::new(out).unwrap();
+        std::fs::write(g.path("part-0.pkl"), b"part").unwrap();
+        for n in [
+            PREDICTIONS_PICKLE,
+            PREDICTIONS_TABLE,
+            MATCHES_JSON,
+            SUMMARY_JSON,
+        ] {
+            std::fs::write(g.path(n), tag).unwrap();
+        }
+        if scored {
+            std::fs::write(g.path(SCORED_PICKLE), tag).unwrap();
+        }
+        g
+    }
+
+    /// Whatever step a run stops at, a reader sees one whole set: the previous one until the
+    /// switch, the new one after; an output the new run does not make is not left from the old.
+    #[cfg(unix)]
+    #[test]
+    fn a_run_stopped_at_any_step_never_leaves_a_mixed_set() {
+        let out = tempfile_dir("generations");
+        let set = |tag: &str, scored: bool| {
+            let mut v: Vec<(&str, Option<String>)> = [
+                PREDICTIONS_PICKLE,
+                PREDICTIONS_TABLE,
+                MATCHES_JSON,
+                SUMMARY_JSON,
+            ]
+            .into_iter()
+            .map(|n| (n, Some(tag.to_string())))
+            .collect();
+            v.push((SCORED_PICKLE, scored.then(|| tag.to_string())));
+            v.sort();
+            v
+        };
+        let seen = |out: &Path| {
+            let mut v = visible(out);
+            v.sort();
+            v
+        };
+        // An output of an older version (a plain file) is taken over by the first generation.
+        std::fs::write(out.join(PREDICTIONS_PICKLE), "old").unwrap();
+        std::fs::create_dir_all(out.join(REPORT_DIR)).unwrap();
+        std::fs::write(out.join(REPORT_DIR).join("index.html"), "old").unwrap();
+        generation(&out, "A", true).publish().unwrap();
+        assert_eq!(seen(&out), set("A", true));
+        assert!(!out.join(REPORT_DIR).exists(), "run A made no report");
+
+        // Run B stops after writing its outputs (killed before publishing): A stays whole.
+        let b = generation(&out, "B", false);
+        assert_eq!(seen(&out), set("A", true));
+        drop(b);
+        assert_eq!(seen(&out), set("A", true));
+
+        // Run C stops half-way through making the links (before the switch): still A.
+        let c = generation(&out, "C", false);
+        link_through_current(&out, MATCHES_JSON).unwrap();
+        assert_eq!(seen(&out), set("A", true));
+        // ... and publishes: all of C, A's scored pickle gone with A.
+        c.publish().unwrap();
+        assert_eq!(seen(&out), set("C", false));
+        let dirs: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(STAGING_PREFIX))
+            .collect();
+        assert_eq!(
+            dirs,
+            vec![current_generation(&out).unwrap()],
+            "one generation kept"
+        );
+        let parts = std::fs::read_dir(out.join(CURRENT)).unwrap().count();
+        assert_eq!(
+            parts, 4,
+            "the parts are not kept in the published generation"
+        );
+
+        // A killed run's generation and temporary link: removed by the next run, the
+        // published generation kept.
+        let dead = out.join(format!("{STAGING_PREFIX}0-9"));
+        std::fs::create_dir_all(&dead).unwrap();
+        std::fs::write(dead.join(PREDICTIONS_PICKLE), "D").unwrap();
+        std::os::unix::fs::symlink(".current/x", out.join(".current.tmp0")).unwrap();
+        clean_orphans(&out);
+        assert!(!dead.exists());
+        assert!(std::fs::symlink_metadata(out.join(".current.tmp0")).is_err());
+        assert_eq!(seen(&out), set("C", false));
+        std::fs::remove_dir_all(&out).unwrap();
     }
 
     fn tempfile_dir(name: &str) -> PathBuf {

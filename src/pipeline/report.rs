@@ -27,7 +27,7 @@ use super::run::{LogInput, PairStatus, RunReport};
 use super::scenario::Scenario;
 
 /// The report's directory under the run's output directory.
-pub const REPORT_DIR: &str = "report";
+pub const REPORT_DIR: &str = crate::pipeline::output::REPORT_DIR;
 /// How many frames of a match are pictured (the scrubber's positions).
 pub const FRAMES_PER_MATCH: usize = 6;
 /// The pictures' size in pixels (shown at 480 px).
@@ -93,17 +93,19 @@ struct Job<'a> {
     picture: Picture<'a>,
 }
 
-/// Writes `out/report/index.html` and its pictures; returns the page's path. Errors name the
+/// Writes `into/report/index.html` and its pictures (`into`: the run's generation directory,
+/// published as `out/report/`); returns the page's path in `out`. Errors name the
 /// file that could not be written; a log or program that fails here leaves its matches
 /// without pictures (said on the page) rather than failing the report.
 pub fn write_run_report(
+    into: &Path,
     out: &Path,
     run: &RunReport,
     scenarios: &[Scenario],
     logs: &[LogInput],
     max_pictures: usize,
 ) -> Result<PathBuf, String> {
-    let dir = out.join(REPORT_DIR);
+    let dir = into.join(REPORT_DIR);
     let img = dir.join("img");
     std::fs::create_dir_all(&img).map_err(|e| format!("cannot create `{}`: {e}", img.display()))?;
     let log_index = |id: &str| logs.iter().position(|l| l.log_id == id);
@@ -262,7 +264,7 @@ pub fn write_run_report(
         matches,
     };
     scenalog_view::write_report(&dir, &report).map_err(|e| e.to_string())?;
-    Ok(dir.join("index.html"))
+    Ok(out.join(REPORT_DIR).join("index.html"))
 }
 
 #[cfg(test)]

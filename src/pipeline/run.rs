@@ -202,14 +202,27 @@ impl RunReport {
     }
 }
 
-/// Runs every scenario on every log and writes the outputs under `options.out`. Errors only
-/// when the run's own outputs cannot be written or the thread pool cannot be made; a log or
-/// pair that fails is in the report.
+/// Runs every scenario on every log and writes the outputs under `options.out`, published as one
+/// generation ([`output`]). Errors only when the run's own outputs cannot be written or the
+/// thread pool cannot be made; a log or pair that fails is in the report.
 pub fn run(
     scenarios: &[Scenario],
     logs: &[LogInput],
     options: &RunOptions,
 ) -> Result<RunReport, String> {
+    let (report, generation) = run_unpublished(scenarios, logs, options)?;
+    generation.publish()?;
+    Ok(report)
+}
+
+/// [`run`] without the publication: the outputs are complete in the returned generation, which
+/// the caller may add to (`scored.pkl`, the report) and must publish
+/// ([`output::Staging::publish`]); dropped unpublished, it is removed and `OUT/` is unchanged.
+pub fn run_unpublished(
+    scenarios: &[Scenario],
+    logs: &[LogInput],
+    options: &RunOptions,
+) -> Result<(RunReport, output::Staging), String> {
     let start = Instant::now();
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = options.threads {
@@ -297,12 +310,11 @@ pub fn run(
         &summary_json(&report, scenarios),
         true,
     )?;
-    staging.publish(&options.names)?;
     if options.keep_submission {
-        let path = options.out.join(options.names.pickle);
+        let path = staging.path(options.names.pickle);
         report.submission = scenalog_eval::read_pickle(&path).map_err(|e| e.to_string())?;
     }
-    Ok(report)
+    Ok((report, staging))
 }
 
 /// `summary.json`: the stage times, the failed logs and every pair's status.

@@ -2,7 +2,7 @@
 //! (with `parry2d`).
 
 use std::ops::Range;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 use parry2d::math::{Pose, Vector};
@@ -135,8 +135,9 @@ pub struct PairIndex {
     frames: Vec<OnceLock<FrameBoxes>>,
     /// Map lane index of every track box (`lanes[track][k]`), built on first use.
     lanes: OnceLock<Vec<Vec<Option<u32>>>>,
-    /// Every pair that may be within [`PAIR_MAX_DISTANCE_M`] at every frame, built on first use.
-    all: OnceLock<PairList>,
+    /// Every pair that may be within [`PAIR_MAX_DISTANCE_M`] at every frame, built on first use;
+    /// `None` when it would pass its cap (see [`PairIndex::all_pairs`]).
+    all: OnceLock<Option<PairList>>,
 }
 
 /// One pair of boxes at one frame whose rectangles may be within the list's radius: Y, the frame,
@@ -257,18 +258,46 @@ impl PairIndex {
     }
 
     /// Every pair that may be within [`PAIR_MAX_DISTANCE_M`] at every frame (computed once, in
-    /// parallel; rectangle distances are filled in as relations need them).
-    pub fn all_pairs(&self, kin: &Kinematics) -> &PairList {
-        self.all.get_or_init(|| {
-            let xs: Vec<TrackId> = (0..kin.tracks.len() as u32).map(TrackId).collect();
-            let frames = 0..self.num_frames() as Frame;
-            self.pairs(kin, &xs, |_| true, None, frames, PAIR_MAX_DISTANCE_M)
-        })
+    /// parallel; rectangle distances are filled in as relations need them), or `None` when the
+    /// list would hold more than `max_rows` rows: then it is never kept (the work stops as soon as
+    /// the count passes the cap) and callers visit the pairs per X track instead
+    /// ([`PairIndex::rows_of`]), so a dense log costs time, not memory. The first caller's cap
+    /// decides; later calls return the first answer.
+    pub fn all_pairs(&self, kin: &Kinematics, max_rows: usize) -> Option<&PairList> {
+        self.all
+            .get_or_init(|| {
+                use rayon::prelude::*;
+                let xs: Vec<TrackId> = (0..kin.tracks.len() as u32).map(TrackId).collect();
+                let frames = 0..self.num_frames() as Frame;
+                let count = AtomicUsize::new(0);
+                let per_x: Vec<(TrackId, Vec<PairRow>)> = xs
+                    .par_iter()
+                    .map(|&xt| {
+                        if count.load(Ordering::Relaxed) > max_rows {
+                            return (xt, Vec::new());
+                        }
+                        let rows =
+                            self.rows_of(kin, xt, &|_| true, None, &frames, PAIR_MAX_DISTANCE_M);
+                        count.fetch_add(rows.len(), Ordering::Relaxed);
+                        (xt, rows)
+                    })
+                    .collect();
+                (count.load(Ordering::Relaxed) <= max_rows).then_some(PairList {
+                    radius: PAIR_MAX_DISTANCE_M,
+                    per_x,
+                })
+            })
+            .as_ref()
     }
 
-    /// [`PairIndex::all_pairs`] if it has been computed.
+    /// [`PairIndex::all_pairs`] if it has been computed and kept.
     pub fn all_pairs_if_built(&self) -> Option<&PairList> {
-        self.all.get()
+        self.all.get().and_then(Option::as_ref)
+    }
+
+    /// Whether [`PairIndex::all_pairs`] was tried and found larger than its cap.
+    pub fn all_pairs_too_large(&self) -> bool {
+        matches!(self.all.get(), Some(None))
     }
 
     /// The pairs (X in `xs`, Y passing `keep_y`, X ≠ Y) that may be at most `radius` apart at the given
@@ -287,52 +316,70 @@ impl PairIndex {
         let per_x = xs
             .par_iter()
             .map(|&xt| {
-                let mut rows = Vec::new();
-                let Some(kx) = kin.tracks.get(xt.index()) else {
-                    return (xt, rows);
-                };
-                for &frame in kx.frames.iter().filter(|f| frames.contains(f)) {
-                    let Some(fb) = self.frame(kin, frame) else {
-                        continue;
-                    };
-                    let Some(xi) = fb.position(xt) else {
-                        continue;
-                    };
-                    let x = &fb.boxes[xi];
-                    let mut visit = |yi: usize| {
-                        let y = &fb.boxes[yi];
-                        if y.track == xt || !keep_y(y.track) {
-                            return;
-                        }
-                        let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
-                        let d2 = dx * dx + dy * dy;
-                        // Beyond this the rectangles cannot come within the radius.
-                        let max = radius + x.reach + y.reach;
-                        if d2 > max * max {
-                            return;
-                        }
-                        rows.push(PairRow {
-                            y: y.track,
-                            frame,
-                            xi: xi as u32,
-                            yi: yi as u32,
-                            centres: d2.sqrt(),
-                            dist: AtomicU64::new(UNKNOWN),
-                        });
-                    };
-                    match direct_ys {
-                        Some(ys) => ys
-                            .iter()
-                            .filter_map(|&t| fb.position(t))
-                            .for_each(&mut visit),
-                        None => fb.candidates(x, radius).for_each(&mut visit),
-                    }
-                }
-                rows.sort_unstable_by_key(|r| (u64::from(r.y.0) << 32) | u64::from(r.frame));
-                (xt, rows)
+                (
+                    xt,
+                    self.rows_of(kin, xt, &keep_y, direct_ys, &frames, radius),
+                )
             })
             .collect();
         PairList { radius, per_x }
+    }
+
+    /// One X track's rows of [`PairIndex::pairs`], sorted by (Y, frame): only boxes whose
+    /// bounding boxes come within `radius` of X's at a frame are visited (each frame's R-tree),
+    /// and only those whose rectangles may be within `radius` are kept.
+    pub fn rows_of(
+        &self,
+        kin: &Kinematics,
+        xt: TrackId,
+        keep_y: &(dyn Fn(TrackId) -> bool + Sync),
+        direct_ys: Option<&[TrackId]>,
+        frames: &Range<Frame>,
+        radius: f64,
+    ) -> Vec<PairRow> {
+        let mut rows = Vec::new();
+        let Some(kx) = kin.tracks.get(xt.index()) else {
+            return rows;
+        };
+        for &frame in kx.frames.iter().filter(|f| frames.contains(f)) {
+            let Some(fb) = self.frame(kin, frame) else {
+                continue;
+            };
+            let Some(xi) = fb.position(xt) else {
+                continue;
+            };
+            let x = &fb.boxes[xi];
+            let mut visit = |yi: usize| {
+                let y = &fb.boxes[yi];
+                if y.track == xt || !keep_y(y.track) {
+                    return;
+                }
+                let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
+                let d2 = dx * dx + dy * dy;
+                // Beyond this the rectangles cannot come within the radius.
+                let max = radius + x.reach + y.reach;
+                if d2 > max * max {
+                    return;
+                }
+                rows.push(PairRow {
+                    y: y.track,
+                    frame,
+                    xi: xi as u32,
+                    yi: yi as u32,
+                    centres: d2.sqrt(),
+                    dist: AtomicU64::new(UNKNOWN),
+                });
+            };
+            match direct_ys {
+                Some(ys) => ys
+                    .iter()
+                    .filter_map(|&t| fb.position(t))
+                    .for_each(&mut visit),
+                None => fb.candidates(x, radius).for_each(&mut visit),
+            }
+        }
+        rows.sort_unstable_by_key(|r| (u64::from(r.y.0) << 32) | u64::from(r.frame));
+        rows
     }
 
     fn build(&self, kin: &Kinematics, f: usize) -> FrameBoxes {

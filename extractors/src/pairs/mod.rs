@@ -270,35 +270,43 @@ pub(crate) fn for_each_pair<T: Send>(
     for_each_pair_in(ctx, q, frames, radius, key, f)
 }
 
+/// Most rows the scene's cached list of every pair ([`PairIndex::all_pairs`]) may hold, whatever
+/// the budget: 4 M rows of 32 bytes (128 MB). A denser log visits its pairs per X track instead.
+pub const ALL_PAIRS_MAX_ROWS: usize = 4_000_000;
+
+/// Where a query's candidate pairs come from.
+enum PairSource<'c> {
+    /// The scene's cached list of every pair within [`PAIR_MAX_DISTANCE_M`].
+    Cached(&'c PairList),
+    /// Computed per X track as it is visited and dropped after (never the whole list at once):
+    /// the X tracks, and the Y tracks to look up directly when they are few.
+    PerX {
+        xs: Vec<TrackId>,
+        direct: Option<Vec<TrackId>>,
+    },
+}
+
 /// The pairs a query may need: the scene's cached list of every pair within
 /// [`PAIR_MAX_DISTANCE_M`] when it exists or the query is unrestricted (the full relation needs it
-/// anyway), else a list restricted to the query's tracks, frames and radius (pushdown).
-fn pair_list<'c>(
-    ctx: &'c PairContext,
-    q: &Query,
-    frames: &Range<Frame>,
-    radius: f64,
-) -> std::borrow::Cow<'c, PairList> {
-    use std::borrow::Cow;
+/// anyway) and the list fits its cap (the request's tuple budget, at most
+/// [`ALL_PAIRS_MAX_ROWS`]); else the pairs of the query's tracks, frames and radius, per X track
+/// (pushdown, and memory bounded by one X's pairs a thread).
+fn pair_source<'c>(ctx: &'c PairContext, q: &Query, frames: &Range<Frame>) -> PairSource<'c> {
     if let Some(all) = ctx.index.all_pairs_if_built() {
-        return Cow::Borrowed(all);
+        return PairSource::Cached(all);
     }
     let n = ctx.scene.tracks.len();
     let xs: Vec<TrackId> = q.tracks(ctx.scene, 0).collect();
     let ys: Vec<TrackId> = q.tracks(ctx.scene, 1).collect();
     let whole = frames.start == 0 && frames.end as usize >= ctx.index.num_frames();
-    if xs.len() == n && ys.len() == n && whole {
-        return Cow::Borrowed(ctx.index.all_pairs(ctx.kin));
+    if xs.len() == n && ys.len() == n && whole && !ctx.index.all_pairs_too_large() {
+        let cap = q.budget.max_tuples.min(ALL_PAIRS_MAX_ROWS);
+        if let Some(all) = ctx.index.all_pairs(ctx.kin, cap) {
+            return PairSource::Cached(all);
+        }
     }
-    let direct = (ys.len() <= DIRECT_LOOKUP_MAX).then_some(ys.as_slice());
-    Cow::Owned(ctx.index.pairs(
-        ctx.kin,
-        &xs,
-        |t| q.allows_track(1, t),
-        direct,
-        frames.clone(),
-        radius,
-    ))
+    let direct = (ys.len() <= DIRECT_LOOKUP_MAX).then_some(ys);
+    PairSource::PerX { xs, direct }
 }
 
 /// [`for_each_pair`] over the given frames, whatever the query's time constraints.
@@ -314,56 +322,73 @@ pub(crate) fn for_each_pair_in<T: Send>(
     if radius.is_nan() || radius < 0.0 || frames.is_empty() {
         return Vec::new();
     }
-    let list = pair_list(ctx, q, &frames, radius);
-    let per_x: Vec<Vec<T>> = list
-        .per_x
-        .par_iter()
-        .filter(|(x, _)| q.allows_track(0, *x))
-        .map(|(xt, rows)| {
-            let mut out = Vec::new();
-            // The budget: once passed (here or on another thread) every X stops; the clock is
-            // read every BUDGET_STRIDE candidate pairs.
-            if q.spent.over() {
-                return out;
-            }
-            for (i, r) in rows.iter().enumerate() {
-                if i % BUDGET_STRIDE == BUDGET_STRIDE - 1
-                    && (q.spent.tick(&q.budget) || q.spent.would_pass(&q.budget, out.len()))
-                {
-                    q.spent.add(&q.budget, out.len());
-                    return Vec::new();
-                }
-                if !frames.contains(&r.frame) || !q.allows_track(1, r.y) {
-                    continue;
-                }
-                let Some(fb) = ctx.index.frame(ctx.kin, r.frame) else {
-                    continue;
-                };
-                let (Some(x), Some(y)) = (fb.boxes.get(r.xi as usize), fb.boxes.get(r.yi as usize))
-                else {
-                    continue;
-                };
-                debug_assert!(x.track == *xt && y.track == r.y);
-                // Beyond this the rectangles cannot come within the radius.
-                if r.centres - x.reach - y.reach > radius {
-                    continue;
-                }
-                let d = PairDistance {
-                    row: r,
-                    x,
-                    y,
-                    radius,
-                };
-                f(r.frame, x, y, &d, &mut out);
-            }
-            if q.spent.add(&q.budget, out.len()) {
+    // One X track's candidate rows through `f`, under the budget.
+    let visit_x = |xt: TrackId, rows: &[PairRow]| -> Vec<T> {
+        let mut out = Vec::new();
+        // The budget: once passed (here or on another thread) every X stops; the clock is
+        // read every BUDGET_STRIDE candidate pairs.
+        if q.spent.over() {
+            return out;
+        }
+        for (i, r) in rows.iter().enumerate() {
+            if i % BUDGET_STRIDE == BUDGET_STRIDE - 1
+                && (q.spent.tick(&q.budget) || q.spent.would_pass(&q.budget, out.len()))
+            {
+                q.spent.add(&q.budget, out.len());
                 return Vec::new();
             }
-            // Already in order when `f` pushes in key order: then this only checks it.
-            out.sort_unstable_by_key(|r| packed(key(r)));
-            out
-        })
-        .collect();
+            if !frames.contains(&r.frame) || !q.allows_track(1, r.y) {
+                continue;
+            }
+            let Some(fb) = ctx.index.frame(ctx.kin, r.frame) else {
+                continue;
+            };
+            let (Some(x), Some(y)) = (fb.boxes.get(r.xi as usize), fb.boxes.get(r.yi as usize))
+            else {
+                continue;
+            };
+            debug_assert!(x.track == xt && y.track == r.y);
+            // Beyond this the rectangles cannot come within the radius.
+            if r.centres - x.reach - y.reach > radius {
+                continue;
+            }
+            let d = PairDistance {
+                row: r,
+                x,
+                y,
+                radius,
+            };
+            f(r.frame, x, y, &d, &mut out);
+        }
+        if q.spent.add(&q.budget, out.len()) {
+            return Vec::new();
+        }
+        // Already in order when `f` pushes in key order: then this only checks it.
+        out.sort_unstable_by_key(|r| packed(key(r)));
+        out
+    };
+    let per_x: Vec<Vec<T>> = match pair_source(ctx, q, &frames) {
+        PairSource::Cached(list) => list
+            .per_x
+            .par_iter()
+            .filter(|(x, _)| q.allows_track(0, *x))
+            .map(|(xt, rows)| visit_x(*xt, rows))
+            .collect(),
+        PairSource::PerX { xs, direct } => {
+            let keep_y = |t: TrackId| q.allows_track(1, t);
+            xs.par_iter()
+                .map(|&xt| {
+                    if q.spent.over() {
+                        return Vec::new();
+                    }
+                    let rows =
+                        ctx.index
+                            .rows_of(ctx.kin, xt, &keep_y, direct.as_deref(), &frames, radius);
+                    visit_x(xt, &rows)
+                })
+                .collect()
+        }
+    };
     per_x.into_iter().flatten().collect()
 }
 
