@@ -1,7 +1,9 @@
 //! Running Rust work off the Python thread: the GIL released, Ctrl-C still heard.
 
 use std::panic::AssertUnwindSafe;
-use std::sync::mpsc::{channel, RecvTimeoutError};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{channel, Receiver, RecvTimeoutError};
+use std::sync::Arc;
 use std::time::Duration;
 
 use pyo3::exceptions::PyRuntimeError;
@@ -16,6 +18,21 @@ const POLL: Duration = Duration::from_millis(50);
 /// is dropped (mining writes each file atomically, so an interrupted run leaves no partial
 /// file, and `resume=True` continues it). A panic in `work` becomes a `RuntimeError`.
 pub fn interruptible<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+where
+    T: Send + 'static,
+    F: FnOnce() -> T + Send + 'static,
+{
+    interruptible_with(py, None, work)
+}
+
+/// As [`interruptible`], for work that watches `cancel`: on Ctrl-C the flag is set and the call
+/// waits for the work to stop (the mining run finishes the pairs in flight and starts no
+/// other), so nothing runs on after the `KeyboardInterrupt`; a second Ctrl-C stops waiting.
+pub fn interruptible_with<T, F>(
+    py: Python<'_>,
+    cancel: Option<Arc<AtomicBool>>,
+    work: F,
+) -> PyResult<T>
 where
     T: Send + 'static,
     F: FnOnce() -> T + Send + 'static,
@@ -46,11 +63,36 @@ where
                     "internal error in scenalog (please report it): {what}"
                 )));
             }
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(interrupt) = py.check_signals() {
+                    if let Some(flag) = &cancel {
+                        flag.store(true, Ordering::Relaxed);
+                        wait_for_stop(py, rx);
+                    }
+                    return Err(interrupt);
+                }
+            }
             Err(RecvTimeoutError::Disconnected) => {
                 return Err(PyRuntimeError::new_err(
                     "internal error in scenalog: the worker thread ended without a result",
                 ))
+            }
+        }
+    }
+}
+
+/// Waits for cancelled work to end, until it does or another signal arrives.
+fn wait_for_stop<T: Send>(py: Python<'_>, rx: Receiver<T>) {
+    let mut rx = rx;
+    loop {
+        let (got, back) = py.allow_threads(move || (rx.recv_timeout(POLL), rx));
+        rx = back;
+        match got {
+            Ok(_) | Err(RecvTimeoutError::Disconnected) => return,
+            Err(RecvTimeoutError::Timeout) => {
+                if py.check_signals().is_err() {
+                    return;
+                }
             }
         }
     }

@@ -12,20 +12,22 @@ mod arrow_out;
 mod interrupt;
 
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 use clap::Parser;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use interrupt::interruptible;
+use interrupt::{interruptible, interruptible_with};
 use scenalog::cli::mine::{pair_failures, plan, run_options, Options};
 use scenalog::cli::mine_pairs;
-use scenalog::pipeline::run::{run as run_mining, PairStatus, RunReport};
+use scenalog::pipeline::run::{run as run_mining, PairStatus, RunOptions, RunReport};
 use scenalog::pipeline::scenario::Scenario;
 
 pyo3::create_exception!(
-    _native,
+    scenalog,
     ScenalogError,
     PyException,
     "An error of Scenalog, with the message the command prints."
@@ -139,18 +141,20 @@ fn mine(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
             "synthesis (--descriptions, --synthesize) and --report are the command's; run `scenalog mine` for them",
         ));
     }
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
     let work = move || -> Result<String, String> {
         if args.log_prompts.is_some() {
-            mine_split(&args)
+            mine_split(&args, flag)
         } else {
-            mine_programs(&args)
+            mine_programs(&args, flag)
         }
     };
-    interruptible(py, work)?.map_err(err)
+    interruptible_with(py, Some(cancel), work)?.map_err(err)
 }
 
 /// `scenalog mine --rules … --logs …` as [`mine`] reports it.
-fn mine_programs(args: &Options) -> Result<String, String> {
+fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String> {
     let plan = plan(args)?;
     if plan.scenarios.is_empty() {
         return Err(with_causes("no program to mine", &plan.failures));
@@ -158,7 +162,10 @@ fn mine_programs(args: &Options) -> Result<String, String> {
     if plan.logs.is_empty() {
         return Err(with_causes("no log to mine", &plan.log_problems));
     }
-    let options = run_options(args, &plan, false);
+    let options = RunOptions {
+        cancel: Some(cancel),
+        ..run_options(args, &plan, false)
+    };
     let report = run_mining(&plan.scenarios, &plan.logs, &options)?;
     let mut failures = plan.failures.clone();
     failures.extend(plan.log_problems.iter().cloned());
@@ -189,12 +196,15 @@ fn mine_programs(args: &Options) -> Result<String, String> {
 }
 
 /// `scenalog mine --log-prompts …` as [`mine`] reports it.
-fn mine_split(args: &Options) -> Result<String, String> {
+fn mine_split(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String> {
     let plan = mine_pairs::prepare(args)?;
     if plan.logs.is_empty() {
         return Err(with_causes("no log to mine", &plan.log_problems));
     }
-    let options = mine_pairs::run_options(args, &plan, false);
+    let options = RunOptions {
+        cancel: Some(cancel),
+        ..mine_pairs::run_options(args, &plan, false)
+    };
     let report = run_mining(&plan.scenarios, &plan.logs, &options)?;
     let mut failures = plan.problems.clone();
     failures.extend(plan.log_problems.iter().cloned());

@@ -453,6 +453,7 @@ pub fn run_options(args: &Options, plan: &MinePlan, progress: bool) -> RunOption
         progress,
         names: Default::default(),
         keep_submission: plan.gt.is_some(),
+        cancel: None,
     }
 }
 

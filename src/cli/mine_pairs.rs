@@ -281,6 +281,7 @@ pub fn run_options(args: &Options, plan: &PairsPlan, progress: bool) -> RunOptio
             table: SUBMISSION_TABLE,
         },
         keep_submission: false,
+        cancel: None,
     }
 }
 
