@@ -208,3 +208,19 @@ def test_ctrl_c_interrupts_a_long_call_and_threads_run_meanwhile(tmp_path):
     programs = len(list(LIBRARY.glob("*.dl")))
     records = list((tmp_path / "run" / "pairs").rglob("*.json"))
     assert len(records) < programs * len(LOG_IDS)
+
+
+def test_the_readme_example_runs(tmp_path):
+    """python/examples/quickstart.py, the README's example, as a new user runs it."""
+    import subprocess
+    import sys
+
+    from conftest import REPO
+
+    p = subprocess.run(
+        [sys.executable, "python/examples/quickstart.py"], cwd=REPO, capture_output=True, text=True
+    )
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert lines[0] == "[]"
+    assert lines[-1] == "0.3795501973683041 0.3941392002747208 0.85 1.0"
