@@ -363,6 +363,9 @@ fn join_pickles<'py>(py: Python<'py>, parts: Vec<Vec<u8>>) -> PyResult<Bound<'py
     Ok(PyBytes::new(py, &bytes))
 }
 
+/// Logs found: `(directory, log id)` pairs, and the duplicates left out.
+type FoundLogs = (Vec<(String, String)>, Vec<String>);
+
 /// The `.dl` files `rules` names, as `scenalog mine --rules` finds them (files as given,
 /// directories' `.dl` files sorted by name).
 #[pyfunction]
@@ -375,7 +378,7 @@ fn rule_files(rules: Vec<PathBuf>) -> PyResult<Vec<String>> {
 /// The logs `logs` names, as `scenalog mine --logs` finds them (a log directory, or a directory
 /// of logs): `(directory, log id)` pairs, and the duplicates left out.
 #[pyfunction]
-fn log_dirs(logs: Vec<PathBuf>) -> PyResult<(Vec<(String, String)>, Vec<String>)> {
+fn log_dirs(logs: Vec<PathBuf>) -> PyResult<FoundLogs> {
     let (found, problems) = scenalog::cli::mine::log_dirs(&logs).map_err(err)?;
     Ok((
         found

@@ -221,15 +221,15 @@ pub fn explain_track(
     why_not_wanted: bool,
 ) -> Result<Explained, (u8, String)> {
     let display = rules.display().to_string();
-    let source = match std::fs::read_to_string(&rules) {
+    let source = match std::fs::read_to_string(rules) {
         Ok(s) => s,
         Err(e) => return Err((2, format!("cannot read `{display}`: {e}"))),
     };
-    let scenario = match scenario_from_source(&rules, source) {
+    let scenario = match scenario_from_source(rules, source) {
         Ok(s) => s,
         Err(e) => return Err((1, e)),
     };
-    let scene = match load_scene(&log) {
+    let scene = match load_scene(log) {
         Ok(s) => s,
         Err(e) => return Err((2, e.to_string())),
     };

@@ -388,20 +388,11 @@ pub fn plan(args: &Options) -> Result<MinePlan, String> {
         None => None,
     };
     let timestamps = match &args.eval_timestamps {
-        Some(p) => match read_timestamps(p) {
-            Ok(t) => t,
-            Err(e) => return Err(e),
-        },
+        Some(p) => read_timestamps(p)?,
         None => BTreeMap::new(),
     };
-    let files = match rule_files(&rule_paths) {
-        Ok(f) => f,
-        Err(e) => return Err(e),
-    };
-    let (logs, log_problems) = match log_dirs(&log_paths) {
-        Ok(l) => l,
-        Err(e) => return Err(e),
-    };
+    let files = rule_files(&rule_paths)?;
+    let (logs, log_problems) = log_dirs(&log_paths)?;
     if let Err(e) = std::fs::create_dir_all(&out) {
         return Err(format!(
             "cannot create output directory `{}`: {e}",
@@ -418,7 +409,7 @@ pub fn plan(args: &Options) -> Result<MinePlan, String> {
         })
         .collect();
     if let Some(file) = &args.descriptions {
-        match synthesize(file, &out, &args) {
+        match synthesize(file, &out, args) {
             Ok((programs, problems)) => {
                 loaded.extend(programs.into_iter().map(|(p, s)| {
                     let s = scenario_from_source(&p, s);

@@ -108,10 +108,7 @@ pub fn prepare(args: &Options) -> Result<PairsPlan, String> {
             split.display()
         ));
     }
-    let pairs = match read_pairs(pairs_path) {
-        Ok(p) => p,
-        Err(e) => return Err(e),
-    };
+    let pairs = read_pairs(pairs_path)?;
     let out = args.out.clone().unwrap_or_else(default_out);
     if let Err(e) = std::fs::create_dir_all(&out) {
         return Err(format!(
@@ -171,9 +168,7 @@ pub fn prepare(args: &Options) -> Result<PairsPlan, String> {
         if !wanted.is_empty() {
             let file = out.join("prompts-to-synthesize.txt");
             let text: String = wanted.iter().map(|p| format!("{p}\n")).collect();
-            if let Err(e) = crate::pipeline::output::write_atomic(&file, text.as_bytes(), false) {
-                return Err(e);
-            }
+            crate::pipeline::output::write_atomic(&file, text.as_bytes(), false)?;
             match synthesize(&file, &out, args) {
                 Ok((programs, failed)) => {
                     problems.extend(failed);
