@@ -6,6 +6,7 @@ import pickle
 import pytest
 
 import scenalog
+import scenalog.ray
 from conftest import LIBRARY, LOG_IDS, LOGS, PROGRAMS
 
 ray = pytest.importorskip("ray", reason="Ray is not installed (pip install 'scenalog[ray]')")
