@@ -68,6 +68,7 @@ fn options(out: &Path, threads: usize) -> RunOptions {
         progress: false,
         names: Default::default(),
         keep_submission: false,
+        cancel: None,
     }
 }
 

@@ -3,8 +3,7 @@
 //! The command joins the workspace's crates; each subcommand lives in its own module under
 //! [`cli`] and returns the process exit code.
 
-mod cli;
-mod pipeline;
+use scenalog::cli;
 
 use std::process::ExitCode;
 

@@ -21,21 +21,21 @@
 //! failed; 2 unreadable rules file or log, unknown track, bad `--at` or `--frames`, a frame
 //! outside the log, a track absent at the pictured frame, an unwritable picture path.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use scenalog_engine::{explain, why_not};
 use scenalog_extractors::cache::Extractor;
 use scenalog_facts::load_scene;
 use scenalog_facts::relation::Value;
-use scenalog_facts::scene::{Frame, Scene, Track};
+use scenalog_facts::scene::{Frame, Scene, Track, TrackId};
 
 use crate::pipeline::explain::{
     evaluate_for_explain, explanation_json, explanation_text, frame_nearest, referred_frames,
     Explanation, Renderer,
 };
 use crate::pipeline::picture::{explanation_picture, related_at};
-use crate::pipeline::scenario::scenario_from_source;
+use crate::pipeline::scenario::{scenario_from_source, Scenario};
 use scenalog_view::track_path::animation_frames;
 use scenalog_view::{
     path_svg, scene_svg, write_animation, write_picture, Format, PathPicture, Reference, ViewError,
@@ -197,40 +197,61 @@ fn find_track<'s>(scene: &'s Scene, uuid: &str) -> Result<&'s Track, String> {
     }
 }
 
-/// Runs the subcommand.
-pub fn run(args: Args) -> ExitCode {
-    let display = args.rules.display().to_string();
-    let source = match std::fs::read_to_string(&args.rules) {
+/// A track explained at one frame: what `scenalog explain` prints and pictures.
+pub struct Explained {
+    /// The log's scene.
+    pub scene: Scene,
+    /// The checked program.
+    pub scenario: Scenario,
+    /// The proof of `referred(track, frame)` and/or the why-not report.
+    pub explanation: Explanation,
+    /// The objects related to the track at the frame.
+    pub related: Vec<TrackId>,
+}
+
+/// Explains why `track_uuid` (a uuid or an unambiguous prefix) is or is not referred by the
+/// program `rules` on `log` at the frame nearest `at` seconds (see the module's doc for the
+/// frame chosen without it); `why_not_wanted` adds the why-not report to a proof. Errors are the
+/// exit code and the message `scenalog explain` prints.
+pub fn explain_track(
+    rules: &Path,
+    log: &Path,
+    track_uuid: &str,
+    at: Option<f64>,
+    why_not_wanted: bool,
+) -> Result<Explained, (u8, String)> {
+    let display = rules.display().to_string();
+    let source = match std::fs::read_to_string(rules) {
         Ok(s) => s,
-        Err(e) => return fail(2, &format!("cannot read `{display}`: {e}")),
+        Err(e) => return Err((2, format!("cannot read `{display}`: {e}"))),
     };
-    let scenario = match scenario_from_source(&args.rules, source) {
+    let scenario = match scenario_from_source(rules, source) {
         Ok(s) => s,
-        Err(e) => return fail(1, &e),
+        Err(e) => return Err((1, e)),
     };
-    let scene = match load_scene(&args.log) {
+    let scene = match load_scene(log) {
         Ok(s) => s,
-        Err(e) => return fail(2, &e.to_string()),
+        Err(e) => return Err((2, e.to_string())),
     };
-    let track = match find_track(&scene, &args.track) {
+    let track = match find_track(&scene, track_uuid) {
         Ok(t) => t,
-        Err(e) => return fail(2, &e),
+        Err(e) => return Err((2, e)),
     };
     let extractor = Extractor::new(&scene);
     let ev = match evaluate_for_explain(&extractor, &scenario.program, false) {
         Ok(ev) => ev,
         Err(e) => {
-            return fail(
+            return Err((
                 1,
-                &format!("evaluating {display} on log {}: {e}", scene.log_id),
-            )
+                format!("evaluating {display} on log {}: {e}", scene.log_id),
+            ))
         }
     };
     let frames = referred_frames(&ev, track.id);
-    let frame: Frame = match args.at {
+    let frame: Frame = match at {
         Some(at) => match frame_nearest(&scene, at) {
             Some(f) => f,
-            None => return fail(2, &format!("log {} has no frames", scene.log_id)),
+            None => return Err((2, format!("log {} has no frames", scene.log_id))),
         },
         None => match frames.first() {
             Some(f) => *f,
@@ -243,22 +264,22 @@ pub fn run(args: Args) -> ExitCode {
     let tuple = [Value::Track(track.id), Value::Time(frame)];
     let proof = match explain(&scenario.program, &ev, "referred", &tuple) {
         Ok(p) => p,
-        Err(e) => return fail(1, &format!("{display}: {e}")),
+        Err(e) => return Err((1, format!("{display}: {e}"))),
     };
-    let want_why_not = args.why_not || proof.is_none();
+    let want_why_not = why_not_wanted || proof.is_none();
     let why = if want_why_not {
         let whole = match evaluate_for_explain(&extractor, &scenario.program, true) {
             Ok(ev) => ev,
             Err(e) => {
-                return fail(
+                return Err((
                     1,
-                    &format!("evaluating {display} on log {}: {e}", scene.log_id),
-                )
+                    format!("evaluating {display} on log {}: {e}", scene.log_id),
+                ))
             }
         };
         match why_not(&scenario.program, &whole, "referred", &tuple) {
             Ok(w) => Some(w),
-            Err(e) => return fail(1, &format!("{display}: {e}")),
+            Err(e) => return Err((1, format!("{display}: {e}"))),
         }
     } else {
         None
@@ -271,6 +292,29 @@ pub fn run(args: Args) -> ExitCode {
         why_not: why,
     };
     let related = related_at(&ev, track.id, frame);
+    drop(ev);
+    drop(extractor);
+    Ok(Explained {
+        scene,
+        scenario,
+        explanation,
+        related,
+    })
+}
+
+/// Runs the subcommand.
+pub fn run(args: Args) -> ExitCode {
+    let explained = match explain_track(&args.rules, &args.log, &args.track, args.at, args.why_not)
+    {
+        Ok(x) => x,
+        Err((code, e)) => return fail(code, &e),
+    };
+    let Explained {
+        scene,
+        scenario,
+        explanation,
+        related,
+    } = explained;
     let renderer = Renderer {
         scene: &scene,
         scenario: &scenario,

@@ -178,102 +178,24 @@ pub fn run(args: Args) -> ExitCode {
     if args.log_prompts.is_some() {
         return crate::cli::mine_pairs::run(&args);
     }
-    for (set, flag) in [
-        (args.dataset_dir.is_some(), "--dataset-dir"),
-        (args.tracks.is_some(), "--tracks"),
-        (args.programs.is_some(), "--programs"),
-        (args.synthesize, "--synthesize"),
-        (args.no_confidence_filter, "--no-confidence-filter"),
-    ] {
-        if set {
-            return fail(format!("{flag} goes with --log-prompts"));
-        }
-    }
-    let no_arguments = args.rules.is_empty() && args.logs.is_empty() && args.descriptions.is_none();
-    let rule_paths = if args.rules.is_empty() && args.descriptions.is_none() {
-        match bundled(LIBRARY) {
-            Some(p) => vec![p],
-            None => {
-                return fail(format!(
-                    "no --rules given and the scenario library is not in {MANIFEST_DIR}/{LIBRARY} \
-                     or ./{LIBRARY}"
-                ))
-            }
-        }
-    } else {
-        args.rules.clone()
-    };
-    let log_paths = if args.logs.is_empty() {
-        match bundled(SAMPLE_LOGS) {
-            Some(p) => vec![p],
-            None => {
-                return fail(format!(
-                    "no --logs given and the sample logs are not in {MANIFEST_DIR}/{SAMPLE_LOGS} \
-                     or ./{SAMPLE_LOGS}"
-                ))
-            }
-        }
-    } else {
-        args.logs.clone()
-    };
-    let gt_path = match &args.gt {
-        Some(g) => Some(g.clone()),
-        None if no_arguments => bundled(SAMPLE_GT),
-        None => None,
-    };
-    let out = args.out.clone().unwrap_or_else(default_out);
-
-    // Everything that can make the run pointless is checked before it starts.
-    let gt = match &gt_path {
-        Some(p) => match scenalog_eval::read_any(p) {
-            Ok(g) => Some(g),
-            Err(e) => return fail(format!("--gt: {e}")),
-        },
-        None => None,
-    };
-    let timestamps = match &args.eval_timestamps {
-        Some(p) => match read_timestamps(p) {
-            Ok(t) => t,
-            Err(e) => return fail(e),
-        },
-        None => BTreeMap::new(),
-    };
-    let files = match rule_files(&rule_paths) {
-        Ok(f) => f,
+    let plan = match plan(&args) {
+        Ok(p) => p,
         Err(e) => return fail(e),
     };
-    let (logs, mut log_problems) = match log_dirs(&log_paths) {
-        Ok(l) => l,
-        Err(e) => return fail(e),
+    let options = run_options(&args, &plan, true);
+    let MinePlan {
+        scenarios,
+        logs,
+        failures,
+        mut log_problems,
+        gt,
+        timestamps: _,
+        out,
+    } = plan;
+    let (gt_path, gt) = match gt {
+        Some((p, g)) => (Some(p), Some(g)),
+        None => (None, None),
     };
-    if let Err(e) = std::fs::create_dir_all(&out) {
-        return fail(format!(
-            "cannot create output directory `{}`: {e}",
-            out.display()
-        ));
-    }
-
-    let mut failures: Vec<String> = Vec::new();
-    let mut loaded: Vec<(PathBuf, Result<Scenario, String>)> = files
-        .into_iter()
-        .map(|p| {
-            let s = load_scenario(&p);
-            (p, s)
-        })
-        .collect();
-    if let Some(file) = &args.descriptions {
-        match synthesize(file, &out, &args) {
-            Ok((programs, problems)) => {
-                loaded.extend(programs.into_iter().map(|(p, s)| {
-                    let s = scenario_from_source(&p, s);
-                    (p, s)
-                }));
-                failures.extend(problems);
-            }
-            Err(e) => return fail(e),
-        }
-    }
-    let scenarios = scenarios_of(loaded, &mut failures);
     for f in &failures {
         eprintln!("scenalog mine: {f}");
     }
@@ -288,16 +210,6 @@ pub fn run(args: Args) -> ExitCode {
         eprintln!("scenalog mine: no log to mine");
         return ExitCode::from(if log_problems.is_empty() { 2 } else { 1 });
     }
-    let options = RunOptions {
-        out: out.clone(),
-        resume: args.resume,
-        timestamps,
-        threads: args.threads.map(|n| n as usize),
-        engine: engine_options(&args),
-        progress: true,
-        names: Default::default(),
-        keep_submission: gt.is_some(),
-    };
     // The outputs, the scored pickle and the report are one generation, published together.
     let (report, generation) = match run_unpublished(&scenarios, &logs, &options) {
         Ok(r) => r,
@@ -306,21 +218,7 @@ pub fn run(args: Args) -> ExitCode {
     for (_, e) in &report.log_failures {
         log_problems.push(e.clone());
     }
-    // A log that could not be read fails each of its pairs; it is listed once, as the log.
-    let failed_logs: BTreeSet<&str> = report
-        .log_failures
-        .iter()
-        .map(|(l, _)| l.as_str())
-        .collect();
-    let pair_failures: Vec<String> = report
-        .pairs
-        .iter()
-        .filter(|p| !failed_logs.contains(p.log_id.as_str()))
-        .filter_map(|p| match &p.status {
-            PairStatus::Failed(e) => Some(e.clone()),
-            _ => None,
-        })
-        .collect();
+    let pair_failures = pair_failures(&report);
 
     let mut score_failed = false;
     let scored = match &gt {
@@ -425,6 +323,162 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
+/// A run of `scenalog mine` (without `--log-prompts`) ready to start: what [`plan`] read and
+/// decided from the options before mining.
+pub struct MinePlan {
+    /// The checked programs, names unique.
+    pub scenarios: Vec<Scenario>,
+    /// The logs.
+    pub logs: Vec<LogInput>,
+    /// Programs that do not check (or repeat a description) and failed syntheses.
+    pub failures: Vec<String>,
+    /// Logs left out (duplicate log ids).
+    pub log_problems: Vec<String>,
+    /// The ground truth to score against, and where it was read from.
+    pub gt: Option<(PathBuf, scenalog_eval::Submission)>,
+    /// The output timestamps per log.
+    pub timestamps: BTreeMap<String, Vec<i64>>,
+    /// The output directory (created).
+    pub out: PathBuf,
+}
+
+/// Reads and checks everything `scenalog mine` needs before it starts (defaults for missing
+/// `--rules`/`--logs`, the ground truth, the timestamps, the programs, synthesis); an error is
+/// the message the command prints before exiting with 2.
+pub fn plan(args: &Options) -> Result<MinePlan, String> {
+    for (set, flag) in [
+        (args.dataset_dir.is_some(), "--dataset-dir"),
+        (args.tracks.is_some(), "--tracks"),
+        (args.programs.is_some(), "--programs"),
+        (args.synthesize, "--synthesize"),
+        (args.no_confidence_filter, "--no-confidence-filter"),
+    ] {
+        if set {
+            return Err(format!("{flag} goes with --log-prompts"));
+        }
+    }
+    let no_arguments = args.rules.is_empty() && args.logs.is_empty() && args.descriptions.is_none();
+    let rule_paths = if args.rules.is_empty() && args.descriptions.is_none() {
+        match bundled(LIBRARY) {
+            Some(p) => vec![p],
+            None => {
+                return Err(format!(
+                    "no --rules given and the scenario library is not in {MANIFEST_DIR}/{LIBRARY} \
+                     or ./{LIBRARY}"
+                ))
+            }
+        }
+    } else {
+        args.rules.clone()
+    };
+    let log_paths = if args.logs.is_empty() {
+        match bundled(SAMPLE_LOGS) {
+            Some(p) => vec![p],
+            None => {
+                return Err(format!(
+                    "no --logs given and the sample logs are not in {MANIFEST_DIR}/{SAMPLE_LOGS} \
+                     or ./{SAMPLE_LOGS}"
+                ))
+            }
+        }
+    } else {
+        args.logs.clone()
+    };
+    let gt_path = match &args.gt {
+        Some(g) => Some(g.clone()),
+        None if no_arguments => bundled(SAMPLE_GT),
+        None => None,
+    };
+    let out = args.out.clone().unwrap_or_else(default_out);
+
+    // Everything that can make the run pointless is checked before it starts.
+    let gt = match &gt_path {
+        Some(p) => match scenalog_eval::read_any(p) {
+            Ok(g) => Some(g),
+            Err(e) => return Err(format!("--gt: {e}")),
+        },
+        None => None,
+    };
+    let timestamps = match &args.eval_timestamps {
+        Some(p) => read_timestamps(p)?,
+        None => BTreeMap::new(),
+    };
+    let files = rule_files(&rule_paths)?;
+    let (logs, log_problems) = log_dirs(&log_paths)?;
+    if let Err(e) = std::fs::create_dir_all(&out) {
+        return Err(format!(
+            "cannot create output directory `{}`: {e}",
+            out.display()
+        ));
+    }
+
+    let mut failures: Vec<String> = Vec::new();
+    let mut loaded: Vec<(PathBuf, Result<Scenario, String>)> = files
+        .into_iter()
+        .map(|p| {
+            let s = load_scenario(&p);
+            (p, s)
+        })
+        .collect();
+    if let Some(file) = &args.descriptions {
+        match synthesize(file, &out, args) {
+            Ok((programs, problems)) => {
+                loaded.extend(programs.into_iter().map(|(p, s)| {
+                    let s = scenario_from_source(&p, s);
+                    (p, s)
+                }));
+                failures.extend(problems);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    let scenarios = scenarios_of(loaded, &mut failures);
+    Ok(MinePlan {
+        scenarios,
+        logs,
+        failures,
+        log_problems,
+        gt: gt_path.zip(gt),
+        timestamps,
+        out,
+    })
+}
+
+/// The run's options for a plan: `--resume`, `--threads`, the engine's limits; the submission
+/// is kept in memory when there is ground truth to score.
+pub fn run_options(args: &Options, plan: &MinePlan, progress: bool) -> RunOptions {
+    RunOptions {
+        out: plan.out.clone(),
+        resume: args.resume,
+        timestamps: plan.timestamps.clone(),
+        threads: args.threads.map(|n| n as usize),
+        engine: engine_options(args),
+        progress,
+        names: Default::default(),
+        keep_submission: plan.gt.is_some(),
+        cancel: None,
+    }
+}
+
+/// The failures of a run's pairs, a log that could not be read listed once (as the log, in
+/// the report's `log_failures`) rather than once per pair.
+pub fn pair_failures(report: &RunReport) -> Vec<String> {
+    let failed_logs: BTreeSet<&str> = report
+        .log_failures
+        .iter()
+        .map(|(l, _)| l.as_str())
+        .collect();
+    report
+        .pairs
+        .iter()
+        .filter(|p| !failed_logs.contains(p.log_id.as_str()))
+        .filter_map(|p| match &p.status {
+            PairStatus::Failed(e) => Some(e.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// A `scenalog explain` command for the first match of the run (by program, then log).
 fn explain_hint(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput]) -> Option<String> {
     let pair = report
@@ -444,7 +498,7 @@ fn explain_hint(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput]) -
 }
 
 /// Reads `--eval-timestamps`: `{"<log_id>": [timestamp_ns, …], …}`.
-fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
+pub fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("--eval-timestamps: cannot read `{}`: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| {
@@ -457,7 +511,7 @@ fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
 }
 
 /// The `.dl` files named by `--rules`: files as given, directories' `.dl` files sorted by name.
-pub(crate) fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
@@ -490,7 +544,7 @@ fn is_log_dir(p: &Path) -> bool {
 
 /// The logs named by `--logs` (a log directory, or a directory whose subdirectories are logs,
 /// sorted by name), and the duplicates left out (same log id twice).
-pub(crate) fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), String> {
+pub fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), String> {
     let mut dirs = Vec::new();
     for p in paths {
         if !p.is_dir() {
@@ -540,7 +594,7 @@ pub(crate) fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>)
 /// Checks every program; those that do not check, and those whose description another program
 /// already has (predictions are keyed by it), are failures. Names are made unique (`name-2`…)
 /// so every pair has its own files.
-fn scenarios_of(
+pub fn scenarios_of(
     loaded: Vec<(PathBuf, Result<Scenario, String>)>,
     failures: &mut Vec<String>,
 ) -> Vec<Scenario> {
@@ -619,7 +673,7 @@ pub(crate) fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synt
 
 /// The engine's limits for one pair: `--max-tuples` (default sized to the machine's memory and
 /// the worker threads) and `--timeout-ms` (default [`DEFAULT_TIMEOUT`]).
-pub(crate) fn engine_options(args: &Options) -> scenalog_engine::Options {
+pub fn engine_options(args: &Options) -> scenalog_engine::Options {
     scenalog_engine::Options {
         max_tuples: args.max_tuples.map_or_else(
             || {

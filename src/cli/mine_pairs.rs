@@ -72,30 +72,46 @@ fn sha256_hex(parts: &[&[u8]]) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Runs `mine --log-prompts`.
-pub fn run(args: &Options) -> ExitCode {
+/// A split's pairs ready to mine: what [`prepare`] read and decided before the run.
+pub struct PairsPlan {
+    /// The pairs file: prompts by log id.
+    pub pairs: BTreeMap<String, Vec<String>>,
+    /// The output directory (created).
+    pub out: std::path::PathBuf,
+    /// One program per prompt, its description the prompt as written.
+    pub scenarios: Vec<Scenario>,
+    /// The logs to mine, each with the indices of its prompts' programs.
+    pub logs: Vec<LogInput>,
+    /// Programs that do not check and descriptions synthesis gave no program for.
+    pub problems: Vec<String>,
+    /// Logs missing from the split or the tracker file.
+    pub log_problems: Vec<String>,
+    /// Prompts with no program (their predictions are empty).
+    pub without_program: Vec<String>,
+}
+
+/// Reads the pairs, the tracker file and the programs of `mine --log-prompts`, and plans the
+/// run; an error is the message `scenalog mine` prints before exiting with 2.
+pub fn prepare(args: &Options) -> Result<PairsPlan, String> {
     let Some(pairs_path) = &args.log_prompts else {
-        return fail("--log-prompts is required here");
+        return Err("--log-prompts is required here".to_string());
     };
     if !args.rules.is_empty() || !args.logs.is_empty() || args.descriptions.is_some() {
-        return fail("--log-prompts takes its programs from --programs and the library, and its logs from --dataset-dir; leave out --rules, --logs and --descriptions");
+        return Err("--log-prompts takes its programs from --programs and the library, and its logs from --dataset-dir; leave out --rules, --logs and --descriptions".to_string());
     }
     let Some(split) = &args.dataset_dir else {
-        return fail("--log-prompts needs --dataset-dir SPLIT (the AV2 split with each log's ego poses and map)");
+        return Err("--log-prompts needs --dataset-dir SPLIT (the AV2 split with each log's ego poses and map)".to_string());
     };
     if !split.is_dir() {
-        return fail(format!(
+        return Err(format!(
             "--dataset-dir: `{}` is not a directory",
             split.display()
         ));
     }
-    let pairs = match read_pairs(pairs_path) {
-        Ok(p) => p,
-        Err(e) => return fail(e),
-    };
+    let pairs = read_pairs(pairs_path)?;
     let out = args.out.clone().unwrap_or_else(default_out);
     if let Err(e) = std::fs::create_dir_all(&out) {
-        return fail(format!(
+        return Err(format!(
             "cannot create output directory `{}`: {e}",
             out.display()
         ));
@@ -105,7 +121,7 @@ pub fn run(args: &Options) -> ExitCode {
         Some(p) => {
             let bytes = match std::fs::read(p) {
                 Ok(b) => b,
-                Err(e) => return fail(format!("--tracks: cannot read `{}`: {e}", p.display())),
+                Err(e) => return Err(format!("--tracks: cannot read `{}`: {e}", p.display())),
             };
             let filter = if args.no_confidence_filter {
                 scenalog_tracker::Filter::None
@@ -119,7 +135,7 @@ pub fn run(args: &Options) -> ExitCode {
                     filter,
                     fingerprint,
                 })),
-                Err(e) => return fail(format!("--tracks: {e}")),
+                Err(e) => return Err(format!("--tracks: {e}")),
             }
         }
     };
@@ -130,13 +146,13 @@ pub fn run(args: &Options) -> ExitCode {
     if let Some(dir) = &args.programs {
         match programs_by_description(dir, &mut problems) {
             Ok(m) => sources.push(m),
-            Err(e) => return fail(format!("--programs: {e}")),
+            Err(e) => return Err(format!("--programs: {e}")),
         }
     }
     if let Some(lib) = bundled(LIBRARY) {
         match programs_by_description(&lib, &mut problems) {
             Ok(m) => sources.push(m),
-            Err(e) => return fail(e),
+            Err(e) => return Err(e),
         }
     }
     let prompts: BTreeSet<&String> = pairs.values().flatten().collect();
@@ -152,9 +168,7 @@ pub fn run(args: &Options) -> ExitCode {
         if !wanted.is_empty() {
             let file = out.join("prompts-to-synthesize.txt");
             let text: String = wanted.iter().map(|p| format!("{p}\n")).collect();
-            if let Err(e) = crate::pipeline::output::write_atomic(&file, text.as_bytes(), false) {
-                return fail(e);
-            }
+            crate::pipeline::output::write_atomic(&file, text.as_bytes(), false)?;
             match synthesize(&file, &out, args) {
                 Ok((programs, failed)) => {
                     problems.extend(failed);
@@ -169,24 +183,24 @@ pub fn run(args: &Options) -> ExitCode {
                     }
                     sources.push(m);
                 }
-                Err(e) => return fail(e),
+                Err(e) => return Err(e),
             }
         }
     }
     // One scenario per prompt, keyed by the prompt as written, with a unique name.
     let mut scenarios: Vec<Scenario> = Vec::new();
     let mut index_of: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut without_program: Vec<&str> = Vec::new();
+    let mut without_program: Vec<String> = Vec::new();
     let mut names = BTreeSet::new();
     for p in &prompts {
         let mut s = match find(&sources, p) {
             Some(s) => s,
             None => {
-                without_program.push(p);
+                without_program.push(p.to_string());
                 let source = format!("// description: {p}\n{EMPTY_PROGRAM}");
                 match scenario_from_source(Path::new("no_program.dl"), source) {
                     Ok(s) => s,
-                    Err(e) => return fail(format!("internal: the empty program: {e}")),
+                    Err(e) => return Err(format!("internal: the empty program: {e}")),
                 }
             }
         };
@@ -236,6 +250,52 @@ pub fn run(args: &Options) -> ExitCode {
             ..LogInput::new(dir)
         });
     }
+    Ok(PairsPlan {
+        pairs,
+        out,
+        scenarios,
+        logs,
+        problems,
+        log_problems,
+        without_program,
+    })
+}
+
+/// The run's options for a plan: its output directory and names, `--threads`, `--resume`, the
+/// engine's limits.
+pub fn run_options(args: &Options, plan: &PairsPlan, progress: bool) -> RunOptions {
+    RunOptions {
+        out: plan.out.clone(),
+        resume: args.resume,
+        timestamps: BTreeMap::new(),
+        threads: args.threads.map(|n| n as usize),
+        engine: crate::cli::mine::engine_options(args),
+        progress,
+        names: OutputNames {
+            pickle: SUBMISSION_PICKLE,
+            table: SUBMISSION_TABLE,
+        },
+        keep_submission: false,
+        cancel: None,
+    }
+}
+
+/// Runs `mine --log-prompts`.
+pub fn run(args: &Options) -> ExitCode {
+    let plan = match prepare(args) {
+        Ok(p) => p,
+        Err(e) => return fail(e),
+    };
+    let options = run_options(args, &plan, true);
+    let PairsPlan {
+        pairs,
+        out,
+        scenarios,
+        logs,
+        problems,
+        log_problems,
+        without_program,
+    } = plan;
     for p in problems.iter().chain(&log_problems) {
         eprintln!("scenalog mine: {p}");
     }
@@ -246,19 +306,6 @@ pub fn run(args: &Options) -> ExitCode {
         eprintln!("scenalog mine: no log to mine");
         return ExitCode::from(if log_problems.is_empty() { 2 } else { 1 });
     }
-    let options = RunOptions {
-        out: out.clone(),
-        resume: args.resume,
-        timestamps: BTreeMap::new(),
-        threads: args.threads.map(|n| n as usize),
-        engine: crate::cli::mine::engine_options(args),
-        progress: true,
-        names: OutputNames {
-            pickle: SUBMISSION_PICKLE,
-            table: SUBMISSION_TABLE,
-        },
-        keep_submission: false,
-    };
     let report = match run_mining(&scenarios, &logs, &options) {
         Ok(r) => r,
         Err(e) => return fail(e),

@@ -77,6 +77,7 @@ pub fn fixture_score(
         progress: false,
         names: Default::default(),
         keep_submission: true,
+        cancel: None,
     };
     let run = run_mining(&scenarios, &log_inputs, &options);
     let _ = std::fs::remove_dir_all(&out);

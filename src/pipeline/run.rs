@@ -17,6 +17,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -100,13 +101,30 @@ pub struct RunOptions {
     pub threads: Option<usize>,
     /// The engine's limits.
     pub engine: Options,
-    /// Draw a progress bar (only when stderr is a terminal).
+    /// Draw a progress bar (only when stderr is a terminal) and print each failure on stderr as
+    /// it happens (the command does; a library caller gets them in the report).
     pub progress: bool,
     /// The file names of the run's pickle and Arrow table.
     pub names: output::OutputNames,
     /// Read the run's predictions back into [`RunReport::submission`] (for scoring); without it
     /// the submission there is empty and memory stays bounded by the logs in flight.
     pub keep_submission: bool,
+    /// Set from another thread to stop the run: logs and pairs not started yet are not started,
+    /// those in flight finish, and the run ends with an error without publishing its outputs
+    /// (the pairs already written stay under `OUT/pairs/` for `resume`). `None` for the
+    /// command, which Ctrl-C ends.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+/// The error of a run stopped through [`RunOptions::cancel`].
+pub const CANCELLED: &str = "the run was cancelled";
+
+/// Whether the run was asked to stop.
+fn cancelled(options: &RunOptions) -> bool {
+    options
+        .cancel
+        .as_ref()
+        .is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
 /// How one pair ended.
@@ -272,6 +290,9 @@ pub fn run_unpublished(
             .collect()
     });
     bar.finish_and_clear();
+    if cancelled(options) {
+        return Err(CANCELLED.to_string());
+    }
     let mut pairs = Vec::with_capacity(total as usize);
     let mut log_failures = Vec::new();
     for (log, (p, failure, part)) in logs.iter().zip(per_log) {
@@ -508,6 +529,13 @@ fn mine_log(
 ) -> (Vec<PairResult>, Option<String>, Duration) {
     let t0 = Instant::now();
     let indices = log.program_indices(scenarios.len());
+    if cancelled(options) {
+        let pairs = indices
+            .iter()
+            .map(|&i| failed(log, i, CANCELLED.to_string()))
+            .collect();
+        return (pairs, None, Duration::ZERO);
+    }
     let scene = load_log(log);
     let load = t0.elapsed();
     let frames = scene.and_then(|(scene, scores)| {
@@ -517,7 +545,9 @@ fn mine_log(
     let (scene, scores, frames) = match frames {
         Ok(x) => x,
         Err(e) => {
-            bar.suspend(|| eprintln!("scenalog mine: {e}"));
+            if options.progress {
+                bar.suspend(|| eprintln!("scenalog mine: {e}"));
+            }
             bar.inc(indices.len() as u64);
             let pairs = indices.iter().map(|&i| failed(log, i, e.clone())).collect();
             return (pairs, Some(e), load);
@@ -537,6 +567,9 @@ fn mine_log(
         .map(|&i| {
             let s = &scenarios[i];
             bar.set_message(format!("{} on {}", s.name, short_id(&log.log_id)));
+            if cancelled(options) {
+                return failed(log, i, CANCELLED.to_string());
+            }
             let fingerprint = pair_fingerprint(&log_fp, s, options.timestamps.get(&log.log_id));
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 let earlier = resumable(log, s, options, &fingerprint)
@@ -551,7 +584,9 @@ fn mine_log(
                 )
             });
             if let PairStatus::Failed(e) = &r.status {
-                bar.suspend(|| eprintln!("scenalog mine: {e}"));
+                if options.progress {
+                    bar.suspend(|| eprintln!("scenalog mine: {e}"));
+                }
             }
             bar.inc(1);
             r

@@ -1,0 +1,297 @@
+"""Scenalog from Python: mine Argoverse 2 driving logs with Datalog rules.
+
+The functions mirror the ``scenalog`` command and run the same Rust code (the GIL released, so
+other threads run meanwhile, and Ctrl-C interrupts a call):
+
+- ``check(text_or_path)`` -> list of diagnostic dicts (``scenalog check --json``)
+- ``facts(log_dir)`` -> summary dict; ``facts(log_dir, relation)`` -> ``pyarrow.Table``
+- ``mine(rules, logs, ...)`` -> ``MineResult`` (matches, predictions as a ``pyarrow.Table``, ...)
+- ``explain(rules, log, track, at)`` -> the proof / why-not report as a dict
+- ``evaluate(predictions, ground_truth, dataset_dir=None)`` -> the official metrics as a dict
+
+Errors are raised as ``ScenalogError`` carrying the message the command prints.
+``scenalog.ray.mine`` shards a run across a Ray cluster (``pip install 'scenalog[ray]'``).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import pickle
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
+
+import pyarrow as pa
+import pyarrow.ipc
+
+from . import _native
+from ._native import ScenalogError
+
+__all__ = [
+    "ScenalogError",
+    "MineResult",
+    "check",
+    "facts",
+    "mine",
+    "explain",
+    "evaluate",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _is_path_like(x: Any) -> bool:
+    return isinstance(x, os.PathLike)
+
+
+def check(text_or_path: Union[str, "os.PathLike[str]"], require_referred: bool = True) -> List[dict]:
+    """Checks a rule program: its text, or the path of a ``.dl`` file.
+
+    A ``pathlib.Path`` (or any ``os.PathLike``) is always read as a file; a string is read as a
+    file when it is one line naming an existing file, and checked as program text otherwise.
+    Returns the diagnostics as ``scenalog check --json`` prints them for that file: dicts with
+    ``code``, ``severity``, ``message``, ``line``, ``column``, ... (an empty list when clean).
+    ``require_referred=False`` is ``--no-referred``.
+    """
+    if _is_path_like(text_or_path):
+        return json.loads(_native.check("", os.fspath(text_or_path), require_referred))
+    if not isinstance(text_or_path, str):
+        raise TypeError(f"check: expected program text or a path, got {type(text_or_path).__name__}")
+    text = text_or_path
+    if "\n" not in text and text.strip() and os.path.isfile(text):
+        return json.loads(_native.check("", text, require_referred))
+    return json.loads(_native.check(text, None, require_referred))
+
+
+def facts(log_dir: PathLike, relation: Optional[str] = None) -> Union[dict, pa.Table]:
+    """A log's facts.
+
+    Without ``relation``: the log's summary as ``scenalog facts LOG --json`` prints it (a dict).
+    With it: that catalog relation extracted from the log, as a ``pyarrow.Table`` whose columns
+    are the catalog's (tracks as uuid strings, times as frame indices, lanes as map ids).
+    """
+    if relation is None:
+        return json.loads(_native.facts_summary(os.fspath(log_dir)))
+    data = _native.facts_relation(os.fspath(log_dir), relation)
+    return pa.ipc.open_stream(data).read_all()
+
+
+@dataclass
+class MineResult:
+    """What ``mine`` returns.
+
+    ``predictions``: the predictions as the long Arrow table (``predictions.feather``, or
+    ``submission.feather`` with ``log_prompts``); ``submission``: the official pickle's bytes
+    (``pickle.loads`` gives the dict the official ``evaluate`` takes); ``matches``: one dict per
+    referred track (log_id, description, program, track_uuid, category, first_s, last_s, frames,
+    related); ``pairs``: each (log, program) pair's status (``done``, ``resumed``, ``failed``) and
+    error; ``failures``: every failure message (programs that do not check, unreadable logs,
+    failed pairs), the rest having run; ``score``: the metrics against ``gt`` (or None);
+    ``without_program``: with ``log_prompts``, the prompts no program was found for; ``out``:
+    the output directory, or None when the run went to a temporary directory now removed.
+    """
+
+    predictions: pa.Table
+    submission: bytes
+    matches: List[dict]
+    pairs: List[dict]
+    failures: List[str]
+    score: Optional[dict] = None
+    without_program: List[str] = field(default_factory=list)
+    out: Optional[str] = None
+
+
+def _paths(name: str, value: Union[PathLike, Iterable[PathLike], None]) -> List[str]:
+    if value is None:
+        return []
+    if isinstance(value, (str, bytes)) or _is_path_like(value):
+        return [os.fspath(value)]
+    out = [os.fspath(v) for v in value]
+    return out
+
+
+def _mine_argv(
+    rules: Sequence[str],
+    logs: Sequence[str],
+    out: str,
+    *,
+    threads: Optional[int],
+    resume: bool,
+    gt: Optional[PathLike],
+    eval_timestamps: Optional[PathLike],
+    max_tuples: Optional[int],
+    timeout_ms: Optional[int],
+    log_prompts: Optional[PathLike],
+    dataset_dir: Optional[PathLike],
+    tracks: Optional[PathLike],
+    programs: Optional[PathLike],
+    confidence_filter: bool,
+) -> List[str]:
+    argv: List[str] = []
+    if rules:
+        argv += ["--rules", *rules]
+    if logs:
+        argv += ["--logs", *logs]
+    argv += ["--out", out]
+    for flag, value in [
+        ("--threads", threads),
+        ("--gt", gt),
+        ("--eval-timestamps", eval_timestamps),
+        ("--max-tuples", max_tuples),
+        ("--timeout-ms", timeout_ms),
+        ("--log-prompts", log_prompts),
+        ("--dataset-dir", dataset_dir),
+        ("--tracks", tracks),
+        ("--programs", programs),
+    ]:
+        if value is not None:
+            argv += [flag, os.fspath(value) if _is_path_like(value) else str(value)]
+    if resume:
+        argv.append("--resume")
+    if not confidence_filter:
+        argv.append("--no-confidence-filter")
+    return argv
+
+
+def mine(
+    rules: Union[PathLike, Iterable[PathLike], None] = None,
+    logs: Union[PathLike, Iterable[PathLike], None] = None,
+    *,
+    out: Optional[PathLike] = None,
+    threads: Optional[int] = None,
+    resume: bool = False,
+    gt: Optional[PathLike] = None,
+    eval_timestamps: Optional[PathLike] = None,
+    max_tuples: Optional[int] = None,
+    timeout_ms: Optional[int] = None,
+    log_prompts: Optional[PathLike] = None,
+    dataset_dir: Optional[PathLike] = None,
+    tracks: Optional[PathLike] = None,
+    programs: Optional[PathLike] = None,
+    confidence_filter: bool = True,
+) -> MineResult:
+    """Mines logs with rule programs, as ``scenalog mine`` (same options, same outputs).
+
+    ``rules``: ``.dl`` files or directories of them; ``logs``: log directories or directories
+    of logs. ``out``: where to write (``predictions.pkl``, ``predictions.feather``,
+    ``matches.json``, ``pairs/`` ...); by default a temporary directory, removed after the
+    results are read. ``threads`` (default one per core), ``resume``, ``gt`` (score the run),
+    ``eval_timestamps``, ``max_tuples`` and ``timeout_ms`` are the command's flags.
+
+    A split's pairs: ``mine(log_prompts="log_prompt_pairs.json", dataset_dir=SPLIT,
+    tracks="tracker.pkl", programs=DIR)`` mines those (log, prompt) pairs only into
+    ``submission.pkl`` / ``submission.feather`` (``confidence_filter=False`` is
+    ``--no-confidence-filter``).
+
+    Raises ``ScenalogError`` when the run cannot start (the command's exit 2: bad arguments,
+    missing files, no program that checks); a failing pair or log does not raise, it is listed
+    in ``failures`` and the rest is mined.
+    """
+    rule_list = _paths("rules", rules)
+    log_list = _paths("logs", logs)
+    if log_prompts is None and (not rule_list or not log_list):
+        raise ScenalogError("mine: give rules (.dl files or directories) and logs (log directories)")
+    tmp = None
+    if out is None:
+        tmp = tempfile.mkdtemp(prefix="scenalog-mine-")
+        out_dir = tmp
+    else:
+        out_dir = os.fspath(out)
+    try:
+        argv = _mine_argv(
+            rule_list,
+            log_list,
+            out_dir,
+            threads=threads,
+            resume=resume,
+            gt=gt,
+            eval_timestamps=eval_timestamps,
+            max_tuples=max_tuples,
+            timeout_ms=timeout_ms,
+            log_prompts=log_prompts,
+            dataset_dir=dataset_dir,
+            tracks=tracks,
+            programs=programs,
+            confidence_filter=confidence_filter,
+        )
+        result = json.loads(_native.mine(argv))
+        table_path = os.path.join(out_dir, result["table"])
+        with open(table_path, "rb") as f:
+            predictions = pa.ipc.open_file(pa.BufferReader(f.read())).read_all()
+        with open(os.path.join(out_dir, result["pickle"]), "rb") as f:
+            submission = f.read()
+    finally:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+    return MineResult(
+        predictions=predictions,
+        submission=submission,
+        matches=result["matches"],
+        pairs=result["pairs"],
+        failures=result["failures"],
+        score=result["score"],
+        without_program=result["without_program"],
+        out=None if tmp is not None else out_dir,
+    )
+
+
+def explain(
+    rules: PathLike,
+    log: PathLike,
+    track: str,
+    at: Optional[float] = None,
+    why_not: bool = False,
+) -> dict:
+    """Why ``track`` (a uuid or an unambiguous prefix) is, or is not, referred by the program
+    ``rules`` on ``log`` at ``at`` seconds from the log's start (default: its first referred
+    frame): the dict ``scenalog explain --json`` prints (the proof, and the why-not report when
+    it is not referred or ``why_not=True``)."""
+    return json.loads(
+        _native.explain(os.fspath(rules), os.fspath(log), track, None if at is None else float(at), why_not)
+    )
+
+
+def _source(what: str, value: Any):
+    """A submission as the native evaluator takes it: (kind, value)."""
+    if _is_path_like(value) or isinstance(value, str):
+        return "path", os.fspath(value)
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        data = bytes(value)
+        return ("arrow", data) if data[:6] == b"ARROW1" else ("pickle", data)
+    if isinstance(value, pa.Table):
+        sink = io.BytesIO()
+        with pa.ipc.new_file(sink, value.schema) as w:
+            w.write_table(value)
+        return "arrow", sink.getvalue()
+    if isinstance(value, dict):
+        # The official evaluate's objects: {(log_id, prompt): [frame dicts of numpy arrays]}.
+        # Pickled as the official files are, and read by the same reader as those files.
+        return "pickle", pickle.dumps(value, protocol=4)
+    raise TypeError(
+        f"evaluate: {what}: expected a path, pickle or Arrow bytes, a pyarrow.Table or the official "
+        f"dict of frames, got {type(value).__name__}"
+    )
+
+
+def evaluate(
+    predictions: Any,
+    ground_truth: Any,
+    dataset_dir: Optional[PathLike] = None,
+    max_range_m: float = 50.0,
+) -> dict:
+    """The official scenario-mining metrics of ``predictions`` against ``ground_truth``: the
+    dict ``scenalog eval --json`` prints (``HOTA-Temporal``, ``HOTA-Track``, the balanced
+    accuracies, per prompt ...).
+
+    Each side is what the official ``av2`` ``evaluate`` takes (``{(log_id, prompt): [frame
+    dict of numpy arrays, ...]}``), a path to an official pickle or a long Arrow table, their
+    bytes, or a ``pyarrow.Table``. ``dataset_dir`` turns on the drivable-area filter (the official
+    ``dataset_dir``); ``max_range_m`` is the range filter.
+    """
+    pk, pv = _source("predictions", predictions)
+    gk, gv = _source("ground_truth", ground_truth)
+    ds = None if dataset_dir is None else os.fspath(dataset_dir)
+    return json.loads(_native.evaluate(pk, pv, gk, gv, float(max_range_m), ds))
