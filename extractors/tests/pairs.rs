@@ -678,3 +678,81 @@ fn the_context_and_index_are_sync() {
     sync::<pairs::PairIndex>();
     sync::<PairContext<'static>>();
 }
+
+/// `Constraint::OneOf` (the engine's demand: the tracks or frames another atom binds) on every
+/// pair relation of three staged scenes: the answer equals the full relation filtered by the
+/// constraints, and never holds a tuple outside the listed values.
+#[test]
+fn one_of_equals_the_filtered_relation_on_every_pair_relation() {
+    let scenes = [direction_scene(0.3), crossing_scene(), road_scene()];
+    let mut nonempty = 0;
+    let mut cases = 0;
+    for scene in &scenes {
+        let tracks: Vec<Value> = scene.tracks.iter().map(|t| Value::Track(t.id)).collect();
+        // Subjects and objects: every other track; frames: a scattered handful.
+        let some: Vec<Value> = tracks.iter().step_by(2).cloned().collect();
+        let others: Vec<Value> = tracks.iter().skip(1).step_by(2).cloned().collect();
+        let times: Vec<Value> = [0u32, 3, 4, 9, 40, 57].map(Value::Time).to_vec();
+        for name in pairs::PAIR_RELATIONS {
+            let full = all(scene, name);
+            for constraints in [
+                vec![(0, Constraint::OneOf(some.clone().into()))],
+                vec![(1, Constraint::OneOf(others.clone().into()))],
+                vec![(2, Constraint::OneOf(times.clone().into()))],
+                vec![
+                    (0, Constraint::OneOf(others.clone().into())),
+                    (1, Constraint::OneOf(some.clone().into())),
+                    (2, Constraint::OneOf(times.clone().into())),
+                ],
+                vec![(0, Constraint::OneOf(Vec::new().into()))],
+            ] {
+                let req = request(name, constraints);
+                let pushed = run(scene, &req);
+                let id = |u: &str| scene.track_by_uuid(u).expect("track").id;
+                let filtered: Vec<Row> = full
+                    .iter()
+                    .filter(|r| {
+                        let vals = [
+                            Value::Track(id(&r.0)),
+                            Value::Track(id(&r.1)),
+                            Value::Time(r.2),
+                        ];
+                        req.constraints.iter().all(|(c, k)| {
+                            let Constraint::OneOf(vs) = k else {
+                                panic!("only OneOf here")
+                            };
+                            vs.contains(&vals[*c])
+                        })
+                    })
+                    .cloned()
+                    .collect();
+                assert_eq!(pushed, filtered, "{req:?}");
+                cases += 1;
+                nonempty += usize::from(!pushed.is_empty());
+            }
+        }
+    }
+    assert_eq!(cases, 3 * pairs::PAIR_RELATIONS.len() * 5);
+    // Not vacuous: most restricted answers still hold tuples.
+    assert!(
+        nonempty >= 40,
+        "only {nonempty} of {cases} answers were non-empty"
+    );
+}
+
+#[test]
+fn one_of_values_must_fit_the_column() {
+    let scene = direction_scene(0.0);
+    let ex = Extractor::new(&scene);
+    let index = pairs::pair_index(&ex);
+    let ctx = PairContext::new(&scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
+    let track = Value::Track(scene.tracks[0].id);
+    for (col, values) in [
+        (0, vec![track.clone(), Value::Str("x".into())]),
+        (2, vec![track.clone()]),
+        (3, vec![Value::Time(2)]),
+    ] {
+        let req = request("direction", vec![(col, Constraint::OneOf(values.into()))]);
+        assert!(pairs::direction(&ctx, &req).is_err(), "{req:?}");
+    }
+}
