@@ -756,3 +756,64 @@ fn one_of_values_must_fit_the_column() {
         assert!(pairs::direction(&ctx, &req).is_err(), "{req:?}");
     }
 }
+
+/// The ego's box is the car's body (about -1.0 m to +3.9 m along its heading from the rear axle,
+/// where the ego pose is), not a box centred on the rear axle. Pedestrians staged around a still
+/// ego whose rear axle is at the origin: "tail" 0.2 m behind the rear bumper, "flank" beside the
+/// car with its centre 0.5 m ahead of the axle, "front_flank" beside the car's front half (3.2 m
+/// ahead of the axle). With the old axle-centred box, "tail" was inside the ego's box (no
+/// direction) and "front_flank" was ahead of it.
+#[test]
+fn beside_and_behind_the_ego_use_the_cars_real_extent() {
+    let peds = [
+        ("tail", -1.0 - 0.2 - PED[0] / 2.0, 0.0),
+        ("flank", 0.5, 2.0),
+        ("front_flank", 3.2, -2.0),
+    ];
+    let staged = |b: SceneBuilder| {
+        peds.iter()
+            .fold(b, |b, (n, x, y)| {
+                b.track(n, "PEDESTRIAN", PED, still(10, *x, *y, 0.0))
+            })
+            .build()
+    };
+    let directions = |scene: &Scene| -> Vec<(String, String, f64)> {
+        let req = request(
+            "direction",
+            vec![(0, Constraint::Eq(Value::Track(scene.ego)))],
+        );
+        let mut out: Vec<(String, String, f64)> = run(scene, &req)
+            .into_iter()
+            .filter(|r| r.2 == 0)
+            .map(|r| (r.1, string(&r.3[0]).to_string(), float(&r.3[2])))
+            .collect();
+        out.sort_by(|a, b| (&a.0, &a.1).cmp(&(&b.0, &b.1)));
+        out
+    };
+    let real = directions(&staged(
+        SceneBuilder::new(10).ego_at_rear_axle(still(10, 0.0, 0.0, 0.0)),
+    ));
+    let lat0 = |n: &str, d: &str| (n.to_string(), d.to_string(), 0.0);
+    assert_eq!(
+        real,
+        vec![
+            lat0("flank", "left"),
+            lat0("front_flank", "right"),
+            lat0("tail", "backward"),
+        ]
+    );
+    // The same staging with the box centred on the rear axle (the old ego box) gets the tail
+    // and the front flank wrong: the cases discriminate.
+    let old = directions(&staged(SceneBuilder::new(10).track(
+        "ego",
+        "EGO_VEHICLE",
+        scenalog_facts::scene::EGO_SIZE,
+        still(10, 0.0, 0.0, 0.0),
+    )));
+    assert!(!old.iter().any(|r| r.0 == "tail"), "{old:?}");
+    assert!(
+        old.iter().any(|r| r.0 == "front_flank" && r.1 == "forward"),
+        "{old:?}"
+    );
+    assert!(old.contains(&lat0("flank", "left")));
+}
