@@ -823,7 +823,6 @@ pub(crate) fn run_plan_indexed(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::demand;
     use crate::plan::{Arg, Filter};
     use scenalog_facts::relation::Column;
     use scenalog_rules::{check, CheckOptions};

@@ -270,7 +270,7 @@ fn uses_are_asked_for_separately_and_bound_through_a_lower_stratum() {
         };
         evaluate(&p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
     };
-    let want = vec![vec![Value::Track(TrackId(2)), Value::Time(1)]];
+    let want = [vec![Value::Track(TrackId(2)), Value::Time(1)]];
     assert_eq!(on.tuples("referred"), Some(&want[..]));
     assert_eq!(off.tuples("referred"), Some(&want[..]));
     // Off: one request for `direction` whose two uses share no constant.

@@ -476,8 +476,8 @@ fn build_tracks(
     for t in building.iter_mut().filter(|t| t.category == EGO_CATEGORY) {
         for b in &mut t.boxes {
             if b.ego.translation.vector.norm() < 1e-6 {
-                b.ego = b.ego * ego_box_in_ego_frame();
-                b.city = b.city * ego_box_in_ego_frame();
+                b.ego *= ego_box_in_ego_frame();
+                b.city *= ego_box_in_ego_frame();
             }
         }
     }
