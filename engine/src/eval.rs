@@ -5,10 +5,10 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::time::Instant;
 
 use scenalog_facts::catalog::ColType;
-use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
-use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
+use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{CheckedProgram, PredKind};
 
+use crate::demand;
 use crate::plan::{apply, body_lits, plan, AtomStep, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
 use crate::rows::Rows;
@@ -60,30 +60,48 @@ pub fn evaluate(
     let mut complete: HashMap<String, Rows> = HashMap::new();
     // Tuples held by completed relations, inputs included: one budget for the whole evaluation.
     let mut held = 0usize;
+    // Catalog relations: all up front with pushdown off; with it on, only those no clause uses
+    // (each stratum asks for the ones its clauses use, see `load_demanded`).
     for (name, info) in &program.predicates {
-        if info.kind != PredKind::Catalog {
+        if info.kind != PredKind::Catalog || (options.pushdown && demand::is_used(program, name)) {
             continue;
         }
-        let request = request_for(program, name);
-        let data = provider(&request).map_err(|message| EngineError::Provider {
-            relation: name.clone(),
-            message,
-        })?;
-        let loading = Limits {
-            relation: name,
+        let request = demand::request_for(program, name);
+        let rows = load_requested(
+            &request,
+            &info.types,
+            provider,
             options,
             start,
             held,
-        };
-        loading.check(data.len())?;
-        let rows = load(&data, name, &info.types, &mut symbols)?;
+            &mut symbols,
+        )?;
         held += rows.len();
         complete.insert(name.clone(), rows);
     }
+    let mut sent = demand::Sent::new();
+    let mut loaded_for: HashMap<String, usize> = HashMap::new();
     let clauses = &program.program.clauses;
     let mut stamps: HashMap<String, Vec<Stamp>> = HashMap::new();
     let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
+        if options.pushdown {
+            let cx = Loading {
+                provider: &mut *provider,
+                options,
+                start,
+            };
+            held = load_demanded(
+                program,
+                si,
+                cx,
+                &mut complete,
+                &mut sent,
+                &mut loaded_for,
+                &mut symbols,
+                held,
+            )?;
+        }
         let mut plans: Vec<(String, Plan)> = Vec::new();
         let mut clause_of: Vec<usize> = Vec::new();
         for &ci in &stratum.clauses {
@@ -194,126 +212,99 @@ pub fn evaluate(
     Ok(out)
 }
 
-/// The request for one catalog relation: a constraint holds for the request when every use of
-/// the relation in the program implies it. A use implies `Eq` for a column given as a constant,
-/// `Category` for a column whose variable the same body also passes to a positive
-/// `category(V, "…")` atom, and a bound for a numeric column whose variable the same body
-/// compares with a number.
-fn request_for(program: &CheckedProgram, name: &str) -> Request {
-    let types: &[ColType] = program
-        .predicates
-        .get(name)
-        .map_or(&[], |p| p.types.as_slice());
-    let mut uses: Vec<Vec<(usize, Constraint)>> = Vec::new();
-    fn collect(
-        body: &[Literal],
-        name: &str,
-        types: &[ColType],
-        out: &mut Vec<Vec<(usize, Constraint)>>,
-    ) {
-        for l in body {
-            match l {
-                Literal::Pos(a) | Literal::Neg(a, _) if a.pred == name => {
-                    out.push(use_constraints(a, body, types))
-                }
-                Literal::Agg(g) => collect(&g.body, name, types, out),
-                _ => {}
-            }
-        }
-    }
-    for c in &program.program.clauses {
-        collect(&c.body, name, types, &mut uses);
-    }
-    let mut request = Request::all(name);
-    let Some((first, rest)) = uses.split_first() else {
-        return request;
+/// What loading a catalog relation needs besides the evaluation's state.
+struct Loading<'a> {
+    provider: &'a mut dyn FnMut(&Request) -> Result<RelationData, String>,
+    options: &'a Options,
+    start: Instant,
+}
+
+/// Asks the provider for `request` and encodes the answer, checking the budget (`held` tuples
+/// are held already) and the clock.
+fn load_requested(
+    request: &Request,
+    types: &[ColType],
+    provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
+    options: &Options,
+    start: Instant,
+    held: usize,
+    symbols: &mut Symbols,
+) -> Result<Rows, EngineError> {
+    let name = &request.name;
+    let data = provider(request).map_err(|message| EngineError::Provider {
+        relation: name.clone(),
+        message,
+    })?;
+    let loading = Limits {
+        relation: name,
+        options,
+        start,
+        held,
     };
-    request.constraints = first
-        .iter()
-        .filter(|c| rest.iter().all(|u| u.contains(c)))
-        .cloned()
-        .collect();
-    request
+    loading.check(data.len())?;
+    load(&data, name, types, symbols)
 }
 
-/// A literal constant as a value of a column of type `ty`, when it is one.
-fn constant(e: &ExprKind, ty: ColType) -> Option<Value> {
-    match (e, ty) {
-        (ExprKind::Str(s), ColType::Str) => Some(Value::Str(s.as_str().into())),
-        (ExprKind::Int(v), ColType::Int) => Some(Value::Int(*v)),
-        (ExprKind::Int(v), ColType::Float) => Some(Value::Float(*v as f64)),
-        (ExprKind::Float(v), ColType::Float) => Some(Value::Float(*v)),
-        (ExprKind::Int(v), ColType::Time) => u32::try_from(*v).ok().map(Value::Time),
-        _ => None,
-    }
-}
-
-fn number(e: &ExprKind) -> Option<f64> {
-    match e {
-        ExprKind::Int(v) => Some(*v as f64),
-        ExprKind::Float(v) => Some(*v),
-        _ => None,
-    }
-}
-
-/// The constraints one use of a relation implies (see [`request_for`]).
-fn use_constraints(a: &Atom, body: &[Literal], types: &[ColType]) -> Vec<(usize, Constraint)> {
-    let mut out = Vec::new();
-    for (i, (e, &ty)) in a.args.iter().zip(types).enumerate() {
-        if let Some(c) = constant(&e.kind, ty) {
-            out.push((i, Constraint::Eq(c)));
-            continue;
-        }
-        let Some(var) = e.as_var() else { continue };
-        for l in body {
-            match l {
-                Literal::Pos(c)
-                    if c.pred == "category" && ty == ColType::Track && !std::ptr::eq(c, a) =>
-                {
-                    if let [x, cat] = c.args.as_slice() {
-                        if let (Some(v), ExprKind::Str(s)) = (x.as_var(), &cat.kind) {
-                            if v == var {
-                                out.push((i, Constraint::Category(s.as_str().into())));
-                            }
-                        }
-                    }
+/// Pushdown: asks for the catalog relations the clauses of stratum `si` use, in
+/// [`demand::used_in_stratum`]'s order, with the requests [`demand::stratum_requests`] gives
+/// (bound through relations complete so far), and merges the answers into `complete`. Returns
+/// the tuples held afterwards.
+#[allow(clippy::too_many_arguments)]
+fn load_demanded(
+    program: &CheckedProgram,
+    si: usize,
+    cx: Loading<'_>,
+    complete: &mut HashMap<String, Rows>,
+    sent: &mut demand::Sent,
+    loaded_for: &mut HashMap<String, usize>,
+    symbols: &mut Symbols,
+    mut held: usize,
+) -> Result<usize, EngineError> {
+    for name in demand::used_in_stratum(program, si) {
+        let types: &[ColType] = program
+            .predicates
+            .get(&name)
+            .map_or(&[], |p| p.types.as_slice());
+        let requests = {
+            let binders = |p: &str| -> Option<&Rows> {
+                let catalog = program
+                    .predicates
+                    .get(p)
+                    .is_some_and(|i| i.kind == PredKind::Catalog);
+                if catalog && loaded_for.get(p) != Some(&si) {
+                    return None;
                 }
-                Literal::Cmp(c) if matches!(ty, ColType::Float | ColType::Int | ColType::Time) => {
-                    let (op, n) = match (c.lhs.as_var(), c.rhs.as_var()) {
-                        (Some(v), _) if v == var => match number(&c.rhs.kind) {
-                            Some(n) => (c.op, n),
-                            None => continue,
-                        },
-                        (_, Some(v)) if v == var => match number(&c.lhs.kind) {
-                            Some(n) => (flip(c.op), n),
-                            None => continue,
-                        },
-                        _ => continue,
-                    };
-                    let bound = match op {
-                        CmpOp::Lt => Constraint::Lt(n),
-                        CmpOp::Le => Constraint::Le(n),
-                        CmpOp::Gt => Constraint::Gt(n),
-                        CmpOp::Ge => Constraint::Ge(n),
-                        CmpOp::Eq | CmpOp::Ne => continue,
-                    };
-                    out.push((i, bound));
-                }
-                _ => {}
-            }
+                complete.get(p)
+            };
+            let already = sent.get(&name).map_or(&[][..], |v| v.as_slice());
+            demand::stratum_requests(program, si, &name, &binders, symbols, already)
+        };
+        let mut rows = complete
+            .remove(&name)
+            .unwrap_or_else(|| Rows::new(types.len()));
+        for request in requests {
+            let fresh = load_requested(
+                &request,
+                types,
+                &mut *cx.provider,
+                cx.options,
+                cx.start,
+                held,
+                symbols,
+            )?;
+            let before = rows.len();
+            rows = if rows.is_empty() {
+                fresh
+            } else {
+                rows.merge(&fresh)
+            };
+            held += rows.len() - before;
+            sent.entry(name.clone()).or_default().push(request);
         }
+        complete.insert(name.clone(), rows);
+        loaded_for.insert(name, si);
     }
-    out
-}
-
-fn flip(op: CmpOp) -> CmpOp {
-    match op {
-        CmpOp::Lt => CmpOp::Gt,
-        CmpOp::Le => CmpOp::Ge,
-        CmpOp::Gt => CmpOp::Lt,
-        CmpOp::Ge => CmpOp::Le,
-        other => other,
-    }
+    Ok(held)
 }
 
 /// Per derived relation, aligned with its sorted tuples: the round and plan index that first

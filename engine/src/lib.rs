@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 mod agg_body;
+mod demand;
 mod eval;
 mod frog;
 mod plan;
@@ -119,6 +120,12 @@ pub struct Options {
     pub timeout: Option<Duration>,
     /// Stamp every derived tuple so [`Evaluation::prove`] can answer (off by default).
     pub provenance: bool,
+    /// Demand pushdown (on by default): ask for each catalog relation stratum by stratum, one
+    /// request per distinct use, with [`scenalog_facts::relation::Constraint::OneOf`] the values
+    /// a complete relation of the same body binds a track or time column to. The derived
+    /// relations are the same either way; the catalog relations in the [`Evaluation`] then hold
+    /// only the demanded tuples (off: every use's common constraints, asked once up front).
+    pub pushdown: bool,
 }
 
 impl Default for Options {
@@ -127,6 +134,7 @@ impl Default for Options {
             max_tuples: 20_000_000,
             timeout: None,
             provenance: false,
+            pushdown: true,
         }
     }
 }

@@ -143,6 +143,7 @@ fn a_relation_that_grows_past_the_limit_is_named() {
         max_tuples: 1000,
         timeout: None,
         provenance: false,
+        pushdown: true,
     };
     match run_with(src, &options) {
         Err(EngineError::TooManyTuples { relation, limit }) => {
@@ -160,6 +161,7 @@ fn a_timeout_is_reported_with_the_relation() {
         max_tuples: usize::MAX,
         timeout: Some(std::time::Duration::from_millis(50)),
         provenance: false,
+        pushdown: true,
     };
     match run_with(src, &options) {
         Err(EngineError::Timeout { relation, .. }) => assert_eq!(relation, "n"),
@@ -322,7 +324,9 @@ fn provider_is_asked_only_for_used_relations_with_the_constraints_the_program_fi
         asked[1].constraints,
         vec![
             (0, Constraint::Category("BUS".into())),
-            (2, Constraint::Gt(10.0))
+            (2, Constraint::Gt(10.0)),
+            // Pushdown: the buses `category` answered (track 2 is a pedestrian there).
+            (0, Constraint::OneOf(vec![Value::Track(TrackId(1))].into())),
         ]
     );
 }
@@ -501,6 +505,7 @@ fn the_tuple_budget_counts_every_relation_together() {
         max_tuples: 1000,
         timeout: None,
         provenance: false,
+        pushdown: true,
     };
     match run_with(src, &options) {
         Err(EngineError::TooManyTuples { relation, limit }) => {

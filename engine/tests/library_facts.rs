@@ -172,6 +172,7 @@ impl Facts {
         };
         match c {
             Constraint::Eq(w) => v == w,
+            Constraint::OneOf(ws) => ws.contains(v),
             Constraint::Category(cat) => match v {
                 Value::Track(t) => self.categories.get(t).is_some_and(|cs| cs.contains(&**cat)),
                 _ => panic!("category constraint on a non-track value {v:?}"),

@@ -77,7 +77,7 @@ pub struct Query<'r> {
     pub req: &'r Request,
     /// The relation's catalog entry.
     pub spec: &'static RelationSpec,
-    /// Per column: for track columns with a category or equality constraint, which tracks (by
+    /// Per column: for track columns with a category, equality or one-of constraint, which tracks (by
     /// `TrackId::index()`) may appear; `None` for any.
     allowed: Vec<Option<Vec<bool>>>,
     /// The limits the relation is computed under.
@@ -89,22 +89,28 @@ pub struct Query<'r> {
 fn constraint_fits(c: &Constraint, ty: ColType) -> bool {
     match c {
         Constraint::Category(_) => ty == ColType::Track,
-        Constraint::Eq(v) => matches!(
-            (v, ty),
-            (Value::Track(_), ColType::Track)
-                | (Value::Time(_), ColType::Time)
-                | (Value::Lane(_), ColType::Lane)
-                | (Value::Str(_), ColType::Str)
-                | (Value::Float(_), ColType::Float)
-                | (Value::Int(_), ColType::Int)
-                | (Value::Int(_), ColType::Float)
-                | (Value::Float(_), ColType::Int)
-                | (Value::Int(_), ColType::Time)
-        ),
+        Constraint::Eq(v) => value_fits(v, ty),
+        Constraint::OneOf(vs) => vs.iter().all(|v| value_fits(v, ty)),
         Constraint::Lt(_) | Constraint::Le(_) | Constraint::Gt(_) | Constraint::Ge(_) => {
             ty.is_numeric()
         }
     }
+}
+
+/// Whether value `v` may be compared with a column of type `ty` (numbers with numbers).
+fn value_fits(v: &Value, ty: ColType) -> bool {
+    matches!(
+        (v, ty),
+        (Value::Track(_), ColType::Track)
+            | (Value::Time(_), ColType::Time)
+            | (Value::Lane(_), ColType::Lane)
+            | (Value::Str(_), ColType::Str)
+            | (Value::Float(_), ColType::Float)
+            | (Value::Int(_), ColType::Int)
+            | (Value::Int(_), ColType::Float)
+            | (Value::Float(_), ColType::Int)
+            | (Value::Int(_), ColType::Time)
+    )
 }
 
 impl<'r> Query<'r> {
@@ -139,6 +145,19 @@ impl<'r> Query<'r> {
                 Constraint::Eq(Value::Track(x)) => {
                     let x = *x;
                     Some(Box::new(move |t| t == x))
+                }
+                Constraint::OneOf(vs) => {
+                    let mut set = vec![false; scene.tracks.len()];
+                    for v in vs.iter() {
+                        if let Value::Track(t) = v {
+                            if let Some(s) = set.get_mut(t.index()) {
+                                *s = true;
+                            }
+                        }
+                    }
+                    Some(Box::new(move |t| {
+                        set.get(t.index()).copied().unwrap_or(false)
+                    }))
                 }
                 _ => None,
             };
@@ -206,6 +225,19 @@ impl<'r> Query<'r> {
                     lo = lo.max(*t as f64);
                     hi = hi.min(*t as f64 + 1.0);
                 }
+                Constraint::OneOf(vs) => {
+                    // The smallest range holding every listed frame; `finish` drops the rest.
+                    let ts = vs.iter().filter_map(|v| match v {
+                        Value::Time(t) => Some(f64::from(*t)),
+                        Value::Int(t) => Some(*t as f64),
+                        _ => None,
+                    });
+                    let (a, b) = ts.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+                        (a.min(t), b.max(t))
+                    });
+                    lo = lo.max(a);
+                    hi = hi.min(b + 1.0);
+                }
                 Constraint::Lt(v) => hi = hi.min(v.ceil()),
                 Constraint::Le(v) => hi = hi.min(v.floor() + 1.0),
                 Constraint::Gt(v) => lo = lo.max(v.floor() + 1.0),
@@ -255,7 +287,9 @@ impl<'r> Query<'r> {
                 // Track constraints were turned into a mask over tracks up front.
                 (
                     Column::Track(v),
-                    Constraint::Category(_) | Constraint::Eq(Value::Track(_)),
+                    Constraint::Category(_)
+                    | Constraint::Eq(Value::Track(_))
+                    | Constraint::OneOf(_),
                     Some(Some(mask)),
                 ) => {
                     for (o, t) in ok.iter_mut().zip(v) {
@@ -273,6 +307,20 @@ impl<'r> Query<'r> {
                 }
                 (Column::Float(v), Constraint::Ge(b), _) => {
                     ok.iter_mut().zip(v).for_each(|(o, x)| *o = *o && *x >= *b)
+                }
+                (Column::Time(v), Constraint::OneOf(vs), _) => {
+                    let mut set: Vec<Frame> = vs
+                        .iter()
+                        .filter_map(|x| match x {
+                            Value::Time(t) => Some(*t),
+                            Value::Int(t) => Frame::try_from(*t).ok(),
+                            _ => None,
+                        })
+                        .collect();
+                    set.sort_unstable();
+                    for (o, t) in ok.iter_mut().zip(v) {
+                        *o = *o && set.binary_search(t).is_ok();
+                    }
                 }
                 (Column::Str(v), Constraint::Eq(Value::Str(w)), _) => ok
                     .iter_mut()
@@ -349,6 +397,9 @@ pub fn satisfies(scene: &Scene, v: &Value, c: &Constraint) -> bool {
             (Some(a), Some(b)) => a == b,
             _ => v == w,
         },
+        Constraint::OneOf(ws) => ws
+            .iter()
+            .any(|w| satisfies(scene, v, &Constraint::Eq(w.clone()))),
         Constraint::Lt(b) => num(v).is_some_and(|a| a < *b),
         Constraint::Le(b) => num(v).is_some_and(|a| a <= *b),
         Constraint::Gt(b) => num(v).is_some_and(|a| a > *b),

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 use scenalog_facts::map::{DrivableArea, PedestrianCrossing};
-use scenalog_facts::scene::{EGO_CATEGORY, EGO_SIZE};
+use scenalog_facts::scene::{EGO_CATEGORY, EGO_CENTRE_AHEAD_OF_AXLE_M, EGO_SIZE};
 use scenalog_facts::{
     Frame, LaneId, LaneSegment, LaneType, Scene, Timeline, Track, TrackBox, TrackId, VectorMap,
 };
@@ -51,6 +51,20 @@ impl SceneBuilder {
         self.tracks
             .push((uuid.to_string(), category.to_string(), size, way));
         self
+    }
+
+    /// Adds the ego ("ego", `EGO_VEHICLE`, [`EGO_SIZE`]) with its rear axle (where AV2 puts the
+    /// ego pose) at the waypoints: its box is the car's body, centred
+    /// [`EGO_CENTRE_AHEAD_OF_AXLE_M`] ahead along the heading, as the log reader builds it.
+    pub fn ego_at_rear_axle(self, way: Vec<Waypoint>) -> Self {
+        let body = way
+            .into_iter()
+            .map(|(f, x, y, yaw)| {
+                let a = EGO_CENTRE_AHEAD_OF_AXLE_M;
+                (f, x + a * yaw.cos(), y + a * yaw.sin(), yaw)
+            })
+            .collect();
+        self.track("ego", EGO_CATEGORY, EGO_SIZE, body)
     }
 
     /// Adds a lane from its left and right boundaries (direction of travel), successors and

@@ -678,3 +678,142 @@ fn the_context_and_index_are_sync() {
     sync::<pairs::PairIndex>();
     sync::<PairContext<'static>>();
 }
+
+/// `Constraint::OneOf` (the engine's demand: the tracks or frames another atom binds) on every
+/// pair relation of three staged scenes: the answer equals the full relation filtered by the
+/// constraints, and never holds a tuple outside the listed values.
+#[test]
+fn one_of_equals_the_filtered_relation_on_every_pair_relation() {
+    let scenes = [direction_scene(0.3), crossing_scene(), road_scene()];
+    let mut nonempty = 0;
+    let mut cases = 0;
+    for scene in &scenes {
+        let tracks: Vec<Value> = scene.tracks.iter().map(|t| Value::Track(t.id)).collect();
+        // Subjects and objects: every other track; frames: a scattered handful.
+        let some: Vec<Value> = tracks.iter().step_by(2).cloned().collect();
+        let others: Vec<Value> = tracks.iter().skip(1).step_by(2).cloned().collect();
+        let times: Vec<Value> = [0u32, 3, 4, 9, 40, 57].map(Value::Time).to_vec();
+        for name in pairs::PAIR_RELATIONS {
+            let full = all(scene, name);
+            for constraints in [
+                vec![(0, Constraint::OneOf(some.clone().into()))],
+                vec![(1, Constraint::OneOf(others.clone().into()))],
+                vec![(2, Constraint::OneOf(times.clone().into()))],
+                vec![
+                    (0, Constraint::OneOf(others.clone().into())),
+                    (1, Constraint::OneOf(some.clone().into())),
+                    (2, Constraint::OneOf(times.clone().into())),
+                ],
+                vec![(0, Constraint::OneOf(Vec::new().into()))],
+            ] {
+                let req = request(name, constraints);
+                let pushed = run(scene, &req);
+                let id = |u: &str| scene.track_by_uuid(u).expect("track").id;
+                let filtered: Vec<Row> = full
+                    .iter()
+                    .filter(|r| {
+                        let vals = [
+                            Value::Track(id(&r.0)),
+                            Value::Track(id(&r.1)),
+                            Value::Time(r.2),
+                        ];
+                        req.constraints.iter().all(|(c, k)| {
+                            let Constraint::OneOf(vs) = k else {
+                                panic!("only OneOf here")
+                            };
+                            vs.contains(&vals[*c])
+                        })
+                    })
+                    .cloned()
+                    .collect();
+                assert_eq!(pushed, filtered, "{req:?}");
+                cases += 1;
+                nonempty += usize::from(!pushed.is_empty());
+            }
+        }
+    }
+    assert_eq!(cases, 3 * pairs::PAIR_RELATIONS.len() * 5);
+    // Not vacuous: most restricted answers still hold tuples.
+    assert!(
+        nonempty >= 40,
+        "only {nonempty} of {cases} answers were non-empty"
+    );
+}
+
+#[test]
+fn one_of_values_must_fit_the_column() {
+    let scene = direction_scene(0.0);
+    let ex = Extractor::new(&scene);
+    let index = pairs::pair_index(&ex);
+    let ctx = PairContext::new(&scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
+    let track = Value::Track(scene.tracks[0].id);
+    for (col, values) in [
+        (0, vec![track.clone(), Value::Str("x".into())]),
+        (2, vec![track.clone()]),
+        (3, vec![Value::Time(2)]),
+    ] {
+        let req = request("direction", vec![(col, Constraint::OneOf(values.into()))]);
+        assert!(pairs::direction(&ctx, &req).is_err(), "{req:?}");
+    }
+}
+
+/// The ego's box is the car's body (about -1.0 m to +3.9 m along its heading from the rear axle,
+/// where the ego pose is), not a box centred on the rear axle. Pedestrians staged around a still
+/// ego whose rear axle is at the origin: "tail" 0.2 m behind the rear bumper, "flank" beside the
+/// car with its centre 0.5 m ahead of the axle, "front_flank" beside the car's front half (3.2 m
+/// ahead of the axle). With the old axle-centred box, "tail" was inside the ego's box (no
+/// direction) and "front_flank" was ahead of it.
+#[test]
+fn beside_and_behind_the_ego_use_the_cars_real_extent() {
+    let peds = [
+        ("tail", -1.0 - 0.2 - PED[0] / 2.0, 0.0),
+        ("flank", 0.5, 2.0),
+        ("front_flank", 3.2, -2.0),
+    ];
+    let staged = |b: SceneBuilder| {
+        peds.iter()
+            .fold(b, |b, (n, x, y)| {
+                b.track(n, "PEDESTRIAN", PED, still(10, *x, *y, 0.0))
+            })
+            .build()
+    };
+    let directions = |scene: &Scene| -> Vec<(String, String, f64)> {
+        let req = request(
+            "direction",
+            vec![(0, Constraint::Eq(Value::Track(scene.ego)))],
+        );
+        let mut out: Vec<(String, String, f64)> = run(scene, &req)
+            .into_iter()
+            .filter(|r| r.2 == 0)
+            .map(|r| (r.1, string(&r.3[0]).to_string(), float(&r.3[2])))
+            .collect();
+        out.sort_by(|a, b| (&a.0, &a.1).cmp(&(&b.0, &b.1)));
+        out
+    };
+    let real = directions(&staged(
+        SceneBuilder::new(10).ego_at_rear_axle(still(10, 0.0, 0.0, 0.0)),
+    ));
+    let lat0 = |n: &str, d: &str| (n.to_string(), d.to_string(), 0.0);
+    assert_eq!(
+        real,
+        vec![
+            lat0("flank", "left"),
+            lat0("front_flank", "right"),
+            lat0("tail", "backward"),
+        ]
+    );
+    // The same staging with the box centred on the rear axle (the old ego box) gets the tail
+    // and the front flank wrong: the cases discriminate.
+    let old = directions(&staged(SceneBuilder::new(10).track(
+        "ego",
+        "EGO_VEHICLE",
+        scenalog_facts::scene::EGO_SIZE,
+        still(10, 0.0, 0.0, 0.0),
+    )));
+    assert!(!old.iter().any(|r| r.0 == "tail"), "{old:?}");
+    assert!(
+        old.iter().any(|r| r.0 == "front_flank" && r.1 == "forward"),
+        "{old:?}"
+    );
+    assert!(old.contains(&lat0("flank", "left")));
+}

@@ -494,6 +494,30 @@ fn pushdown_restricts_and_never_breaks_constraints() {
         })
         .unwrap();
     assert_eq!(at_t.len(), 6);
+    // OneOf (the engine's demand) on tracks and frames: the filtered full relation.
+    let full = ex.extract(&Request::all("speed")).unwrap();
+    let ids: Vec<Value> = ["changer", "ped"]
+        .iter()
+        .map(|u| Value::Track(scene.track_by_uuid(u).expect("track").id))
+        .collect();
+    let frames: Vec<Value> = [0u32, 5, 6, 11].map(Value::Time).to_vec();
+    let constraints = vec![
+        (0, Constraint::OneOf(ids.clone().into())),
+        (1, Constraint::OneOf(frames.clone().into())),
+    ];
+    let pushed = ex
+        .extract(&Request {
+            name: "speed".into(),
+            constraints,
+        })
+        .unwrap();
+    let want: Vec<Vec<Value>> = (0..full.len())
+        .filter_map(|i| full.row(i))
+        .filter(|r| ids.contains(&r[0]) && frames.contains(&r[1]))
+        .collect();
+    let got: Vec<Vec<Value>> = (0..pushed.len()).filter_map(|i| pushed.row(i)).collect();
+    assert_eq!(got, want);
+    assert_eq!(got.len(), 2 * 4);
     // Errors name what was wrong.
     let bad = ex.extract(&Request::all("no_such"));
     assert!(matches!(bad, Err(ExtractError::UnknownRelation(_))));

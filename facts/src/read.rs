@@ -13,8 +13,12 @@
 //! - every annotation timestamp must have an ego pose with exactly that timestamp;
 //! - a box's city pose is `ego_pose(frame) * box_ego_pose`;
 //! - when the annotations have no `EGO_VEHICLE` track (the plain variant), an ego track with uuid
-//!   [`ADDED_EGO_UUID`] is added: category `EGO_VEHICLE`, identity pose in the ego frame, size
-//!   [`EGO_SIZE`], one box per frame, `num_interior_pts` 0;
+//!   [`ADDED_EGO_UUID`] is added: category `EGO_VEHICLE`, size [`EGO_SIZE`], one box per frame,
+//!   `num_interior_pts` 0;
+//! - the ego's box is the car's body, not its rear axle (where the ego pose and the files' ego
+//!   rows are): centred [`EGO_CENTRE_AHEAD_OF_AXLE_M`](crate::scene::EGO_CENTRE_AHEAD_OF_AXLE_M) ahead of the axle along its heading
+//!   ([`ego_box_in_ego_frame`]), so it spans about −1.0 m to +3.9 m; a file's ego row at the axle
+//!   (identity in the ego frame) is moved there too;
 //! - tracks are sorted by uuid and `tracks[i].id == TrackId(i)`; boxes are sorted by frame;
 //! - map ids pointing to lanes absent from the map are kept (dangling).
 //!
@@ -31,7 +35,9 @@ use std::path::{Path, PathBuf};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
 use crate::error::LoadError;
-use crate::scene::{Frame, Pose, Scene, Track, TrackBox, TrackId, EGO_CATEGORY, EGO_SIZE};
+use crate::scene::{
+    ego_box_in_ego_frame, Frame, Pose, Scene, Track, TrackBox, TrackId, EGO_CATEGORY, EGO_SIZE,
+};
 use crate::time::Timeline;
 
 use arrow_file::{any_floats, f64s, file_error, i64s, read_table, Kind, Strs, Table};
@@ -150,8 +156,8 @@ pub fn log_map(log_dir: &Path) -> Result<(crate::map::VectorMap, String), LoadEr
     Ok((map, city))
 }
 
-/// The ego track a scene without an `EGO_VEHICLE` track gets: uuid [`ADDED_EGO_UUID`], identity
-/// pose in the ego frame, size [`EGO_SIZE`], one box per frame.
+/// The ego track a scene without an `EGO_VEHICLE` track gets: uuid [`ADDED_EGO_UUID`], the car's
+/// body in the ego frame ([`ego_box_in_ego_frame`]), size [`EGO_SIZE`], one box per frame.
 pub fn added_ego(ego_poses: &[Pose]) -> (String, Vec<TrackBox>) {
     let b = added_ego_track(ego_poses);
     (b.uuid.to_string(), b.boxes)
@@ -465,6 +471,16 @@ fn build_tracks(
         building.push(added_ego_track(ego_poses));
     }
 
+    // The file's ego rows are at the rear axle (identity in the ego frame): move each box to the
+    // car's body, as the added ego's.
+    for t in building.iter_mut().filter(|t| t.category == EGO_CATEGORY) {
+        for b in &mut t.boxes {
+            if b.ego.translation.vector.norm() < 1e-6 {
+                b.ego *= ego_box_in_ego_frame();
+                b.city *= ego_box_in_ego_frame();
+            }
+        }
+    }
     building.sort_unstable_by(|a, b| a.uuid.cmp(b.uuid));
     let mut tracks = Vec::with_capacity(building.len());
     for (i, mut t) in building.into_iter().enumerate() {
@@ -489,8 +505,8 @@ fn added_ego_track(ego_poses: &[Pose]) -> Building<'static> {
         .enumerate()
         .map(|(f, pose)| TrackBox {
             frame: f as Frame,
-            ego: Pose::identity(),
-            city: *pose,
+            ego: ego_box_in_ego_frame(),
+            city: pose * ego_box_in_ego_frame(),
             size: EGO_SIZE,
             num_interior_pts: 0,
         })

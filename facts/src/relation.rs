@@ -149,6 +149,10 @@ pub enum Constraint {
     Gt(f64),
     /// The numeric column is `>= v`.
     Ge(f64),
+    /// The column's value is one of these (sorted, distinct): the values a program's other atoms
+    /// bind the column's variable to (demand from the engine, e.g. the ego's track or the
+    /// tracks and frames of a derived relation). Empty means no tuple is needed.
+    OneOf(Arc<[Value]>),
 }
 
 /// A request for one catalog relation, with constraints on some of its columns.

@@ -29,6 +29,20 @@ pub const EGO_CATEGORY: &str = "EGO_VEHICLE";
 /// Size (length, width, height in metres) AV2 uses for the ego vehicle's box.
 pub const EGO_SIZE: [f64; 3] = [4.877, 2.0, 1.473];
 
+/// How far the ego vehicle's body reaches behind its rear axle, in metres. The ego pose (and the
+/// `EGO_VEHICLE` rows AV2 and RefAV write) is the rear axle's, but the car extends from about
+/// 1.0 m behind it to about 3.9 m ahead of it.
+pub const EGO_REAR_OVERHANG_M: f64 = 1.0;
+
+/// How far ahead of the rear axle the centre of the ego vehicle's body lies, along its heading:
+/// half the length ([`EGO_SIZE`]) less the rear overhang, so the box spans −1.0 m to +3.877 m.
+pub const EGO_CENTRE_AHEAD_OF_AXLE_M: f64 = EGO_SIZE[0] / 2.0 - EGO_REAR_OVERHANG_M;
+
+/// The pose of the ego vehicle's box in the ego frame (the rear axle's): its body, not the axle.
+pub fn ego_box_in_ego_frame() -> Pose {
+    Pose::translation(EGO_CENTRE_AHEAD_OF_AXLE_M, 0.0, 0.0)
+}
+
 /// The AV2 categories that make up the "VEHICLE" super-category (see DESIGN.md).
 pub const VEHICLE_CATEGORIES: &[&str] = &[
     "EGO_VEHICLE",

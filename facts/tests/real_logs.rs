@@ -13,7 +13,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use scenalog_facts::read::ADDED_EGO_UUID;
 use scenalog_facts::scene::{yaw_of, EGO_CATEGORY, EGO_SIZE};
 use scenalog_facts::{load_scene, LaneId, LaneType, Scene, SceneSummary};
@@ -277,10 +277,14 @@ fn ego_track_has_one_box_per_timestamp_at_the_ego_pose() {
         for (f, b) in ego.boxes.iter().enumerate() {
             assert_eq!(b.frame as usize, f);
             assert_eq!(b.size, EGO_SIZE);
-            assert!(b.ego.translation.vector.norm() < 1e-12);
+            // The box is the car's body: its centre 1.4385 m ahead of the rear axle (the ego
+            // pose), so it spans -1.0 m to +3.877 m along the heading.
+            let ahead = EGO_SIZE[0] / 2.0 - 1.0;
+            assert!((b.ego.translation.vector - Vector3::new(ahead, 0.0, 0.0)).norm() < 1e-12);
             assert!(b.ego.rotation.angle() < 1e-12);
-            let d = b.city.translation.vector - s.ego_poses[f].translation.vector;
-            assert!(d.norm() < 1e-12);
+            let want = s.ego_poses[f] * Point3::new(ahead, 0.0, 0.0);
+            let d = b.city.translation.vector - want.coords;
+            assert!(d.norm() < 1e-9);
             assert!(b.city.rotation.angle_to(&s.ego_poses[f].rotation) < 1e-12);
         }
         // In the with-ego logs the ego rows come from the file with one LiDAR point count; the added

@@ -42,10 +42,6 @@ const KNOWN: &[(&str, &str)] = &[
         "same tracks; RefAV's being_crossed_by bounds the span on the far side only, so its events last longer",
     ),
     (
-        "vehicle to the back right of the ego vehicle.txt",
-        "same tracks; RefAV's ego box has its back edge at +1.0 m (sign slip), so 'behind the ego' starts beside it",
-    ),
-    (
         "ego vehicle two cars ahead of another vehicle.txt",
         "RefAV's ego back-edge sign slip ('backward' of the ego starts 1 m ahead of the rear axle)",
     ),

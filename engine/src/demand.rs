@@ -1,0 +1,335 @@
+//! Demand: the requests the engine sends the provider for the catalog relations a program uses.
+//!
+//! Two modes ([`crate::Options::pushdown`]):
+//!
+//! - **Off**: [`request_for`] asks for each catalog relation once, before any stratum runs, with
+//!   the constraints implied by *every* use of it (their intersection).
+//! - **On** (the default): a catalog relation is asked for stratum by stratum, for the uses in
+//!   that stratum's clauses ([`stratum_requests`]), one request per distinct use, and the answers
+//!   are unioned. Besides the use's own constants, categories and bounds ([`use_constraints`]),
+//!   a track or time column whose variable the same body also binds through a positive atom over
+//!   a relation that is already complete (a derived relation of a lower stratum, or a catalog
+//!   relation loaded for this stratum, e.g. `ego(E)`) gets [`Constraint::OneOf`] the values that
+//!   relation's column holds. That is the demand (magic-set) transformation restricted to the
+//!   catalog relations: the extractors then compute pairs only for the bound subjects.
+//!
+//! Either way each use's tuples are a subset of what the relation holds for the request, so the
+//! joins see every tuple they can match and the derived relations are the same.
+
+use std::collections::{BTreeSet, HashMap};
+
+use scenalog_facts::catalog::ColType;
+use scenalog_facts::relation::{Constraint, Request, Value};
+use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
+use scenalog_rules::{CheckedProgram, PredKind};
+
+use crate::rows::Rows;
+use crate::value::{decode_value, encode_value, Symbols};
+
+/// One use of a relation: the atom and the body (clause body or aggregate braces) it is in.
+struct Use<'p> {
+    atom: &'p Atom,
+    body: &'p [Literal],
+}
+
+/// The uses of relation `name` in `body`, aggregate braces included.
+fn collect_uses<'p>(body: &'p [Literal], name: &str, out: &mut Vec<Use<'p>>) {
+    for l in body {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) if a.pred == name => {
+                out.push(Use { atom: a, body })
+            }
+            Literal::Agg(g) => collect_uses(&g.body, name, out),
+            _ => {}
+        }
+    }
+}
+
+/// The uses of `name` in the clauses with the given indices.
+fn uses_in<'p>(program: &'p CheckedProgram, clauses: &[usize], name: &str) -> Vec<Use<'p>> {
+    let mut out = Vec::new();
+    for &ci in clauses {
+        if let Some(c) = program.program.clauses.get(ci) {
+            collect_uses(&c.body, name, &mut out);
+        }
+    }
+    out
+}
+
+fn pred_types<'p>(program: &'p CheckedProgram, name: &str) -> &'p [ColType] {
+    program
+        .predicates
+        .get(name)
+        .map_or(&[], |p| p.types.as_slice())
+}
+
+/// The request for one catalog relation when pushdown is off: a constraint holds for the
+/// request when every use of the relation in the program implies it (see [`use_constraints`]).
+pub(crate) fn request_for(program: &CheckedProgram, name: &str) -> Request {
+    let types = pred_types(program, name);
+    let all: Vec<usize> = (0..program.program.clauses.len()).collect();
+    let uses: Vec<Vec<(usize, Constraint)>> = uses_in(program, &all, name)
+        .iter()
+        .map(|u| use_constraints(u.atom, u.body, types))
+        .collect();
+    let mut request = Request::all(name);
+    let Some((first, rest)) = uses.split_first() else {
+        return request;
+    };
+    request.constraints = first
+        .iter()
+        .filter(|c| rest.iter().all(|u| u.contains(c)))
+        .cloned()
+        .collect();
+    request
+}
+
+/// Whether any clause uses catalog relation `name`.
+pub(crate) fn is_used(program: &CheckedProgram, name: &str) -> bool {
+    let all: Vec<usize> = (0..program.program.clauses.len()).collect();
+    !uses_in(program, &all, name).is_empty()
+}
+
+/// The catalog relations the clauses of stratum `si` use, in the order to load them: smaller
+/// arity first (so `ego(E)` and `category(X, C)` are loaded, and can bind, before the pair
+/// relations), then by name.
+pub(crate) fn used_in_stratum(program: &CheckedProgram, si: usize) -> Vec<String> {
+    let Some(stratum) = program.strata.get(si) else {
+        return Vec::new();
+    };
+    let mut names: Vec<(usize, &String)> = program
+        .predicates
+        .iter()
+        .filter(|(name, info)| {
+            info.kind == PredKind::Catalog && !uses_in(program, &stratum.clauses, name).is_empty()
+        })
+        .map(|(name, info)| (info.types.len(), name))
+        .collect();
+    names.sort();
+    names.into_iter().map(|(_, n)| n.clone()).collect()
+}
+
+/// The relations a body's atoms may be bound through while loading for a stratum: complete
+/// relations with their rows.
+pub(crate) type Binders<'a> = dyn Fn(&str) -> Option<&'a Rows> + 'a;
+
+/// The requests for catalog relation `name` that the uses in stratum `si` need, one per distinct
+/// use, leaving out those that a request in `sent` (already answered) or another of them
+/// subsumes (its constraints are a subset). `binders` gives the rows of each relation that may
+/// bind a variable (complete, and not `name` itself). A use whose bound values are empty needs
+/// no tuple and sends nothing.
+pub(crate) fn stratum_requests(
+    program: &CheckedProgram,
+    si: usize,
+    name: &str,
+    binders: &Binders<'_>,
+    symbols: &mut Symbols,
+    sent: &[Request],
+) -> Vec<Request> {
+    let Some(stratum) = program.strata.get(si) else {
+        return Vec::new();
+    };
+    let types = pred_types(program, name);
+    let mut out: Vec<Request> = Vec::new();
+    for u in uses_in(program, &stratum.clauses, name) {
+        let mut constraints = use_constraints(u.atom, u.body, types);
+        let mut needed = true;
+        for (i, (e, &ty)) in u.atom.args.iter().zip(types).enumerate() {
+            if !matches!(ty, ColType::Track | ColType::Time) {
+                continue;
+            }
+            let Some(var) = e.as_var() else { continue };
+            if let Some(values) = bound_values(program, &u, var, ty, name, binders, symbols) {
+                if values.is_empty() {
+                    needed = false;
+                    break;
+                }
+                constraints.push((i, Constraint::OneOf(values.into())));
+            }
+        }
+        if !needed {
+            continue;
+        }
+        let request = Request {
+            name: name.to_string(),
+            constraints,
+        };
+        if sent.iter().chain(&out).any(|s| subsumes(s, &request)) {
+            continue;
+        }
+        out.retain(|o| !subsumes(&request, o));
+        out.push(request);
+    }
+    out
+}
+
+/// Whether every tuple `r` asks for is asked for by `s` too (`s`'s constraints are among `r`'s).
+fn subsumes(s: &Request, r: &Request) -> bool {
+    s.name == r.name && s.constraints.iter().all(|c| r.constraints.contains(c))
+}
+
+/// The values variable `var` (of type `ty`) can take in use `u`, as far as the positive atoms
+/// over binder relations in the same body fix them (the intersection over those atoms, sorted);
+/// `None` when no such atom binds it.
+fn bound_values(
+    program: &CheckedProgram,
+    u: &Use<'_>,
+    var: &str,
+    ty: ColType,
+    name: &str,
+    binders: &Binders<'_>,
+    symbols: &mut Symbols,
+) -> Option<Vec<Value>> {
+    let mut acc: Option<BTreeSet<u64>> = None;
+    for l in u.body {
+        let Literal::Pos(b) = l else { continue };
+        if std::ptr::eq(b, u.atom) || b.pred == name {
+            continue;
+        }
+        let Some(rows) = binders(&b.pred) else {
+            continue;
+        };
+        let btypes = pred_types(program, &b.pred);
+        for (j, e) in b.args.iter().enumerate() {
+            if e.as_var() != Some(var) || btypes.get(j) != Some(&ty) {
+                continue;
+            }
+            let words = column_words(rows, b, btypes, j, symbols);
+            acc = Some(match acc {
+                None => words,
+                Some(a) => a.intersection(&words).copied().collect(),
+            });
+        }
+    }
+    acc.map(|words| {
+        words
+            .into_iter()
+            .map(|w| decode_value(w, ty, symbols))
+            .collect()
+    })
+}
+
+/// The distinct encoded values of column `j` over the rows of `b`'s relation that match `b`'s
+/// constant arguments and repeated variables.
+fn column_words(
+    rows: &Rows,
+    b: &Atom,
+    types: &[ColType],
+    j: usize,
+    symbols: &mut Symbols,
+) -> BTreeSet<u64> {
+    // Constant arguments as (column, word); a constant that cannot be encoded matches nothing.
+    let mut fixed: Vec<(usize, u64)> = Vec::new();
+    for (k, (e, &ty)) in b.args.iter().zip(types).enumerate() {
+        if let Some(v) = constant(&e.kind, ty) {
+            match encode_value(&v, ty, symbols) {
+                Some(w) => fixed.push((k, w)),
+                None => return BTreeSet::new(),
+            }
+        }
+    }
+    // Columns that repeat an earlier argument's variable.
+    let mut same: Vec<(usize, usize)> = Vec::new();
+    for (k, e) in b.args.iter().enumerate() {
+        if let Some(v) = e.as_var() {
+            if let Some(first) = b.args[..k].iter().position(|p| p.as_var() == Some(v)) {
+                same.push((first, k));
+            }
+        }
+    }
+    rows.iter()
+        .filter(|r| fixed.iter().all(|&(k, w)| r.get(k) == Some(&w)))
+        .filter(|r| same.iter().all(|&(a, c)| r.get(a) == r.get(c)))
+        .filter_map(|r| r.get(j).copied())
+        .collect()
+}
+
+/// A literal constant as a value of a column of type `ty`, when it is one.
+fn constant(e: &ExprKind, ty: ColType) -> Option<Value> {
+    match (e, ty) {
+        (ExprKind::Str(s), ColType::Str) => Some(Value::Str(s.as_str().into())),
+        (ExprKind::Int(v), ColType::Int) => Some(Value::Int(*v)),
+        (ExprKind::Int(v), ColType::Float) => Some(Value::Float(*v as f64)),
+        (ExprKind::Float(v), ColType::Float) => Some(Value::Float(*v)),
+        (ExprKind::Int(v), ColType::Time) => u32::try_from(*v).ok().map(Value::Time),
+        _ => None,
+    }
+}
+
+fn number(e: &ExprKind) -> Option<f64> {
+    match e {
+        ExprKind::Int(v) => Some(*v as f64),
+        ExprKind::Float(v) => Some(*v),
+        _ => None,
+    }
+}
+
+/// The constraints one use of a relation implies on its own: `Eq` for a column given as a
+/// constant, `Category` for a column whose variable the same body also passes to a positive
+/// `category(V, "…")` atom, and a bound for a numeric column whose variable the same body
+/// compares with a number.
+pub(crate) fn use_constraints(
+    a: &Atom,
+    body: &[Literal],
+    types: &[ColType],
+) -> Vec<(usize, Constraint)> {
+    let mut out = Vec::new();
+    for (i, (e, &ty)) in a.args.iter().zip(types).enumerate() {
+        if let Some(c) = constant(&e.kind, ty) {
+            out.push((i, Constraint::Eq(c)));
+            continue;
+        }
+        let Some(var) = e.as_var() else { continue };
+        for l in body {
+            match l {
+                Literal::Pos(c)
+                    if c.pred == "category" && ty == ColType::Track && !std::ptr::eq(c, a) =>
+                {
+                    if let [x, cat] = c.args.as_slice() {
+                        if let (Some(v), ExprKind::Str(s)) = (x.as_var(), &cat.kind) {
+                            if v == var {
+                                out.push((i, Constraint::Category(s.as_str().into())));
+                            }
+                        }
+                    }
+                }
+                Literal::Cmp(c) if matches!(ty, ColType::Float | ColType::Int | ColType::Time) => {
+                    let (op, n) = match (c.lhs.as_var(), c.rhs.as_var()) {
+                        (Some(v), _) if v == var => match number(&c.rhs.kind) {
+                            Some(n) => (c.op, n),
+                            None => continue,
+                        },
+                        (_, Some(v)) if v == var => match number(&c.lhs.kind) {
+                            Some(n) => (flip(c.op), n),
+                            None => continue,
+                        },
+                        _ => continue,
+                    };
+                    let bound = match op {
+                        CmpOp::Lt => Constraint::Lt(n),
+                        CmpOp::Le => Constraint::Le(n),
+                        CmpOp::Gt => Constraint::Gt(n),
+                        CmpOp::Ge => Constraint::Ge(n),
+                        CmpOp::Eq | CmpOp::Ne => continue,
+                    };
+                    out.push((i, bound));
+                }
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+fn flip(op: CmpOp) -> CmpOp {
+    match op {
+        CmpOp::Lt => CmpOp::Gt,
+        CmpOp::Le => CmpOp::Ge,
+        CmpOp::Gt => CmpOp::Lt,
+        CmpOp::Ge => CmpOp::Le,
+        other => other,
+    }
+}
+
+/// Per catalog relation: the requests answered so far (pushdown on).
+pub(crate) type Sent = HashMap<String, Vec<Request>>;
