@@ -23,6 +23,7 @@ use scenalog_facts::relation::{Constraint, Request, Value};
 use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
+use crate::plan::flipped;
 use crate::rows::Rows;
 use crate::value::{decode_value, encode_value, Symbols};
 
@@ -300,7 +301,7 @@ pub(crate) fn use_constraints(
                             None => continue,
                         },
                         (_, Some(v)) if v == var => match number(&c.lhs.kind) {
-                            Some(n) => (flip(c.op), n),
+                            Some(n) => (flipped(c.op), n),
                             None => continue,
                         },
                         _ => continue,
@@ -319,16 +320,6 @@ pub(crate) fn use_constraints(
         }
     }
     out
-}
-
-fn flip(op: CmpOp) -> CmpOp {
-    match op {
-        CmpOp::Lt => CmpOp::Gt,
-        CmpOp::Le => CmpOp::Ge,
-        CmpOp::Gt => CmpOp::Lt,
-        CmpOp::Ge => CmpOp::Le,
-        other => other,
-    }
 }
 
 /// Per catalog relation: the requests answered so far (pushdown on).

@@ -213,7 +213,8 @@ fn holds(op: CmpOp, ord: std::cmp::Ordering) -> bool {
     }
 }
 
-fn flipped(op: CmpOp) -> CmpOp {
+/// The comparison with its sides swapped (`a < b` is `b > a`).
+pub(crate) fn flipped(op: CmpOp) -> CmpOp {
     match op {
         CmpOp::Lt => CmpOp::Gt,
         CmpOp::Le => CmpOp::Ge,

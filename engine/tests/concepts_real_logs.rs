@@ -4,7 +4,6 @@
 //! counts; and `lane_direction` agrees with the traffic of real roads.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
 
 use scenalog_engine::{evaluate, Options};
 use scenalog_extractors::cache::Extractor;
@@ -13,20 +12,8 @@ use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn logs() -> Vec<PathBuf> {
-    let dir = root().join("tests/data/av2/logs");
-    let mut logs: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    logs.sort();
-    logs
-}
+mod common;
+use common::{logs, root};
 
 fn program(name: &str) -> CheckedProgram {
     let path = root().join("rules/library").join(format!("{name}.dl"));

@@ -4,7 +4,7 @@
 //! (one request per distinct use, bindings through a lower stratum and through `ego`).
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use scenalog_engine::value::cmp_value;
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
@@ -16,20 +16,8 @@ use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value}
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn logs() -> Vec<PathBuf> {
-    let dir = root().join("tests/data/av2/logs");
-    let mut logs: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    logs.sort();
-    logs
-}
+mod common;
+use common::{logs, root};
 
 fn library() -> Vec<(String, CheckedProgram)> {
     let dir = root().join("rules/library");

@@ -4,7 +4,7 @@
 //! relations.
 
 use std::collections::{BTreeSet, HashSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use scenalog_engine::{evaluate, evaluate_interpreted, Options};
 use scenalog_extractors::cache::Extractor;
@@ -12,20 +12,8 @@ use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn logs() -> Vec<PathBuf> {
-    let dir = root().join("tests/data/av2/logs");
-    let mut logs: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    logs.sort();
-    logs
-}
+mod common;
+use common::{logs, root};
 
 fn library() -> Vec<(String, CheckedProgram)> {
     let dir = root().join("rules/library");
