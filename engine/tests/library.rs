@@ -7,7 +7,6 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use scenalog_engine::{evaluate, Evaluation, Options};
@@ -18,9 +17,8 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene, TrackId};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+mod common;
+use common::{logs, root};
 
 fn program(name: &str) -> CheckedProgram {
     let path = root().join("rules/library").join(format!("{name}.dl"));
@@ -34,14 +32,8 @@ fn program(name: &str) -> CheckedProgram {
 fn scenes() -> &'static [Scene] {
     static SCENES: OnceLock<Vec<Scene>> = OnceLock::new();
     SCENES.get_or_init(|| {
-        let dir = root().join("tests/data/av2/logs");
-        let mut logs: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_dir())
-            .collect();
-        logs.sort();
-        logs.iter()
+        logs()
+            .iter()
             .map(|l| load_scene(l).unwrap_or_else(|e| panic!("{}: {e}", l.display())))
             .collect()
     })

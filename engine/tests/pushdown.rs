@@ -4,7 +4,6 @@
 //! (one request per distinct use, bindings through a lower stratum and through `ego`).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use scenalog_engine::value::cmp_value;
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
@@ -17,17 +16,10 @@ use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
 mod common;
-use common::{logs, root};
+use common::{library_files, logs};
 
 fn library() -> Vec<(String, CheckedProgram)> {
-    let dir = root().join("rules/library");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "dl"))
-        .collect();
-    files.sort();
-    files
+    library_files()
         .into_iter()
         .map(|f| {
             let src = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{e}"));

@@ -4,7 +4,6 @@
 //! relations.
 
 use std::collections::{BTreeSet, HashSet};
-use std::path::PathBuf;
 
 use scenalog_engine::{evaluate, evaluate_interpreted, Options};
 use scenalog_extractors::cache::Extractor;
@@ -13,17 +12,10 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
 mod common;
-use common::{logs, root};
+use common::{library_files, logs, root};
 
 fn library() -> Vec<(String, CheckedProgram)> {
-    let dir = root().join("rules/library");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "dl"))
-        .collect();
-    files.sort();
-    files
+    library_files()
         .into_iter()
         .map(|f| {
             let src = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{e}"));

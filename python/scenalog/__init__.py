@@ -87,8 +87,8 @@ class MineResult:
     ``submission.feather`` with ``log_prompts``); ``submission``: the official pickle's bytes
     (``pickle.loads`` gives the dict the official ``evaluate`` takes); ``matches``: one dict per
     referred track (log_id, description, program, track_uuid, category, first_s, last_s, frames,
-    related); ``pairs``: each (log, program) pair's status (``done``, ``resumed``, ``failed``) and
-    error; ``failures``: every failure message (programs that do not check, unreadable logs,
+    related); ``pairs``: each (log, program) pair's status (``done``, ``resumed``, ``failed``),
+    error, number of matches and evaluation seconds (as in ``summary.json``); ``failures``: every failure message (programs that do not check, unreadable logs,
     failed pairs), the rest having run; ``score``: the metrics against ``gt`` (or None);
     ``without_program``: with ``log_prompts``, the prompts no program was found for; ``out``:
     the output directory, or None when the run went to a temporary directory now removed.

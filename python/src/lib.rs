@@ -23,8 +23,7 @@ use pyo3::types::PyBytes;
 use interrupt::{interruptible, interruptible_with};
 use scenalog::cli::mine::{pair_failures, plan, run_options, Options};
 use scenalog::cli::mine_pairs;
-use scenalog::pipeline::run::{run as run_mining, PairStatus, RunOptions, RunReport};
-use scenalog::pipeline::scenario::Scenario;
+use scenalog::pipeline::run::{pairs_json, run as run_mining, PairStatus, RunOptions};
 
 pyo3::create_exception!(
     scenalog,
@@ -102,29 +101,6 @@ fn facts_relation<'py>(
 struct MineArgv {
     #[command(flatten)]
     options: Options,
-}
-
-/// Each pair's outcome as JSON: log id, program name, description, status and error.
-fn pairs_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value {
-    report
-        .pairs
-        .iter()
-        .map(|p| {
-            let s = &scenarios[p.scenario];
-            let (status, error) = match &p.status {
-                PairStatus::Done => ("done", None),
-                PairStatus::Resumed => ("resumed", None),
-                PairStatus::Failed(e) => ("failed", Some(e.clone())),
-            };
-            serde_json::json!({
-                "log_id": p.log_id,
-                "program": s.name,
-                "description": s.description,
-                "status": status,
-                "error": error,
-            })
-        })
-        .collect()
 }
 
 /// Runs `scenalog mine` with these arguments (`--rules … --logs … --out …`, or the split's

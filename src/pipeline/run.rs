@@ -341,7 +341,27 @@ pub fn run_unpublished(
 /// `summary.json`: the stage times, the failed logs and every pair's status.
 fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value {
     let t = &report.timings;
-    let pairs: Vec<serde_json::Value> = report
+    serde_json::json!({
+        "threads": report.threads,
+        "seconds": {
+            "load": t.load.as_secs_f64(),
+            "extract_evaluate": t.evaluate.as_secs_f64(),
+            "tracks": t.tracks.as_secs_f64(),
+            "write": t.write.as_secs_f64(),
+            "wall": t.wall.as_secs_f64(),
+        },
+        "failed_logs": report.log_failures.iter()
+            .map(|(l, e)| serde_json::json!({"log_id": l, "error": e}))
+            .collect::<Vec<_>>(),
+        "pairs": pairs_json(report, scenarios),
+    })
+}
+
+/// Every pair of a run as JSON, in pair order: its log, program, description, status
+/// (`done`, `resumed`, `failed`), error, number of matches and evaluation time; the `pairs` of
+/// `summary.json` (and of the Python package's `mine`).
+pub fn pairs_json(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json::Value> {
+    report
         .pairs
         .iter()
         .map(|p| {
@@ -360,21 +380,7 @@ fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value
                 "evaluate_s": p.evaluate.as_secs_f64(),
             })
         })
-        .collect();
-    serde_json::json!({
-        "threads": report.threads,
-        "seconds": {
-            "load": t.load.as_secs_f64(),
-            "extract_evaluate": t.evaluate.as_secs_f64(),
-            "tracks": t.tracks.as_secs_f64(),
-            "write": t.write.as_secs_f64(),
-            "wall": t.wall.as_secs_f64(),
-        },
-        "failed_logs": report.log_failures.iter()
-            .map(|(l, e)| serde_json::json!({"log_id": l, "error": e}))
-            .collect::<Vec<_>>(),
-        "pairs": pairs,
-    })
+        .collect()
 }
 
 /// A pair's earlier record, when `resume` is on and the record matches this run (same program
