@@ -2069,19 +2069,49 @@ fn truck_cab_towing_a_trailer() {
     );
 }
 
+/// `frames` of a vehicle driving at `speed` against its lane (`lane_direction` "opposite").
+fn wrong_way(category: &str, frames: std::ops::Range<u32>, speed: f64) -> String {
+    let mut s = format!("category(1, \"{category}\").");
+    for f in frames {
+        s.push_str(&format!(
+            " speed(1, {f}, {speed:.1}). lane_direction(1, {f}, \"opposite\")."
+        ));
+    }
+    s
+}
+
 #[test]
 fn vehicle_driving_against_traffic() {
     let name = "vehicle_driving_against_traffic";
-    let base = r#"
-        category(1, "REGULAR_VEHICLE"). speed(1, 4, 8.0). lane_direction(1, 4, "opposite").
-    "#;
-    finds(name, base, &[(1, 4)], &[]);
+    // A car driving the wrong way down a street for 2.5 s (frames 10-34) at 8 m/s: every frame.
+    let base = wrong_way("REGULAR_VEHICLE", 10..35, 8.0);
+    let all: Vec<(u32, u32)> = (10..35).map(|f| (1, f)).collect();
+    finds(name, &base, &all, &[]);
+    // Exactly 2 s (20 frames) is enough; 1.9 s is a car cutting the oncoming lane (a left turn
+    // into a driveway, nosing out of a side road), not wrong-way driving.
+    let two: Vec<(u32, u32)> = (10..30).map(|f| (1, f)).collect();
+    finds(name, &wrong_way("REGULAR_VEHICLE", 10..30, 8.0), &two, &[]);
+    nothing(name, &wrong_way("REGULAR_VEHICLE", 10..29, 8.0));
+    // On an intersection, lanes of several directions overlap: frames there do not count, so
+    // 2.5 s with an intersection crossed in the middle is two stretches too short.
+    nothing(
+        name,
+        &format!("{base} on_intersection(1, 20). on_intersection(1, 21)."),
+    );
+    // The same stretch with the intersection at its start still leaves 2.3 s off it.
+    let off: Vec<(u32, u32)> = (12..35).map(|f| (1, f)).collect();
+    finds(
+        name,
+        &format!("{base} on_intersection(1, 10). on_intersection(1, 11)."),
+        &off,
+        &[],
+    );
     // With traffic; crossing the lane; parked facing the wrong way (0.2 m/s).
-    nothing(name, &swap(base, "\"opposite\"", "\"same\""));
-    nothing(name, &swap(base, "\"opposite\"", "\"perpendicular\""));
-    nothing(name, &swap(base, "speed(1, 4, 8.0)", "speed(1, 4, 0.2)"));
+    nothing(name, &base.replace("\"opposite\"", "\"same\""));
+    nothing(name, &base.replace("\"opposite\"", "\"perpendicular\""));
+    nothing(name, &wrong_way("REGULAR_VEHICLE", 10..35, 0.2));
     // A pedestrian walking against the lane is not a vehicle.
-    nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
+    nothing(name, &wrong_way("PEDESTRIAN", 10..35, 1.5));
 }
 
 #[test]

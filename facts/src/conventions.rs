@@ -104,9 +104,9 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "against traffic, wrong way, oncoming",
-        idiom: "driving against traffic: `lane_direction(X, T, \"opposite\")` (X travels against its own lane) with `speed(X, T, V), V > 1`; oncoming traffic or an oncoming vehicle: `heading_relative(X, Y, T, \"opposite\")` with Y ahead, `direction(X, Y, T, \"forward\", _, _)`; the oncoming side of the road: `road_side(X, Y, T, \"opposite\")`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V > 1.0, lane_direction(X, T, \"opposite\").",
-        library: &[("vehicle_driving_against_traffic", "lane_direction(V, T, \"opposite\")")],
+        idiom: "driving against traffic (wrong way): `lane_direction(X, T, \"opposite\")` (X travels against its own lane) with `speed(X, T, V), V > 1` and `!on_intersection(X, T)` (lanes of every direction overlap there), for at least 2 s in a row (a second in the oncoming lane is a turn cutting across it); oncoming traffic or an oncoming vehicle: `heading_relative(X, Y, T, \"opposite\")` with Y ahead, `direction(X, Y, T, \"forward\", _, _)`; the oncoming side of the road: `road_side(X, Y, T, \"opposite\")`",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V > 1.0, lane_direction(X, T, \"opposite\"), !on_intersection(X, T).",
+        library: &[("vehicle_driving_against_traffic", "lane_direction(V, T, \"opposite\"), !on_intersection(V, T)")],
     },
     Convention {
         phrase: "swerving",
