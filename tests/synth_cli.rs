@@ -435,6 +435,35 @@ fn eval_scores_a_fixture_prompt_without_a_clean_program_as_predicting_nothing() 
 }
 
 #[test]
+fn eval_stops_a_runaway_program_at_the_time_limit_and_scores_it_as_predicting_nothing() {
+    // The model answers "stopped car" with a program that checks clean but would run for many
+    // minutes on every log (issue #18's reproducer). With `--timeout-ms` the run ends, each of
+    // its (log, prompt) pairs is listed as failed, and the prompt scores 0 rather than being
+    // left out of the score.
+    const RUNAWAY: &str =
+        "referred(A, T) :- present(A, T), present(B, T), present(C, T3), T3 + T < 0, A != B, B != C.";
+    let report = eval_json(
+        "stopped car\n",
+        vec![program(RUNAWAY)],
+        &["--timeout-ms", "300"],
+    );
+    assert_eq!(report["clean_first_round"], 1, "{report:#}");
+    let f = &report["fixture"];
+    assert_eq!(f["prompts"], serde_json::json!(["stopped car"]), "{f:#}");
+    assert_eq!(f["without_program"], serde_json::json!([]));
+    let failed = f["failed_pairs"].as_array().expect("failed_pairs");
+    assert!(!failed.is_empty(), "{f:#}");
+    for p in failed {
+        let p = p.as_str().unwrap_or_default();
+        assert!(
+            p.contains("stopped car") && p.contains("ran longer than"),
+            "{p}"
+        );
+    }
+    assert_eq!(f["hota_temporal"].as_f64(), Some(0.0), "{f:#}");
+}
+
+#[test]
 fn eval_text_report_shows_the_fixture_score() {
     // README.md's held-out synthesis report, exactly: three descriptions, two of them the
     // fixture's prompts answered with the library's programs, one repaired once.

@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::cli::synth::{synth_config, SynthArgs};
-use crate::pipeline::budget::{default_max_tuples, machine_memory, DEFAULT_TIMEOUT};
+use crate::pipeline::budget::pair_limits;
 use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{run_unpublished, LogInput, PairStatus, RunOptions, RunReport};
@@ -672,22 +672,10 @@ pub(crate) fn synthesize(file: &Path, out: &Path, args: &Options) -> Result<Synt
 }
 
 /// The engine's limits for one pair: `--max-tuples` (default sized to the machine's memory and
-/// the worker threads) and `--timeout-ms` (default [`DEFAULT_TIMEOUT`]).
+/// the worker threads) and `--timeout-ms` (default [`crate::pipeline::budget::DEFAULT_TIMEOUT`]).
 pub fn engine_options(args: &Options) -> scenalog_engine::Options {
-    scenalog_engine::Options {
-        max_tuples: args.max_tuples.map_or_else(
-            || {
-                let threads = args
-                    .threads
-                    .map_or_else(rayon::current_num_threads, |n| n as usize);
-                default_max_tuples(machine_memory(), threads)
-            },
-            |n| usize::try_from(n).unwrap_or(usize::MAX),
-        ),
-        timeout: Some(
-            args.timeout_ms
-                .map_or(DEFAULT_TIMEOUT, std::time::Duration::from_millis),
-        ),
-        ..scenalog_engine::Options::default()
-    }
+    let threads = args
+        .threads
+        .map_or_else(rayon::current_num_threads, |n| n as usize);
+    pair_limits(args.max_tuples, args.timeout_ms, threads)
 }

@@ -48,6 +48,14 @@ pub struct Options {
     /// With `--eval`: print the report as one JSON object instead of text.
     #[arg(long, requires = "eval")]
     pub json: bool,
+    /// With `--eval`: most tuples one (log, program) evaluation may hold, as `mine
+    /// --max-tuples` [default: sized to the machine, as `mine`'s].
+    #[arg(long, value_name = "N", requires = "eval", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_tuples: Option<u64>,
+    /// With `--eval`: longest one (log, program) evaluation may take, in milliseconds; a program
+    /// past it is reported as an error for its description [default: 120000, as `mine`'s].
+    #[arg(long, value_name = "MS", requires = "eval", value_parser = clap::value_parser!(u64).range(1..))]
+    pub timeout_ms: Option<u64>,
     /// Held-out prompts: leave out the description's own library program and its near-duplicates
     /// (always on with `--eval`).
     #[arg(long)]
@@ -212,7 +220,12 @@ pub fn run(args: Args) -> ExitCode {
             .gt
             .clone()
             .or_else(|| crate::cli::mine::bundled(crate::cli::mine::SAMPLE_GT));
-        return eval(&synth, file, &args.logs, gt.as_deref(), args.json);
+        let limits = crate::pipeline::budget::pair_limits(
+            args.max_tuples,
+            args.timeout_ms,
+            rayon::current_num_threads(),
+        );
+        return eval(&synth, file, &args.logs, gt.as_deref(), args.json, &limits);
     }
     match (&args.description, &args.descriptions, &args.out) {
         (Some(d), _, _) => one(&synth, d, &args),
@@ -231,6 +244,7 @@ fn eval(
     logs: &std::path::Path,
     gt: Option<&std::path::Path>,
     json: bool,
+    limits: &scenalog_engine::Options,
 ) -> ExitCode {
     let descriptions = match batch::read_descriptions(file) {
         Ok(d) => d,
@@ -269,7 +283,7 @@ fn eval(
             .ok_or("the clean program no longer checks")?;
         let mut n = 0;
         for x in &extractors {
-            let ev = crate::pipeline::scenario::evaluate_on(x, &checked, &Default::default())
+            let ev = crate::pipeline::scenario::evaluate_on(x, &checked, limits)
                 .map_err(|e| e.to_string())?;
             n += ev.size("referred");
         }
@@ -279,7 +293,7 @@ fn eval(
     let mut code = ExitCode::SUCCESS;
     if let Some(g) = gt {
         let scratch = std::env::temp_dir();
-        match crate::cli::synth_fixture::fixture_score(&report, g, logs, &scratch) {
+        match crate::cli::synth_fixture::fixture_score(&report, g, logs, &scratch, limits) {
             Ok(f) => report.fixture = f,
             Err(e) => {
                 eprintln!("scenalog synth: the fixture score: {e}");

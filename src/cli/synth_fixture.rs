@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use scenalog_synth::evaluation::{EvalReport, FixtureScore, PromptScore};
 
 use crate::cli::mine::log_dirs;
-use crate::pipeline::run::{run as run_mining, RunOptions};
+use crate::pipeline::run::{run as run_mining, PairStatus, RunOptions};
 use crate::pipeline::scenario::scenario_from_source;
 use crate::pipeline::summary::score;
 
@@ -27,12 +27,14 @@ fn predicts_nothing(description: &str) -> String {
 
 /// Mines the report's programs for the ground truth's prompts on `logs` (a directory of logs)
 /// and scores them against `gt_path`; `Ok(None)` when no description of the set is one of its
-/// prompts. Scratch output goes to a fresh directory under `scratch`, removed afterwards.
+/// prompts. Each pair runs within `limits` (a pair past them is mined as no match). Scratch
+/// output goes to a fresh directory under `scratch`, removed afterwards.
 pub fn fixture_score(
     report: &EvalReport,
     gt_path: &Path,
     logs: &Path,
     scratch: &Path,
+    limits: &scenalog_engine::Options,
 ) -> Result<Option<FixtureScore>, String> {
     let gt = scenalog_eval::read_any(gt_path).map_err(|e| format!("--gt: {e}"))?;
     let gt_prompts: BTreeSet<&str> = gt.sequences.keys().map(|(_, p)| p.as_str()).collect();
@@ -73,7 +75,7 @@ pub fn fixture_score(
         resume: false,
         timestamps: BTreeMap::new(),
         threads: None,
-        engine: scenalog_engine::Options::default(),
+        engine: limits.clone(),
         progress: false,
         names: Default::default(),
         keep_submission: true,
@@ -81,9 +83,34 @@ pub fn fixture_score(
     };
     let run = run_mining(&scenarios, &log_inputs, &options);
     let _ = std::fs::remove_dir_all(&out);
-    let run = run?;
+    let mut run = run?;
     if let Some((log, e)) = run.log_failures.first() {
         return Err(format!("{log}: {e}"));
+    }
+    // A pair past the limits has no prediction: mine it again with a program that predicts
+    // nothing, so the prompt is scored there (as zero) rather than left out of the score.
+    let mut failed_pairs = Vec::new();
+    let mut redo: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for p in &run.pairs {
+        if let PairStatus::Failed(e) = &p.status {
+            let d = &scenarios[p.scenario].description;
+            failed_pairs.push(format!("{}: {d}: {e}", p.log_id));
+            redo.entry(p.log_id.clone()).or_default().push(p.scenario);
+        }
+    }
+    for (log_id, indices) in redo {
+        let log = log_inputs.iter().filter(|l| l.log_id == log_id).cloned();
+        let nothing = indices
+            .iter()
+            .map(|&i| {
+                let d = &scenarios[i].description;
+                let path = PathBuf::from(format!("{}.dl", scenalog_synth::slug::slug(d)));
+                scenario_from_source(&path, predicts_nothing(d))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let again = run_mining(&nothing, &log.collect::<Vec<_>>(), &options);
+        let _ = std::fs::remove_dir_all(&out);
+        run.submission.sequences.extend(again?.submission.sequences);
     }
     let scored = score(&run.submission, &gt)?
         .ok_or_else(|| "no (log, prompt) pair of the ground truth was mined".to_string())?;
@@ -106,6 +133,7 @@ pub fn fixture_score(
         ground_truth: gt_path.display().to_string(),
         prompts,
         without_program,
+        failed_pairs,
         sequences: scored.scored.len(),
         hota_temporal: r.hota_temporal,
         hota_track: r.hota_track,

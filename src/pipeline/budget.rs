@@ -45,6 +45,25 @@ pub fn default_max_tuples(memory: Option<u64>, threads: usize) -> usize {
     usize::try_from(per_pair).unwrap_or(hi).clamp(lo, hi)
 }
 
+/// The engine's limits for one (log, program) pair: `max_tuples` (default
+/// [`default_max_tuples`] of this machine with `threads` pairs at once) and `timeout_ms`
+/// (default [`DEFAULT_TIMEOUT`]). Every command that evaluates programs on logs uses these, so
+/// none of them can hang on a runaway program or fill the memory.
+pub fn pair_limits(
+    max_tuples: Option<u64>,
+    timeout_ms: Option<u64>,
+    threads: usize,
+) -> scenalog_engine::Options {
+    scenalog_engine::Options {
+        max_tuples: max_tuples.map_or_else(
+            || default_max_tuples(machine_memory(), threads),
+            |n| usize::try_from(n).unwrap_or(usize::MAX),
+        ),
+        timeout: Some(timeout_ms.map_or(DEFAULT_TIMEOUT, Duration::from_millis)),
+        ..scenalog_engine::Options::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

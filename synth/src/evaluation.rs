@@ -58,6 +58,10 @@ pub struct FixtureScore {
     /// Of those, the ones without a clean program: scored as predicting nothing (not left out,
     /// so a failed synthesis lowers the score).
     pub without_program: Vec<String>,
+    /// (log, prompt) pairs whose clean program failed on the log (past the time limit or the
+    /// tuple budget), as "log: prompt: error": scored as predicting nothing there, like a
+    /// program that did not check.
+    pub failed_pairs: Vec<String>,
     /// Sequences scored ((log, prompt) pairs in both the predictions and the ground truth).
     pub sequences: usize,
     /// HOTA-Temporal over every scored sequence (the benchmark's main metric).
@@ -96,6 +100,9 @@ impl FixtureScore {
         }
         for d in &self.without_program {
             s.push_str(&format!("  no clean program (predicts nothing): {d}\n"));
+        }
+        for d in &self.failed_pairs {
+            s.push_str(&format!("  failed (predicts nothing there): {d}\n"));
         }
         s
     }
