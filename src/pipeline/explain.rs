@@ -58,7 +58,9 @@ pub const UUID_PREFIX: usize = 8;
 /// why-not report (`whole` true): provenance off, and catalog relations asked whole, without
 /// the constants, categories and bounds, so the report sees the values that failed a
 /// comparison or a constant (the speed that was not `< 0.5`, the direction that was not
-/// `"right"`). Derived relations are the same either way: the engine filters again.
+/// `"right"`). Derived relations are the same either way: the engine filters again. Either runs
+/// within `mine`'s default limits for one pair ([`super::budget::pair_limits`]), so a runaway
+/// program is an error here too, never a hang.
 pub fn evaluate_for_explain(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
@@ -66,7 +68,7 @@ pub fn evaluate_for_explain(
 ) -> Result<Evaluation, EngineError> {
     let options = Options {
         provenance: !whole,
-        ..Options::default()
+        ..super::budget::pair_limits(None, None, 1)
     };
     if whole {
         super::scenario::evaluate_on_whole(extractor, program, &options)
