@@ -311,6 +311,31 @@ fn a_file_that_is_not_the_tracking_format_is_refused() {
     assert!(!dir.path().join("submission.pkl").exists());
 }
 
+#[test]
+fn flags_of_the_programs_on_logs_run_are_refused_not_ignored() {
+    // --gt, --eval-timestamps, --report and --format json mean nothing for a split's pairs:
+    // each is an error naming what to do instead, and nothing is written.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let pairs = data("tracker/log_prompt_pairs_fixture.json");
+    let gt = data("eval/combined_gt_dev.pkl");
+    let gt = gt.to_str().expect("utf-8 path");
+    for (extra, says) in [
+        (vec!["--gt", gt], "scenalog eval"),
+        (vec!["--eval-timestamps", gt], "own timestamps"),
+        (vec!["--report"], "--picture"),
+        (vec!["--format", "json"], "summary.json"),
+    ] {
+        let o = mine(&pairs, None, dir.path(), &extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("does not go with --log-prompts") && text(&o).contains(says),
+            "{extra:?}: {}",
+            text(&o)
+        );
+        assert!(!dir.path().join("submission.pkl").exists());
+    }
+}
+
 /// `--resume` redoes a pair whose log changed (here: its map file, byte for byte) and reuses
 /// the others.
 #[test]

@@ -16,7 +16,9 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use crate::cli::mine::{bundled, default_out, fail, rule_files, synthesize, Options, LIBRARY};
+use crate::cli::mine::{
+    bundled, default_out, fail, rule_files, synthesize, Format, Options, LIBRARY,
+};
 use crate::pipeline::output::{OutputNames, SUBMISSION_PICKLE, SUBMISSION_TABLE};
 use crate::pipeline::run::{run as run_mining, LogInput, PairStatus, RunOptions, TrackerInput};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
@@ -98,6 +100,34 @@ pub fn prepare(args: &Options) -> Result<PairsPlan, String> {
     };
     if !args.rules.is_empty() || !args.logs.is_empty() || args.descriptions.is_some() {
         return Err("--log-prompts takes its programs from --programs and the library, and its logs from --dataset-dir; leave out --rules, --logs and --descriptions".to_string());
+    }
+    // Flags of the programs-on-logs run that a split's run has no use for: an error, not a flag
+    // silently ignored.
+    for (set, flag, instead) in [
+        (
+            args.gt.is_some(),
+            "--gt",
+            "score the submission afterwards with `scenalog eval OUT/submission.pkl G`",
+        ),
+        (
+            args.eval_timestamps.is_some(),
+            "--eval-timestamps",
+            "a split's logs are mined at their own timestamps",
+        ),
+        (
+            args.report,
+            "--report",
+            "picture matches with `scenalog mine --rules … --logs … --report` or `scenalog explain … --picture`",
+        ),
+        (
+            args.format == Format::Json,
+            "--format json",
+            "OUT/summary.json holds every pair's record",
+        ),
+    ] {
+        if set {
+            return Err(format!("{flag} does not go with --log-prompts: {instead}"));
+        }
     }
     let Some(split) = &args.dataset_dir else {
         return Err("--log-prompts needs --dataset-dir SPLIT (the AV2 split with each log's ego poses and map)".to_string());
