@@ -91,7 +91,8 @@ class MineResult:
     error, number of matches and evaluation seconds (as in ``summary.json``); ``failures``: every failure message (programs that do not check, unreadable logs,
     failed pairs), the rest having run; ``score``: the metrics against ``gt`` (or None);
     ``without_program``: with ``log_prompts``, the prompts no program was found for; ``out``:
-    the output directory, or None when the run went to a temporary directory now removed.
+    the output directory, or None when the run went to a temporary directory now removed;
+    ``report``: with ``report=True``, the path of the report page (``OUT/report/index.html``).
     """
 
     predictions: pa.Table
@@ -102,6 +103,7 @@ class MineResult:
     score: Optional[dict] = None
     without_program: List[str] = field(default_factory=list)
     out: Optional[str] = None
+    report: Optional[str] = None
 
 
 def _paths(name: str, value: Union[PathLike, Iterable[PathLike], None]) -> List[str]:
@@ -129,6 +131,8 @@ def _mine_argv(
     tracks: Optional[PathLike],
     programs: Optional[PathLike],
     confidence_filter: bool,
+    report: bool,
+    report_max_pictures: Optional[int],
 ) -> List[str]:
     argv: List[str] = []
     if rules:
@@ -146,6 +150,7 @@ def _mine_argv(
         ("--dataset-dir", dataset_dir),
         ("--tracks", tracks),
         ("--programs", programs),
+        ("--report-max-pictures", report_max_pictures),
     ]:
         if value is not None:
             argv += [flag, os.fspath(value) if _is_path_like(value) else str(value)]
@@ -153,6 +158,8 @@ def _mine_argv(
         argv.append("--resume")
     if not confidence_filter:
         argv.append("--no-confidence-filter")
+    if report:
+        argv.append("--report")
     return argv
 
 
@@ -172,6 +179,8 @@ def mine(
     tracks: Optional[PathLike] = None,
     programs: Optional[PathLike] = None,
     confidence_filter: bool = True,
+    report: bool = False,
+    report_max_pictures: Optional[int] = None,
 ) -> MineResult:
     """Mines logs with rule programs, as ``scenalog mine`` (same options, same outputs).
 
@@ -180,6 +189,8 @@ def mine(
     ``matches.json``, ``pairs/`` ...); by default a temporary directory, removed after the
     results are read. ``threads`` (default one per core), ``resume``, ``gt`` (score the run),
     ``eval_timestamps``, ``max_tuples`` and ``timeout_ms`` are the command's flags.
+    ``report=True`` also writes the browsable report, ``OUT/report/index.html`` (pictures of up
+    to ``report_max_pictures`` matches, default 40); it needs ``out``.
 
     A split's pairs: ``mine(log_prompts="log_prompt_pairs.json", dataset_dir=SPLIT,
     tracks="tracker.pkl", programs=DIR)`` mines those (log, prompt) pairs only into
@@ -194,6 +205,8 @@ def mine(
     log_list = _paths("logs", logs)
     if log_prompts is None and (not rule_list or not log_list):
         raise ScenalogError("mine: give rules (.dl files or directories) and logs (log directories)")
+    if report and out is None:
+        raise ScenalogError("mine: report=True needs out= (the report is a page in the output directory)")
     tmp = None
     if out is None:
         tmp = tempfile.mkdtemp(prefix="scenalog-mine-")
@@ -216,6 +229,8 @@ def mine(
             tracks=tracks,
             programs=programs,
             confidence_filter=confidence_filter,
+            report=report,
+            report_max_pictures=report_max_pictures,
         )
         result = json.loads(_native.mine(argv))
         table_path = os.path.join(out_dir, result["table"])
@@ -235,6 +250,7 @@ def mine(
         score=result["score"],
         without_program=result["without_program"],
         out=None if tmp is not None else out_dir,
+        report=result["report"],
     )
 
 

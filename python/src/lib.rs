@@ -23,7 +23,10 @@ use pyo3::types::PyBytes;
 use interrupt::{interruptible, interruptible_with};
 use scenalog::cli::mine::{pair_failures, plan, run_options, Options};
 use scenalog::cli::mine_pairs;
-use scenalog::pipeline::run::{pairs_json, run as run_mining, PairStatus, RunOptions};
+use scenalog::pipeline::report::{write_run_report, REPORT_DIR};
+use scenalog::pipeline::run::{
+    pairs_json, run as run_mining, run_unpublished, PairStatus, RunOptions,
+};
 
 pyo3::create_exception!(
     scenalog,
@@ -112,9 +115,9 @@ fn mine(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
     let parsed =
         MineArgv::try_parse_from(&argv).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let args = parsed.options;
-    if args.descriptions.is_some() || args.synthesize || args.report {
+    if args.descriptions.is_some() || args.synthesize {
         return Err(PyValueError::new_err(
-            "synthesis (--descriptions, --synthesize) and --report are the command's; run `scenalog mine` for them",
+            "synthesis (--descriptions, --synthesize) is the command's: run `scenalog mine` for it, or `scenalog synth --descriptions` and mine its programs",
         ));
     }
     let cancel = Arc::new(AtomicBool::new(false));
@@ -142,7 +145,8 @@ fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, Stri
         cancel: Some(cancel),
         ..run_options(args, &plan, false)
     };
-    let report = run_mining(&plan.scenarios, &plan.logs, &options)?;
+    // As the command: the outputs, the scored pickle and the report are one generation.
+    let (report, generation) = run_unpublished(&plan.scenarios, &plan.logs, &options)?;
     let mut failures = plan.failures.clone();
     failures.extend(plan.log_problems.iter().cloned());
     failures.extend(report.log_failures.iter().map(|(_, e)| e.clone()));
@@ -150,7 +154,7 @@ fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, Stri
     let score = match &plan.gt {
         Some((_, g)) => match scenalog::pipeline::summary::score(&report.submission, g)? {
             Some(s) => {
-                let path = plan.out.join(scenalog::pipeline::output::SCORED_PICKLE);
+                let path = generation.path(scenalog::pipeline::output::SCORED_PICKLE);
                 scenalog_eval::write_pickle(&s.predictions, &path).map_err(|e| e.to_string())?;
                 s.report.to_json()
             }
@@ -158,7 +162,24 @@ fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, Stri
         },
         None => serde_json::Value::Null,
     };
+    let page = if args.report {
+        write_run_report(
+            generation.dir(),
+            &plan.out,
+            &report,
+            &plan.scenarios,
+            &plan.logs,
+            args.report_max_pictures,
+        )
+        .map_err(|e| format!("the report: {e}"))?;
+        let page = plan.out.join(REPORT_DIR).join("index.html");
+        serde_json::Value::String(page.display().to_string())
+    } else {
+        serde_json::Value::Null
+    };
+    generation.publish()?;
     Ok(serde_json::json!({
+        "report": page,
         "out": plan.out.display().to_string(),
         "pickle": scenalog::pipeline::output::PREDICTIONS_PICKLE,
         "table": scenalog::pipeline::output::PREDICTIONS_TABLE,
@@ -196,6 +217,7 @@ fn mine_split(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String>
         "pairs": pairs_json(&report, &plan.scenarios),
         "failures": failures,
         "score": serde_json::Value::Null,
+        "report": serde_json::Value::Null,
         "without_program": plan.without_program,
     })
     .to_string())

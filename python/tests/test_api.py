@@ -118,6 +118,25 @@ def test_mine_scores_against_gt(cli_json, tmp_path):
     assert result.score == expected
 
 
+def test_mine_report_is_written_as_the_command_writes_it(tmp_path, cli):
+    # The library's stopped-car program on the sample logs, pictured: the page and its pictures
+    # are in the same published output as the predictions, as `scenalog mine --report` does it.
+    program = [LIBRARY / "stopped_car.dl"]
+    result = scenalog.mine(program, LOGS, out=tmp_path / "py", report=True, report_max_pictures=2)
+    page = tmp_path / "py" / "report" / "index.html"
+    assert result.report == str(page) and page.is_file()
+    code, _, err = cli("mine", "--rules", *program, "--logs", LOGS, "--out", tmp_path / "cli", "--report", "--report-max-pictures", "2")
+    assert code == 0, err
+    cli_page = tmp_path / "cli" / "report" / "index.html"
+    assert sorted(p.name for p in (page.parent / "img").iterdir()) == sorted(p.name for p in (cli_page.parent / "img").iterdir())
+    assert len(list((page.parent / "img").iterdir())) > 0
+    assert scenalog.mine(program, LOGS).report is None
+    with pytest.raises(scenalog.ScenalogError, match="needs out="):
+        scenalog.mine(program, LOGS, report=True)
+    with pytest.raises(scenalog.ScenalogError, match="does not go with --log-prompts"):
+        scenalog.mine(log_prompts=TRACKER / "log_prompt_pairs_sample.json", dataset_dir=LOGS, out=tmp_path / "s", report=True)
+
+
 def test_mine_log_prompts_with_tracker(tmp_path, cli, cli_json):
     pairs = TRACKER / "log_prompt_pairs_sample.json"
     out = tmp_path / "cli"
