@@ -206,24 +206,13 @@ fn bound_values(
     symbols: &mut Symbols,
 ) -> Option<Vec<Value>> {
     let mut acc: Option<BTreeSet<u64>> = None;
-    for l in u.body {
-        let Literal::Pos(b) = l else { continue };
-        if std::ptr::eq(b, u.atom) || b.pred == name {
-            continue;
-        }
-        let Some(rows) = binders(&b.pred) else {
-            continue;
-        };
-        let btypes = pred_types(program, &b.pred);
+    for (b, rows, btypes) in binder_atoms(program, u, name, binders) {
         for (j, e) in b.args.iter().enumerate() {
             if e.as_var() != Some(var) || btypes.get(j) != Some(&ty) {
                 continue;
             }
             let words = column_words(rows, b, btypes, j, symbols);
-            acc = Some(match acc {
-                None => words,
-                Some(a) => a.intersection(&words).copied().collect(),
-            });
+            acc = Some(intersect(acc, words));
         }
     }
     acc.map(|words| {
@@ -231,6 +220,35 @@ fn bound_values(
             .into_iter()
             .map(|w| decode_value(w, ty, symbols))
             .collect()
+    })
+}
+
+/// `words` intersected with what `acc` holds so far (all of `words` when nothing yet).
+fn intersect<T: Ord + Copy>(acc: Option<BTreeSet<T>>, words: BTreeSet<T>) -> BTreeSet<T> {
+    match acc {
+        None => words,
+        Some(a) => a.intersection(&words).copied().collect(),
+    }
+}
+
+/// The positive atoms of `u`'s body (other than `u`'s atom and other uses of `name`) over binder
+/// relations, with those relations' rows and column types.
+fn binder_atoms<'p, 'b>(
+    program: &'p CheckedProgram,
+    u: &'p Use<'p>,
+    name: &'p str,
+    binders: &'p Binders<'b>,
+) -> impl Iterator<Item = (&'p Atom, &'b Rows, &'p [ColType])> + 'p
+where
+    'b: 'p,
+{
+    u.body.iter().filter_map(move |l| {
+        let Literal::Pos(b) = l else { return None };
+        if std::ptr::eq(b, u.atom) || b.pred == name {
+            return None;
+        }
+        let rows = binders(&b.pred)?;
+        Some((b, rows, pred_types(program, &b.pred)))
     })
 }
 
@@ -260,15 +278,7 @@ fn bound_triples(
         return None;
     }
     let mut acc: Option<BTreeSet<[u64; 3]>> = None;
-    for l in u.body {
-        let Literal::Pos(b) = l else { continue };
-        if std::ptr::eq(b, u.atom) || b.pred == name {
-            continue;
-        }
-        let Some(rows) = binders(&b.pred) else {
-            continue;
-        };
-        let btypes = pred_types(program, &b.pred);
+    for (b, rows, btypes) in binder_atoms(program, u, name, binders) {
         // Where each of X, Y, T is in `b`, at a column of the same type.
         let at: Option<Vec<usize>> = vars
             .iter()
@@ -289,10 +299,7 @@ fn bound_triples(
             .filter(|r| keep.matches(r))
             .filter_map(|r| Some([*r.get(at[0])?, *r.get(at[1])?, *r.get(at[2])?]))
             .collect();
-        acc = Some(match acc {
-            None => words,
-            Some(a) => a.intersection(&words).copied().collect(),
-        });
+        acc = Some(intersect(acc, words));
     }
     acc.map(|words| {
         // The encodings of tracks and times are their numbers, so the order is kept.

@@ -216,6 +216,24 @@ fn fixed_provider<'a>(
     }
 }
 
+/// Evaluates `p` over `tables` with pushdown on or off; returns the evaluation and the requests.
+fn run_fixed(
+    tables: &BTreeMap<&'static str, RelationData>,
+    p: &CheckedProgram,
+    pushdown: bool,
+) -> (Evaluation, Vec<Request>) {
+    let mut asked = Vec::new();
+    let e = {
+        let mut provider = fixed_provider(tables, &mut asked);
+        let options = Options {
+            pushdown,
+            ..Options::default()
+        };
+        evaluate(p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
+    };
+    (e, asked)
+}
+
 fn tables() -> BTreeMap<&'static str, RelationData> {
     let t = |i: u32| TrackId(i);
     let s = |x: &str| -> std::sync::Arc<str> { x.into() };
@@ -262,20 +280,8 @@ fn uses_are_asked_for_separately_and_bound_through_a_lower_stratum() {
                referred(Z, T) :- right_of_ego(Y, T), direction(Y, Z, T, \"backward\", _, _).\n";
     let p = checked(src);
     let tables = tables();
-    let mut asked_on = Vec::new();
-    let on = {
-        let mut provider = fixed_provider(&tables, &mut asked_on);
-        evaluate(&p, &mut provider, &Options::default()).unwrap_or_else(|e| panic!("{e}"))
-    };
-    let mut asked_off = Vec::new();
-    let off = {
-        let mut provider = fixed_provider(&tables, &mut asked_off);
-        let options = Options {
-            pushdown: false,
-            ..Options::default()
-        };
-        evaluate(&p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
-    };
+    let (on, asked_on) = run_fixed(&tables, &p, true);
+    let (off, asked_off) = run_fixed(&tables, &p, false);
     let want = [vec![Value::Track(TrackId(2)), Value::Time(1)]];
     assert_eq!(on.tuples("referred"), Some(&want[..]));
     assert_eq!(off.tuples("referred"), Some(&want[..]));
@@ -352,20 +358,8 @@ fn a_pair_relation_bound_by_a_relation_of_all_its_pair_columns_gets_their_triple
                referred(Y, T) :- pair(X, Y, T), direction(X, Y, T, D, _, _), D != \"forward\".\n";
     let p = checked(src);
     let tables = tables();
-    let mut asked_on = Vec::new();
-    let on = {
-        let mut provider = fixed_provider(&tables, &mut asked_on);
-        evaluate(&p, &mut provider, &Options::default()).unwrap_or_else(|e| panic!("{e}"))
-    };
-    let mut asked_off = Vec::new();
-    let off = {
-        let mut provider = fixed_provider(&tables, &mut asked_off);
-        let options = Options {
-            pushdown: false,
-            ..Options::default()
-        };
-        evaluate(&p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
-    };
+    let (on, asked_on) = run_fixed(&tables, &p, true);
+    let (off, _) = run_fixed(&tables, &p, false);
     let want: Vec<Vec<Value>> = vec![
         vec![Value::Track(TrackId(1)), Value::Time(0)],
         vec![Value::Track(TrackId(1)), Value::Time(1)],

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use scenalog_extractors::pairs::{self, PairContext, PAIR_RELATIONS};
+use scenalog_extractors::pairs::{self, PairContext, PairIndex, PAIR_RELATIONS};
 use scenalog_extractors::query::satisfies;
 use scenalog_extractors::Extractor;
 use scenalog_facts::read::load_scene;
@@ -33,16 +33,21 @@ fn scenes() -> &'static [Scene] {
     })
 }
 
-/// Answers `req` through the pairs API.
-fn answer(ex: &Extractor, req: &Request) -> RelationData {
-    let index = pairs::pair_index(ex);
-    let ctx = PairContext::new(
+/// The pair relations' context over the extractor's shared data and `index`.
+fn context<'a>(ex: &'a Extractor, index: &'a PairIndex) -> PairContext<'a> {
+    PairContext::new(
         ex.scene(),
         ex.kinematics(),
         ex.lanes(),
         ex.map_index(),
-        &index,
-    );
+        index,
+    )
+}
+
+/// Answers `req` through the pairs API.
+fn answer(ex: &Extractor, req: &Request) -> RelationData {
+    let index = pairs::pair_index(ex);
+    let ctx = context(ex, &index);
     let f = match req.name.as_str() {
         "near" => pairs::near,
         "direction" => pairs::direction,
@@ -629,13 +634,7 @@ fn following_is_near_filtered_by_follows() {
     for scene in scenes() {
         let ex = Extractor::new(scene);
         let index = pairs::pair_index(&ex);
-        let ctx = PairContext::new(
-            ex.scene(),
-            ex.kinematics(),
-            ex.lanes(),
-            ex.map_index(),
-            &index,
-        );
+        let ctx = context(&ex, &index);
         let near = rows(&answer(&ex, &Request::all("near")));
         let want: Vec<(TrackId, TrackId, Frame)> = triples_of(near.iter().filter(|r| {
             let (x, y, t) = xyt(r);
