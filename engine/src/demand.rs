@@ -11,7 +11,11 @@
 //!   a relation that is already complete (a derived relation of a lower stratum, or a catalog
 //!   relation loaded for this stratum, e.g. `ego(E)`) gets [`Constraint::OneOf`] the values that
 //!   relation's column holds. That is the demand (magic-set) transformation restricted to the
-//!   catalog relations: the extractors then compute pairs only for the bound subjects.
+//!   catalog relations: the extractors then compute pairs only for the bound subjects. When one
+//!   such relation binds all three of a pair relation's (X, Y, T) variables together (e.g.
+//!   `near(V, L, T, D)` in the body of `following(V, L, T)`, loaded first), the request also
+//!   carries [`Constraint::Triples`]: the (X, Y, T) combinations that relation holds, so the
+//!   extractors look at those pairs at those frames only instead of every pair near each other.
 //!
 //! Either way each use's tuples are a subset of what the relation holds for the request, so the
 //! joins see every tuple they can match and the derived relations are the same.
@@ -20,6 +24,7 @@ use std::collections::{BTreeSet, HashMap};
 
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::{Constraint, Request, Value};
+use scenalog_facts::{Frame, TrackId};
 use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
@@ -93,21 +98,31 @@ pub(crate) fn is_used(program: &CheckedProgram, name: &str) -> bool {
 
 /// The catalog relations the clauses of stratum `si` use, in the order to load them: smaller
 /// arity first (so `ego(E)` and `category(X, C)` are loaded, and can bind, before the pair
-/// relations), then by name.
+/// relations), then those every use of which fixes a constant or a numeric bound (so
+/// `speed(V, T, S), S > 5.0` is loaded, and binds `V`, before `following(V, L, T)`), then by
+/// name.
 pub(crate) fn used_in_stratum(program: &CheckedProgram, si: usize) -> Vec<String> {
     let Some(stratum) = program.strata.get(si) else {
         return Vec::new();
     };
-    let mut names: Vec<(usize, &String)> = program
+    let mut names: Vec<(usize, bool, &String)> = program
         .predicates
         .iter()
-        .filter(|(name, info)| {
-            info.kind == PredKind::Catalog && !uses_in(program, &stratum.clauses, name).is_empty()
+        .filter_map(|(name, info)| {
+            let uses = uses_in(program, &stratum.clauses, name);
+            if info.kind != PredKind::Catalog || uses.is_empty() {
+                return None;
+            }
+            let selective = uses.iter().all(|u| {
+                use_constraints(u.atom, u.body, &info.types)
+                    .iter()
+                    .any(|(_, c)| !matches!(c, Constraint::Category(_)))
+            });
+            Some((info.types.len(), !selective, name))
         })
-        .map(|(name, info)| (info.types.len(), name))
         .collect();
     names.sort();
-    names.into_iter().map(|(_, n)| n.clone()).collect()
+    names.into_iter().map(|(_, _, n)| n.clone()).collect()
 }
 
 /// The relations a body's atoms may be bound through while loading for a stratum: complete
@@ -148,6 +163,15 @@ pub(crate) fn stratum_requests(
                 constraints.push((i, Constraint::OneOf(values.into())));
             }
         }
+        if needed {
+            if let Some(ts) = bound_triples(program, &u, types, name, binders, symbols) {
+                if ts.is_empty() {
+                    needed = false;
+                } else {
+                    constraints.push((0, Constraint::Triples(ts.into())));
+                }
+            }
+        }
         if !needed {
             continue;
         }
@@ -182,24 +206,13 @@ fn bound_values(
     symbols: &mut Symbols,
 ) -> Option<Vec<Value>> {
     let mut acc: Option<BTreeSet<u64>> = None;
-    for l in u.body {
-        let Literal::Pos(b) = l else { continue };
-        if std::ptr::eq(b, u.atom) || b.pred == name {
-            continue;
-        }
-        let Some(rows) = binders(&b.pred) else {
-            continue;
-        };
-        let btypes = pred_types(program, &b.pred);
+    for (b, rows, btypes) in binder_atoms(program, u, name, binders) {
         for (j, e) in b.args.iter().enumerate() {
             if e.as_var() != Some(var) || btypes.get(j) != Some(&ty) {
                 continue;
             }
             let words = column_words(rows, b, btypes, j, symbols);
-            acc = Some(match acc {
-                None => words,
-                Some(a) => a.intersection(&words).copied().collect(),
-            });
+            acc = Some(intersect(acc, words));
         }
     }
     acc.map(|words| {
@@ -208,6 +221,127 @@ fn bound_values(
             .map(|w| decode_value(w, ty, symbols))
             .collect()
     })
+}
+
+/// `words` intersected with what `acc` holds so far (all of `words` when nothing yet).
+fn intersect<T: Ord + Copy>(acc: Option<BTreeSet<T>>, words: BTreeSet<T>) -> BTreeSet<T> {
+    match acc {
+        None => words,
+        Some(a) => a.intersection(&words).copied().collect(),
+    }
+}
+
+/// The positive atoms of `u`'s body (other than `u`'s atom and other uses of `name`) over binder
+/// relations, with those relations' rows and column types.
+fn binder_atoms<'p, 'b>(
+    program: &'p CheckedProgram,
+    u: &'p Use<'p>,
+    name: &'p str,
+    binders: &'p Binders<'b>,
+) -> impl Iterator<Item = (&'p Atom, &'b Rows, &'p [ColType])> + 'p
+where
+    'b: 'p,
+{
+    u.body.iter().filter_map(move |l| {
+        let Literal::Pos(b) = l else { return None };
+        if std::ptr::eq(b, u.atom) || b.pred == name {
+            return None;
+        }
+        let rows = binders(&b.pred)?;
+        Some((b, rows, pred_types(program, &b.pred)))
+    })
+}
+
+/// The tuple-level demand on a pair relation's use `u`: when its first three arguments are
+/// variables over (track, track, time) columns and a positive atom over a binder relation in the
+/// same body binds all three, the (X, Y, T) combinations such atoms allow (the intersection over
+/// them, sorted, distinct); `None` when no atom binds all three.
+fn bound_triples(
+    program: &CheckedProgram,
+    u: &Use<'_>,
+    types: &[ColType],
+    name: &str,
+    binders: &Binders<'_>,
+    symbols: &mut Symbols,
+) -> Option<Vec<(TrackId, TrackId, Frame)>> {
+    if types.get(..3) != Some(&[ColType::Track, ColType::Track, ColType::Time][..]) {
+        return None;
+    }
+    let vars: Vec<&str> = u
+        .atom
+        .args
+        .iter()
+        .take(3)
+        .filter_map(|e| e.as_var())
+        .collect();
+    if vars.len() != 3 {
+        return None;
+    }
+    let mut acc: Option<BTreeSet<[u64; 3]>> = None;
+    for (b, rows, btypes) in binder_atoms(program, u, name, binders) {
+        // Where each of X, Y, T is in `b`, at a column of the same type.
+        let at: Option<Vec<usize>> = vars
+            .iter()
+            .zip(&types[..3])
+            .map(|(v, ty)| {
+                b.args
+                    .iter()
+                    .zip(btypes)
+                    .position(|(e, bt)| e.as_var() == Some(*v) && bt == ty)
+            })
+            .collect();
+        let Some(at) = at else { continue };
+        let Some(keep) = RowFilter::of(b, btypes, symbols) else {
+            return Some(Vec::new());
+        };
+        let words: BTreeSet<[u64; 3]> = rows
+            .iter()
+            .filter(|r| keep.matches(r))
+            .filter_map(|r| Some([*r.get(at[0])?, *r.get(at[1])?, *r.get(at[2])?]))
+            .collect();
+        acc = Some(intersect(acc, words));
+    }
+    acc.map(|words| {
+        // The encodings of tracks and times are their numbers, so the order is kept.
+        words
+            .into_iter()
+            .map(|[x, y, t]| (TrackId(x as u32), TrackId(y as u32), t as Frame))
+            .collect()
+    })
+}
+
+/// Which rows of a relation an atom can match on its own: its constant arguments (column,
+/// encoded word) and the columns that repeat an earlier argument's variable.
+struct RowFilter {
+    fixed: Vec<(usize, u64)>,
+    same: Vec<(usize, usize)>,
+}
+
+impl RowFilter {
+    /// The filter of atom `b` over a relation with column types `types`; `None` when a constant
+    /// cannot be encoded (it matches nothing).
+    fn of(b: &Atom, types: &[ColType], symbols: &mut Symbols) -> Option<RowFilter> {
+        let mut fixed: Vec<(usize, u64)> = Vec::new();
+        for (k, (e, &ty)) in b.args.iter().zip(types).enumerate() {
+            if let Some(v) = constant(&e.kind, ty) {
+                fixed.push((k, encode_value(&v, ty, symbols)?));
+            }
+        }
+        let mut same: Vec<(usize, usize)> = Vec::new();
+        for (k, e) in b.args.iter().enumerate() {
+            if let Some(v) = e.as_var() {
+                if let Some(first) = b.args[..k].iter().position(|p| p.as_var() == Some(v)) {
+                    same.push((first, k));
+                }
+            }
+        }
+        Some(RowFilter { fixed, same })
+    }
+
+    fn matches(&self, r: &[u64]) -> bool {
+        self.fixed.iter().all(|&(k, w)| r.get(k) == Some(&w))
+            && self.same.iter().all(|&(a, c)| r.get(a) == r.get(c))
+    }
 }
 
 /// The distinct encoded values of column `j` over the rows of `b`'s relation that match `b`'s
@@ -219,28 +353,11 @@ fn column_words(
     j: usize,
     symbols: &mut Symbols,
 ) -> BTreeSet<u64> {
-    // Constant arguments as (column, word); a constant that cannot be encoded matches nothing.
-    let mut fixed: Vec<(usize, u64)> = Vec::new();
-    for (k, (e, &ty)) in b.args.iter().zip(types).enumerate() {
-        if let Some(v) = constant(&e.kind, ty) {
-            match encode_value(&v, ty, symbols) {
-                Some(w) => fixed.push((k, w)),
-                None => return BTreeSet::new(),
-            }
-        }
-    }
-    // Columns that repeat an earlier argument's variable.
-    let mut same: Vec<(usize, usize)> = Vec::new();
-    for (k, e) in b.args.iter().enumerate() {
-        if let Some(v) = e.as_var() {
-            if let Some(first) = b.args[..k].iter().position(|p| p.as_var() == Some(v)) {
-                same.push((first, k));
-            }
-        }
-    }
+    let Some(keep) = RowFilter::of(b, types, symbols) else {
+        return BTreeSet::new();
+    };
     rows.iter()
-        .filter(|r| fixed.iter().all(|&(k, w)| r.get(k) == Some(&w)))
-        .filter(|r| same.iter().all(|&(a, c)| r.get(a) == r.get(c)))
+        .filter(|r| keep.matches(r))
         .filter_map(|r| r.get(j).copied())
         .collect()
 }

@@ -181,6 +181,20 @@ impl Facts {
             Constraint::Le(b) => num.is_some_and(|x| x <= *b),
             Constraint::Gt(b) => num.is_some_and(|x| x > *b),
             Constraint::Ge(b) => num.is_some_and(|x| x >= *b),
+            Constraint::Triples(_) => panic!("a Triples constraint applies to a row, not a value"),
+        }
+    }
+
+    /// Whether `row` satisfies constraint `c` on column `i` (`Triples` on columns i..i+3).
+    fn row_holds(&self, row: &[Value], i: usize, c: &Constraint) -> bool {
+        match c {
+            Constraint::Triples(ts) => match (row.get(i), row.get(i + 1), row.get(i + 2)) {
+                (Some(Value::Track(x)), Some(Value::Track(y)), Some(Value::Time(t))) => {
+                    ts.binary_search(&(*x, *y, *t)).is_ok()
+                }
+                other => panic!("Triples on columns that are not (track, track, time): {other:?}"),
+            },
+            _ => row.get(i).is_some_and(|v| self.holds(v, c)),
         }
     }
 
@@ -192,7 +206,7 @@ impl Facts {
         let kept = self.rows.get(&r.name).into_iter().flatten().filter(|row| {
             r.constraints
                 .iter()
-                .all(|(i, c)| row.get(*i).is_some_and(|v| self.holds(v, c)))
+                .all(|(i, c)| self.row_holds(row, *i, c))
         });
         for row in kept {
             for (col, v) in columns.iter_mut().zip(row) {

@@ -83,6 +83,7 @@ fn every_library_program_derives_the_same_with_pushdown_on_and_off() {
     let programs = library();
     assert!(programs.len() > 50, "only {} programs", programs.len());
     let (mut bound, mut fewer, mut compared, mut nonempty) = (0, 0, 0, 0);
+    let mut tuple_level: BTreeMap<String, usize> = BTreeMap::new();
     let (mut received_on, mut received_off) = (0usize, 0usize);
     for log in logs() {
         let scene = load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
@@ -126,6 +127,13 @@ fn every_library_program_derives_the_same_with_pushdown_on_and_off() {
                     .iter()
                     .any(|(_, c)| matches!(c, Constraint::OneOf(_)))
             }));
+            if asked.iter().any(|r| {
+                r.constraints
+                    .iter()
+                    .any(|(_, c)| matches!(c, Constraint::Triples(_)))
+            }) {
+                *tuple_level.entry(name.clone()).or_default() += 1;
+            }
             fewer += usize::from(got_on < got_off);
             received_on += got_on;
             received_off += got_off;
@@ -141,6 +149,24 @@ fn every_library_program_derives_the_same_with_pushdown_on_and_off() {
     assert!(
         bound > 60,
         "only {bound} evaluations sent a OneOf constraint"
+    );
+    // Tuple-level demand (`Triples`) is exercised: the pair relations bound through an earlier
+    // pair relation of the same body (`near` after `following`, `heading_relative` after
+    // `crossing` or `facing`) on every log.
+    for program in [
+        "vehicle_following_too_closely.dl",
+        "vehicle_being_overtaken_on_the_left.dl",
+        "vehicle_facing_the_ego_vehicle.dl",
+    ] {
+        assert!(
+            tuple_level.get(program).is_some_and(|&n| n >= 2),
+            "{program}: {tuple_level:?}"
+        );
+    }
+    assert!(
+        tuple_level.len() >= 5,
+        "only {} programs sent a Triples constraint",
+        tuple_level.len()
     );
     assert!(
         fewer > 40,
@@ -190,6 +216,24 @@ fn fixed_provider<'a>(
     }
 }
 
+/// Evaluates `p` over `tables` with pushdown on or off; returns the evaluation and the requests.
+fn run_fixed(
+    tables: &BTreeMap<&'static str, RelationData>,
+    p: &CheckedProgram,
+    pushdown: bool,
+) -> (Evaluation, Vec<Request>) {
+    let mut asked = Vec::new();
+    let e = {
+        let mut provider = fixed_provider(tables, &mut asked);
+        let options = Options {
+            pushdown,
+            ..Options::default()
+        };
+        evaluate(p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
+    };
+    (e, asked)
+}
+
 fn tables() -> BTreeMap<&'static str, RelationData> {
     let t = |i: u32| TrackId(i);
     let s = |x: &str| -> std::sync::Arc<str> { x.into() };
@@ -236,20 +280,8 @@ fn uses_are_asked_for_separately_and_bound_through_a_lower_stratum() {
                referred(Z, T) :- right_of_ego(Y, T), direction(Y, Z, T, \"backward\", _, _).\n";
     let p = checked(src);
     let tables = tables();
-    let mut asked_on = Vec::new();
-    let on = {
-        let mut provider = fixed_provider(&tables, &mut asked_on);
-        evaluate(&p, &mut provider, &Options::default()).unwrap_or_else(|e| panic!("{e}"))
-    };
-    let mut asked_off = Vec::new();
-    let off = {
-        let mut provider = fixed_provider(&tables, &mut asked_off);
-        let options = Options {
-            pushdown: false,
-            ..Options::default()
-        };
-        evaluate(&p, &mut provider, &options).unwrap_or_else(|e| panic!("{e}"))
-    };
+    let (on, asked_on) = run_fixed(&tables, &p, true);
+    let (off, asked_off) = run_fixed(&tables, &p, false);
     let want = [vec![Value::Track(TrackId(2)), Value::Time(1)]];
     assert_eq!(on.tuples("referred"), Some(&want[..]));
     assert_eq!(off.tuples("referred"), Some(&want[..]));
@@ -315,4 +347,50 @@ fn an_empty_binding_asks_for_nothing_and_the_budget_counts_every_answer() {
             Err(e) => panic!("{e}"),
         }
     }
+}
+
+#[test]
+fn a_pair_relation_bound_by_a_relation_of_all_its_pair_columns_gets_their_triples() {
+    // `pair` (complete before `referred`'s stratum) binds X, Y and T of the second `direction`
+    // use together: the request carries exactly `pair`'s (X, Y, T) triples, and the result is
+    // the one without pushdown.
+    let src = "pair(X, Y, T) :- direction(X, Y, T, \"right\", _, _).\n\
+               referred(Y, T) :- pair(X, Y, T), direction(X, Y, T, D, _, _), D != \"forward\".\n";
+    let p = checked(src);
+    let tables = tables();
+    let (on, asked_on) = run_fixed(&tables, &p, true);
+    let (off, _) = run_fixed(&tables, &p, false);
+    let want: Vec<Vec<Value>> = vec![
+        vec![Value::Track(TrackId(1)), Value::Time(0)],
+        vec![Value::Track(TrackId(1)), Value::Time(1)],
+        vec![Value::Track(TrackId(4)), Value::Time(0)],
+    ];
+    assert_eq!(on.tuples("referred"), Some(&want[..]));
+    assert_eq!(off.tuples("referred"), Some(&want[..]));
+    let t = TrackId;
+    let triples =
+        Constraint::Triples(vec![(t(0), t(1), 0), (t(0), t(1), 1), (t(3), t(4), 0)].into());
+    let second: Vec<&Request> = asked_on
+        .iter()
+        .filter(|r| r.name == "direction" && r.constraints.iter().all(|(c, _)| *c != 3))
+        .collect();
+    assert_eq!(second.len(), 1, "{asked_on:?}");
+    assert!(
+        second[0].constraints.contains(&(0, triples)),
+        "{:?}",
+        second[0]
+    );
+    // A binding that leaves one of X, Y, T free sends no triples.
+    let src = "pair(X, T) :- direction(X, _, T, \"right\", _, _).\n\
+               referred(Y, T) :- pair(X, T), direction(X, Y, T, _, _, _).\n";
+    let p = checked(src);
+    let mut asked = Vec::new();
+    {
+        let mut provider = fixed_provider(&tables, &mut asked);
+        evaluate(&p, &mut provider, &Options::default()).unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert!(asked
+        .iter()
+        .flat_map(|r| &r.constraints)
+        .all(|(_, c)| !matches!(c, Constraint::Triples(_))));
 }

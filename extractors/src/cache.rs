@@ -7,7 +7,7 @@ use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use scenalog_facts::relation::{RelationData, Request};
+use scenalog_facts::relation::{Constraint, RelationData, Request};
 use scenalog_facts::{Frame, Scene};
 
 use crate::budget::Budget;
@@ -165,7 +165,8 @@ impl<'s> Extractor<'s> {
     }
 
     /// The relation `req` asks for: only tuples satisfying every constraint, sorted. Answers are
-    /// cached per request.
+    /// cached per request, except those of a tuple-level demand ([`Constraint::Triples`]: one
+    /// program's bound pairs, rarely asked twice, and a long key).
     pub fn extract(&self, req: &Request) -> Result<Arc<RelationData>, ExtractError> {
         self.extract_within(req, &Budget::UNLIMITED)
     }
@@ -179,6 +180,15 @@ impl<'s> Extractor<'s> {
         req: &Request,
         budget: &Budget,
     ) -> Result<Arc<RelationData>, ExtractError> {
+        let tuple_level = req
+            .constraints
+            .iter()
+            .any(|(_, c)| matches!(c, Constraint::Triples(_)));
+        if tuple_level {
+            let mut query = Query::new(self.scene, req)?;
+            query.budget = *budget;
+            return Ok(Arc::new(crate::extract::provide(self, &query)?));
+        }
         let key = format!("{req:?}");
         if let Some(r) = self.lock_results().get(&key) {
             if r.len() > budget.max_tuples {

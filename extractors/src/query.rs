@@ -80,6 +80,9 @@ pub struct Query<'r> {
     /// Per column: for track columns with a category, equality or one-of constraint, which tracks (by
     /// `TrackId::index()`) may appear; `None` for any.
     allowed: Vec<Option<Vec<bool>>>,
+    /// The (X, Y, T) triples a [`Constraint::Triples`] on column 0 demands (the smallest such
+    /// list when there are several; every one is applied by [`Query::finish`]).
+    demanded: Option<&'r [(TrackId, TrackId, Frame)]>,
     /// The limits the relation is computed under.
     pub budget: Budget,
     /// What the computation has used of the budget (shared by its threads).
@@ -91,6 +94,8 @@ fn constraint_fits(c: &Constraint, ty: ColType) -> bool {
         Constraint::Category(_) => ty == ColType::Track,
         Constraint::Eq(v) => value_fits(v, ty),
         Constraint::OneOf(vs) => vs.iter().all(|v| value_fits(v, ty)),
+        // The next two columns' types are checked by `Query::new`.
+        Constraint::Triples(_) => ty == ColType::Track,
         Constraint::Lt(_) | Constraint::Le(_) | Constraint::Gt(_) | Constraint::Ge(_) => {
             ty.is_numeric()
         }
@@ -127,7 +132,18 @@ impl<'r> Query<'r> {
                     column: *col,
                 });
             };
-            if !constraint_fits(c, cs.ty) {
+            let triple_cols = |col: usize| {
+                spec.columns.get(col + 1).map(|c| c.ty) == Some(ColType::Track)
+                    && spec.columns.get(col + 2).map(|c| c.ty) == Some(ColType::Time)
+            };
+            let unsorted = |c: &Constraint| match c {
+                Constraint::Triples(ts) => ts.windows(2).any(|w| w[0] >= w[1]),
+                _ => false,
+            };
+            if !constraint_fits(c, cs.ty)
+                || (matches!(c, Constraint::Triples(_)) && !triple_cols(*col))
+                || unsorted(c)
+            {
                 return Err(ExtractError::BadConstraint {
                     relation: req.name.clone(),
                     column: *col,
@@ -167,14 +183,50 @@ impl<'r> Query<'r> {
                     *m = *m && keep(TrackId(i as u32));
                 }
             }
+            if let Constraint::Triples(ts) = c {
+                // X and Y may only be the tracks the triples name.
+                for (k, pick) in [
+                    (
+                        *col,
+                        (|t: &(TrackId, TrackId, Frame)| t.0) as fn(&_) -> TrackId,
+                    ),
+                    (*col + 1, |t| t.1),
+                ] {
+                    let mut set = vec![false; scene.tracks.len()];
+                    for t in ts.iter() {
+                        if let Some(s) = set.get_mut(pick(t).index()) {
+                            *s = true;
+                        }
+                    }
+                    let mask = allowed[k].get_or_insert_with(|| vec![true; scene.tracks.len()]);
+                    for (m, s) in mask.iter_mut().zip(&set) {
+                        *m = *m && *s;
+                    }
+                }
+            }
         }
+        let demanded = req
+            .constraints
+            .iter()
+            .filter_map(|(c, k)| match k {
+                Constraint::Triples(ts) if *c == 0 => Some(&ts[..]),
+                _ => None,
+            })
+            .min_by_key(|ts| ts.len());
         Ok(Query {
             req,
             spec,
             allowed,
+            demanded,
             budget: Budget::UNLIMITED,
             spent: Arc::default(),
         })
+    }
+
+    /// The (X, Y, T) triples of columns 0, 1, 2 that a [`Constraint::Triples`] demands, sorted
+    /// and distinct; `None` when no such constraint is given (any triple may be asked for).
+    pub fn demanded(&self) -> Option<&'r [(TrackId, TrackId, Frame)]> {
+        self.demanded
     }
 
     /// Whether track `t` may appear in column `col`.
@@ -213,6 +265,24 @@ impl<'r> Query<'r> {
     pub fn frames(&self, col: usize, num_frames: usize) -> std::ops::Range<Frame> {
         let (mut lo, mut hi) = (0.0_f64, num_frames as f64);
         for (c, k) in &self.req.constraints {
+            if let Constraint::Triples(ts) = k {
+                // The frames of the demanded triples, when their time column is `col`.
+                if *c + 2 == col {
+                    let a = ts
+                        .iter()
+                        .map(|t| t.2)
+                        .min()
+                        .map_or(f64::INFINITY, f64::from);
+                    let b = ts
+                        .iter()
+                        .map(|t| t.2)
+                        .max()
+                        .map_or(f64::NEG_INFINITY, f64::from);
+                    lo = lo.max(a);
+                    hi = hi.min(b + 1.0);
+                }
+                continue;
+            }
             if *c != col {
                 continue;
             }
@@ -238,6 +308,7 @@ impl<'r> Query<'r> {
                     lo = lo.max(a);
                     hi = hi.min(b + 1.0);
                 }
+                Constraint::Triples(_) => {}
                 Constraint::Lt(v) => hi = hi.min(v.ceil()),
                 Constraint::Le(v) => hi = hi.min(v.floor() + 1.0),
                 Constraint::Gt(v) => lo = lo.max(v.floor() + 1.0),
@@ -283,6 +354,17 @@ impl<'r> Query<'r> {
             let Some(column) = data.columns.get(*col) else {
                 return vec![false; n];
             };
+            if let Constraint::Triples(ts) = c {
+                let cols = (column, data.columns.get(col + 1), data.columns.get(col + 2));
+                let (Column::Track(xs), Some(Column::Track(ys)), Some(Column::Time(fs))) = cols
+                else {
+                    return vec![false; n];
+                };
+                for (i, o) in ok.iter_mut().enumerate() {
+                    *o = *o && ts.binary_search(&(xs[i], ys[i], fs[i])).is_ok();
+                }
+                continue;
+            }
             match (column, c, self.allowed.get(*col)) {
                 // Track constraints were turned into a mask over tracks up front.
                 (
@@ -400,6 +482,11 @@ pub fn satisfies(scene: &Scene, v: &Value, c: &Constraint) -> bool {
         Constraint::OneOf(ws) => ws
             .iter()
             .any(|w| satisfies(scene, v, &Constraint::Eq(w.clone()))),
+        // One value can only be checked against the triples' first column (X).
+        Constraint::Triples(ts) => match v {
+            Value::Track(t) => ts.iter().any(|x| x.0 == *t),
+            _ => false,
+        },
         Constraint::Lt(b) => num(v).is_some_and(|a| a < *b),
         Constraint::Le(b) => num(v).is_some_and(|a| a <= *b),
         Constraint::Gt(b) => num(v).is_some_and(|a| a > *b),

@@ -153,6 +153,12 @@ pub enum Constraint {
     /// bind the column's variable to (demand from the engine, e.g. the ego's track or the
     /// tracks and frames of a derived relation). Empty means no tuple is needed.
     OneOf(Arc<[Value]>),
+    /// Tuple-level demand on a pair relation: put on the relation's first track column `c`,
+    /// the columns `c`, `c + 1` and `c + 2` (X, Y, T: track, track, time) hold one of these
+    /// triples (sorted, distinct). The engine sends it when one complete relation of the same
+    /// body binds all three variables (e.g. `near(V, L, T, D)` after `following(V, L, T)`), so
+    /// the extractors look at those pairs at those frames only. Empty means no tuple is needed.
+    Triples(Arc<[(TrackId, TrackId, Frame)]>),
 }
 
 /// A request for one catalog relation, with constraints on some of its columns.

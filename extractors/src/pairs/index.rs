@@ -92,6 +92,10 @@ pub fn box_distance(a: &ObjBox, b: &ObjBox) -> f64 {
 
 type Entry = GeomWithData<Rectangle<[f64; 2]>, u32>;
 
+/// The part of X's surroundings (an envelope (min, max) in city coordinates, given X's box) where
+/// a relation's Y may be: its bounding box meets the envelope.
+pub type Region<'a> = dyn Fn(&ObjBox) -> ([f64; 2], [f64; 2]) + Sync + 'a;
+
 /// The boxes of one frame, sorted by track id, and an R-tree over their bounding boxes.
 #[derive(Debug)]
 pub struct FrameBoxes {
@@ -115,12 +119,16 @@ impl FrameBoxes {
     /// bounding box: a superset of the boxes within `radius` of `b` by rectangle distance.
     pub fn candidates(&self, b: &ObjBox, radius: f64) -> impl Iterator<Item = usize> + '_ {
         let (lo, hi) = b.aabb();
-        let env = AABB::from_corners(
+        self.candidates_in((
             [lo[0] - radius, lo[1] - radius],
             [hi[0] + radius, hi[1] + radius],
-        );
+        ))
+    }
+
+    /// Indices (into `boxes`) of the boxes whose bounding box meets the envelope (min, max).
+    pub fn candidates_in(&self, env: ([f64; 2], [f64; 2])) -> impl Iterator<Item = usize> + '_ {
         self.tree
-            .locate_in_envelope_intersecting(env)
+            .locate_in_envelope_intersecting(AABB::from_corners(env.0, env.1))
             .map(|e| e.data as usize)
     }
 }
@@ -182,6 +190,27 @@ impl Clone for PairRow {
             ..*self
         }
     }
+}
+
+/// The row of boxes `xi` and `yi` of frame `fb`, unless their centres are too far apart for the
+/// rectangles to come within `radius`.
+fn pair_row(fb: &FrameBoxes, xi: usize, yi: usize, frame: Frame, radius: f64) -> Option<PairRow> {
+    let (x, y) = (fb.boxes.get(xi)?, fb.boxes.get(yi)?);
+    let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
+    let d2 = dx * dx + dy * dy;
+    // Beyond this the rectangles cannot come within the radius.
+    let max = radius + x.reach + y.reach;
+    if d2 > max * max {
+        return None;
+    }
+    Some(PairRow {
+        y: y.track,
+        frame,
+        xi: xi as u32,
+        yi: yi as u32,
+        centres: d2.sqrt(),
+        dist: AtomicU64::new(UNKNOWN),
+    })
 }
 
 /// Pairs of boxes whose rectangles may be at most `radius` apart (their centres are at most
@@ -337,6 +366,24 @@ impl PairIndex {
         frames: &Range<Frame>,
         radius: f64,
     ) -> Vec<PairRow> {
+        self.rows_in(kin, xt, keep_y, direct_ys, frames, radius, None)
+    }
+
+    /// [`PairIndex::rows_of`], the R-tree asked for the boxes meeting `region(x)` (an envelope
+    /// (min, max) around X's box `x`) instead of X's bounding box grown by `radius`, when given:
+    /// for a relation whose condition puts Y in a known part of X's surroundings (e.g. ahead of
+    /// it). The centre-distance test against `radius` still applies.
+    #[allow(clippy::too_many_arguments)]
+    pub fn rows_in(
+        &self,
+        kin: &Kinematics,
+        xt: TrackId,
+        keep_y: &(dyn Fn(TrackId) -> bool + Sync),
+        direct_ys: Option<&[TrackId]>,
+        frames: &Range<Frame>,
+        radius: f64,
+        region: Option<&Region<'_>>,
+    ) -> Vec<PairRow> {
         let mut rows = Vec::new();
         let Some(kx) = kin.tracks.get(xt.index()) else {
             return rows;
@@ -354,28 +401,48 @@ impl PairIndex {
                 if y.track == xt || !keep_y(y.track) {
                     return;
                 }
-                let (dx, dy) = (y.center[0] - x.center[0], y.center[1] - x.center[1]);
-                let d2 = dx * dx + dy * dy;
-                // Beyond this the rectangles cannot come within the radius.
-                let max = radius + x.reach + y.reach;
-                if d2 > max * max {
-                    return;
+                if let Some(row) = pair_row(fb, xi, yi, frame, radius) {
+                    rows.push(row);
                 }
-                rows.push(PairRow {
-                    y: y.track,
-                    frame,
-                    xi: xi as u32,
-                    yi: yi as u32,
-                    centres: d2.sqrt(),
-                    dist: AtomicU64::new(UNKNOWN),
-                });
             };
-            match direct_ys {
-                Some(ys) => ys
+            match (direct_ys, region) {
+                (Some(ys), _) => ys
                     .iter()
                     .filter_map(|&t| fb.position(t))
                     .for_each(&mut visit),
-                None => fb.candidates(x, radius).for_each(&mut visit),
+                (None, Some(region)) => fb.candidates_in(region(x)).for_each(&mut visit),
+                (None, None) => fb.candidates(x, radius).for_each(&mut visit),
+            }
+        }
+        rows.sort_unstable_by_key(|r| (u64::from(r.y.0) << 32) | u64::from(r.frame));
+        rows
+    }
+
+    /// One X track's rows at the given (Y, frame) pairs only (sorted by (Y, frame)), within
+    /// `frames`, whose rectangles may be at most `radius` apart: a tuple-level demand
+    /// ([`scenalog_facts::relation::Constraint::Triples`]) looked up box by box, without the
+    /// R-tree. Sorted by (Y, frame) like [`PairIndex::rows_of`].
+    pub fn rows_at(
+        &self,
+        kin: &Kinematics,
+        xt: TrackId,
+        at: &[(TrackId, Frame)],
+        frames: &Range<Frame>,
+        radius: f64,
+    ) -> Vec<PairRow> {
+        let mut rows = Vec::with_capacity(at.len());
+        for &(yt, frame) in at {
+            if yt == xt || !frames.contains(&frame) {
+                continue;
+            }
+            let Some(fb) = self.frame(kin, frame) else {
+                continue;
+            };
+            let (Some(xi), Some(yi)) = (fb.position(xt), fb.position(yt)) else {
+                continue;
+            };
+            if let Some(row) = pair_row(fb, xi, yi, frame, radius) {
+                rows.push(row);
             }
         }
         rows.sort_unstable_by_key(|r| (u64::from(r.y.0) << 32) | u64::from(r.frame));

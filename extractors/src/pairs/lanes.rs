@@ -8,7 +8,10 @@ use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::{Frame, TrackId};
 
 use super::spatial::{key3, rel, xyt};
-use super::{for_each_pair, radius, str_values, text_ranks, wanted, ObjBox, PairContext};
+use super::{
+    for_each_pair, for_each_pair_searching, radius, str_values, text_ranks, wanted, ObjBox,
+    PairContext,
+};
 use crate::map::RoadSide;
 use crate::query::Query;
 use crate::thresholds::{
@@ -105,12 +108,91 @@ pub fn follows(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
 
 /// `following(X, Y, T)`: X follows lead Y at T ([`follows`]; RefAV's `following`).
 pub fn following(ctx: &PairContext, q: &Query) -> RelationData {
-    let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
-        if follows(ctx, x, y) && d.within() {
-            out.push((x.track, y.track, f));
-        }
-    });
+    let r = radius(q, None);
+    let reach = FollowingReach::of(ctx);
+    let region = |x: &ObjBox| reach.ahead_of(x);
+    let rows = for_each_pair_searching(
+        ctx,
+        q,
+        (r, reach.search()),
+        Some(&region),
+        key3,
+        |f, x, y, d, out| {
+            if follows(ctx, x, y) && d.within() {
+                out.push((x.track, y.track, f));
+            }
+        },
+    );
     xyt(q, rows)
+}
+
+/// Where a lead Y can be when X [`follows`] it, as the candidate search measures (raw centres
+/// and boxes). In X's frame, from X's smoothed centre, Y's smoothed centre is ahead of X's front
+/// by less than [`FOLLOWING_MAX_AHEAD_M`], and less than the larger of
+/// [`FOLLOWING_MAX_LATERAL_M`] and the two half widths to the side; a raw centre is at most the
+/// scene's largest smoothing offset (`drift`) from the smoothed one, so measured from the raw
+/// centres each coordinate moves by at most twice that. The search therefore finds every pair
+/// `follows` accepts, among far fewer candidates than the 50 m pair radius gives.
+struct FollowingReach {
+    /// The scene's largest distance between a box's raw and smoothed centres.
+    drift: f64,
+    /// The scene's largest half box width.
+    half_width: f64,
+}
+
+impl FollowingReach {
+    fn of(ctx: &PairContext) -> FollowingReach {
+        let finite_max = |it: &mut dyn Iterator<Item = f64>| {
+            it.filter(|d| d.is_finite()).fold(0.0_f64, f64::max)
+        };
+        let drift = finite_max(
+            &mut ctx
+                .kin
+                .tracks
+                .iter()
+                .flat_map(|k| k.pos.iter().zip(&k.center))
+                .map(|(p, c)| (p[0] - c[0]).hypot(p[1] - c[1])),
+        );
+        let half_width = finite_max(
+            &mut ctx
+                .scene
+                .tracks
+                .iter()
+                .flat_map(|t| &t.boxes)
+                .map(|b| 0.5 * b.size[1]),
+        );
+        FollowingReach { drift, half_width }
+    }
+
+    /// An upper bound on the distance from a lead's raw centre to X's raw box.
+    fn search(&self) -> f64 {
+        FOLLOWING_MAX_AHEAD_M.hypot(FOLLOWING_MAX_LATERAL_M.max(self.half_width))
+            + 2.0 * self.drift
+            + 1e-6
+    }
+
+    /// The city-frame envelope of the rectangle ahead of X's box `x` that holds every lead's raw
+    /// centre.
+    fn ahead_of(&self, x: &ObjBox) -> ([f64; 2], [f64; 2]) {
+        let slack = 2.0 * self.drift + 1e-6;
+        let (f0, f1) = (
+            x.half_len - slack,
+            x.half_len + FOLLOWING_MAX_AHEAD_M + slack,
+        );
+        let side = FOLLOWING_MAX_LATERAL_M.max(x.half_wid + self.half_width) + slack;
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for (f, l) in [(f0, -side), (f0, side), (f1, -side), (f1, side)] {
+            let p = [
+                x.center[0] + f * x.cos - l * x.sin,
+                x.center[1] + f * x.sin + l * x.cos,
+            ];
+            for i in 0..2 {
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        (lo, hi)
+    }
 }
 
 /// The road side of lane `ly` relative to lane `lx` (map lane indices): the road-side groups'

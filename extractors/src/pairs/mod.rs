@@ -15,8 +15,10 @@
 //! Pushdown: a request's constraints restrict the work, not only the output. `Category` and
 //! `Eq(Track)` on X or Y restrict the tracks visited (a small Y set is looked up directly instead of
 //! through the R-tree), `Eq`/`Lt`/`Le`/`Gt`/`Ge` on T restrict the frames, an upper bound on a
-//! distance column shrinks the search radius, and a fixed string (direction, heading, side) skips
-//! the other values. Every result then passes [`Query::finish`] (all constraints, sorted rows).
+//! distance column shrinks the search radius, a fixed string (direction, heading, side) skips
+//! the other values, and `Triples` (a tuple-level demand, [`Query::demanded`]) looks up exactly
+//! the demanded pairs at the demanded frames. Every result then passes [`Query::finish`] (all
+//! constraints, sorted rows).
 //!
 //! API: build a [`PairContext`] (or let [`provide`] build one from an [`Extractor`]) and call the
 //! relation's function, e.g. [`near`]`(&ctx, &request)`.
@@ -39,7 +41,7 @@ use crate::map::MapIndex;
 use crate::query::{ExtractError, Query};
 use crate::thresholds::PAIR_MAX_DISTANCE_M;
 
-pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex, PairList, PairRow};
+pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex, PairList, PairRow, Region};
 
 /// The catalog names of the pair relations this module provides.
 pub const PAIR_RELATIONS: &[&str] = &[
@@ -266,8 +268,47 @@ pub(crate) fn for_each_pair<T: Send>(
     key: impl Fn(&T) -> RowKey + Sync,
     f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
 ) -> Vec<T> {
+    for_each_pair_searching(ctx, q, (radius, radius), None, key, f)
+}
+
+/// [`for_each_pair`], visiting only the pairs whose centres are at most `search` plus both half
+/// diagonals apart (`search` at most `radius`; [`PairDistance::within`] still tests `radius`):
+/// for a relation whose own condition bounds the distance more tightly than `radius` does, so a
+/// dense log looks at fewer candidates per box.
+/// When `region` is given, the R-tree is asked for the boxes meeting `region(x)` instead
+/// ([`PairIndex::rows_in`]); it must hold every Y the relation can accept.
+pub(crate) fn for_each_pair_searching<T: Send>(
+    ctx: &PairContext,
+    q: &Query,
+    (radius, search): (f64, f64),
+    region: Option<&Region<'_>>,
+    key: impl Fn(&T) -> RowKey + Sync,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
+) -> Vec<T> {
     let frames = frame_range(q, 2, ctx.index.num_frames());
-    for_each_pair_in(ctx, q, frames, radius, key, f)
+    let search = search.min(radius);
+    let visit = Visit {
+        frames,
+        radius,
+        search,
+        at_frames: true,
+        region,
+    };
+    visit_pairs(ctx, q, visit, key, f)
+}
+
+/// How [`visit_pairs`] looks for candidates.
+struct Visit<'r> {
+    /// The frames visited.
+    frames: Range<Frame>,
+    /// What [`PairDistance::within`] tests.
+    radius: f64,
+    /// The candidate search radius (centre distance less both half diagonals).
+    search: f64,
+    /// Whether a tuple-level demand fixes the frames too, not only the pairs.
+    at_frames: bool,
+    /// Where Y may be around X's box, if the relation knows.
+    region: Option<&'r Region<'r>>,
 }
 
 /// Most rows the scene's cached list of every pair ([`PairIndex::all_pairs`]) may hold, whatever
@@ -284,6 +325,32 @@ enum PairSource<'c> {
         xs: Vec<TrackId>,
         direct: Option<Vec<TrackId>>,
     },
+    /// A tuple-level demand ([`Query::demanded`]), per X track (ascending): the demanded
+    /// (Y, frame) pairs, looked up box by box; with `at_frames` false, each demanded (X, Y) pair
+    /// at every frame of the range instead.
+    Demanded {
+        per_x: Vec<(TrackId, Vec<(TrackId, Frame)>)>,
+        at_frames: bool,
+    },
+}
+
+/// A tuple-level demand's triples grouped by X (they are sorted, so X ascending, each X's
+/// (Y, frame) pairs sorted), keeping the tracks the query allows.
+fn demanded_per_x(
+    q: &Query,
+    triples: &[(TrackId, TrackId, Frame)],
+) -> Vec<(TrackId, Vec<(TrackId, Frame)>)> {
+    let mut per_x: Vec<(TrackId, Vec<(TrackId, Frame)>)> = Vec::new();
+    for &(x, y, f) in triples {
+        if !q.allows_track(0, x) || !q.allows_track(1, y) {
+            continue;
+        }
+        match per_x.last_mut() {
+            Some((lx, at)) if *lx == x => at.push((y, f)),
+            _ => per_x.push((x, vec![(y, f)])),
+        }
+    }
+    per_x
 }
 
 /// The pairs a query may need: the scene's cached list of every pair within
@@ -291,7 +358,18 @@ enum PairSource<'c> {
 /// anyway) and the list fits its cap (the request's tuple budget, at most
 /// [`ALL_PAIRS_MAX_ROWS`]); else the pairs of the query's tracks, frames and radius, per X track
 /// (pushdown, and memory bounded by one X's pairs a thread).
-fn pair_source<'c>(ctx: &'c PairContext, q: &Query, frames: &Range<Frame>) -> PairSource<'c> {
+fn pair_source<'c>(
+    ctx: &'c PairContext,
+    q: &Query,
+    frames: &Range<Frame>,
+    at_frames: bool,
+) -> PairSource<'c> {
+    if let Some(triples) = q.demanded() {
+        return PairSource::Demanded {
+            per_x: demanded_per_x(q, triples),
+            at_frames,
+        };
+    }
     if let Some(all) = ctx.index.all_pairs_if_built() {
         return PairSource::Cached(all);
     }
@@ -309,7 +387,9 @@ fn pair_source<'c>(ctx: &'c PairContext, q: &Query, frames: &Range<Frame>) -> Pa
     PairSource::PerX { xs, direct }
 }
 
-/// [`for_each_pair`] over the given frames, whatever the query's time constraints.
+/// [`for_each_pair`] over the given frames, whatever the query's time constraints: a tuple-level
+/// demand ([`Query::demanded`]) restricts the (X, Y) pairs visited, not their frames (for
+/// relations that follow a pair over time, like `crossing`).
 pub(crate) fn for_each_pair_in<T: Send>(
     ctx: &PairContext,
     q: &Query,
@@ -318,8 +398,33 @@ pub(crate) fn for_each_pair_in<T: Send>(
     key: impl Fn(&T) -> RowKey + Sync,
     f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
 ) -> Vec<T> {
+    let visit = Visit {
+        frames,
+        radius,
+        search: radius,
+        at_frames: false,
+        region: None,
+    };
+    visit_pairs(ctx, q, visit, key, f)
+}
+
+/// The pair visit of [`for_each_pair_searching`] and [`for_each_pair_in`], as `visit` says.
+fn visit_pairs<T: Send>(
+    ctx: &PairContext,
+    q: &Query,
+    visit: Visit<'_>,
+    key: impl Fn(&T) -> RowKey + Sync,
+    f: impl Fn(Frame, &ObjBox, &ObjBox, &PairDistance, &mut Vec<T>) + Sync,
+) -> Vec<T> {
     use rayon::prelude::*;
-    if radius.is_nan() || radius < 0.0 || frames.is_empty() {
+    let Visit {
+        frames,
+        radius,
+        search,
+        at_frames,
+        region,
+    } = visit;
+    if radius.is_nan() || radius < 0.0 || search.is_nan() || search < 0.0 || frames.is_empty() {
         return Vec::new();
     }
     // One X track's candidate rows through `f`, under the budget.
@@ -348,8 +453,8 @@ pub(crate) fn for_each_pair_in<T: Send>(
                 continue;
             };
             debug_assert!(x.track == xt && y.track == r.y);
-            // Beyond this the rectangles cannot come within the radius.
-            if r.centres - x.reach - y.reach > radius {
+            // Beyond this the rectangles cannot come within the search radius.
+            if r.centres - x.reach - y.reach > search {
                 continue;
             }
             let d = PairDistance {
@@ -367,7 +472,7 @@ pub(crate) fn for_each_pair_in<T: Send>(
         out.sort_unstable_by_key(|r| packed(key(r)));
         out
     };
-    let per_x: Vec<Vec<T>> = match pair_source(ctx, q, &frames) {
+    let per_x: Vec<Vec<T>> = match pair_source(ctx, q, &frames, at_frames) {
         PairSource::Cached(list) => list
             .per_x
             .par_iter()
@@ -381,13 +486,37 @@ pub(crate) fn for_each_pair_in<T: Send>(
                     if q.spent.over() {
                         return Vec::new();
                     }
-                    let rows =
-                        ctx.index
-                            .rows_of(ctx.kin, xt, &keep_y, direct.as_deref(), &frames, radius);
+                    let rows = ctx.index.rows_in(
+                        ctx.kin,
+                        xt,
+                        &keep_y,
+                        direct.as_deref(),
+                        &frames,
+                        search,
+                        region,
+                    );
                     visit_x(xt, &rows)
                 })
                 .collect()
         }
+        PairSource::Demanded { per_x, at_frames } => per_x
+            .par_iter()
+            .map(|(xt, at)| {
+                if q.spent.over() {
+                    return Vec::new();
+                }
+                let rows = if at_frames {
+                    ctx.index.rows_at(ctx.kin, *xt, at, &frames, search)
+                } else {
+                    let mut ys: Vec<TrackId> = at.iter().map(|a| a.0).collect();
+                    ys.dedup();
+                    let keep_y = |t: TrackId| ys.binary_search(&t).is_ok();
+                    ctx.index
+                        .rows_of(ctx.kin, *xt, &keep_y, Some(&ys), &frames, search)
+                };
+                visit_x(*xt, &rows)
+            })
+            .collect(),
     };
     per_x.into_iter().flatten().collect()
 }

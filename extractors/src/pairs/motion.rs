@@ -325,7 +325,8 @@ fn crossing_candidates(ctx: &PairContext, q: &Query, reach: f64) -> Vec<(TrackId
         reach + CROSSING_CANDIDATE_MARGIN_M,
         |r: &(TrackId, TrackId)| (r.0, r.1, 0, 0),
         |_, x, y, d, out| {
-            if d.within() {
+            // A pair is a candidate once: its later frames need no distance.
+            if out.last() != Some(&(x.track, y.track)) && d.within() {
                 out.push((x.track, y.track));
             }
         },
