@@ -929,6 +929,41 @@ mod tests {
     }
 
     #[test]
+    fn window_comparisons_narrow_the_next_column_to_a_range() {
+        let src = ".decl a(V: int, T: time)\n.decl b(V: int, T: time)\n\
+                   .decl pair(V: int, T1: time, T2: time)\n\
+                   .decl close_x(V: int, X: float, Y: float)\n.decl q(V: int, X: float)\n\
+                   a(1, 5). b(1, 7). q(1, 0.5).\n\
+                   pair(V, T1, T2) :- a(V, T1), b(V, T2), T2 > T1, T2 - T1 <= 10.\n\
+                   close_x(V, X, Y) :- q(V, X), q(V, Y), abs(X - Y) < 2.5.\n";
+        let p = plan_of(src, "pair");
+        assert_eq!(p.atoms[1].pred, "b");
+        let Some(n) = &p.atoms[1].narrow else {
+            panic!("no narrowing: {:?}", p.atoms[1]);
+        };
+        assert_eq!(n.col, 1);
+        // Both comparisons still run on the candidates in the range.
+        assert_eq!(p.atoms[1].after.len(), 2);
+        let mut b = [0u64; crate::value::WIDTH];
+        b[1] = 5; // T1 (slot 1, after V)
+        assert_eq!(n.range(&b), Some((5, 15)));
+        let p = plan_of(src, "close_x");
+        let Some(n) = &p.atoms[1].narrow else {
+            panic!("no narrowing: {:?}", p.atoms[1]);
+        };
+        b[1] = crate::value::enc_float(1.0);
+        let Some((lo, hi)) = n.range(&b) else {
+            panic!("empty range");
+        };
+        let (lo, hi) = (crate::value::dec_float(lo), crate::value::dec_float(hi));
+        // A little wider than (-1.5, 3.5), never narrower.
+        assert!(
+            lo <= -1.5 && lo > -1.5001 && hi >= 3.5 && hi < 3.5001,
+            "{lo} {hi}"
+        );
+    }
+
+    #[test]
     fn stored_tuples_take_their_arity_in_words() {
         let edges = RelationData {
             name: "e".to_string(),

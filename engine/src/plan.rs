@@ -349,6 +349,9 @@ pub struct AtomStep {
     pub(crate) consts: Vec<(usize, u64)>,
     /// Derived from `args`: (column, column that first bound the same variable) equalities.
     pub(crate) sames: Vec<(usize, usize)>,
+    /// A new column whose candidates the comparisons after the atom bound by values known
+    /// before it (`T2 > T1, T2 - T1 <= 10`): the join reads that column's range only.
+    pub narrow: Option<Narrow>,
 }
 
 impl AtomStep {
@@ -381,6 +384,7 @@ impl AtomStep {
             keys,
             consts,
             sames,
+            narrow: None,
         }
     }
 
@@ -427,6 +431,238 @@ impl AtomStep {
         }
         Some(k)
     }
+}
+
+/// One side of a column bound: `base`, or `base + off` / `base - off`, evaluated on the binding
+/// before the atom is joined.
+#[derive(Debug, Clone)]
+pub struct BoundExpr {
+    /// The value, or the left operand.
+    pub base: CExpr,
+    /// The operator (`Add` or `Sub`) and right operand, if any.
+    pub off: Option<(BinOp, CExpr)>,
+}
+
+impl BoundExpr {
+    fn plain(base: CExpr) -> BoundExpr {
+        BoundExpr { base, off: None }
+    }
+
+    fn with(base: CExpr, op: BinOp, off: CExpr) -> BoundExpr {
+        BoundExpr {
+            base,
+            off: Some((op, off)),
+        }
+    }
+
+    /// The bound as a number; floats come with the slack their rounding needs (the
+    /// comparison computes `X - E` where the bound computes `E + C`), so the range is never
+    /// narrower than what the filter accepts.
+    fn value(&self, row: &Row) -> Option<Num> {
+        let a = self.base.eval(row)?;
+        let Some((op, e)) = &self.off else {
+            return Num::of(a, 0.0);
+        };
+        let b = e.eval(row)?;
+        let slack = 1e-9 * (a.as_f64()?.abs() + b.as_f64()?.abs());
+        Num::of(arith(*op, a, b)?, slack)
+    }
+}
+
+/// A numeric bound: an exact integer, or a float with its slack.
+#[derive(Debug, Clone, Copy)]
+enum Num {
+    Int(i64),
+    Float(f64, f64),
+}
+
+impl Num {
+    fn of(v: V, slack: f64) -> Option<Num> {
+        match v {
+            V::Int(i) => Some(Num::Int(i)),
+            V::Float(f) if !f.is_nan() => Some(Num::Float(f, slack)),
+            _ => None,
+        }
+    }
+
+    /// The encoded word in a column of `ty` at or below (`lower`) / at or above every value
+    /// the bound admits; `None` when no word bounds it (the side is then left open).
+    fn word(self, ty: ColType, lower: bool) -> Option<u64> {
+        let int = |i: i64| -> Option<u64> {
+            match ty {
+                ColType::Int => Some(crate::value::enc_int(i)),
+                // Times are stored as `u32`: clamp into (and one past) that range.
+                ColType::Time => Some(i.clamp(0, i64::from(u32::MAX) + 1) as u64),
+                _ => None,
+            }
+        };
+        match (self, ty) {
+            (Num::Int(i), ColType::Float) => {
+                let f = i as f64;
+                Num::Float(f, f.abs() * 1e-9).word(ty, lower)
+            }
+            (Num::Float(f, slack), ColType::Float) => {
+                let w = slack + f64::MIN_POSITIVE + f.abs() * 1e-12;
+                let g = if lower { f - w } else { f + w };
+                (!g.is_nan()).then(|| crate::value::enc_float(g))
+            }
+            (Num::Int(i), _) => int(i),
+            (Num::Float(f, slack), _) => {
+                // A fractional bound on an integer column: one past it on either side.
+                let g = if lower { f - slack } else { f + slack };
+                if !g.is_finite() || g.abs() > 4.0e15 {
+                    return None;
+                }
+                int(if lower {
+                    g.floor() as i64 - 1
+                } else {
+                    g.ceil() as i64 + 1
+                })
+            }
+        }
+    }
+}
+
+/// A column of an atom whose candidates are narrowed to a range by comparisons with values
+/// bound before the atom (see [`narrowing`]).
+#[derive(Debug, Clone)]
+pub struct Narrow {
+    /// The atom's column.
+    pub col: usize,
+    /// Its type (numeric: int, time or float).
+    pub ty: ColType,
+    /// Lower bounds (inclusive; each one that evaluates applies).
+    pub lo: Vec<BoundExpr>,
+    /// Upper bounds (inclusive).
+    pub hi: Vec<BoundExpr>,
+}
+
+impl Narrow {
+    /// The inclusive range of encoded words the column may hold under binding `b`; `None`
+    /// when it is empty. Every candidate outside it fails a comparison the planner applies
+    /// after the atom (which still runs on the candidates inside it).
+    pub fn range(&self, b: &Row) -> Option<(u64, u64)> {
+        let mut lo = 0u64;
+        let mut hi = u64::MAX;
+        for e in &self.lo {
+            if let Some(w) = e.value(b).and_then(|n| n.word(self.ty, true)) {
+                lo = lo.max(w);
+            }
+        }
+        for e in &self.hi {
+            match e.value(b) {
+                // An upper bound below every time: nothing qualifies.
+                Some(Num::Int(i)) if self.ty == ColType::Time && i < 0 => return None,
+                Some(n) => {
+                    if let Some(w) = n.word(self.ty, false) {
+                        hi = hi.min(w);
+                    }
+                }
+                None => {}
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+}
+
+/// Whether an expression reads a slot at or past `from` (a variable the atom binds).
+fn reads_new(e: &CExpr, from: usize) -> bool {
+    match e {
+        CExpr::Slot(s, _) => *s >= from,
+        CExpr::Const(_) => false,
+        CExpr::Neg(a) => reads_new(a, from),
+        CExpr::Bin(_, a, b) => reads_new(a, from) || reads_new(b, from),
+        CExpr::Call(_, args) => args.iter().any(|a| reads_new(a, from)),
+    }
+}
+
+/// The bounds `x op r` puts on slot `x`, when `l` is `x`, `x ± e`, `e - x` or `abs(x - e)`
+/// (`abs(e - x)`) and `e`, `r` read only slots below `from`: (lower, upper).
+fn solve(
+    op: CmpOp,
+    l: &CExpr,
+    r: &CExpr,
+    x: usize,
+    from: usize,
+) -> Option<(Option<BoundExpr>, Option<BoundExpr>)> {
+    if !reads_new(l, from) {
+        return solve(flipped(op), r, l, x, from);
+    }
+    if reads_new(r, from) {
+        return None;
+    }
+    let is_x = |e: &CExpr| matches!(e, CExpr::Slot(s, _) if *s == x);
+    let old = |e: &CExpr| !reads_new(e, from);
+    // `x op bound`, as (lower, upper).
+    let side = |op: CmpOp, b: BoundExpr| match op {
+        CmpOp::Lt | CmpOp::Le => Some((None, Some(b))),
+        CmpOp::Gt | CmpOp::Ge => Some((Some(b), None)),
+        CmpOp::Eq => Some((Some(b.clone()), Some(b))),
+        CmpOp::Ne => None,
+    };
+    match l {
+        e if is_x(e) => side(op, BoundExpr::plain(r.clone())),
+        CExpr::Bin(BinOp::Sub, a, e) if is_x(a) && old(e) => {
+            side(op, BoundExpr::with(r.clone(), BinOp::Add, (**e).clone()))
+        }
+        CExpr::Bin(BinOp::Sub, e, a) if is_x(a) && old(e) => side(
+            flipped(op),
+            BoundExpr::with((**e).clone(), BinOp::Sub, r.clone()),
+        ),
+        CExpr::Bin(BinOp::Add, a, e) | CExpr::Bin(BinOp::Add, e, a) if is_x(a) && old(e) => {
+            side(op, BoundExpr::with(r.clone(), BinOp::Sub, (**e).clone()))
+        }
+        CExpr::Call(Func::Abs, args) if matches!(op, CmpOp::Lt | CmpOp::Le | CmpOp::Eq) => {
+            let e = match args.as_slice() {
+                [CExpr::Bin(BinOp::Sub, a, e)] | [CExpr::Bin(BinOp::Sub, e, a)]
+                    if is_x(a) && old(e) =>
+                {
+                    (**e).clone()
+                }
+                _ => return None,
+            };
+            Some((
+                Some(BoundExpr::with(e.clone(), BinOp::Sub, r.clone())),
+                Some(BoundExpr::with(e, BinOp::Add, r.clone())),
+            ))
+        }
+        _ => None,
+    }
+}
+
+/// The range narrowing for an atom just planned: `news` are its (column, slot) new variables
+/// (slots from `from` on), `cmps` the comparisons that become ready once it is joined. The
+/// column with bounds on both sides (else one side) that comes first is chosen.
+fn narrowing(
+    news: &[(usize, usize)],
+    types: &[ColType],
+    cmps: &[(CmpOp, CExpr, CExpr)],
+    from: usize,
+) -> Option<Narrow> {
+    let mut best: Option<Narrow> = None;
+    for &(col, x) in news {
+        let ty = *types.get(col)?;
+        if !matches!(ty, ColType::Int | ColType::Time | ColType::Float) {
+            continue;
+        }
+        let mut n = Narrow {
+            col,
+            ty,
+            lo: Vec::new(),
+            hi: Vec::new(),
+        };
+        for (op, l, r) in cmps {
+            if let Some((lo, hi)) = solve(*op, l, r, x, from) {
+                n.lo.extend(lo);
+                n.hi.extend(hi);
+            }
+        }
+        let sides = |n: &Narrow| usize::from(!n.lo.is_empty()) + usize::from(!n.hi.is_empty());
+        if sides(&n) > best.as_ref().map_or(0, sides) {
+            best = Some(n);
+        }
+    }
+    best
 }
 
 /// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
@@ -768,6 +1004,7 @@ fn plan_seeded(
                 types.len()
             )));
         }
+        let from = scope.slots.len();
         let mut args = Vec::new();
         for (e, &ty) in a.args.iter().zip(&types) {
             let arg = match &e.kind {
@@ -798,7 +1035,22 @@ fn plan_seeded(
             };
             args.push(arg);
         }
-        atoms.push(AtomStep::new(a.pred.clone(), args, Vec::new()));
+        let mut step = AtomStep::new(a.pred.clone(), args, Vec::new());
+        // The comparisons ready once this atom is joined may bound one of its new columns.
+        let mut ready = Vec::new();
+        for (j, l) in lits.iter().enumerate() {
+            if let (false, BodyLit::Cmp(op, x, y)) = (done[j], l) {
+                if scope.bound(x) && scope.bound(y) {
+                    ready.push((
+                        *op,
+                        compile_expr(x, &scope, ctx.symbols)?,
+                        compile_expr(y, &scope, ctx.symbols)?,
+                    ));
+                }
+            }
+        }
+        step.narrow = narrowing(&step.news, &types, &ready, from);
+        atoms.push(step);
     }
     if let Some(i) = done.iter().position(|d| !d) {
         let _ = i;

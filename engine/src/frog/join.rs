@@ -5,7 +5,7 @@
 //! Depth-first, so no intermediate bindings are materialised.
 
 use crate::eval::Limits;
-use crate::frog::access::{range, Access, Tup};
+use crate::frog::access::{range, within, Access, Tup};
 use crate::plan::{apply, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
@@ -80,8 +80,19 @@ impl<const W: usize> Join<'_, W> {
             prefix[nc..nc + acc.nkeys].copy_from_slice(&k[..acc.nkeys]);
         }
         let prefix = &prefix[..acc.prefix_len()];
+        // Comparisons with the binding that bound the next column: read its range only.
+        let window = match &acc.narrow {
+            Some(n) => match n.range(&b) {
+                Some(r) => Some(r),
+                None => return Ok(()),
+            },
+            None => None,
+        };
         for part in parts {
-            let matches = range(part, prefix);
+            let mut matches = range(part, prefix);
+            if let Some((lo, hi)) = window {
+                matches = within(matches, prefix.len(), lo, hi);
+            }
             progress.candidates += matches.len();
             if progress.candidates >= CHECK_EVERY {
                 progress.candidates = 0;
