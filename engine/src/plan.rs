@@ -176,7 +176,7 @@ pub enum Filter {
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
-    Neg(Vec<KeyArg>, Arc<FastSet<Row>>),
+    Neg(Arc<NegSet>),
     /// An aggregate run for each binding (see [`Correlated`]), writing its result to a slot.
     AggRun(Arc<Correlated>, usize),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
@@ -191,6 +191,38 @@ pub enum Filter {
         /// Slot receiving the result.
         out: usize,
     },
+}
+
+/// The tuples of a negated atom (a completed relation), keyed for lookups by binding.
+#[derive(Debug)]
+pub struct NegSet {
+    /// How each argument is computed.
+    args: Vec<KeyArg>,
+    /// When every argument is a wildcard or a slot of its column's own type: the slot of each
+    /// other column (the key is then copied, not computed).
+    slots: Option<Vec<(usize, usize)>>,
+    /// With exactly one such column: its values.
+    one: FastSet<u64>,
+    /// Otherwise: the tuples, wildcard columns zeroed.
+    set: FastSet<Row>,
+}
+
+impl NegSet {
+    /// Whether the binding's key is in the relation; `None` when an argument fails to
+    /// evaluate.
+    fn contains(&self, row: &Row) -> Option<bool> {
+        match self.slots.as_deref() {
+            Some([(_, s)]) => Some(self.one.contains(&row[*s])),
+            Some(slots) => {
+                let mut key = [0u64; WIDTH];
+                for &(c, s) in slots {
+                    key[c] = row[s];
+                }
+                Some(self.set.contains(&key))
+            }
+            None => Some(self.set.contains(&neg_key(&self.args, row)?)),
+        }
+    }
 }
 
 /// How a negated atom's argument is computed from a binding row.
@@ -276,9 +308,8 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                 }
             }
             Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(&row)?, *ty)?,
-            Filter::Neg(args, set) => {
-                let key = neg_key(args, &row)?;
-                if set.contains(&key) {
+            Filter::Neg(n) => {
+                if n.contains(&row)? {
                     return None;
                 }
             }
@@ -352,6 +383,9 @@ pub struct AtomStep {
     /// A new column whose candidates the comparisons after the atom bound by values known
     /// before it (`T2 > T1, T2 - T1 <= 10`): the join reads that column's range only.
     pub narrow: Option<Narrow>,
+    /// The body literal this atom is (its index among the body's literals): the same in
+    /// every plan of one clause, whatever the join order.
+    pub lit: usize,
 }
 
 impl AtomStep {
@@ -385,6 +419,7 @@ impl AtomStep {
             consts,
             sames,
             narrow: None,
+            lit: 0,
         }
     }
 
@@ -840,7 +875,19 @@ pub fn plan(
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
 ) -> Result<Plan, EngineError> {
-    plan_seeded(lits, head, head_types, ctx, &[])
+    plan_seeded(lits, head, head_types, ctx, &[], None)
+}
+
+/// [`plan`] with the positive atom `lits[first]` joined first (the semi-naive variant that
+/// reads that atom's recent tuples scans them and looks the other atoms up).
+pub fn plan_first(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+    first: usize,
+) -> Result<Plan, EngineError> {
+    plan_seeded(lits, head, head_types, ctx, &[], Some(first))
 }
 
 /// [`plan`] with variables already bound, in slots `0..seed.len()`.
@@ -850,6 +897,7 @@ fn plan_seeded(
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
     seed: &[(&str, ColType)],
+    first: Option<usize>,
 ) -> Result<Plan, EngineError> {
     if lits.is_empty() && seed.is_empty() {
         // A ground fact (or a head over no body): nothing to schedule.
@@ -987,8 +1035,9 @@ fn plan_seeded(
                     .iter()
                     .filter(|e| !matches!(e.kind, ExprKind::Wildcard) && scope.bound(e))
                     .count();
-                if best.is_none_or(|(_, s)| score > s) {
-                    best = Some((i, score));
+                let forced = atoms.is_empty() && first == Some(i);
+                if forced || best.is_none_or(|(_, s)| score > s) {
+                    best = Some((i, if forced { usize::MAX } else { score }));
                 }
             }
         }
@@ -1036,6 +1085,7 @@ fn plan_seeded(
             args.push(arg);
         }
         let mut step = AtomStep::new(a.pred.clone(), args, Vec::new());
+        step.lit = i;
         // The comparisons ready once this atom is joined may bound one of its new columns.
         let mut ready = Vec::new();
         for (j, l) in lits.iter().enumerate() {
@@ -1083,9 +1133,23 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             _ => KeyArg::Val(compile_expr(e, scope, ctx.symbols)?, ty),
         });
     }
+    let slots: Option<Vec<(usize, usize)>> = args
+        .iter()
+        .enumerate()
+        .filter_map(|(c, x)| match x {
+            KeyArg::Val(CExpr::Slot(s, t), ty) if t == ty => Some(Some((c, *s))),
+            KeyArg::Val(..) => Some(None),
+            KeyArg::Wild => None,
+        })
+        .collect();
     let mut set = FastSet::default();
+    let mut one = FastSet::default();
     if let Some(rows) = ctx.complete.get(&a.pred) {
         for r in rows.iter() {
+            if let Some([(c, _)]) = slots.as_deref() {
+                one.insert(r[*c]);
+                continue;
+            }
             let mut k = Rows::row(r);
             for (i, x) in args.iter().enumerate() {
                 if matches!(x, KeyArg::Wild) {
@@ -1095,7 +1159,12 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             set.insert(k);
         }
     }
-    Ok(Filter::Neg(args, Arc::new(set)))
+    Ok(Filter::Neg(Arc::new(NegSet {
+        args,
+        slots,
+        one,
+        set,
+    })))
 }
 
 /// Named variables of an aggregate's body, in order of first occurrence.
@@ -1381,7 +1450,7 @@ fn correlated(
         seed.push((*v, ty));
         group_slots.push(s);
     }
-    let inner = plan_seeded(&lits, &head, None, ctx, &seed)?;
+    let inner = plan_seeded(&lits, &head, None, ctx, &seed, None)?;
     let empty = Rows::new(0);
     let indexes = inner
         .atoms
