@@ -6,7 +6,7 @@
 
 use crate::eval::Limits;
 use crate::frog::access::{range, within, Access, Tup};
-use crate::plan::{apply, Plan};
+use crate::plan::{apply, AtomStep, CExpr, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
 
@@ -29,6 +29,44 @@ struct Progress<'l> {
     candidates: usize,
 }
 
+/// Where a head column comes from when the head is a projection of slots: the binding before
+/// the last atom, or the last atom's tuple (stored position).
+#[derive(Clone, Copy)]
+enum From {
+    Binding(usize),
+    Tuple(usize),
+}
+
+/// The last atom's fast path, for heads that are a projection of slots: head tuples are
+/// written straight from the binding and the candidate tuple (no binding row built when the
+/// atom has no filters after it, and no recursion either way).
+struct Leaf {
+    /// Per head column, from the binding before the last atom or its tuple.
+    direct: Vec<From>,
+    /// Per head column, its slot (after the last atom's filters ran on the full binding).
+    slots: Vec<usize>,
+}
+
+impl Leaf {
+    fn of(plan: &Plan, last: &Access) -> Option<Leaf> {
+        let mut slots = Vec::new();
+        for (e, ty) in &plan.head {
+            match e {
+                CExpr::Slot(s, t) if t == ty => slots.push(*s),
+                _ => return None,
+            }
+        }
+        let direct = slots
+            .iter()
+            .map(|&s| match last.news.iter().find(|&&(_, slot)| slot == s) {
+                Some(&(pos, _)) => From::Tuple(pos),
+                None => From::Binding(s),
+            })
+            .collect();
+        Some(Leaf { direct, slots })
+    }
+}
+
 impl<const W: usize> Join<'_, W> {
     /// Runs the join, appending head tuples to `out`.
     pub(crate) fn run(
@@ -43,7 +81,8 @@ impl<const W: usize> Join<'_, W> {
             limits,
             candidates: 0,
         };
-        self.step(0, b, out, &mut progress)?;
+        let leaf = self.access.last().and_then(|a| Leaf::of(self.plan, a));
+        self.step(0, b, out, &mut progress, leaf.as_ref())?;
         if self.plan.sum_overflowed() {
             return Err(limits.sum_overflow());
         }
@@ -56,6 +95,7 @@ impl<const W: usize> Join<'_, W> {
         b: Row,
         out: &mut Vec<Tup<W>>,
         progress: &mut Progress<'_>,
+        leaf: Option<&Leaf>,
     ) -> Result<(), EngineError> {
         let (Some(step), Some(acc), Some(parts)) = (
             self.plan.atoms.get(depth),
@@ -98,16 +138,61 @@ impl<const W: usize> Join<'_, W> {
                 progress.candidates = 0;
                 progress.limits.check(out.len())?;
             }
-            for t in matches {
-                let mut nb = b;
-                for &(pos, slot) in &acc.news {
-                    nb[slot] = t[pos];
+            match leaf {
+                Some(leaf) if depth + 1 == self.plan.atoms.len() => {
+                    Self::last(leaf, step, acc, &b, matches, out)
                 }
-                if let Some(nb) = apply(&step.after, nb) {
-                    self.step(depth + 1, nb, out, progress)?;
+                _ => {
+                    for t in matches {
+                        let mut nb = b;
+                        for &(pos, slot) in &acc.news {
+                            nb[slot] = t[pos];
+                        }
+                        if let Some(nb) = apply(&step.after, nb) {
+                            self.step(depth + 1, nb, out, progress, leaf)?;
+                        }
+                    }
                 }
             }
         }
         Ok(())
+    }
+
+    /// The last atom's candidates through the fast path (see [`Leaf`]).
+    fn last(
+        leaf: &Leaf,
+        step: &AtomStep,
+        acc: &Access,
+        b: &Row,
+        matches: &[Tup<W>],
+        out: &mut Vec<Tup<W>>,
+    ) {
+        if step.after.is_empty() {
+            out.reserve(matches.len());
+            for t in matches {
+                let mut o = [0u64; W];
+                for (o, f) in o.iter_mut().zip(&leaf.direct) {
+                    *o = match *f {
+                        From::Binding(s) => b[s],
+                        From::Tuple(p) => t[p],
+                    };
+                }
+                out.push(o);
+            }
+            return;
+        }
+        for t in matches {
+            let mut nb = *b;
+            for &(pos, slot) in &acc.news {
+                nb[slot] = t[pos];
+            }
+            if let Some(nb) = apply(&step.after, nb) {
+                let mut o = [0u64; W];
+                for (o, &s) in o.iter_mut().zip(&leaf.slots) {
+                    *o = nb[s];
+                }
+                out.push(o);
+            }
+        }
     }
 }
