@@ -291,8 +291,13 @@ impl Stratum<'_> {
             }
             // The round's output: sorted and distinct per relation, into the variables.
             let mut firsts: Vec<Vec<(Tup<W>, u32)>> = vec![Vec::new(); names.len()];
+            // Relations that one plan alone produced this round: that plan.
+            let mut single: Vec<Option<u32>> = vec![None; names.len()];
             for (r, out) in outs.into_iter().enumerate() {
-                if options.provenance {
+                if let (true, [(_, p)]) = (options.provenance, runs[r].as_slice()) {
+                    single[r] = Some(*p as u32);
+                }
+                if options.provenance && single[r].is_none() {
                     let ends = &runs[r];
                     let mut pairs: Vec<(Tup<W>, u32)> = Vec::with_capacity(out.len());
                     let mut run = 0;
@@ -331,6 +336,12 @@ impl Stratum<'_> {
                 }
                 if options.provenance && !recent.is_empty() {
                     // Each new tuple's plan: the first plan (in order) that produced it.
+                    let tags = &mut tagged[r];
+                    if let Some(plan) = single[r] {
+                        let tag = (round << 32) | u64::from(plan);
+                        tags.extend(recent.iter().map(|t| (*t, tag)));
+                        continue;
+                    }
                     let firsts = &firsts[r];
                     let mut at = 0;
                     for t in recent.iter() {
@@ -338,7 +349,7 @@ impl Stratum<'_> {
                             at += 1;
                         }
                         let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
-                        tagged[r].push((*t, (round << 32) | u64::from(plan)));
+                        tags.push((*t, (round << 32) | u64::from(plan)));
                     }
                 }
             }
@@ -364,7 +375,8 @@ impl Stratum<'_> {
             }
             if options.provenance {
                 let mut tags = std::mem::take(&mut tagged[r]);
-                tags.sort_unstable_by_key(|a| a.0);
+                // One sorted run per round: a stable sort merges the runs it finds.
+                tags.sort_by(|a, b| a.0.cmp(&b.0));
                 let unpack = |t: u64| {
                     let plan = (t & 0xffff_ffff) as u32;
                     let plan = if plan == u32::MAX {
