@@ -106,32 +106,45 @@ impl Access {
 
 /// The tuples of a sorted slice whose first `p.len()` words equal `p`: a galloping search
 /// for the start, then for the end (ranges are usually short).
+#[cfg(test)]
 pub(crate) fn range<'a, const W: usize>(s: &'a [Tup<W>], p: &[u64]) -> &'a [Tup<W>] {
+    let (a, b) = range_span(s, p);
+    &s[a..b]
+}
+
+/// [`range`] as start and end indices.
+pub(crate) fn range_span<const W: usize>(s: &[Tup<W>], p: &[u64]) -> (usize, usize) {
     match p.len() {
-        0 => s,
+        0 => (0, s.len()),
         1 => {
             let k = p[0];
             let lo = s.partition_point(|t| t[0] < k);
-            let rest = &s[lo..];
-            let n = gallop(rest, |t| t[0] == k);
-            &rest[..n]
+            (lo, lo + gallop(&s[lo..], |t| t[0] == k))
         }
         l => {
             let lo = s.partition_point(|t| t[..l] < *p);
-            let rest = &s[lo..];
-            let n = gallop(rest, |t| t[..l] == *p);
-            &rest[..n]
+            (lo, lo + gallop(&s[lo..], |t| t[..l] == *p))
         }
     }
 }
 
 /// The tuples of a slice sorted by word `pos` (one prefix range of a copy) whose word `pos`
 /// lies in `lo..=hi`: two binary searches.
+#[cfg(test)]
 pub(crate) fn within<const W: usize>(s: &[Tup<W>], pos: usize, lo: u64, hi: u64) -> &[Tup<W>] {
+    let (a, b) = within_span(s, pos, lo, hi);
+    &s[a..b]
+}
+
+/// [`within`] as start and end indices.
+pub(crate) fn within_span<const W: usize>(
+    s: &[Tup<W>],
+    pos: usize,
+    lo: u64,
+    hi: u64,
+) -> (usize, usize) {
     let a = s.partition_point(|t| t[pos] < lo);
-    let s = &s[a..];
-    let n = s.partition_point(|t| t[pos] <= hi);
-    &s[..n]
+    (a, a + s[a..].partition_point(|t| t[pos] <= hi))
 }
 
 /// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix

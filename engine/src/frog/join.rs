@@ -5,7 +5,7 @@
 //! Depth-first, so no intermediate bindings are materialised.
 
 use crate::eval::Limits;
-use crate::frog::access::{range, within, Access, Tup};
+use crate::frog::access::{range_span, within_span, Access, Tup};
 use crate::plan::{apply, AtomStep, CExpr, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
@@ -23,10 +23,26 @@ pub(crate) struct Join<'a, const W: usize> {
     pub(crate) parts: Vec<Vec<&'a [Tup<W>]>>,
 }
 
-/// Candidate and output counts, for the periodic limit checks.
+/// Candidate and output counts, for the periodic limit checks, and the last lookup per atom.
 struct Progress<'l> {
     limits: &'l Limits<'l>,
     candidates: usize,
+    /// Per atom: its last lookup, reused while the prefix and window stay the same (the
+    /// later atoms of a product, e.g. `parent(Y, B)` for every `X` of one `sg(A, B)`).
+    memo: Vec<Memo>,
+}
+
+/// Parts an atom may read for its lookups to be remembered (datafrog keeps about log2(n)
+/// stable batches, so 32 covers any relation that fits in memory).
+const MEMO_PARTS: usize = 32;
+
+/// One atom's last lookup: its prefix and window, and the span found in each part.
+#[derive(Clone, Copy)]
+struct Memo {
+    valid: bool,
+    prefix: Row,
+    window: Option<(u64, u64)>,
+    spans: [(usize, usize); MEMO_PARTS],
 }
 
 /// Where a head column comes from when the head is a projection of slots: the binding before
@@ -77,9 +93,16 @@ impl<const W: usize> Join<'_, W> {
         let Some(b) = apply(&self.plan.start, [0u64; WIDTH]) else {
             return Ok(());
         };
+        let memo = Memo {
+            valid: false,
+            prefix: [0u64; WIDTH],
+            window: None,
+            spans: [(0, 0); MEMO_PARTS],
+        };
         let mut progress = Progress {
             limits,
             candidates: 0,
+            memo: vec![memo; self.plan.atoms.len()],
         };
         let leaf = self.access.last().and_then(|a| Leaf::of(self.plan, a));
         self.step(0, b, out, &mut progress, leaf.as_ref())?;
@@ -128,11 +151,40 @@ impl<const W: usize> Join<'_, W> {
             },
             None => None,
         };
-        for part in parts {
-            let mut matches = range(part, prefix);
-            if let Some((lo, hi)) = window {
-                matches = within(matches, prefix.len(), lo, hi);
+        let span = |part: &[Tup<W>]| {
+            let (a, b) = range_span(part, prefix);
+            match window {
+                Some((lo, hi)) => {
+                    let (x, y) = within_span(&part[a..b], prefix.len(), lo, hi);
+                    (a + x, a + y)
+                }
+                None => (a, b),
             }
+        };
+        let mut spans = [(0usize, 0usize); MEMO_PARTS];
+        let remembered = parts.len() <= MEMO_PARTS;
+        if let (true, Some(m)) = (remembered, progress.memo.get_mut(depth)) {
+            let l = prefix.len();
+            if m.valid && m.prefix[..l] == *prefix && m.window == window {
+                spans = m.spans;
+            } else {
+                for (s, part) in spans.iter_mut().zip(parts) {
+                    *s = span(part);
+                }
+                m.valid = true;
+                m.prefix[..l].copy_from_slice(prefix);
+                m.window = window;
+                m.spans = spans;
+            }
+        }
+        for (i, part) in parts.iter().enumerate() {
+            let matches = if remembered {
+                let (a, b) = spans[i];
+                &part[a..b]
+            } else {
+                let (a, b) = span(part);
+                &part[a..b]
+            };
             progress.candidates += matches.len();
             if progress.candidates >= CHECK_EVERY {
                 progress.candidates = 0;
