@@ -977,7 +977,7 @@ mod tests {
         let (lo, hi) = (crate::value::dec_float(lo), crate::value::dec_float(hi));
         // A little wider than (-1.5, 3.5), never narrower.
         assert!(
-            lo <= -1.5 && lo > -1.5001 && hi >= 3.5 && hi < 3.5001,
+            (-1.5001..=-1.5).contains(&lo) && (3.5..3.5001).contains(&hi),
             "{lo} {hi}"
         );
     }

@@ -585,7 +585,7 @@ fn window_comparisons_narrow_the_join_without_changing_results() {
     let mut a = Vec::new();
     let mut b = Vec::new();
     let mut ps = vec![std::collections::BTreeSet::new(); 3];
-    for v in 0..3usize {
+    for (v, seen) in ps.iter_mut().enumerate() {
         for t in 0..60u64 {
             if next(3) > 0 {
                 a.push((v, t));
@@ -598,7 +598,7 @@ fn window_comparisons_narrow_the_join_without_changing_results() {
         }
         for _ in 0..30 {
             let x = next(60) as i64 - 30;
-            ps[v].insert(x);
+            seen.insert(x);
             src.push_str(&format!("p({v}, {x}).\n"));
             let f = (next(400) as f64 - 200.0) / 40.0;
             src.push_str(&format!("q({v}, {f:?}).\n"));

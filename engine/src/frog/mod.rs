@@ -376,7 +376,7 @@ impl Stratum<'_> {
             if options.provenance {
                 let mut tags = std::mem::take(&mut tagged[r]);
                 // One sorted run per round: a stable sort merges the runs it finds.
-                tags.sort_by(|a, b| a.0.cmp(&b.0));
+                tags.sort_by_key(|a| a.0);
                 let unpack = |t: u64| {
                     let plan = (t & 0xffff_ffff) as u32;
                     let plan = if plan == u32::MAX {
