@@ -875,8 +875,17 @@ mod tests {
     use scenalog_facts::relation::Column;
     use scenalog_rules::{check, CheckOptions};
 
-    /// Plans the (first) clause defining `head` in a program without catalog relations.
-    fn plan_of(src: &str, head: &str) -> Plan {
+    /// A planning function: literals, head arguments, head types, context.
+    type PlanWith = dyn Fn(
+        &[crate::plan::BodyLit<'_>],
+        &[scenalog_rules::ast::Expr],
+        Option<&[ColType]>,
+        &mut Ctx<'_>,
+    ) -> Result<Plan, EngineError>;
+
+    /// Plans the first (`last`: the last) clause defining `head` in a program without catalog
+    /// relations with `plan_with(literals, head arguments, head types, context)`.
+    fn plan_clause(src: &str, head: &str, last: bool, plan_with: &PlanWith) -> Plan {
         let outcome = check(
             src,
             &CheckOptions {
@@ -906,19 +915,30 @@ mod tests {
             symbols: &mut symbols,
             limits: &limits,
         };
-        let Some(clause) = program.program.clauses.iter().find(|c| c.head.pred == head) else {
+        let mut defining = program
+            .program
+            .clauses
+            .iter()
+            .filter(|c| c.head.pred == head);
+        let found = if last {
+            defining.next_back()
+        } else {
+            defining.next()
+        };
+        let Some(clause) = found else {
             panic!("no clause for {head}");
         };
         let head_types = types.get(&clause.head.pred).cloned();
-        match plan(
-            &body_lits(&clause.body),
-            &clause.head.args,
-            head_types.as_deref(),
-            &mut ctx,
-        ) {
+        let lits = body_lits(&clause.body);
+        match plan_with(&lits, &clause.head.args, head_types.as_deref(), &mut ctx) {
             Ok(p) => p,
             Err(e) => panic!("does not plan: {e}"),
         }
+    }
+
+    /// Plans the first clause defining `head` as the evaluation does.
+    fn plan_of(src: &str, head: &str) -> Plan {
+        plan_clause(src, head, false, &|l, h, t, c| plan(l, h, t, c))
     }
 
     #[test]
@@ -988,54 +1008,10 @@ mod tests {
                    parent(2, 1). parent(3, 1).\n\
                    sg(X, Y) :- parent(X, P), parent(Y, P), X != Y.\n\
                    sg(X, Y) :- parent(X, A), sg(A, B), parent(Y, B).\n";
-        let outcome = check(
-            src,
-            &CheckOptions {
-                require_referred: false,
-            },
-        );
-        let Some(program) = outcome.program else {
-            panic!("does not check: {:?}", outcome.diagnostics);
-        };
-        let types: HashMap<String, Vec<ColType>> = program
-            .predicates
-            .iter()
-            .map(|(k, p)| (k.clone(), p.types.clone()))
-            .collect();
-        let complete = HashMap::new();
-        let mut symbols = Symbols::default();
-        let options = Options::default();
-        let limits = Limits {
-            relation: "test",
-            options: &options,
-            start: Instant::now(),
-            held: 0,
-        };
-        let mut ctx = Ctx {
-            types: &types,
-            complete: &complete,
-            symbols: &mut symbols,
-            limits: &limits,
-        };
-        let Some(clause) = program
-            .program
-            .clauses
-            .iter()
-            .rfind(|c| c.head.pred == "sg")
-        else {
-            panic!("no recursive clause");
-        };
-        let lits = body_lits(&clause.body);
-        let base = match plan(&lits, &clause.head.args, None, &mut ctx) {
-            Ok(p) => p,
-            Err(e) => panic!("{e}"),
-        };
+        let base = plan_clause(src, "sg", true, &|l, h, t, c| plan(l, h, t, c));
         // The planner alone starts with `parent` (written first, nothing bound yet).
         assert_eq!(base.atoms[0].pred, "parent");
-        let first = match plan_first(&lits, &clause.head.args, None, &mut ctx, 1) {
-            Ok(p) => p,
-            Err(e) => panic!("{e}"),
-        };
+        let first = plan_clause(src, "sg", true, &|l, h, t, c| plan_first(l, h, t, c, 1));
         // The variant reading `sg`'s recent tuples scans them and looks both parents up.
         assert_eq!(first.atoms[0].pred, "sg");
         assert_eq!(first.atoms[0].lit, 1);
