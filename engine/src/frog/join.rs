@@ -161,30 +161,27 @@ impl<const W: usize> Join<'_, W> {
                 None => (a, b),
             }
         };
-        let mut spans = [(0usize, 0usize); MEMO_PARTS];
-        let remembered = parts.len() <= MEMO_PARTS;
-        if let (true, Some(m)) = (remembered, progress.memo.get_mut(depth)) {
+        let remembered = parts.len() <= MEMO_PARTS && depth < progress.memo.len();
+        if remembered {
+            let m = &mut progress.memo[depth];
             let l = prefix.len();
-            if m.valid && m.prefix[..l] == *prefix && m.window == window {
-                spans = m.spans;
-            } else {
-                for (s, part) in spans.iter_mut().zip(parts) {
+            if !(m.valid && m.prefix[..l] == *prefix && m.window == window) {
+                for (s, part) in m.spans.iter_mut().zip(parts) {
                     *s = span(part);
                 }
                 m.valid = true;
                 m.prefix[..l].copy_from_slice(prefix);
                 m.window = window;
-                m.spans = spans;
             }
         }
         for (i, part) in parts.iter().enumerate() {
-            let matches = if remembered {
-                let (a, b) = spans[i];
-                &part[a..b]
+            // Deeper atoms only write their own memo, so this atom's spans stay put.
+            let (from, to) = if remembered {
+                progress.memo[depth].spans[i]
             } else {
-                let (a, b) = span(part);
-                &part[a..b]
+                span(part)
             };
+            let matches = &part[from..to];
             progress.candidates += matches.len();
             if progress.candidates >= CHECK_EVERY {
                 progress.candidates = 0;
