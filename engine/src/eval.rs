@@ -9,7 +9,7 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::demand;
-use crate::plan::{apply, body_lits, plan, AtomStep, Ctx, Plan};
+use crate::plan::{apply, body_lits, plan, plan_first, AtomStep, BodyLit, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
 use crate::rows::Rows;
 use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
@@ -103,6 +103,8 @@ pub fn evaluate(
             )?;
         }
         let mut plans: Vec<(String, Plan)> = Vec::new();
+        // Per plan: the plans of its semi-naive variants, by the recursive literal read first.
+        let mut variants: Vec<Vec<(usize, Plan)>> = Vec::new();
         let mut clause_of: Vec<usize> = Vec::new();
         for &ci in &stratum.clauses {
             let Some(clause) = clauses.get(ci) else {
@@ -123,6 +125,23 @@ pub fn evaluate(
                 limits: &limits,
             };
             let p = plan(&lits, &clause.head.args, head_types.as_deref(), &mut ctx)?;
+            // Each recursive atom's variant joins that atom (its recent tuples, usually few)
+            // first. Bodies with aggregates keep one plan (planning evaluates the aggregate).
+            let mut vs = Vec::new();
+            let has_agg = lits.iter().any(|l| matches!(l, BodyLit::Agg(_)));
+            let lead = p.atoms.first().map(|a| a.lit);
+            for (i, l) in lits.iter().enumerate() {
+                let recursive =
+                    matches!(l, BodyLit::Pos(a) if stratum.predicates.contains(&a.pred));
+                if has_agg || !recursive || lead == Some(i) {
+                    continue;
+                }
+                let head_args = &clause.head.args;
+                if let Ok(v) = plan_first(&lits, head_args, head_types.as_deref(), &mut ctx, i) {
+                    vs.push((i, v));
+                }
+            }
+            variants.push(vs);
             plans.push((clause.head.pred.clone(), p));
             clause_of.push(ci);
         }
@@ -140,7 +159,7 @@ pub fn evaluate(
                 start,
                 held,
             };
-            crate::frog::run_stratum(&plans, &defined, &types, &complete, &budget)?
+            crate::frog::run_stratum(&plans, &variants, &defined, &types, &complete, &budget)?
         };
         held += derived.values().map(Rows::len).sum::<usize>();
         complete.extend(derived);
@@ -856,8 +875,17 @@ mod tests {
     use scenalog_facts::relation::Column;
     use scenalog_rules::{check, CheckOptions};
 
-    /// Plans the (first) clause defining `head` in a program without catalog relations.
-    fn plan_of(src: &str, head: &str) -> Plan {
+    /// A planning function: literals, head arguments, head types, context.
+    type PlanWith = dyn Fn(
+        &[crate::plan::BodyLit<'_>],
+        &[scenalog_rules::ast::Expr],
+        Option<&[ColType]>,
+        &mut Ctx<'_>,
+    ) -> Result<Plan, EngineError>;
+
+    /// Plans the first (`last`: the last) clause defining `head` in a program without catalog
+    /// relations with `plan_with(literals, head arguments, head types, context)`.
+    fn plan_clause(src: &str, head: &str, last: bool, plan_with: &PlanWith) -> Plan {
         let outcome = check(
             src,
             &CheckOptions {
@@ -887,19 +915,30 @@ mod tests {
             symbols: &mut symbols,
             limits: &limits,
         };
-        let Some(clause) = program.program.clauses.iter().find(|c| c.head.pred == head) else {
+        let mut defining = program
+            .program
+            .clauses
+            .iter()
+            .filter(|c| c.head.pred == head);
+        let found = if last {
+            defining.next_back()
+        } else {
+            defining.next()
+        };
+        let Some(clause) = found else {
             panic!("no clause for {head}");
         };
         let head_types = types.get(&clause.head.pred).cloned();
-        match plan(
-            &body_lits(&clause.body),
-            &clause.head.args,
-            head_types.as_deref(),
-            &mut ctx,
-        ) {
+        let lits = body_lits(&clause.body);
+        match plan_with(&lits, &clause.head.args, head_types.as_deref(), &mut ctx) {
             Ok(p) => p,
             Err(e) => panic!("does not plan: {e}"),
         }
+    }
+
+    /// Plans the first clause defining `head` as the evaluation does.
+    fn plan_of(src: &str, head: &str) -> Plan {
+        plan_clause(src, head, false, &|l, h, t, c| plan(l, h, t, c))
     }
 
     #[test]
@@ -926,6 +965,57 @@ mod tests {
         assert_eq!(p.atoms[1].pred, "spd");
         assert!(matches!(p.atoms[1].args[0], Arg::Key(..)));
         assert_eq!(p.atoms[1].after.len(), 1);
+    }
+
+    #[test]
+    fn window_comparisons_narrow_the_next_column_to_a_range() {
+        let src = ".decl a(V: int, T: time)\n.decl b(V: int, T: time)\n\
+                   .decl pair(V: int, T1: time, T2: time)\n\
+                   .decl close_x(V: int, X: float, Y: float)\n.decl q(V: int, X: float)\n\
+                   a(1, 5). b(1, 7). q(1, 0.5).\n\
+                   pair(V, T1, T2) :- a(V, T1), b(V, T2), T2 > T1, T2 - T1 <= 10.\n\
+                   close_x(V, X, Y) :- q(V, X), q(V, Y), abs(X - Y) < 2.5.\n";
+        let p = plan_of(src, "pair");
+        assert_eq!(p.atoms[1].pred, "b");
+        let Some(n) = &p.atoms[1].narrow else {
+            panic!("no narrowing: {:?}", p.atoms[1]);
+        };
+        assert_eq!(n.col, 1);
+        // Both comparisons still run on the candidates in the range.
+        assert_eq!(p.atoms[1].after.len(), 2);
+        let mut b = [0u64; crate::value::WIDTH];
+        b[1] = 5; // T1 (slot 1, after V)
+        assert_eq!(n.range(&b), Some((5, 15)));
+        let p = plan_of(src, "close_x");
+        let Some(n) = &p.atoms[1].narrow else {
+            panic!("no narrowing: {:?}", p.atoms[1]);
+        };
+        b[1] = crate::value::enc_float(1.0);
+        let Some((lo, hi)) = n.range(&b) else {
+            panic!("empty range");
+        };
+        let (lo, hi) = (crate::value::dec_float(lo), crate::value::dec_float(hi));
+        // A little wider than (-1.5, 3.5), never narrower.
+        assert!(
+            (-1.5001..=-1.5).contains(&lo) && (3.5..3.5001).contains(&hi),
+            "{lo} {hi}"
+        );
+    }
+
+    #[test]
+    fn a_semi_naive_variant_joins_its_recursive_atom_first() {
+        let src = ".decl parent(C: int, P: int)\n.decl sg(A: int, B: int)\n\
+                   parent(2, 1). parent(3, 1).\n\
+                   sg(X, Y) :- parent(X, P), parent(Y, P), X != Y.\n\
+                   sg(X, Y) :- parent(X, A), sg(A, B), parent(Y, B).\n";
+        let base = plan_clause(src, "sg", true, &|l, h, t, c| plan(l, h, t, c));
+        // The planner alone starts with `parent` (written first, nothing bound yet).
+        assert_eq!(base.atoms[0].pred, "parent");
+        let first = plan_clause(src, "sg", true, &|l, h, t, c| plan_first(l, h, t, c, 1));
+        // The variant reading `sg`'s recent tuples scans them and looks both parents up.
+        assert_eq!(first.atoms[0].pred, "sg");
+        assert_eq!(first.atoms[0].lit, 1);
+        assert!(first.atoms[1..].iter().all(|a| a.keyed()));
     }
 
     #[test]

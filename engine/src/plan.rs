@@ -176,7 +176,7 @@ pub enum Filter {
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
-    Neg(Vec<KeyArg>, Arc<FastSet<Row>>),
+    Neg(Arc<NegSet>),
     /// An aggregate run for each binding (see [`Correlated`]), writing its result to a slot.
     AggRun(Arc<Correlated>, usize),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
@@ -191,6 +191,38 @@ pub enum Filter {
         /// Slot receiving the result.
         out: usize,
     },
+}
+
+/// The tuples of a negated atom (a completed relation), keyed for lookups by binding.
+#[derive(Debug)]
+pub struct NegSet {
+    /// How each argument is computed.
+    args: Vec<KeyArg>,
+    /// When every argument is a wildcard or a slot of its column's own type: the slot of each
+    /// other column (the key is then copied, not computed).
+    slots: Option<Vec<(usize, usize)>>,
+    /// With exactly one such column: its values.
+    one: FastSet<u64>,
+    /// Otherwise: the tuples, wildcard columns zeroed.
+    set: FastSet<Row>,
+}
+
+impl NegSet {
+    /// Whether the binding's key is in the relation; `None` when an argument fails to
+    /// evaluate.
+    fn contains(&self, row: &Row) -> Option<bool> {
+        match self.slots.as_deref() {
+            Some([(_, s)]) => Some(self.one.contains(&row[*s])),
+            Some(slots) => {
+                let mut key = [0u64; WIDTH];
+                for &(c, s) in slots {
+                    key[c] = row[s];
+                }
+                Some(self.set.contains(&key))
+            }
+            None => Some(self.set.contains(&neg_key(&self.args, row)?)),
+        }
+    }
 }
 
 /// How a negated atom's argument is computed from a binding row.
@@ -276,9 +308,8 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                 }
             }
             Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(&row)?, *ty)?,
-            Filter::Neg(args, set) => {
-                let key = neg_key(args, &row)?;
-                if set.contains(&key) {
+            Filter::Neg(n) => {
+                if n.contains(&row)? {
                     return None;
                 }
             }
@@ -349,6 +380,12 @@ pub struct AtomStep {
     pub(crate) consts: Vec<(usize, u64)>,
     /// Derived from `args`: (column, column that first bound the same variable) equalities.
     pub(crate) sames: Vec<(usize, usize)>,
+    /// A new column whose candidates the comparisons after the atom bound by values known
+    /// before it (`T2 > T1, T2 - T1 <= 10`): the join reads that column's range only.
+    pub narrow: Option<Narrow>,
+    /// The body literal this atom is (its index among the body's literals): the same in
+    /// every plan of one clause, whatever the join order.
+    pub lit: usize,
 }
 
 impl AtomStep {
@@ -381,6 +418,8 @@ impl AtomStep {
             keys,
             consts,
             sames,
+            narrow: None,
+            lit: 0,
         }
     }
 
@@ -427,6 +466,238 @@ impl AtomStep {
         }
         Some(k)
     }
+}
+
+/// One side of a column bound: `base`, or `base + off` / `base - off`, evaluated on the binding
+/// before the atom is joined.
+#[derive(Debug, Clone)]
+pub struct BoundExpr {
+    /// The value, or the left operand.
+    pub base: CExpr,
+    /// The operator (`Add` or `Sub`) and right operand, if any.
+    pub off: Option<(BinOp, CExpr)>,
+}
+
+impl BoundExpr {
+    fn plain(base: CExpr) -> BoundExpr {
+        BoundExpr { base, off: None }
+    }
+
+    fn with(base: CExpr, op: BinOp, off: CExpr) -> BoundExpr {
+        BoundExpr {
+            base,
+            off: Some((op, off)),
+        }
+    }
+
+    /// The bound as a number; floats come with the slack their rounding needs (the
+    /// comparison computes `X - E` where the bound computes `E + C`), so the range is never
+    /// narrower than what the filter accepts.
+    fn value(&self, row: &Row) -> Option<Num> {
+        let a = self.base.eval(row)?;
+        let Some((op, e)) = &self.off else {
+            return Num::of(a, 0.0);
+        };
+        let b = e.eval(row)?;
+        let slack = 1e-9 * (a.as_f64()?.abs() + b.as_f64()?.abs());
+        Num::of(arith(*op, a, b)?, slack)
+    }
+}
+
+/// A numeric bound: an exact integer, or a float with its slack.
+#[derive(Debug, Clone, Copy)]
+enum Num {
+    Int(i64),
+    Float(f64, f64),
+}
+
+impl Num {
+    fn of(v: V, slack: f64) -> Option<Num> {
+        match v {
+            V::Int(i) => Some(Num::Int(i)),
+            V::Float(f) if !f.is_nan() => Some(Num::Float(f, slack)),
+            _ => None,
+        }
+    }
+
+    /// The encoded word in a column of `ty` at or below (`lower`) / at or above every value
+    /// the bound admits; `None` when no word bounds it (the side is then left open).
+    fn word(self, ty: ColType, lower: bool) -> Option<u64> {
+        let int = |i: i64| -> Option<u64> {
+            match ty {
+                ColType::Int => Some(crate::value::enc_int(i)),
+                // Times are stored as `u32`: clamp into (and one past) that range.
+                ColType::Time => Some(i.clamp(0, i64::from(u32::MAX) + 1) as u64),
+                _ => None,
+            }
+        };
+        match (self, ty) {
+            (Num::Int(i), ColType::Float) => {
+                let f = i as f64;
+                Num::Float(f, f.abs() * 1e-9).word(ty, lower)
+            }
+            (Num::Float(f, slack), ColType::Float) => {
+                let w = slack + f64::MIN_POSITIVE + f.abs() * 1e-12;
+                let g = if lower { f - w } else { f + w };
+                (!g.is_nan()).then(|| crate::value::enc_float(g))
+            }
+            (Num::Int(i), _) => int(i),
+            (Num::Float(f, slack), _) => {
+                // A fractional bound on an integer column: one past it on either side.
+                let g = if lower { f - slack } else { f + slack };
+                if !g.is_finite() || g.abs() > 4.0e15 {
+                    return None;
+                }
+                int(if lower {
+                    g.floor() as i64 - 1
+                } else {
+                    g.ceil() as i64 + 1
+                })
+            }
+        }
+    }
+}
+
+/// A column of an atom whose candidates are narrowed to a range by comparisons with values
+/// bound before the atom (see [`narrowing`]).
+#[derive(Debug, Clone)]
+pub struct Narrow {
+    /// The atom's column.
+    pub col: usize,
+    /// Its type (numeric: int, time or float).
+    pub ty: ColType,
+    /// Lower bounds (inclusive; each one that evaluates applies).
+    pub lo: Vec<BoundExpr>,
+    /// Upper bounds (inclusive).
+    pub hi: Vec<BoundExpr>,
+}
+
+impl Narrow {
+    /// The inclusive range of encoded words the column may hold under binding `b`; `None`
+    /// when it is empty. Every candidate outside it fails a comparison the planner applies
+    /// after the atom (which still runs on the candidates inside it).
+    pub fn range(&self, b: &Row) -> Option<(u64, u64)> {
+        let mut lo = 0u64;
+        let mut hi = u64::MAX;
+        for e in &self.lo {
+            if let Some(w) = e.value(b).and_then(|n| n.word(self.ty, true)) {
+                lo = lo.max(w);
+            }
+        }
+        for e in &self.hi {
+            match e.value(b) {
+                // An upper bound below every time: nothing qualifies.
+                Some(Num::Int(i)) if self.ty == ColType::Time && i < 0 => return None,
+                Some(n) => {
+                    if let Some(w) = n.word(self.ty, false) {
+                        hi = hi.min(w);
+                    }
+                }
+                None => {}
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+}
+
+/// Whether an expression reads a slot at or past `from` (a variable the atom binds).
+fn reads_new(e: &CExpr, from: usize) -> bool {
+    match e {
+        CExpr::Slot(s, _) => *s >= from,
+        CExpr::Const(_) => false,
+        CExpr::Neg(a) => reads_new(a, from),
+        CExpr::Bin(_, a, b) => reads_new(a, from) || reads_new(b, from),
+        CExpr::Call(_, args) => args.iter().any(|a| reads_new(a, from)),
+    }
+}
+
+/// The bounds `x op r` puts on slot `x`, when `l` is `x`, `x ± e`, `e - x` or `abs(x - e)`
+/// (`abs(e - x)`) and `e`, `r` read only slots below `from`: (lower, upper).
+fn solve(
+    op: CmpOp,
+    l: &CExpr,
+    r: &CExpr,
+    x: usize,
+    from: usize,
+) -> Option<(Option<BoundExpr>, Option<BoundExpr>)> {
+    if !reads_new(l, from) {
+        return solve(flipped(op), r, l, x, from);
+    }
+    if reads_new(r, from) {
+        return None;
+    }
+    let is_x = |e: &CExpr| matches!(e, CExpr::Slot(s, _) if *s == x);
+    let old = |e: &CExpr| !reads_new(e, from);
+    // `x op bound`, as (lower, upper).
+    let side = |op: CmpOp, b: BoundExpr| match op {
+        CmpOp::Lt | CmpOp::Le => Some((None, Some(b))),
+        CmpOp::Gt | CmpOp::Ge => Some((Some(b), None)),
+        CmpOp::Eq => Some((Some(b.clone()), Some(b))),
+        CmpOp::Ne => None,
+    };
+    match l {
+        e if is_x(e) => side(op, BoundExpr::plain(r.clone())),
+        CExpr::Bin(BinOp::Sub, a, e) if is_x(a) && old(e) => {
+            side(op, BoundExpr::with(r.clone(), BinOp::Add, (**e).clone()))
+        }
+        CExpr::Bin(BinOp::Sub, e, a) if is_x(a) && old(e) => side(
+            flipped(op),
+            BoundExpr::with((**e).clone(), BinOp::Sub, r.clone()),
+        ),
+        CExpr::Bin(BinOp::Add, a, e) | CExpr::Bin(BinOp::Add, e, a) if is_x(a) && old(e) => {
+            side(op, BoundExpr::with(r.clone(), BinOp::Sub, (**e).clone()))
+        }
+        CExpr::Call(Func::Abs, args) if matches!(op, CmpOp::Lt | CmpOp::Le | CmpOp::Eq) => {
+            let e = match args.as_slice() {
+                [CExpr::Bin(BinOp::Sub, a, e)] | [CExpr::Bin(BinOp::Sub, e, a)]
+                    if is_x(a) && old(e) =>
+                {
+                    (**e).clone()
+                }
+                _ => return None,
+            };
+            Some((
+                Some(BoundExpr::with(e.clone(), BinOp::Sub, r.clone())),
+                Some(BoundExpr::with(e, BinOp::Add, r.clone())),
+            ))
+        }
+        _ => None,
+    }
+}
+
+/// The range narrowing for an atom just planned: `news` are its (column, slot) new variables
+/// (slots from `from` on), `cmps` the comparisons that become ready once it is joined. The
+/// column with bounds on both sides (else one side) that comes first is chosen.
+fn narrowing(
+    news: &[(usize, usize)],
+    types: &[ColType],
+    cmps: &[(CmpOp, CExpr, CExpr)],
+    from: usize,
+) -> Option<Narrow> {
+    let mut best: Option<Narrow> = None;
+    for &(col, x) in news {
+        let ty = *types.get(col)?;
+        if !matches!(ty, ColType::Int | ColType::Time | ColType::Float) {
+            continue;
+        }
+        let mut n = Narrow {
+            col,
+            ty,
+            lo: Vec::new(),
+            hi: Vec::new(),
+        };
+        for (op, l, r) in cmps {
+            if let Some((lo, hi)) = solve(*op, l, r, x, from) {
+                n.lo.extend(lo);
+                n.hi.extend(hi);
+            }
+        }
+        let sides = |n: &Narrow| usize::from(!n.lo.is_empty()) + usize::from(!n.hi.is_empty());
+        if sides(&n) > best.as_ref().map_or(0, sides) {
+            best = Some(n);
+        }
+    }
+    best
 }
 
 /// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
@@ -604,7 +875,19 @@ pub fn plan(
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
 ) -> Result<Plan, EngineError> {
-    plan_seeded(lits, head, head_types, ctx, &[])
+    plan_seeded(lits, head, head_types, ctx, &[], None)
+}
+
+/// [`plan`] with the positive atom `lits[first]` joined first (the semi-naive variant that
+/// reads that atom's recent tuples scans them and looks the other atoms up).
+pub fn plan_first(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+    first: usize,
+) -> Result<Plan, EngineError> {
+    plan_seeded(lits, head, head_types, ctx, &[], Some(first))
 }
 
 /// [`plan`] with variables already bound, in slots `0..seed.len()`.
@@ -614,6 +897,7 @@ fn plan_seeded(
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
     seed: &[(&str, ColType)],
+    first: Option<usize>,
 ) -> Result<Plan, EngineError> {
     if lits.is_empty() && seed.is_empty() {
         // A ground fact (or a head over no body): nothing to schedule.
@@ -751,8 +1035,9 @@ fn plan_seeded(
                     .iter()
                     .filter(|e| !matches!(e.kind, ExprKind::Wildcard) && scope.bound(e))
                     .count();
-                if best.is_none_or(|(_, s)| score > s) {
-                    best = Some((i, score));
+                let forced = atoms.is_empty() && first == Some(i);
+                if forced || best.is_none_or(|(_, s)| score > s) {
+                    best = Some((i, if forced { usize::MAX } else { score }));
                 }
             }
         }
@@ -768,6 +1053,7 @@ fn plan_seeded(
                 types.len()
             )));
         }
+        let from = scope.slots.len();
         let mut args = Vec::new();
         for (e, &ty) in a.args.iter().zip(&types) {
             let arg = match &e.kind {
@@ -798,7 +1084,23 @@ fn plan_seeded(
             };
             args.push(arg);
         }
-        atoms.push(AtomStep::new(a.pred.clone(), args, Vec::new()));
+        let mut step = AtomStep::new(a.pred.clone(), args, Vec::new());
+        step.lit = i;
+        // The comparisons ready once this atom is joined may bound one of its new columns.
+        let mut ready = Vec::new();
+        for (j, l) in lits.iter().enumerate() {
+            if let (false, BodyLit::Cmp(op, x, y)) = (done[j], l) {
+                if scope.bound(x) && scope.bound(y) {
+                    ready.push((
+                        *op,
+                        compile_expr(x, &scope, ctx.symbols)?,
+                        compile_expr(y, &scope, ctx.symbols)?,
+                    ));
+                }
+            }
+        }
+        step.narrow = narrowing(&step.news, &types, &ready, from);
+        atoms.push(step);
     }
     if let Some(i) = done.iter().position(|d| !d) {
         let _ = i;
@@ -831,9 +1133,23 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             _ => KeyArg::Val(compile_expr(e, scope, ctx.symbols)?, ty),
         });
     }
+    let slots: Option<Vec<(usize, usize)>> = args
+        .iter()
+        .enumerate()
+        .filter_map(|(c, x)| match x {
+            KeyArg::Val(CExpr::Slot(s, t), ty) if t == ty => Some(Some((c, *s))),
+            KeyArg::Val(..) => Some(None),
+            KeyArg::Wild => None,
+        })
+        .collect();
     let mut set = FastSet::default();
+    let mut one = FastSet::default();
     if let Some(rows) = ctx.complete.get(&a.pred) {
         for r in rows.iter() {
+            if let Some([(c, _)]) = slots.as_deref() {
+                one.insert(r[*c]);
+                continue;
+            }
             let mut k = Rows::row(r);
             for (i, x) in args.iter().enumerate() {
                 if matches!(x, KeyArg::Wild) {
@@ -843,7 +1159,12 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
             set.insert(k);
         }
     }
-    Ok(Filter::Neg(args, Arc::new(set)))
+    Ok(Filter::Neg(Arc::new(NegSet {
+        args,
+        slots,
+        one,
+        set,
+    })))
 }
 
 /// Named variables of an aggregate's body, in order of first occurrence.
@@ -1129,7 +1450,7 @@ fn correlated(
         seed.push((*v, ty));
         group_slots.push(s);
     }
-    let inner = plan_seeded(&lits, &head, None, ctx, &seed)?;
+    let inner = plan_seeded(&lits, &head, None, ctx, &seed, None)?;
     let empty = Rows::new(0);
     let indexes = inner
         .atoms

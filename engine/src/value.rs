@@ -186,7 +186,7 @@ pub enum V {
 }
 
 impl V {
-    fn as_f64(self) -> Option<f64> {
+    pub(crate) fn as_f64(self) -> Option<f64> {
         match self {
             V::Int(i) => Some(i as f64),
             V::Float(f) => Some(f),

@@ -3,7 +3,7 @@
 //! rest; constants and key values then select one contiguous range by a prefix search.
 //! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
 
-use crate::plan::AtomStep;
+use crate::plan::{AtomStep, Narrow};
 use crate::rows::Rows;
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
@@ -63,6 +63,8 @@ pub(crate) struct Access {
     pub(crate) nkeys: usize,
     /// (stored position, binding slot) of each new variable.
     pub(crate) news: Vec<(usize, usize)>,
+    /// The column bounded by comparisons with the binding, stored right after the keys.
+    pub(crate) narrow: Option<Narrow>,
 }
 
 impl Access {
@@ -70,6 +72,9 @@ impl Access {
     pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
         let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
         perm.extend(step.keys.iter().copied());
+        // A range-narrowed column comes right after the keys, so that within one prefix
+        // range the copy is sorted by it.
+        perm.extend(step.narrow.as_ref().map(|n| n.col));
         for c in 0..arity {
             if !perm.contains(&c) {
                 perm.push(c);
@@ -89,6 +94,7 @@ impl Access {
             consts: step.consts.iter().map(|&(_, v)| v).collect(),
             nkeys: step.keys.len(),
             news,
+            narrow: step.narrow.clone(),
         }
     }
 
@@ -100,23 +106,45 @@ impl Access {
 
 /// The tuples of a sorted slice whose first `p.len()` words equal `p`: a galloping search
 /// for the start, then for the end (ranges are usually short).
+#[cfg(test)]
 pub(crate) fn range<'a, const W: usize>(s: &'a [Tup<W>], p: &[u64]) -> &'a [Tup<W>] {
+    let (a, b) = range_span(s, p);
+    &s[a..b]
+}
+
+/// [`range`] as start and end indices.
+pub(crate) fn range_span<const W: usize>(s: &[Tup<W>], p: &[u64]) -> (usize, usize) {
     match p.len() {
-        0 => s,
+        0 => (0, s.len()),
         1 => {
             let k = p[0];
             let lo = s.partition_point(|t| t[0] < k);
-            let rest = &s[lo..];
-            let n = gallop(rest, |t| t[0] == k);
-            &rest[..n]
+            (lo, lo + gallop(&s[lo..], |t| t[0] == k))
         }
         l => {
             let lo = s.partition_point(|t| t[..l] < *p);
-            let rest = &s[lo..];
-            let n = gallop(rest, |t| t[..l] == *p);
-            &rest[..n]
+            (lo, lo + gallop(&s[lo..], |t| t[..l] == *p))
         }
     }
+}
+
+/// The tuples of a slice sorted by word `pos` (one prefix range of a copy) whose word `pos`
+/// lies in `lo..=hi`: two binary searches.
+#[cfg(test)]
+pub(crate) fn within<const W: usize>(s: &[Tup<W>], pos: usize, lo: u64, hi: u64) -> &[Tup<W>] {
+    let (a, b) = within_span(s, pos, lo, hi);
+    &s[a..b]
+}
+
+/// [`within`] as start and end indices.
+pub(crate) fn within_span<const W: usize>(
+    s: &[Tup<W>],
+    pos: usize,
+    lo: u64,
+    hi: u64,
+) -> (usize, usize) {
+    let a = s.partition_point(|t| t[pos] < lo);
+    (a, a + s[a..].partition_point(|t| t[pos] <= hi))
 }
 
 /// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix
@@ -157,6 +185,10 @@ mod tests {
         assert!(range(&s, &[0]).is_empty());
         assert_eq!(range(&s, &[2, 5]), &s[2..3]);
         assert_eq!(range(&s, &[]).len(), 6);
+        assert_eq!(within(range(&s, &[2]), 1, 1, 5), &s[2..3]);
+        assert_eq!(within(range(&s, &[2]), 1, 0, 9), &s[1..4]);
+        assert!(within(range(&s, &[2]), 1, 6, 8).is_empty());
+        assert!(within(range(&s, &[3]), 1, 5, 0).is_empty());
         let many: Vec<Tup<1>> = (0..1000).map(|i| [i / 100]).collect();
         for k in 0..10 {
             assert_eq!(range(&many, &[k]).len(), 100);

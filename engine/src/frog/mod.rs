@@ -43,6 +43,7 @@ pub(crate) struct Budget<'a> {
 /// with them; the same answer as the interpreter's `run_stratum`.
 pub(crate) fn run_stratum(
     plans: &[(String, Plan)],
+    variants: &[Vec<(usize, Plan)>],
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     complete: &HashMap<String, Rows>,
@@ -61,6 +62,7 @@ pub(crate) fn run_stratum(
     }
     let s = Stratum {
         plans,
+        variants,
         defined,
         stored: &stored,
         complete,
@@ -80,6 +82,8 @@ pub(crate) fn run_stratum(
 /// The inputs of one stratum's run.
 struct Stratum<'a> {
     plans: &'a [(String, Plan)],
+    /// Per plan: (recursive literal, plan joining it first) of its semi-naive variants.
+    variants: &'a [Vec<(usize, Plan)>],
     defined: &'a HashSet<&'a str>,
     stored: &'a dyn Fn(&str) -> usize,
     complete: &'a HashMap<String, Rows>,
@@ -125,9 +129,14 @@ impl Stratum<'_> {
         let mut indexes: Vec<(usize, Sig, Variable<Tup<W>>)> = Vec::new();
         let mut known: HashMap<Sig, Src> = HashMap::new();
         let empty = Rows::new(1);
-        // Per plan: the access of each atom and where its copy lives.
-        let mut accesses: Vec<Vec<(Access, Src)>> = Vec::new();
-        for (_, p) in self.plans {
+        // Per plan, then per variant plan: the access of each atom and where its copy lives.
+        let mut accesses: Vec<(Vec<Access>, Vec<Src>)> = Vec::new();
+        let all = self
+            .plans
+            .iter()
+            .map(|(_, p)| p)
+            .chain(self.variants.iter().flatten().map(|(_, p)| p));
+        for p in all {
             let mut list = Vec::new();
             for a in &p.atoms {
                 let acc = Access::of(a, (self.stored)(&a.pred));
@@ -157,8 +166,22 @@ impl Stratum<'_> {
                 };
                 list.push((acc, src));
             }
-            accesses.push(list);
+            accesses.push(list.into_iter().unzip());
         }
+        // Where each variant plan's accesses are.
+        let mut at = self.plans.len();
+        let variant_at: Vec<Vec<(usize, usize)>> = self
+            .variants
+            .iter()
+            .map(|vs| {
+                vs.iter()
+                    .map(|(lit, _)| {
+                        at += 1;
+                        (*lit, at - 1)
+                    })
+                    .collect()
+            })
+            .collect();
         let heads: Vec<Option<usize>> = self
             .plans
             .iter()
@@ -184,11 +207,11 @@ impl Stratum<'_> {
                 };
                 for (pi, (head, p)) in self.plans.iter().enumerate() {
                     let Some(h) = heads[pi] else { continue };
-                    let acc = &accesses[pi];
-                    let rec: Vec<usize> = acc
+                    let (_, srcs) = &accesses[pi];
+                    let rec: Vec<usize> = srcs
                         .iter()
                         .enumerate()
-                        .filter(|(_, (_, s))| matches!(s, Src::Own { .. }))
+                        .filter(|(_, s)| matches!(s, Src::Own { .. }))
                         .map(|(i, _)| i)
                         .collect();
                     if first != rec.is_empty() {
@@ -203,23 +226,41 @@ impl Stratum<'_> {
                         start,
                         held: held + stratum_held + pending,
                     };
-                    let access: Vec<Access> = acc.iter().map(|(a, _)| a.clone()).collect();
                     let out = &mut outs[h];
-                    let variants: Vec<Option<usize>> = if first {
-                        vec![None]
-                    } else {
-                        rec.iter().map(|&k| Some(k)).collect()
-                    };
-                    for delta in variants {
+                    // Per variant: the plan, its accesses, and the literal read as recent
+                    // tuples. Recursive atoms of earlier literals read the stable batches,
+                    // later ones stable and recent alike (one fixed order per clause,
+                    // whichever order each variant joins in).
+                    let mut runs_of: Vec<(&Plan, usize, Option<usize>)> = Vec::new();
+                    if first {
+                        runs_of.push((p, pi, None));
+                    }
+                    for &k in if first { &[][..] } else { &rec[..] } {
+                        let lit = p.atoms[k].lit;
+                        let chosen = variant_at[pi].iter().position(|&(l, _)| l == lit);
+                        match chosen {
+                            Some(v) => runs_of.push((
+                                &self.variants[pi][v].1,
+                                variant_at[pi][v].1,
+                                Some(lit),
+                            )),
+                            None => runs_of.push((p, pi, Some(lit))),
+                        }
+                    }
+                    for (plan, ai, delta) in runs_of {
+                        let (access, srcs) = &accesses[ai];
                         let mut parts: Vec<Vec<&[Tup<W>]>> = Vec::new();
-                        for (j, (_, src)) in acc.iter().enumerate() {
+                        let mut recent_empty = false;
+                        for (step, src) in plan.atoms.iter().zip(srcs) {
                             parts.push(match (*src, delta) {
                                 (Src::Static(i), _) => vec![&statics[i].elements[..]],
-                                (Src::Own { rel, index }, Some(k)) if j < k => {
+                                (Src::Own { rel, index }, Some(k)) if step.lit < k => {
                                     parts_for(rel, index).stable().collect()
                                 }
-                                (Src::Own { rel, index }, Some(k)) if j == k => {
-                                    vec![&parts_for(rel, index).recent.elements[..]]
+                                (Src::Own { rel, index }, Some(k)) if step.lit == k => {
+                                    let r = &parts_for(rel, index).recent.elements[..];
+                                    recent_empty = r.is_empty();
+                                    vec![r]
                                 }
                                 (Src::Own { rel, index }, _) => {
                                     let ps = parts_for(rel, index);
@@ -229,14 +270,12 @@ impl Stratum<'_> {
                                 }
                             });
                         }
-                        if let Some(k) = delta {
-                            if parts[k].iter().all(|s| s.is_empty()) {
-                                continue;
-                            }
+                        if recent_empty {
+                            continue;
                         }
                         let join = Join {
-                            plan: p,
-                            access: &access,
+                            plan,
+                            access,
                             parts,
                         };
                         join.run(out, &limits)?;
@@ -252,8 +291,13 @@ impl Stratum<'_> {
             }
             // The round's output: sorted and distinct per relation, into the variables.
             let mut firsts: Vec<Vec<(Tup<W>, u32)>> = vec![Vec::new(); names.len()];
+            // Relations that one plan alone produced this round: that plan.
+            let mut single: Vec<Option<u32>> = vec![None; names.len()];
             for (r, out) in outs.into_iter().enumerate() {
-                if options.provenance {
+                if let (true, [(_, p)]) = (options.provenance, runs[r].as_slice()) {
+                    single[r] = Some(*p as u32);
+                }
+                if options.provenance && single[r].is_none() {
                     let ends = &runs[r];
                     let mut pairs: Vec<(Tup<W>, u32)> = Vec::with_capacity(out.len());
                     let mut run = 0;
@@ -292,6 +336,12 @@ impl Stratum<'_> {
                 }
                 if options.provenance && !recent.is_empty() {
                     // Each new tuple's plan: the first plan (in order) that produced it.
+                    let tags = &mut tagged[r];
+                    if let Some(plan) = single[r] {
+                        let tag = (round << 32) | u64::from(plan);
+                        tags.extend(recent.iter().map(|t| (*t, tag)));
+                        continue;
+                    }
                     let firsts = &firsts[r];
                     let mut at = 0;
                     for t in recent.iter() {
@@ -299,7 +349,7 @@ impl Stratum<'_> {
                             at += 1;
                         }
                         let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
-                        tagged[r].push((*t, (round << 32) | u64::from(plan)));
+                        tags.push((*t, (round << 32) | u64::from(plan)));
                     }
                 }
             }
@@ -325,7 +375,8 @@ impl Stratum<'_> {
             }
             if options.provenance {
                 let mut tags = std::mem::take(&mut tagged[r]);
-                tags.sort_unstable_by_key(|a| a.0);
+                // One sorted run per round: a stable sort merges the runs it finds.
+                tags.sort_by_key(|a| a.0);
                 let unpack = |t: u64| {
                     let plan = (t & 0xffff_ffff) as u32;
                     let plan = if plan == u32::MAX {
