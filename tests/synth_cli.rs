@@ -437,11 +437,12 @@ fn eval_scores_a_fixture_prompt_without_a_clean_program_as_predicting_nothing() 
 #[test]
 fn eval_stops_a_runaway_program_at_the_time_limit_and_scores_it_as_predicting_nothing() {
     // The model answers "stopped car" with a program that checks clean but would run for many
-    // minutes on every log (issue #18's reproducer). With `--timeout-ms` the run ends, each of
+    // minutes on every log (issue #18's reproducer, with a product no range narrowing can
+    // bound). With `--timeout-ms` the run ends, each of
     // its (log, prompt) pairs is listed as failed, and the prompt scores 0 rather than being
     // left out of the score.
     const RUNAWAY: &str =
-        "referred(A, T) :- present(A, T), present(B, T), present(C, T3), T3 + T < 0, A != B, B != C.";
+        "referred(A, T) :- present(A, T), present(B, T), present(C, T3), T3 * T < 0, A != B, B != C.";
     let report = eval_json(
         "stopped car\n",
         vec![program(RUNAWAY)],
