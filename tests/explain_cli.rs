@@ -424,3 +424,30 @@ fn helper_relations_are_proved_and_followed_in_why_not() {
     }
     assert!(done, "no log has a vehicle with a bicycle to its right");
 }
+
+#[test]
+fn a_runaway_program_stops_at_the_limits_with_a_clear_error() {
+    // A program that checks clean but would run for many minutes (`mine`'s runaway reproducer):
+    // `explain` evaluates it within `--timeout-ms` / `--max-tuples`, as `mine` does, and says
+    // which limit stopped it instead of hanging.
+    let (log, _, uuid, _) = stopped_car();
+    let log_s = log.to_string_lossy();
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("tempdir: {e}"));
+    let rules = dir.path().join("runaway.dl");
+    std::fs::write(
+        &rules,
+        "// description: runaway\nreferred(A, T) :- present(A, T), present(B, T), \
+         present(C, T3), T3 * T < 0, A != B, B != C.\n",
+    )
+    .unwrap_or_else(|e| panic!("write: {e}"));
+    let rules_s = rules.to_string_lossy();
+    let base = [
+        "explain", "--rules", &rules_s, "--log", &log_s, "--track", &uuid,
+    ];
+    let (code, _, err) = scenalog(&[&base[..], &["--timeout-ms", "300"]].concat());
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("ran longer than 0.3 s"), "{err}");
+    let (code, _, err) = scenalog(&[&base[..], &["--max-tuples", "5000"]].concat());
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("5000"), "{err}");
+}

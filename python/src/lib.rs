@@ -253,8 +253,15 @@ fn explain(
         }
     }
     let work = move || -> Result<String, String> {
-        let x = scenalog::cli::explain::explain_track(&rules, &log, &track, at, why_not)
-            .map_err(|(_, e)| e)?;
+        let x = scenalog::cli::explain::explain_track(
+            &rules,
+            &log,
+            &track,
+            at,
+            why_not,
+            &scenalog::pipeline::budget::pair_limits(None, None, 1),
+        )
+        .map_err(|(_, e)| e)?;
         let renderer = scenalog::pipeline::explain::Renderer {
             scene: &x.scene,
             scenario: &x.scenario,

@@ -76,6 +76,14 @@ pub struct Args {
     /// referred in, instead of one frame.
     #[arg(long, value_name = "A..B|referred")]
     pub frames: Option<String>,
+    /// Most tuples the evaluation may hold, across all its relations, as `mine --max-tuples`
+    /// [default: sized to the machine, as `mine`'s].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_tuples: Option<u64>,
+    /// Longest the evaluation may take, in milliseconds, as `mine --timeout-ms` [default:
+    /// 120000].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..))]
+    pub timeout_ms: Option<u64>,
 }
 
 /// Whose frame `--picture` is drawn in.
@@ -211,14 +219,16 @@ pub struct Explained {
 
 /// Explains why `track_uuid` (a uuid or an unambiguous prefix) is or is not referred by the
 /// program `rules` on `log` at the frame nearest `at` seconds (see the module's doc for the
-/// frame chosen without it); `why_not_wanted` adds the why-not report to a proof. Errors are the
-/// exit code and the message `scenalog explain` prints.
+/// frame chosen without it); `why_not_wanted` adds the why-not report to a proof. The program is
+/// evaluated within `limits` (tuple budget, time limit). Errors are the exit code and the message
+/// `scenalog explain` prints.
 pub fn explain_track(
     rules: &Path,
     log: &Path,
     track_uuid: &str,
     at: Option<f64>,
     why_not_wanted: bool,
+    limits: &scenalog_engine::Options,
 ) -> Result<Explained, (u8, String)> {
     let display = rules.display().to_string();
     let source = match std::fs::read_to_string(rules) {
@@ -238,7 +248,7 @@ pub fn explain_track(
         Err(e) => return Err((2, e)),
     };
     let extractor = Extractor::new(&scene);
-    let ev = match evaluate_for_explain(&extractor, &scenario.program, false) {
+    let ev = match evaluate_for_explain(&extractor, &scenario.program, false, limits) {
         Ok(ev) => ev,
         Err(e) => {
             return Err((
@@ -268,7 +278,7 @@ pub fn explain_track(
     };
     let want_why_not = why_not_wanted || proof.is_none();
     let why = if want_why_not {
-        let whole = match evaluate_for_explain(&extractor, &scenario.program, true) {
+        let whole = match evaluate_for_explain(&extractor, &scenario.program, true, limits) {
             Ok(ev) => ev,
             Err(e) => {
                 return Err((
@@ -304,8 +314,15 @@ pub fn explain_track(
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
-    let explained = match explain_track(&args.rules, &args.log, &args.track, args.at, args.why_not)
-    {
+    let limits = crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1);
+    let explained = match explain_track(
+        &args.rules,
+        &args.log,
+        &args.track,
+        args.at,
+        args.why_not,
+        &limits,
+    ) {
         Ok(x) => x,
         Err((code, e)) => return fail(code, &e),
     };

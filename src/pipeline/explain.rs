@@ -59,16 +59,19 @@ pub const UUID_PREFIX: usize = 8;
 /// the constants, categories and bounds, so the report sees the values that failed a
 /// comparison or a constant (the speed that was not `< 0.5`, the direction that was not
 /// `"right"`). Derived relations are the same either way: the engine filters again. Either runs
-/// within `mine`'s default limits for one pair ([`super::budget::pair_limits`]), so a runaway
-/// program is an error here too, never a hang.
+/// within `limits`' tuple budget and time limit (callers pass `mine`'s, from
+/// [`super::budget::pair_limits`]), so a runaway program is an error here too, never a hang.
 pub fn evaluate_for_explain(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     whole: bool,
+    limits: &Options,
 ) -> Result<Evaluation, EngineError> {
     let options = Options {
         provenance: !whole,
-        ..super::budget::pair_limits(None, None, 1)
+        pushdown: limits.pushdown,
+        max_tuples: limits.max_tuples,
+        timeout: limits.timeout,
     };
     if whole {
         super::scenario::evaluate_on_whole(extractor, program, &options)

@@ -188,7 +188,12 @@ pub fn write_run_report(
         };
         let scenario = &scenarios[si];
         let extractor = Extractor::new(scene);
-        let ev = match evaluate_for_explain(&extractor, &scenario.program, false) {
+        let ev = match evaluate_for_explain(
+            &extractor,
+            &scenario.program,
+            false,
+            &super::budget::pair_limits(None, None, 1),
+        ) {
             Ok(ev) => ev,
             Err(e) => {
                 notes.push(format!(
