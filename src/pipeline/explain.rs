@@ -69,9 +69,7 @@ pub fn evaluate_for_explain(
 ) -> Result<Evaluation, EngineError> {
     let options = Options {
         provenance: !whole,
-        pushdown: limits.pushdown,
-        max_tuples: limits.max_tuples,
-        timeout: limits.timeout,
+        ..limits.clone()
     };
     if whole {
         super::scenario::evaluate_on_whole(extractor, program, &options)

@@ -182,18 +182,16 @@ pub fn write_run_report(
             _ => by_pair.push((key, vec![i])),
         }
     }
+    // `mine`'s default limits for one pair, read once (the default budget reads the machine's
+    // memory).
+    let limits = super::budget::pair_limits(None, None, 1);
     for ((si, li), members) in by_pair {
         let Some(scene) = scenes.get(&li) else {
             continue;
         };
         let scenario = &scenarios[si];
         let extractor = Extractor::new(scene);
-        let ev = match evaluate_for_explain(
-            &extractor,
-            &scenario.program,
-            false,
-            &super::budget::pair_limits(None, None, 1),
-        ) {
+        let ev = match evaluate_for_explain(&extractor, &scenario.program, false, &limits) {
             Ok(ev) => ev,
             Err(e) => {
                 notes.push(format!(
