@@ -89,6 +89,30 @@ pub struct Query<'r> {
     pub(crate) spent: Arc<Spent>,
 }
 
+/// Membership over the scene's `n` tracks (by [`TrackId::index`]) of `tracks`.
+fn track_set(n: usize, tracks: impl IntoIterator<Item = TrackId>) -> Vec<bool> {
+    let mut set = vec![false; n];
+    for t in tracks {
+        if let Some(s) = set.get_mut(t.index()) {
+            *s = true;
+        }
+    }
+    set
+}
+
+/// Whether `t` is in a [`track_set`].
+fn in_set(set: &[bool], t: TrackId) -> bool {
+    set.get(t.index()).copied().unwrap_or(false)
+}
+
+/// Narrows a column's allowed tracks (all `n` when none were set yet) to those `keep` accepts.
+fn restrict(allowed: &mut Option<Vec<bool>>, n: usize, keep: impl Fn(TrackId) -> bool) {
+    let mask = allowed.get_or_insert_with(|| vec![true; n]);
+    for (i, m) in mask.iter_mut().enumerate() {
+        *m = *m && keep(TrackId(i as u32));
+    }
+}
+
 fn constraint_fits(c: &Constraint, ty: ColType) -> bool {
     match c {
         Constraint::Category(_) => ty == ColType::Track,
@@ -163,46 +187,27 @@ impl<'r> Query<'r> {
                     Some(Box::new(move |t| t == x))
                 }
                 Constraint::OneOf(vs) => {
-                    let mut set = vec![false; scene.tracks.len()];
-                    for v in vs.iter() {
-                        if let Value::Track(t) = v {
-                            if let Some(s) = set.get_mut(t.index()) {
-                                *s = true;
-                            }
-                        }
-                    }
-                    Some(Box::new(move |t| {
-                        set.get(t.index()).copied().unwrap_or(false)
-                    }))
+                    let set = track_set(
+                        scene.tracks.len(),
+                        vs.iter().filter_map(|v| match v {
+                            Value::Track(t) => Some(*t),
+                            _ => None,
+                        }),
+                    );
+                    Some(Box::new(move |t| in_set(&set, t)))
                 }
                 _ => None,
             };
             if let Some(keep) = keep {
-                let mask = allowed[*col].get_or_insert_with(|| vec![true; scene.tracks.len()]);
-                for (i, m) in mask.iter_mut().enumerate() {
-                    *m = *m && keep(TrackId(i as u32));
-                }
+                restrict(&mut allowed[*col], scene.tracks.len(), keep);
             }
             if let Constraint::Triples(ts) = c {
                 // X and Y may only be the tracks the triples name.
-                for (k, pick) in [
-                    (
-                        *col,
-                        (|t: &(TrackId, TrackId, Frame)| t.0) as fn(&_) -> TrackId,
-                    ),
-                    (*col + 1, |t| t.1),
-                ] {
-                    let mut set = vec![false; scene.tracks.len()];
-                    for t in ts.iter() {
-                        if let Some(s) = set.get_mut(pick(t).index()) {
-                            *s = true;
-                        }
-                    }
-                    let mask = allowed[k].get_or_insert_with(|| vec![true; scene.tracks.len()]);
-                    for (m, s) in mask.iter_mut().zip(&set) {
-                        *m = *m && *s;
-                    }
-                }
+                let n = scene.tracks.len();
+                let xs = track_set(n, ts.iter().map(|t| t.0));
+                let ys = track_set(n, ts.iter().map(|t| t.1));
+                restrict(&mut allowed[*col], n, |t| in_set(&xs, t));
+                restrict(&mut allowed[*col + 1], n, |t| in_set(&ys, t));
             }
         }
         let demanded = req
