@@ -2,6 +2,7 @@
 //! with semi-naive iteration over sorted, deduplicated fixed-width rows.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
+use std::sync::Arc;
 use std::time::Instant;
 
 use scenalog_facts::catalog::ColType;
@@ -13,7 +14,7 @@ use crate::plan::{apply, body_lits, plan, plan_first, AtomStep, BodyLit, Ctx, Pl
 use crate::prove::{Provenance, Stamp};
 use crate::rows::Rows;
 use crate::value::{cmp_value, decode_value, encode_value, FastMap, Row, Symbols, WIDTH};
-use crate::{EngineError, Evaluation, Options};
+use crate::{Encoded, EngineError, Evaluation, Options};
 
 thread_local! {
     /// Whether this thread's evaluations run strata on the interpreter (`run_stratum` below)
@@ -151,7 +152,9 @@ pub fn evaluate(
             start,
             held,
         };
-        let (derived, origins) = if INTERPRETER.with(|i| i.get()) {
+        let (derived, origins) = if crate::ground::applies(&plans) {
+            crate::ground::run(&plans, &defined, &types, options, start, held)?
+        } else if INTERPRETER.with(|i| i.get()) {
             run_stratum(&plans, &defined, &types, &complete, &budget)?
         } else {
             let budget = crate::frog::Budget {
@@ -184,41 +187,27 @@ pub fn evaluate(
             );
         }
     }
-    let mut out = Evaluation::default();
+    let mut rels = HashMap::new();
+    let mut decoded = BTreeMap::new();
+    let mut derived = Vec::new();
     for (name, info) in &program.predicates {
-        let empty = Rows::new(info.types.len());
-        let rows = complete.get(name).unwrap_or(&empty);
-        let mut decoded: Vec<Vec<Value>> = rows
-            .iter()
-            .map(|r| {
-                info.types
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &ty)| decode_value(r[i], ty, &symbols))
-                    .collect()
-            })
-            .collect();
-        // Rows are sorted and distinct in encoded order, which is value order for every type
-        // but strings (interned in order of first sight): only those need sorting again.
-        if info.types.contains(&ColType::Str) {
-            decoded.sort_by(|a, b| {
-                a.iter()
-                    .zip(b)
-                    .map(|(x, y)| cmp_value(x, y))
-                    .find(|o| o.is_ne())
-                    .unwrap_or(std::cmp::Ordering::Equal)
-            });
-        }
-        out.relations.insert(name.clone(), decoded);
+        let rows = complete
+            .remove(name)
+            .unwrap_or_else(|| Rows::new(info.types.len()));
+        rels.insert(name.clone(), rows);
+        decoded.insert(name.clone(), std::sync::OnceLock::new());
         if info.kind == PredKind::Derived {
-            out.derived.push(name.clone());
+            derived.push(name.clone());
         }
     }
-    if options.provenance {
-        out.provenance = Some(std::sync::Arc::new(Provenance {
-            types,
-            symbols,
-            rels: complete,
+    let encoded = Arc::new(Encoded {
+        types,
+        symbols,
+        rels,
+    });
+    let provenance = options.provenance.then(|| {
+        Arc::new(Provenance {
+            encoded: encoded.clone(),
             stamps,
             plans: all_plans,
             strata: program
@@ -226,9 +215,43 @@ pub fn evaluate(
                 .iter()
                 .map(|s| s.predicates.clone())
                 .collect(),
-        }));
+        })
+    });
+    Ok(Evaluation {
+        encoded,
+        decoded,
+        derived,
+        provenance,
+    })
+}
+
+/// A relation of an evaluation decoded and sorted by value (empty when unknown).
+pub(crate) fn decode_relation(encoded: &Encoded, name: &str) -> Vec<Vec<Value>> {
+    let (Some(rows), Some(types)) = (encoded.rels.get(name), encoded.types.get(name)) else {
+        return Vec::new();
+    };
+    let mut decoded: Vec<Vec<Value>> = rows
+        .iter()
+        .map(|r| {
+            types
+                .iter()
+                .enumerate()
+                .map(|(i, &ty)| decode_value(r[i], ty, &encoded.symbols))
+                .collect()
+        })
+        .collect();
+    // Rows are sorted and distinct in encoded order, which is value order for every type but
+    // strings (interned in order of first sight): only those need sorting again.
+    if types.contains(&ColType::Str) {
+        decoded.sort_by(|a, b| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| cmp_value(x, y))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
     }
-    Ok(out)
+    decoded
 }
 
 /// What loading a catalog relation needs besides the evaluation's state.

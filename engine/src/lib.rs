@@ -12,16 +12,19 @@ mod agg_body;
 mod demand;
 mod eval;
 mod frog;
+mod ground;
 mod plan;
 mod prove;
 mod rows;
 pub mod value;
 mod why_not;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::fmt;
+use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
+use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
@@ -139,32 +142,56 @@ impl Default for Options {
     }
 }
 
-/// The result of an evaluation: every relation the program uses or defines, decoded and sorted.
+/// The result of an evaluation: every relation the program uses or defines, kept encoded and
+/// decoded (sorted) on first request, so a caller pays only for the relations it reads.
 #[derive(Debug, Clone, Default)]
 pub struct Evaluation {
-    /// Tuples by relation name, each sorted (strings by text, floats by total order).
-    pub relations: BTreeMap<String, Vec<Vec<Value>>>,
+    /// The encoded relations, their column types and the symbols their strings were interned
+    /// as (shared with provenance).
+    encoded: Arc<Encoded>,
+    /// Per relation the program uses or defines: its decoded tuples once asked for.
+    decoded: BTreeMap<String, OnceLock<Vec<Vec<Value>>>>,
     /// Names of the relations the program's clauses define (not catalog inputs).
     pub derived: Vec<String>,
     /// Stamps and plans for proofs, with [`Options::provenance`].
-    pub(crate) provenance: Option<std::sync::Arc<prove::Provenance>>,
+    pub(crate) provenance: Option<Arc<prove::Provenance>>,
+}
+
+/// What an evaluation computed, still encoded.
+#[derive(Debug, Default)]
+pub(crate) struct Encoded {
+    /// Column types by relation.
+    pub(crate) types: HashMap<String, Vec<ColType>>,
+    /// The strings interned during the evaluation.
+    pub(crate) symbols: value::Symbols,
+    /// Every relation used or defined, sorted and distinct in encoded order.
+    pub(crate) rels: HashMap<String, rows::Rows>,
 }
 
 impl PartialEq for Evaluation {
     fn eq(&self, other: &Self) -> bool {
-        self.relations == other.relations && self.derived == other.derived
+        self.derived == other.derived
+            && self.decoded.keys().eq(other.decoded.keys())
+            && self.names().all(|n| self.tuples(n) == other.tuples(n))
     }
 }
 
 impl Evaluation {
-    /// The tuples of a relation, if the program uses or defines it.
+    /// The tuples of a relation, if the program uses or defines it: sorted (strings by text,
+    /// floats by total order), decoded on the first call for that relation.
     pub fn tuples(&self, name: &str) -> Option<&[Vec<Value>]> {
-        self.relations.get(name).map(|v| v.as_slice())
+        let cell = self.decoded.get(name)?;
+        Some(cell.get_or_init(|| eval::decode_relation(&self.encoded, name)))
     }
 
-    /// The number of tuples of a relation (0 when unknown).
+    /// The names of the relations the program uses or defines, in order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.decoded.keys().map(String::as_str)
+    }
+
+    /// The number of tuples of a relation (0 when unknown), without decoding it.
     pub fn size(&self, name: &str) -> usize {
-        self.relations.get(name).map_or(0, |v| v.len())
+        self.encoded.rels.get(name).map_or(0, rows::Rows::len)
     }
 
     /// When and by which clause a derived tuple was first derived (with provenance on).
@@ -192,9 +219,8 @@ impl Evaluation {
 
     /// Sizes of every relation.
     pub fn sizes(&self) -> BTreeMap<String, usize> {
-        self.relations
-            .iter()
-            .map(|(k, v)| (k.clone(), v.len()))
+        self.names()
+            .map(|n| (n.to_string(), self.size(n)))
             .collect()
     }
 }

@@ -10,7 +10,7 @@ use scenalog_rules::ast::{
     AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Span,
 };
 
-use crate::eval::{run_plan, Limits};
+use crate::eval::Limits;
 use crate::rows::Rows;
 use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
 use crate::EngineError;
@@ -1376,15 +1376,9 @@ fn agg_filter(
         return correlated(g, group, head, g_len, scope, ctx);
     }
     let inner = plan(&lits, &head, None, ctx)?;
-    let empty = Rows::new(0);
-    let sources: Vec<&Rows> = inner
-        .atoms
-        .iter()
-        .map(|a| ctx.complete.get(&a.pred).unwrap_or(&empty))
-        .collect();
-    let mut rows = Rows::new(head.len());
-    run_plan(&inner, &sources, &mut rows, ctx.limits)?;
-    rows.sort_dedup();
+    let types = ctx.types;
+    let arity = |name: &str| types.get(name).map_or(0, |t| t.len()).max(1);
+    let rows = crate::frog::once::run_plan(&inner, ctx.complete, &arity, ctx.limits)?;
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let out_ty = match g.func {
         AggFunc::Count => ColType::Int,

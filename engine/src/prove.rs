@@ -10,7 +10,7 @@ use scenalog_facts::relation::Value;
 use crate::frog::access::Access;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
-use crate::value::{decode_value, encode, Row, Symbols, V, WIDTH};
+use crate::value::{decode_value, encode, Row, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,10 +63,9 @@ impl Drop for Proof {
 /// What an evaluation keeps to answer proofs.
 #[derive(Debug)]
 pub(crate) struct Provenance {
-    pub(crate) types: HashMap<String, Vec<ColType>>,
-    pub(crate) symbols: Symbols,
-    pub(crate) rels: HashMap<String, Rows>,
-    /// Per derived relation, aligned with its sorted tuples in `rels`.
+    /// The evaluation's relations, types and symbols (shared with the [`crate::Evaluation`]).
+    pub(crate) encoded: std::sync::Arc<crate::Encoded>,
+    /// Per derived relation, aligned with its sorted tuples in `encoded.rels`.
     pub(crate) stamps: HashMap<String, Vec<Stamp>>,
     /// Per stratum: head, plan and clause index.
     pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
@@ -77,14 +76,14 @@ pub(crate) struct Provenance {
 impl Provenance {
     /// Encodes a decoded tuple, without interning: `None` if a value cannot be in the relation.
     fn encode_tuple(&self, rel: &str, tuple: &[Value]) -> Option<Row> {
-        let types = self.types.get(rel)?;
+        let types = self.encoded.types.get(rel)?;
         if types.len() != tuple.len() {
             return None;
         }
         let mut row = [0u64; WIDTH];
         for (i, (v, &ty)) in tuple.iter().zip(types).enumerate() {
             row[i] = match (v, ty) {
-                (Value::Str(s), ColType::Str) => self.symbols.lookup(s)?,
+                (Value::Str(s), ColType::Str) => self.encoded.symbols.lookup(s)?,
                 (Value::Track(t), ColType::Track) => u64::from(t.0),
                 (Value::Lane(l), ColType::Lane) => encode(V::Int(l.0), ColType::Int)?,
                 (Value::Time(t), _) => encode(V::Int(i64::from(*t)), ty)?,
@@ -97,11 +96,11 @@ impl Provenance {
     }
 
     fn decode(&self, rel: &str, row: &Row) -> Vec<Value> {
-        self.types.get(rel).map_or_else(Vec::new, |types| {
+        self.encoded.types.get(rel).map_or_else(Vec::new, |types| {
             types
                 .iter()
                 .enumerate()
-                .map(|(i, &ty)| decode_value(row[i], ty, &self.symbols))
+                .map(|(i, &ty)| decode_value(row[i], ty, &self.encoded.symbols))
                 .collect()
         })
     }
@@ -109,7 +108,7 @@ impl Provenance {
     /// The stamp of a tuple of a derived relation.
     fn stamp_of(&self, rel: &str, row: &[u64]) -> Option<Stamp> {
         let stamps = self.stamps.get(rel)?;
-        let i = self.rels.get(rel)?.position(row)?;
+        let i = self.encoded.rels.get(rel)?.position(row)?;
         stamps.get(i).copied()
     }
 
@@ -120,7 +119,7 @@ impl Provenance {
 
     pub(crate) fn prove(&self, rel: &str, tuple: &[Value]) -> Option<Proof> {
         let row = self.encode_tuple(rel, tuple)?;
-        if !self.rels.get(rel)?.contains(&row) {
+        if !self.encoded.rels.get(rel)?.contains(&row) {
             return None;
         }
         self.prove_row(rel, &row)
@@ -195,12 +194,17 @@ impl Provenance {
             .unwrap_or_default();
         let mut accesses = Vec::new();
         for a in &plan.atoms {
-            let arity = self.types.get(&a.pred).map_or(0, |t| t.len()).max(1);
+            let arity = self
+                .encoded
+                .types
+                .get(&a.pred)
+                .map_or(0, |t| t.len())
+                .max(1);
             let acc = Access::of(a, arity);
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {
                 let mut copy: Vec<(Row, u32)> = Vec::new();
-                if let Some(rows) = self.rels.get(&a.pred) {
+                if let Some(rows) = self.encoded.rels.get(&a.pred) {
                     for (i, t) in rows.iter().enumerate() {
                         let mut r = [0u64; WIDTH];
                         for (o, &c) in r.iter_mut().zip(&acc.sig.perm) {
@@ -276,7 +280,7 @@ impl Search<'_> {
         let Some(sorted) = self.indexes.sorted.get(key) else {
             return false;
         };
-        let Some(rows) = self.prov.rels.get(&step.pred) else {
+        let Some(rows) = self.prov.encoded.rels.get(&step.pred) else {
             return false;
         };
         let mut prefix: Vec<u64> = acc.consts.clone();

@@ -79,7 +79,7 @@ fn every_library_program_gives_the_same_answer_on_datafrog_and_the_interpreter()
                 .unwrap_or_else(|e| panic!("{name} on {}: {e}", log.display()));
             let old = evaluate_interpreted(program, &mut provider, &options)
                 .unwrap_or_else(|e| panic!("{name} on {}: {e}", log.display()));
-            assert_eq!(new.relations, old.relations, "{name} on {}", log.display());
+            assert!(new == old, "{name} on {}", log.display());
             assert_eq!(new.derived, old.derived, "{name} on {}", log.display());
             for rel in &new.derived {
                 for t in new.tuples(rel).unwrap_or_default() {

@@ -12,6 +12,7 @@
 
 pub(crate) mod access;
 pub(crate) mod join;
+pub(crate) mod once;
 
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
