@@ -2,8 +2,8 @@
 //! plus the engine with provenance on. Every variant's tuple counts are asserted equal before
 //! anything is timed.
 //!
-//! After the criterion suite, every variant (and the interpreter the datafrog evaluation
-//! replaced) is timed again in interleaved runs and the ratios are printed;
+//! After the criterion suite, every variant is timed again in interleaved runs and the ratios
+//! are printed;
 //! `SCENALOG_BENCH_RATIOS_ONLY=1` skips criterion and prints only those.
 //!
 //! `SCENALOG_BENCH_PROFILE=NAME[,prov]` runs only the engine on workload `NAME` a few times and
@@ -13,7 +13,7 @@ use std::collections::HashSet;
 
 use criterion::{BenchmarkGroup, Criterion};
 use datafrog::{Iteration, Relation, RelationLeaper, ValueFilter};
-use scenalog_engine::{evaluate, evaluate_interpreted, Evaluation, Options};
+use scenalog_engine::{evaluate, Evaluation, Options};
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
@@ -482,8 +482,7 @@ fn main() {
 
 /// Times every variant of every workload `REPS` times, interleaved (so load on a busy machine
 /// falls on all of them alike), and prints the medians and the ratios the README's goals are
-/// about: engine / datafrog, engine / Ascent, provenance on / off, and engine / the
-/// interpreter the datafrog evaluation replaced.
+/// about: engine / datafrog, engine / Ascent, provenance on / off.
 fn ratios(all: &[Workload]) {
     const REPS: usize = 7;
     let time = |f: &dyn Fn()| {
@@ -496,11 +495,11 @@ fn ratios(all: &[Workload]) {
         v[v.len() / 2]
     };
     eprintln!(
-        "\nmedians of {REPS} interleaved runs (s) | engine | +prov | interpreter | datafrog | ascent \
-         | engine/datafrog | engine/ascent | prov on/off | engine/interpreter"
+        "\nmedians of {REPS} interleaved runs (s) | engine | +prov | datafrog | ascent \
+         | engine/datafrog | engine/ascent | prov on/off"
     );
     for w in all {
-        let mut t: [Vec<f64>; 5] = Default::default();
+        let mut t: [Vec<f64>; 4] = Default::default();
         for _ in 0..REPS {
             t[0].push(time(&|| {
                 engine_counts(&w.program, &w.rels, false);
@@ -509,30 +508,19 @@ fn ratios(all: &[Workload]) {
                 engine_counts(&w.program, &w.rels, true);
             }));
             t[2].push(time(&|| {
-                let mut provider =
-                    |r: &Request| -> Result<RelationData, String> { Err(r.name.clone()) };
-                let opts = Options {
-                    max_tuples: 100_000_000,
-                    ..Options::default()
-                };
-                let e = evaluate_interpreted(&w.program, &mut provider, &opts);
-                assert!(e.is_ok());
-            }));
-            t[3].push(time(&|| {
                 (w.datafrog)();
             }));
-            t[4].push(time(&|| {
+            t[3].push(time(&|| {
                 (w.ascent)();
             }));
         }
-        let [e, p, i, d, a] = t.map(median);
+        let [e, p, d, a] = t.map(median);
         eprintln!(
-            "{:<16} | {e:.4} | {p:.4} | {i:.4} | {d:.4} | {a:.4} | {:.2}x | {:.2}x | {:.2}x | {:.2}x",
+            "{:<16} | {e:.4} | {p:.4} | {d:.4} | {a:.4} | {:.2}x | {:.2}x | {:.2}x",
             w.name,
             e / d,
             e / a,
-            p / e,
-            e / i
+            p / e
         );
     }
 }

@@ -58,7 +58,7 @@ pub(crate) fn run(
             from.push(pi);
             produced += 1;
             // The clock is read once per 4,096 clauses; the budget is counted exactly.
-            if produced % 4096 == 0 || held + produced > options.max_tuples {
+            if produced.is_multiple_of(4096) || held + produced > options.max_tuples {
                 limits.check(produced)?;
             }
         }

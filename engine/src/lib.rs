@@ -28,8 +28,6 @@ use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
-#[doc(hidden)]
-pub use eval::evaluate_interpreted;
 pub use prove::{Proof, Stamp};
 pub use why_not::{
     explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,

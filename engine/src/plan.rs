@@ -423,11 +423,6 @@ impl AtomStep {
         }
     }
 
-    /// Whether the atom has join-key columns.
-    pub fn keyed(&self) -> bool {
-        !self.keys.is_empty()
-    }
-
     /// Whether a stored tuple passes the atom's constants and repeated variables.
     pub fn selects(&self, t: &[u64]) -> bool {
         self.consts.iter().all(|&(i, c)| t[i] == c) && self.sames.iter().all(|&(i, j)| t[i] == t[j])

@@ -72,39 +72,6 @@ fn merge_n<const N: usize>(a: &[u64], b: &[u64]) -> Vec<u64> {
     out
 }
 
-fn merge_tagged_n<const N: usize>(
-    a: &[u64],
-    ta: &[u64],
-    b: &[u64],
-    tb: &[u64],
-) -> (Vec<u64>, Vec<u64>) {
-    let (a, b) = (chunks::<N>(a), chunks::<N>(b));
-    let mut out: Vec<u64> = Vec::with_capacity((a.len() + b.len()) * N);
-    let mut tags = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    let tag = |t: &[u64], k: usize| t.get(k).copied().unwrap_or(u64::MAX);
-    while i < a.len() && j < b.len() {
-        if a[i] < b[j] {
-            out.extend_from_slice(&a[i]);
-            tags.push(tag(ta, i));
-            i += 1;
-        } else {
-            out.extend_from_slice(&b[j]);
-            tags.push(tag(tb, j));
-            j += 1;
-        }
-    }
-    for (k, r) in a.iter().enumerate().skip(i) {
-        out.extend_from_slice(r);
-        tags.push(tag(ta, k));
-    }
-    for (k, r) in b.iter().enumerate().skip(j) {
-        out.extend_from_slice(r);
-        tags.push(tag(tb, k));
-    }
-    (out, tags)
-}
-
 /// The part of a sorted slice after every element less than `x` (exponential then binary
 /// search from the front, so a sorted sequence of probes walks the slice once).
 fn skip_below<'a, const N: usize>(mut s: &'a [[u64; N]], x: &[u64; N]) -> &'a [[u64; N]] {
@@ -124,21 +91,6 @@ fn skip_below<'a, const N: usize>(mut s: &'a [[u64; N]], x: &[u64; N]) -> &'a [[
         s = &s[1..];
     }
     s
-}
-
-fn remove_known_n<const N: usize>(fresh: &mut Vec<u64>, known: &[u64]) {
-    let mut s = chunks::<N>(known);
-    let (rows, _) = fresh.as_chunks_mut::<N>();
-    let mut w = 0;
-    for r in 0..rows.len() {
-        let x = rows[r];
-        s = skip_below(s, &x);
-        if s.first() != Some(&x) {
-            rows[w] = x;
-            w += 1;
-        }
-    }
-    fresh.truncate(w * N);
 }
 
 fn positions_n<const N: usize>(all: &[u64], subset: &[u64]) -> Vec<usize> {
@@ -235,28 +187,6 @@ impl Rows {
         }
     }
 
-    /// [`Rows::merge`] of two sets each with one tag per tuple, keeping the tags aligned.
-    pub fn merge_tagged(&self, tags: &[u64], other: &Rows, other_tags: &[u64]) -> (Rows, Vec<u64>) {
-        let stride = if self.is_empty() {
-            other.stride
-        } else {
-            self.stride
-        };
-        let (data, t) = by_stride!(
-            stride,
-            merge_tagged_n(&self.data, tags, &other.data, other_tags)
-        );
-        (Rows { stride, data }, t)
-    }
-
-    /// Removes from `self` (sorted, distinct) the tuples in `known` (sorted).
-    pub fn remove_known(&mut self, known: &Rows) {
-        if self.is_empty() || known.is_empty() {
-            return;
-        }
-        by_stride!(self.stride, remove_known_n(&mut self.data, &known.data));
-    }
-
     /// For each tuple of `subset` (sorted, all in `self`), its index in `self` (sorted).
     pub fn positions(&self, subset: &Rows) -> Vec<usize> {
         if subset.is_empty() {
@@ -301,7 +231,7 @@ mod tests {
     }
 
     #[test]
-    fn sort_dedup_merge_and_remove_by_arity() {
+    fn sort_dedup_and_merge_by_arity() {
         let mut a = rows(2, &[&[3, 1], &[1, 2], &[3, 1], &[1, 1]]);
         a.sort_dedup();
         assert_eq!(
@@ -313,13 +243,6 @@ mod tests {
         let m = a.merge(&b);
         assert_eq!(m.len(), 5);
         assert!(m.contains(&[2, 0]) && !m.contains(&[2, 1]));
-        let mut fresh = rows(2, &[&[0, 9], &[1, 2], &[3, 1], &[4, 4]]);
-        fresh.remove_known(&a);
-        assert_eq!(fresh.iter().collect::<Vec<_>>(), vec![&[0, 9], &[4, 4]]);
-        let (mt, tags) = a.merge_tagged(&[10, 11, 12], &b, &[20, 21]);
-        assert_eq!(mt, m);
-        // (1,1)a (1,2)b (1,2)a (2,0)b (3,1)a: each tuple keeps its side's tag.
-        assert_eq!(tags, vec![10, 20, 11, 21, 12]);
         assert_eq!(a.words(), 2 * a.len());
         let mut unit = rows(0, &[&[], &[]]);
         unit.sort_dedup();

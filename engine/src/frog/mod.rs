@@ -41,7 +41,7 @@ pub(crate) struct Budget<'a> {
 
 /// Runs one stratum to its fixpoint on datafrog. Returns the relations it defines (sorted,
 /// distinct) and, with provenance, the (round, plan) that first derived each tuple, aligned
-/// with them; the same answer as the interpreter's `run_stratum`.
+/// with them.
 pub(crate) fn run_stratum(
     plans: &[(String, Plan)],
     variants: &[Vec<(usize, Plan)>],
