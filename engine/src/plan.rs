@@ -203,6 +203,9 @@ pub struct NegSet {
     slots: Option<Vec<(usize, usize)>>,
     /// With exactly one such column: its values.
     one: FastSet<u64>,
+    /// With no wildcard (and not a one-column set): the relation itself, sorted and distinct,
+    /// searched by binary search without building a set.
+    rows: Rows,
     /// Otherwise: the tuples, wildcard columns zeroed.
     set: FastSet<Row>,
 }
@@ -213,6 +216,26 @@ impl NegSet {
     fn contains(&self, row: &Row) -> Option<bool> {
         match self.slots.as_deref() {
             Some([(_, s)]) => Some(self.one.contains(&row[*s])),
+            Some(slots) if !self.rows.is_empty() => {
+                let mut key = [0u64; WIDTH];
+                for &(c, s) in slots {
+                    key[c] = row[s];
+                }
+                Some(self.rows.contains(&key))
+            }
+            None if !self.rows.is_empty() => {
+                let mut key = [0u64; WIDTH];
+                for (k, a) in key.iter_mut().zip(&self.args) {
+                    if let KeyArg::Val(e, ty) = a {
+                        match encode(e.eval(row)?, *ty) {
+                            Some(v) => *k = v,
+                            // A value the column cannot store is in no tuple.
+                            None => return Some(false),
+                        }
+                    }
+                }
+                Some(self.rows.contains(&key))
+            }
             Some(slots) => {
                 let mut key = [0u64; WIDTH];
                 for &(c, s) in slots {
@@ -1139,8 +1162,18 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
         .collect();
     let mut set = FastSet::default();
     let mut one = FastSet::default();
+    // No wildcard (and not the one-column set): the sorted relation itself is searched.
+    let whole =
+        args.iter().all(|x| matches!(x, KeyArg::Val(..))) && !matches!(slots.as_deref(), Some([_]));
+    let mut kept = Rows::new(types.len());
     if let Some(rows) = ctx.complete.get(&a.pred) {
+        if whole {
+            kept = rows.clone();
+        }
         for r in rows.iter() {
+            if whole {
+                break;
+            }
             if let Some([(c, _)]) = slots.as_deref() {
                 one.insert(r[*c]);
                 continue;
@@ -1158,6 +1191,7 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
         args,
         slots,
         one,
+        rows: kept,
         set,
     })))
 }
