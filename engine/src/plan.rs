@@ -285,6 +285,16 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
 
 /// Applies filters in order; `None` if one fails.
 pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
+    apply_mut(filters, &mut row).then_some(row)
+}
+
+/// Applies filters in order to `row` in place (bindings write their slots); `false` if one
+/// fails, the row's later slots then holding partial results.
+pub fn apply_mut(filters: &[Filter], row: &mut Row) -> bool {
+    apply_in(filters, row).is_some()
+}
+
+fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
     for f in filters {
         match f {
             Filter::CmpRaw(op, a, b) => {
@@ -297,23 +307,23 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                 }
             }
             Filter::CmpInt(op, a, b) => {
-                if !holds(*op, a.eval(&row)?.cmp(&b.eval(&row)?)) {
+                if !holds(*op, a.eval(row)?.cmp(&b.eval(row)?)) {
                     return None;
                 }
             }
             Filter::Cmp(op, a, b) => {
-                let ord = a.eval(&row)?.compare(b.eval(&row)?)?;
+                let ord = a.eval(row)?.compare(b.eval(row)?)?;
                 if !holds(*op, ord) {
                     return None;
                 }
             }
-            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(&row)?, *ty)?,
+            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(row)?, *ty)?,
             Filter::Neg(n) => {
-                if n.contains(&row)? {
+                if n.contains(row)? {
                     return None;
                 }
             }
-            Filter::AggRun(c, out) => row[*out] = c.run(&row)?,
+            Filter::AggRun(c, out) => row[*out] = c.run(row)?,
             Filter::Agg {
                 group,
                 table,
@@ -331,7 +341,7 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
             }
         }
     }
-    Some(row)
+    Some(())
 }
 
 fn neg_key(args: &[KeyArg], row: &Row) -> Option<Row> {
@@ -448,6 +458,24 @@ impl AtomStep {
             k[n] = t[i];
         }
         k
+    }
+
+    /// The join key computed from a binding row, written to `out` (one word per key column);
+    /// `false` if a value does not fit its column. The same words as [`AtomStep::binding_key`].
+    pub fn key_into(&self, b: &Row, out: &mut [u64]) -> bool {
+        for (o, &c) in out.iter_mut().zip(&self.keys) {
+            let Some(Arg::Key(e, ty)) = self.args.get(c) else {
+                return false;
+            };
+            *o = match e {
+                CExpr::Slot(s, t) if t == ty => b[*s],
+                e => match e.eval(b).and_then(|v| encode(v, *ty)) {
+                    Some(w) => w,
+                    None => return false,
+                },
+            };
+        }
+        true
     }
 
     /// The join key computed from a binding row; `None` if a value does not fit its column.

@@ -3,7 +3,7 @@
 //! rest; constants and key values then select one contiguous range by a prefix search.
 //! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
 
-use crate::plan::{AtomStep, Narrow};
+use crate::plan::{Arg, AtomStep, CExpr, Filter, Narrow};
 use crate::rows::Rows;
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
@@ -70,11 +70,50 @@ pub(crate) struct Access {
 impl Access {
     /// The access for an atom step over a relation of `arity` stored words.
     pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
+        Access::ordered(step, arity, &[])
+    }
+
+    /// The access for an atom step followed by `next` in its plan: as [`Access::of`], with
+    /// the columns that bind the next atom's leading join keys stored right after this
+    /// atom's prefix (and narrowed column), so that within each of this atom's ranges the
+    /// next atom's lookups come in ascending key order and its search gallops forward (a
+    /// merge join).
+    pub(crate) fn before(step: &AtomStep, next: Option<&AtomStep>, arity: usize) -> Access {
+        let mut lead = Vec::new();
+        // Only a copy that is permuted anyway: an atom read in natural order needs no copy
+        // at all (a recursive relation's copy is a second variable, sorted every round).
+        let copied = !step.keys.is_empty() || !step.consts.is_empty() || !step.sames.is_empty();
+        if let Some(next) = next.filter(|_| copied) {
+            for &c in &next.keys {
+                let Some(Arg::Key(CExpr::Slot(s, ty), kty)) = next.args.get(c) else {
+                    break;
+                };
+                if ty != kty {
+                    break;
+                }
+                match step.news.iter().find(|&&(_, slot)| slot == *s) {
+                    Some(&(col, _)) => lead.push(col),
+                    // Bound before this atom: the same over all of its ranges.
+                    None if !step.after.iter().any(|f| binds(f, *s)) => {}
+                    None => break,
+                }
+            }
+        }
+        Access::ordered(step, arity, &lead)
+    }
+
+    /// The access with columns `lead` placed right after the prefix and narrowed column.
+    fn ordered(step: &AtomStep, arity: usize, lead: &[usize]) -> Access {
         let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
         perm.extend(step.keys.iter().copied());
         // A range-narrowed column comes right after the keys, so that within one prefix
         // range the copy is sorted by it.
         perm.extend(step.narrow.as_ref().map(|n| n.col));
+        for &c in lead {
+            if c < arity && !perm.contains(&c) {
+                perm.push(c);
+            }
+        }
         for c in 0..arity {
             if !perm.contains(&c) {
                 perm.push(c);
@@ -104,6 +143,15 @@ impl Access {
     }
 }
 
+/// Whether a filter writes slot `s`.
+fn binds(f: &Filter, s: usize) -> bool {
+    match f {
+        Filter::Bind(slot, ..) | Filter::AggRun(_, slot) => *slot == s,
+        Filter::Agg { out, .. } => *out == s,
+        _ => false,
+    }
+}
+
 /// The tuples of a sorted slice whose first `p.len()` words equal `p`: a galloping search
 /// for the start, then for the end (ranges are usually short).
 #[cfg(test)]
@@ -126,6 +174,29 @@ pub(crate) fn range_span<const W: usize>(s: &[Tup<W>], p: &[u64]) -> (usize, usi
             (lo, lo + gallop(&s[lo..], |t| t[..l] == *p))
         }
     }
+}
+
+/// [`range_span`] for a prefix at or after every tuple before `from` (the previous lookup's
+/// range end, when lookups come in ascending order): gallops forward from `from` for the
+/// start, then for the end.
+pub(crate) fn range_span_from<const W: usize>(
+    s: &[Tup<W>],
+    p: &[u64],
+    from: usize,
+) -> (usize, usize) {
+    let from = from.min(s.len());
+    let lo = from
+        + match p.len() {
+            0 => 0,
+            1 => gallop(&s[from..], |t| t[0] < p[0]),
+            l => gallop(&s[from..], |t| t[..l] < *p),
+        };
+    let n = match p.len() {
+        0 => s.len() - lo,
+        1 => gallop(&s[lo..], |t| t[0] == p[0]),
+        l => gallop(&s[lo..], |t| t[..l] == *p),
+    };
+    (lo, lo + n)
 }
 
 /// The tuples of a slice sorted by word `pos` (one prefix range of a copy) whose word `pos`
@@ -189,9 +260,47 @@ mod tests {
         assert_eq!(within(range(&s, &[2]), 1, 0, 9), &s[1..4]);
         assert!(within(range(&s, &[2]), 1, 6, 8).is_empty());
         assert!(within(range(&s, &[3]), 1, 5, 0).is_empty());
+        // Galloping forward from the previous range's end finds the same ranges.
+        assert_eq!(range_span_from(&s, &[3], 4), (4, 6));
+        assert_eq!(range_span_from(&s, &[2, 9], 2), (3, 4));
+        assert_eq!(range_span_from(&s, &[4], 6), (6, 6));
         let many: Vec<Tup<1>> = (0..1000).map(|i| [i / 100]).collect();
         for k in 0..10 {
             assert_eq!(range(&many, &[k]).len(), 100);
+        }
+    }
+
+    #[test]
+    fn forward_gallops_match_searches_in_any_lookup_order() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 33
+        };
+        for _ in 0..300 {
+            let n = (next() % 200) as usize;
+            let k = 1 + next() % 30;
+            let mut s: Vec<Tup<3>> = (0..n).map(|_| [next() % k, next() % 4, next()]).collect();
+            s.sort_unstable();
+            // The previous lookup's range end, as the join's memo keeps it.
+            let mut last: Option<(Vec<u64>, usize)> = None;
+            for _ in 0..50 {
+                let p: Vec<u64> = if next() % 2 == 0 {
+                    vec![next() % (k + 1)]
+                } else {
+                    vec![next() % (k + 1), next() % 5]
+                };
+                let want = range_span(&s, &p);
+                let got = match &last {
+                    Some((q, end)) if q.len() == p.len() && p > *q => range_span_from(&s, &p, *end),
+                    _ => range_span(&s, &p),
+                };
+                assert_eq!(got, want, "prefix {p:?}, previous {last:?}");
+                assert!(s[want.0..want.1].iter().all(|t| t[..p.len()] == p[..]));
+                last = Some((p, want.1));
+            }
         }
     }
 }
