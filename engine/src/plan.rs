@@ -173,6 +173,21 @@ pub enum Filter {
     CmpRaw(CmpOp, usize, Raw),
     /// A comparison of two integer expressions.
     CmpInt(CmpOp, IExpr, IExpr),
+    /// `a - b op c` (`abs(a - b) op c` with `abs`) on int slots `a`, `b` and a constant:
+    /// the common shape of distance and duration checks, evaluated without an expression
+    /// tree (the same results as [`Filter::CmpInt`]: an overflow fails the comparison).
+    CmpDiff {
+        /// The comparison.
+        op: CmpOp,
+        /// The left slot.
+        a: usize,
+        /// The right slot.
+        b: usize,
+        /// Whether the difference's absolute value is compared.
+        abs: bool,
+        /// The constant.
+        c: i64,
+    },
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
@@ -278,6 +293,29 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
         return Filter::CmpRaw(flipped(op), s, r);
     }
     if let (Some(x), Some(y)) = (IExpr::from(&a), IExpr::from(&b)) {
+        let diff = |op: CmpOp, x: &IExpr, y: &IExpr| {
+            let IExpr::Const(c) = *y else { return None };
+            match *x {
+                IExpr::Diff(a, b) => Some(Filter::CmpDiff {
+                    op,
+                    a,
+                    b,
+                    abs: false,
+                    c,
+                }),
+                IExpr::AbsDiff(a, b) => Some(Filter::CmpDiff {
+                    op,
+                    a,
+                    b,
+                    abs: true,
+                    c,
+                }),
+                _ => None,
+            }
+        };
+        if let Some(f) = diff(op, &x, &y).or_else(|| diff(flipped(op), &y, &x)) {
+            return f;
+        }
         return Filter::CmpInt(op, x, y);
     }
     Filter::Cmp(op, a, b)
@@ -303,6 +341,14 @@ fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
                     Raw::Const(c) => *c,
                 };
                 if !holds(*op, row[*a].cmp(&y)) {
+                    return None;
+                }
+            }
+            Filter::CmpDiff { op, a, b, abs, c } => {
+                let d =
+                    crate::value::dec_int(row[*a]).checked_sub(crate::value::dec_int(row[*b]))?;
+                let d = if *abs { d.checked_abs()? } else { d };
+                if !holds(*op, d.cmp(c)) {
                     return None;
                 }
             }
@@ -1575,6 +1621,59 @@ mod tests {
                 };
                 assert_eq!(ie.eval(&row), want, "{e:?} on {a}, {b}");
             }
+        }
+    }
+
+    #[test]
+    fn compiled_differences_agree_with_the_general_comparison() {
+        let mut seed = 5u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 11
+        };
+        let ops = [
+            CmpOp::Lt,
+            CmpOp::Le,
+            CmpOp::Gt,
+            CmpOp::Ge,
+            CmpOp::Eq,
+            CmpOp::Ne,
+        ];
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        let slot = |s| Box::new(CExpr::Slot(s, ColType::Int));
+        for case in 0..20_000 {
+            let mut pick = |small: bool| -> i64 {
+                let r = next();
+                match r % 4 {
+                    0 => edges[(r / 4) as usize % edges.len()],
+                    _ if small => (r / 4 % 41) as i64 - 20,
+                    _ => (r / 4) as i64 - (1i64 << 51),
+                }
+            };
+            let (x, y, c) = (pick(case % 2 == 0), pick(case % 2 == 0), pick(true));
+            let op = ops[case % ops.len()];
+            let diff = CExpr::Bin(BinOp::Sub, slot(0), slot(1));
+            let e = if case % 3 == 0 {
+                CExpr::Call(Func::Abs, vec![diff])
+            } else {
+                diff
+            };
+            let k = CExpr::Const(V::Int(c));
+            // Both sides: `e op c` and `c op e`.
+            let (l, r) = if case % 5 == 0 { (k, e) } else { (e, k) };
+            let compiled = cmp_filter(op, l.clone(), r.clone());
+            assert!(matches!(compiled, Filter::CmpDiff { .. }), "{compiled:?}");
+            let general = Filter::Cmp(op, l, r);
+            let mut row = [0u64; WIDTH];
+            row[0] = enc_int(x);
+            row[1] = enc_int(y);
+            assert_eq!(
+                apply(&[compiled], row).is_some(),
+                apply(&[general], row).is_some(),
+                "{op:?} on {x}, {y}, {c} (case {case})"
+            );
         }
     }
 }

@@ -42,11 +42,21 @@ impl Sig {
 
     /// The sorted, distinct copy of a stored relation.
     pub(crate) fn copy_rows<const W: usize>(&self, rows: &Rows) -> Vec<Tup<W>> {
-        let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
-        if !self.is_identity() {
-            v.sort_unstable();
-            v.dedup();
+        if self.is_identity() {
+            // The relation as it is (stored rows are sorted and distinct): words copied.
+            return rows
+                .iter()
+                .map(|t| {
+                    let mut o = [0u64; W];
+                    let n = t.len().min(W);
+                    o[..n].copy_from_slice(&t[..n]);
+                    o
+                })
+                .collect();
         }
+        let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
+        v.sort_unstable();
+        v.dedup();
         v
     }
 }
@@ -169,11 +179,23 @@ pub(crate) fn range_span<const W: usize>(s: &[Tup<W>], p: &[u64]) -> (usize, usi
             let lo = s.partition_point(|t| t[0] < k);
             (lo, lo + gallop(&s[lo..], |t| t[0] == k))
         }
-        l => {
-            let lo = s.partition_point(|t| t[..l] < *p);
-            (lo, lo + gallop(&s[lo..], |t| t[..l] == *p))
+        _ => {
+            let lo = s.partition_point(|t| prefix_cmp(t, p).is_lt());
+            (lo, lo + gallop(&s[lo..], |t| prefix_cmp(t, p).is_eq()))
         }
     }
+}
+
+/// How a tuple's first `p.len()` words compare with `p` (a word loop: prefixes are a few
+/// words, shorter than a `memcmp` call is worth).
+#[inline]
+pub(crate) fn prefix_cmp(t: &[u64], p: &[u64]) -> std::cmp::Ordering {
+    for (a, b) in t.iter().zip(p) {
+        if a != b {
+            return a.cmp(b);
+        }
+    }
+    std::cmp::Ordering::Equal
 }
 
 /// [`range_span`] for a prefix at or after every tuple before `from` (the previous lookup's
@@ -189,12 +211,12 @@ pub(crate) fn range_span_from<const W: usize>(
         + match p.len() {
             0 => 0,
             1 => gallop(&s[from..], |t| t[0] < p[0]),
-            l => gallop(&s[from..], |t| t[..l] < *p),
+            _ => gallop(&s[from..], |t| prefix_cmp(t, p).is_lt()),
         };
     let n = match p.len() {
         0 => s.len() - lo,
         1 => gallop(&s[lo..], |t| t[0] == p[0]),
-        l => gallop(&s[lo..], |t| t[..l] == *p),
+        _ => gallop(&s[lo..], |t| prefix_cmp(t, p).is_eq()),
     };
     (lo, lo + n)
 }

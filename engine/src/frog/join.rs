@@ -7,7 +7,7 @@
 use crate::eval::Limits;
 use std::cmp::Ordering;
 
-use crate::frog::access::{range_span, range_span_from, within_span, Access, Tup};
+use crate::frog::access::{prefix_cmp, range_span, range_span_from, within_span, Access, Tup};
 use crate::plan::{apply_mut, AtomStep, CExpr, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
@@ -168,7 +168,7 @@ impl<const W: usize> Join<'_, W> {
         if remembered {
             let m = &mut progress.memo[depth];
             let order = if m.valid {
-                prefix.cmp(&m.prefix[..l])
+                prefix_cmp(prefix, &m.prefix[..l])
             } else {
                 Ordering::Less
             };
