@@ -8,7 +8,7 @@ use crate::eval::Limits;
 use std::cmp::Ordering;
 
 use crate::frog::access::{prefix_cmp, range_span, range_span_from, within_span, Access, Tup};
-use crate::plan::{apply_mut, AtomStep, CExpr, Plan};
+use crate::plan::{apply_mut, Arg, AtomStep, CExpr, Filter, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
 
@@ -32,6 +32,10 @@ struct Progress<'l> {
     /// Per atom: its last lookup, reused while the prefix and window stay the same (the
     /// later atoms of a product, e.g. `parent(Y, B)` for every `X` of one `sg(A, B)`).
     memo: Vec<Memo>,
+    /// Per atom: whether its lookup (keys and window) reads no slot the previous atom or
+    /// that atom's filters write, so it is the same for all of the previous atom's
+    /// candidates.
+    invariant: Vec<bool>,
 }
 
 /// Parts an atom may read for its lookups to be remembered (datafrog keeps about log2(n)
@@ -45,6 +49,10 @@ const MEMO_PARTS: usize = 32;
 #[derive(Clone, Copy)]
 struct Memo {
     valid: bool,
+    /// Set when the lookup was made under the current binding of every atom before the
+    /// previous one and is invariant (see `Progress::invariant`): reused without computing
+    /// the key. The previous atom clears it each time it starts over its candidates.
+    fresh: bool,
     prefix: Row,
     window: Option<(u64, u64)>,
     ranges: [(usize, usize); MEMO_PARTS],
@@ -89,6 +97,45 @@ impl Leaf {
     }
 }
 
+/// Per atom of a plan: whether its keys and window read none of the slots the atom before it
+/// binds (its new variables and its filters' results).
+fn invariant(plan: &Plan) -> Vec<bool> {
+    let mut out = vec![false; plan.atoms.len()];
+    for (d, pair) in plan.atoms.windows(2).enumerate() {
+        let [prev, step] = pair else { continue };
+        let mut written: Vec<usize> = prev.news.iter().map(|&(_, s)| s).collect();
+        for f in &prev.after {
+            match f {
+                Filter::Bind(s, ..) | Filter::AggRun(_, s) => written.push(*s),
+                Filter::Agg { out, .. } => written.push(*out),
+                _ => {}
+            }
+        }
+        let keys = step.args.iter().all(|a| match a {
+            Arg::Key(e, _) => !reads(e, &written),
+            _ => true,
+        });
+        let window = step.narrow.as_ref().is_none_or(|n| {
+            n.lo.iter().chain(&n.hi).all(|e| {
+                !reads(&e.base, &written) && e.off.as_ref().is_none_or(|(_, o)| !reads(o, &written))
+            })
+        });
+        out[d + 1] = keys && window;
+    }
+    out
+}
+
+/// Whether an expression reads one of `slots`.
+fn reads(e: &CExpr, slots: &[usize]) -> bool {
+    match e {
+        CExpr::Slot(s, _) => slots.contains(s),
+        CExpr::Const(_) => false,
+        CExpr::Neg(a) => reads(a, slots),
+        CExpr::Bin(_, a, b) => reads(a, slots) || reads(b, slots),
+        CExpr::Call(_, args) => args.iter().any(|a| reads(a, slots)),
+    }
+}
+
 impl<const W: usize> Join<'_, W> {
     /// Runs the join, appending head tuples to `out`.
     pub(crate) fn run(
@@ -102,6 +149,7 @@ impl<const W: usize> Join<'_, W> {
         }
         let memo = Memo {
             valid: false,
+            fresh: false,
             prefix: [0u64; WIDTH],
             window: None,
             ranges: [(0, 0); MEMO_PARTS],
@@ -111,6 +159,7 @@ impl<const W: usize> Join<'_, W> {
             limits,
             candidates: 0,
             memo: vec![memo; self.plan.atoms.len()],
+            invariant: invariant(self.plan),
         };
         let leaf = self.access.last().and_then(|a| Leaf::of(self.plan, a));
         self.step(0, &mut b, out, &mut progress, leaf.as_ref())?;
@@ -140,61 +189,76 @@ impl<const W: usize> Join<'_, W> {
             }
             return Ok(());
         };
-        let mut prefix = [0u64; WIDTH];
-        let nc = acc.consts.len();
-        let l = acc.prefix_len();
-        prefix[..nc].copy_from_slice(&acc.consts);
-        // A key value that does not fit its column matches no tuple.
-        if acc.nkeys > 0 && !step.key_into(b, &mut prefix[nc..l]) {
-            return Ok(());
-        }
-        let prefix = &prefix[..l];
-        // Comparisons with the binding that bound the next column: read its range only.
-        let window = match &acc.narrow {
-            Some(n) => match n.range(b) {
-                Some(r) => Some(r),
-                None => return Ok(()),
-            },
-            None => None,
-        };
-        let narrow = |part: &[Tup<W>], (a, b): (usize, usize)| match window {
-            Some((lo, hi)) => {
-                let (x, y) = within_span(&part[a..b], l, lo, hi);
-                (a + x, a + y)
-            }
-            None => (a, b),
-        };
         let remembered = parts.len() <= MEMO_PARTS && depth < progress.memo.len();
-        if remembered {
-            let m = &mut progress.memo[depth];
-            let order = if m.valid {
-                prefix_cmp(prefix, &m.prefix[..l])
-            } else {
-                Ordering::Less
-            };
-            let same_window = m.window == window;
-            if order != Ordering::Equal || !same_window {
-                for ((r, s), part) in m.ranges.iter_mut().zip(m.spans.iter_mut()).zip(parts) {
-                    *r = match order {
-                        Ordering::Equal => *r,
-                        // Lookups in ascending key order: a merge, galloping on from the
-                        // end of the previous range.
-                        Ordering::Greater => range_span_from(part, prefix, r.1),
-                        Ordering::Less => range_span(part, prefix),
-                    };
-                    *s = narrow(part, *r);
-                }
-                m.valid = true;
-                m.prefix[..l].copy_from_slice(prefix);
-                m.window = window;
+        // This atom's lookup is the one remembered when it reads nothing the previous atom
+        // bound and the previous atom's binding has not changed since (see `Memo::fresh`).
+        let fresh = remembered && progress.memo[depth].fresh;
+        let mut searched = Vec::new();
+        if !fresh {
+            let mut prefix = [0u64; WIDTH];
+            let nc = acc.consts.len();
+            let l = acc.prefix_len();
+            prefix[..nc].copy_from_slice(&acc.consts);
+            // A key value that does not fit its column matches no tuple.
+            if acc.nkeys > 0 && !step.key_into(b, &mut prefix[nc..l]) {
+                return Ok(());
             }
+            let prefix = &prefix[..l];
+            // Comparisons with the binding that bound the next column: read its range only.
+            let window = match &acc.narrow {
+                Some(n) => match n.range(b) {
+                    Some(r) => Some(r),
+                    None => return Ok(()),
+                },
+                None => None,
+            };
+            let narrow = |part: &[Tup<W>], (a, b): (usize, usize)| match window {
+                Some((lo, hi)) => {
+                    let (x, y) = within_span(&part[a..b], l, lo, hi);
+                    (a + x, a + y)
+                }
+                None => (a, b),
+            };
+            if remembered {
+                let m = &mut progress.memo[depth];
+                let order = if m.valid {
+                    prefix_cmp(prefix, &m.prefix[..l])
+                } else {
+                    Ordering::Less
+                };
+                if order != Ordering::Equal || m.window != window {
+                    for ((r, s), part) in m.ranges.iter_mut().zip(m.spans.iter_mut()).zip(parts) {
+                        *r = match order {
+                            Ordering::Equal => *r,
+                            // Lookups in ascending key order: a merge, galloping on from the
+                            // end of the previous range.
+                            Ordering::Greater => range_span_from(part, prefix, r.1),
+                            Ordering::Less => range_span(part, prefix),
+                        };
+                        *s = narrow(part, *r);
+                    }
+                    m.valid = true;
+                    m.prefix[..l].copy_from_slice(prefix);
+                    m.window = window;
+                }
+                m.fresh = progress.invariant[depth];
+            } else {
+                searched = parts
+                    .iter()
+                    .map(|part| narrow(part, range_span(part, prefix)))
+                    .collect();
+            }
+        }
+        // The next atom's remembered lookup may read what this atom binds.
+        if let Some(m) = progress.memo.get_mut(depth + 1) {
+            m.fresh = false;
         }
         for (i, part) in parts.iter().enumerate() {
             // Deeper atoms only write their own memo, so this atom's spans stay put.
             let (from, to) = if remembered {
                 progress.memo[depth].spans[i]
             } else {
-                narrow(part, range_span(part, prefix))
+                searched[i]
             };
             let matches = &part[from..to];
             progress.candidates += matches.len();
@@ -265,7 +329,7 @@ impl<const W: usize> Join<'_, W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::{cmp_filter, Arg, Filter};
+    use crate::plan::cmp_filter;
     use crate::rows::Rows;
     use crate::value::{enc_int, V};
     use crate::Options;
@@ -284,32 +348,54 @@ mod tests {
         CExpr::Slot(s, ColType::Int)
     }
 
-    /// `out(X, Z) :- a(X, Y), b(Y, Z), <filters>` with head `heads`, joined by [`Join`] over
-    /// `b` split into sorted parts, against a nested loop over the plain tuples.
+    /// `out(X, Z) :- a(X, Y), [c(W),] b(Y, Z), <filters>` with head `heads`, joined by
+    /// [`Join`] over `b` split into sorted parts, against a nested loop over the plain
+    /// tuples. With `c` (when `mid` is not empty) `b`'s lookup does not depend on the atom
+    /// before it, so it is made once per `a` tuple and reused over `c`'s.
     fn check(
         a: &[(i64, i64)],
+        mid: &[i64],
         b: &[(i64, i64)],
         after: Vec<Filter>,
         head: Vec<(CExpr, ColType)>,
         merge: bool,
     ) {
         let sa = AtomStep::new("a".into(), vec![Arg::New(0), Arg::New(1)], Vec::new());
+        let sc = AtomStep::new("c".into(), vec![Arg::New(3)], Vec::new());
         let sb = AtomStep::new(
             "b".into(),
             vec![Arg::Key(int(1), ColType::Int), Arg::New(2)],
             after,
         );
+        let atoms = if mid.is_empty() {
+            vec![sa, sb]
+        } else {
+            vec![sa, sc, sb]
+        };
         let plan = Plan {
             start: Vec::new(),
-            atoms: vec![sa, sb],
+            atoms,
             head,
         };
-        let acc_a = if merge {
-            Access::before(&plan.atoms[0], plan.atoms.get(1), 2)
+        let n = plan.atoms.len();
+        // `c` has no keys and `b` reads `Y` of `a`: both lookups are the same for every tuple
+        // of the atom before them.
+        let want = if n == 3 {
+            &[false, true, true][..]
         } else {
-            Access::of(&plan.atoms[0], 2)
+            &[false, false][..]
         };
-        let access = vec![acc_a, Access::before(&plan.atoms[1], None, 2)];
+        assert_eq!(invariant(&plan), want);
+        let access: Vec<Access> = (0..n)
+            .map(|i| {
+                let arity = if i == 1 && n == 3 { 1 } else { 2 };
+                if merge {
+                    Access::before(&plan.atoms[i], plan.atoms.get(i + 1), arity)
+                } else {
+                    Access::of(&plan.atoms[i], arity)
+                }
+            })
+            .collect();
         let rows = |v: &[(i64, i64)]| {
             Rows::from_flat(
                 2,
@@ -327,6 +413,9 @@ mod tests {
             c
         };
         let copy_a = copy(&access[0], a);
+        let mut copy_c: Vec<Tup<2>> = mid.iter().map(|&w| [enc_int(w), 0]).collect();
+        copy_c.sort_unstable();
+        copy_c.dedup();
         // `b` in three disjoint sorted parts, as a variable's stable batches and recent
         // tuples.
         let mut b = b.to_vec();
@@ -336,13 +425,18 @@ mod tests {
         let bs: Vec<Vec<Tup<2>>> = (0..3)
             .map(|k| {
                 let part: Vec<(i64, i64)> = b.iter().skip(k).step_by(3).copied().collect();
-                copy(&access[1], &part)
+                copy(&access[n - 1], &part)
             })
             .collect();
+        let mut parts = vec![vec![&copy_a[..]]];
+        if n == 3 {
+            parts.push(vec![&copy_c[..]]);
+        }
+        parts.push(bs.iter().map(|p| &p[..]).collect());
         let join = Join {
             plan: &plan,
             access: &access,
-            parts: vec![vec![&copy_a[..]], bs.iter().map(|p| &p[..]).collect()],
+            parts,
         };
         let options = Options::default();
         let limits = Limits {
@@ -356,22 +450,28 @@ mod tests {
             panic!("join failed: {e}");
         }
         got.sort_unstable();
-        // The nested loop: every pair of tuples, the filters and head through `apply`.
+        // The nested loop: every combination, the filters and head through `apply`.
         let mut want: Vec<Tup<2>> = Vec::new();
-        let (mut a, mut b) = (a.to_vec(), b.to_vec());
+        let mut a = a.to_vec();
         a.sort_unstable();
         a.dedup();
-        b.sort_unstable();
-        b.dedup();
+        let ws: Vec<Option<u64>> = if n == 3 {
+            copy_c.iter().map(|w| Some(w[0])).collect()
+        } else {
+            vec![None]
+        };
         for &(x, y) in &a {
-            for &(_, z) in b.iter().filter(|t| t.0 == y) {
-                let mut row = [0u64; WIDTH];
-                row[0] = enc_int(x);
-                row[1] = enc_int(y);
-                row[2] = enc_int(z);
-                if let Some(r) = crate::plan::apply(&plan.atoms[1].after, row) {
-                    if let Some(o) = plan.project(&r) {
-                        want.push([o[0], o[1]]);
+            for w in &ws {
+                for &(_, z) in b.iter().filter(|t| t.0 == y) {
+                    let mut row = [0u64; WIDTH];
+                    row[0] = enc_int(x);
+                    row[1] = enc_int(y);
+                    row[2] = enc_int(z);
+                    row[3] = w.unwrap_or(0);
+                    if let Some(r) = crate::plan::apply(&plan.atoms[n - 1].after, row) {
+                        if let Some(o) = plan.project(&r) {
+                            want.push([o[0], o[1]]);
+                        }
                     }
                 }
             }
@@ -393,8 +493,15 @@ mod tests {
                 .collect();
             let slots = vec![(int(0), ColType::Int), (int(2), ColType::Int)];
             let merge = case % 2 == 0;
+            let mid: Vec<i64> = if case % 4 < 2 {
+                Vec::new()
+            } else {
+                (0..1 + lcg(&mut seed) % 4)
+                    .map(|_| draw(&mut seed))
+                    .collect()
+            };
             // No filters: the last atom writes head tuples from the binding and the tuple.
-            check(&a, &b, Vec::new(), slots.clone(), merge);
+            check(&a, &mid, &b, Vec::new(), slots.clone(), merge);
             // Comparisons: the last atom's filters on the shared binding row.
             let filters = vec![
                 cmp_filter(CmpOp::Ne, int(0), int(2)),
@@ -407,21 +514,21 @@ mod tests {
                     CExpr::Const(V::Int(3)),
                 ),
             ];
-            check(&a, &b, filters, slots, merge);
+            check(&a, &mid, &b, filters, slots, merge);
             // A computed head: no fast path, the general recursion, with a binding.
             let bind = vec![Filter::Bind(
-                3,
+                4,
                 CExpr::Bin(BinOp::Add, Box::new(int(0)), Box::new(int(2))),
                 ColType::Int,
             )];
             let computed = vec![
-                (int(3), ColType::Int),
+                (int(4), ColType::Int),
                 (
                     CExpr::Bin(BinOp::Sub, Box::new(int(1)), Box::new(int(0))),
                     ColType::Int,
                 ),
             ];
-            check(&a, &b, bind, computed, merge);
+            check(&a, &mid, &b, bind, computed, merge);
         }
     }
 }
