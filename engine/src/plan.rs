@@ -223,6 +223,15 @@ pub struct NegSet {
 }
 
 impl NegSet {
+    /// With one key column copied from a slot: that slot and the set of values it must not
+    /// take.
+    pub(crate) fn single(&self) -> Option<(usize, &FastSet<u64>)> {
+        match self.slots.as_deref() {
+            Some([(_, s)]) => Some((*s, &self.one)),
+            _ => None,
+        }
+    }
+
     /// Whether the binding's key is in the relation; `None` when an argument fails to
     /// evaluate.
     fn contains(&self, row: &Row) -> Option<bool> {

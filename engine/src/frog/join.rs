@@ -75,10 +75,22 @@ struct Leaf {
     direct: Vec<From>,
     /// Per head column, its slot (after the last atom's filters ran on the full binding).
     slots: Vec<usize>,
+    /// When the atom's only filter is a one-column negation of one of its new variables:
+    /// that variable's stored position (the negation is then looked up on the tuple).
+    negated: Option<usize>,
 }
 
 impl Leaf {
     fn of(plan: &Plan, last: &Access) -> Option<Leaf> {
+        let negated = match plan.atoms.last().map(|a| a.after.as_slice()) {
+            Some([Filter::Neg(n)]) => n.single().and_then(|(slot, _)| {
+                last.news
+                    .iter()
+                    .find(|&&(_, s)| s == slot)
+                    .map(|&(pos, _)| pos)
+            }),
+            _ => None,
+        };
         let mut slots = Vec::new();
         for (e, ty) in &plan.head {
             match e {
@@ -93,7 +105,11 @@ impl Leaf {
                 None => From::Binding(s),
             })
             .collect();
-        Some(Leaf { direct, slots })
+        Some(Leaf {
+            direct,
+            slots,
+            negated,
+        })
     }
 }
 
@@ -297,18 +313,31 @@ impl<const W: usize> Join<'_, W> {
         matches: &[Tup<W>],
         out: &mut Vec<Tup<W>>,
     ) {
-        if step.after.is_empty() {
-            out.reserve(matches.len());
-            for t in matches {
-                let mut o = [0u64; W];
-                for (o, f) in o.iter_mut().zip(&leaf.direct) {
-                    *o = match *f {
-                        From::Binding(s) => b[s],
-                        From::Tuple(p) => t[p],
-                    };
-                }
-                out.push(o);
+        let direct = |t: &Tup<W>| {
+            let mut o = [0u64; W];
+            for (o, f) in o.iter_mut().zip(&leaf.direct) {
+                *o = match *f {
+                    From::Binding(s) => b[s],
+                    From::Tuple(p) => t[p],
+                };
             }
+            o
+        };
+        if step.after.is_empty() {
+            out.extend(matches.iter().map(direct));
+            return;
+        }
+        // `!r(Y)` on one of the atom's own columns: a lookup of the tuple's word.
+        if let Some((pos, absent)) = leaf.negated.and_then(|pos| match step.after.as_slice() {
+            [Filter::Neg(n)] => n.single().map(|(_, set)| (pos, set)),
+            _ => None,
+        }) {
+            out.extend(
+                matches
+                    .iter()
+                    .filter(|t| !absent.contains(&t[pos]))
+                    .map(direct),
+            );
             return;
         }
         for t in matches {
