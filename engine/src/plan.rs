@@ -1636,12 +1636,7 @@ mod tests {
     #[test]
     fn compiled_differences_agree_with_the_general_comparison() {
         let mut seed = 5u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            seed >> 11
-        };
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
         let ops = [
             CmpOp::Lt,
             CmpOp::Le,
@@ -1658,7 +1653,7 @@ mod tests {
                 match r % 4 {
                     0 => edges[(r / 4) as usize % edges.len()],
                     _ if small => (r / 4 % 41) as i64 - 20,
-                    _ => (r / 4) as i64 - (1i64 << 51),
+                    _ => ((r as i64) << 29) - (1i64 << 59),
                 }
             };
             let (x, y, c) = (pick(case % 2 == 0), pick(case % 2 == 0), pick(true));

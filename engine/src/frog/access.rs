@@ -295,12 +295,7 @@ mod tests {
     #[test]
     fn forward_gallops_match_searches_in_any_lookup_order() {
         let mut seed = 11u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            seed >> 33
-        };
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
         for _ in 0..300 {
             let n = (next() % 200) as usize;
             let k = 1 + next() % 30;

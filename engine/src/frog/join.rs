@@ -356,7 +356,7 @@ impl<const W: usize> Join<'_, W> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::plan::cmp_filter;
     use crate::rows::Rows;
@@ -366,7 +366,8 @@ mod tests {
     use scenalog_rules::ast::{BinOp, CmpOp};
     use std::time::Instant;
 
-    fn lcg(seed: &mut u64) -> u64 {
+    /// A small deterministic generator for the kernel's property tests.
+    pub(crate) fn lcg(seed: &mut u64) -> u64 {
         *seed = seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
