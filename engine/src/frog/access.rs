@@ -3,7 +3,7 @@
 //! rest; constants and key values then select one contiguous range by a prefix search.
 //! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
 
-use crate::plan::{Arg, AtomStep, CExpr, Filter, Narrow};
+use crate::plan::{AtomStep, Narrow};
 use crate::rows::Rows;
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
@@ -80,50 +80,11 @@ pub(crate) struct Access {
 impl Access {
     /// The access for an atom step over a relation of `arity` stored words.
     pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
-        Access::ordered(step, arity, &[])
-    }
-
-    /// The access for an atom step followed by `next` in its plan: as [`Access::of`], with
-    /// the columns that bind the next atom's leading join keys stored right after this
-    /// atom's prefix (and narrowed column), so that within each of this atom's ranges the
-    /// next atom's lookups come in ascending key order and its search gallops forward (a
-    /// merge join).
-    pub(crate) fn before(step: &AtomStep, next: Option<&AtomStep>, arity: usize) -> Access {
-        let mut lead = Vec::new();
-        // Only a copy that is permuted anyway: an atom read in natural order needs no copy
-        // at all (a recursive relation's copy is a second variable, sorted every round).
-        let copied = !step.keys.is_empty() || !step.consts.is_empty() || !step.sames.is_empty();
-        if let Some(next) = next.filter(|_| copied) {
-            for &c in &next.keys {
-                let Some(Arg::Key(CExpr::Slot(s, ty), kty)) = next.args.get(c) else {
-                    break;
-                };
-                if ty != kty {
-                    break;
-                }
-                match step.news.iter().find(|&&(_, slot)| slot == *s) {
-                    Some(&(col, _)) => lead.push(col),
-                    // Bound before this atom: the same over all of its ranges.
-                    None if !step.after.iter().any(|f| binds(f, *s)) => {}
-                    None => break,
-                }
-            }
-        }
-        Access::ordered(step, arity, &lead)
-    }
-
-    /// The access with columns `lead` placed right after the prefix and narrowed column.
-    fn ordered(step: &AtomStep, arity: usize, lead: &[usize]) -> Access {
         let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
         perm.extend(step.keys.iter().copied());
         // A range-narrowed column comes right after the keys, so that within one prefix
         // range the copy is sorted by it.
         perm.extend(step.narrow.as_ref().map(|n| n.col));
-        for &c in lead {
-            if c < arity && !perm.contains(&c) {
-                perm.push(c);
-            }
-        }
         for c in 0..arity {
             if !perm.contains(&c) {
                 perm.push(c);
@@ -150,15 +111,6 @@ impl Access {
     /// Words of the lookup prefix.
     pub(crate) fn prefix_len(&self) -> usize {
         self.consts.len() + self.nkeys
-    }
-}
-
-/// Whether a filter writes slot `s`.
-fn binds(f: &Filter, s: usize) -> bool {
-    match f {
-        Filter::Bind(slot, ..) | Filter::AggRun(_, slot) => *slot == s,
-        Filter::Agg { out, .. } => *out == s,
-        _ => false,
     }
 }
 

@@ -138,8 +138,8 @@ impl Stratum<'_> {
             .chain(self.variants.iter().flatten().map(|(_, p)| p));
         for p in all {
             let mut list = Vec::new();
-            for (i, a) in p.atoms.iter().enumerate() {
-                let acc = Access::before(a, p.atoms.get(i + 1), (self.stored)(&a.pred));
+            for a in &p.atoms {
+                let acc = Access::of(a, (self.stored)(&a.pred));
                 let src = match known.get(&acc.sig) {
                     Some(s) => *s,
                     None => {
