@@ -173,6 +173,21 @@ pub enum Filter {
     CmpRaw(CmpOp, usize, Raw),
     /// A comparison of two integer expressions.
     CmpInt(CmpOp, IExpr, IExpr),
+    /// `a - b op c` (`abs(a - b) op c` with `abs`) on int slots `a`, `b` and a constant:
+    /// the common shape of distance and duration checks, evaluated without an expression
+    /// tree (the same results as [`Filter::CmpInt`]: an overflow fails the comparison).
+    CmpDiff {
+        /// The comparison.
+        op: CmpOp,
+        /// The left slot.
+        a: usize,
+        /// The right slot.
+        b: usize,
+        /// Whether the difference's absolute value is compared.
+        abs: bool,
+        /// The constant.
+        c: i64,
+    },
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
@@ -211,6 +226,15 @@ pub struct NegSet {
 }
 
 impl NegSet {
+    /// With one key column copied from a slot: that slot and the set of values it must not
+    /// take.
+    pub(crate) fn single(&self) -> Option<(usize, &FastSet<u64>)> {
+        match self.slots.as_deref() {
+            Some([(_, s)]) => Some((*s, &self.one)),
+            _ => None,
+        }
+    }
+
     /// Whether the binding's key is in the relation; `None` when an argument fails to
     /// evaluate.
     fn contains(&self, row: &Row) -> Option<bool> {
@@ -301,6 +325,29 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
         return Filter::CmpRaw(flipped(op), s, r);
     }
     if let (Some(x), Some(y)) = (IExpr::from(&a), IExpr::from(&b)) {
+        let diff = |op: CmpOp, x: &IExpr, y: &IExpr| {
+            let IExpr::Const(c) = *y else { return None };
+            match *x {
+                IExpr::Diff(a, b) => Some(Filter::CmpDiff {
+                    op,
+                    a,
+                    b,
+                    abs: false,
+                    c,
+                }),
+                IExpr::AbsDiff(a, b) => Some(Filter::CmpDiff {
+                    op,
+                    a,
+                    b,
+                    abs: true,
+                    c,
+                }),
+                _ => None,
+            }
+        };
+        if let Some(f) = diff(op, &x, &y).or_else(|| diff(flipped(op), &y, &x)) {
+            return f;
+        }
         return Filter::CmpInt(op, x, y);
     }
     Filter::Cmp(op, a, b)
@@ -308,6 +355,16 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
 
 /// Applies filters in order; `None` if one fails.
 pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
+    apply_mut(filters, &mut row).then_some(row)
+}
+
+/// Applies filters in order to `row` in place (bindings write their slots); `false` if one
+/// fails, the row's later slots then holding partial results.
+pub fn apply_mut(filters: &[Filter], row: &mut Row) -> bool {
+    apply_in(filters, row).is_some()
+}
+
+fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
     for f in filters {
         match f {
             Filter::CmpRaw(op, a, b) => {
@@ -319,24 +376,32 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
                     return None;
                 }
             }
+            Filter::CmpDiff { op, a, b, abs, c } => {
+                let d =
+                    crate::value::dec_int(row[*a]).checked_sub(crate::value::dec_int(row[*b]))?;
+                let d = if *abs { d.checked_abs()? } else { d };
+                if !holds(*op, d.cmp(c)) {
+                    return None;
+                }
+            }
             Filter::CmpInt(op, a, b) => {
-                if !holds(*op, a.eval(&row)?.cmp(&b.eval(&row)?)) {
+                if !holds(*op, a.eval(row)?.cmp(&b.eval(row)?)) {
                     return None;
                 }
             }
             Filter::Cmp(op, a, b) => {
-                let ord = a.eval(&row)?.compare(b.eval(&row)?)?;
+                let ord = a.eval(row)?.compare(b.eval(row)?)?;
                 if !holds(*op, ord) {
                     return None;
                 }
             }
-            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(&row)?, *ty)?,
+            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(row)?, *ty)?,
             Filter::Neg(n) => {
-                if n.contains(&row)? {
+                if n.contains(row)? {
                     return None;
                 }
             }
-            Filter::AggRun(c, out) => row[*out] = c.run(&row)?,
+            Filter::AggRun(c, out) => row[*out] = c.run(row)?,
             Filter::Agg {
                 group,
                 table,
@@ -354,7 +419,7 @@ pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
             }
         }
     }
-    Some(row)
+    Some(())
 }
 
 fn neg_key(args: &[KeyArg], row: &Row) -> Option<Row> {
@@ -466,6 +531,24 @@ impl AtomStep {
             k[n] = t[i];
         }
         k
+    }
+
+    /// The join key computed from a binding row, written to `out` (one word per key column);
+    /// `false` if a value does not fit its column. The same words as [`AtomStep::binding_key`].
+    pub fn key_into(&self, b: &Row, out: &mut [u64]) -> bool {
+        for (o, &c) in out.iter_mut().zip(&self.keys) {
+            let Some(Arg::Key(e, ty)) = self.args.get(c) else {
+                return false;
+            };
+            *o = match e {
+                CExpr::Slot(s, t) if t == ty => b[*s],
+                e => match e.eval(b).and_then(|v| encode(v, *ty)) {
+                    Some(w) => w,
+                    None => return false,
+                },
+            };
+        }
+        true
     }
 
     /// The join key computed from a binding row; `None` if a value does not fit its column.
@@ -1570,6 +1653,54 @@ mod tests {
                 };
                 assert_eq!(ie.eval(&row), want, "{e:?} on {a}, {b}");
             }
+        }
+    }
+
+    #[test]
+    fn compiled_differences_agree_with_the_general_comparison() {
+        let mut seed = 5u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let ops = [
+            CmpOp::Lt,
+            CmpOp::Le,
+            CmpOp::Gt,
+            CmpOp::Ge,
+            CmpOp::Eq,
+            CmpOp::Ne,
+        ];
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        let slot = |s| Box::new(CExpr::Slot(s, ColType::Int));
+        for case in 0..20_000 {
+            let mut pick = |small: bool| -> i64 {
+                let r = next();
+                match r % 4 {
+                    0 => edges[(r / 4) as usize % edges.len()],
+                    _ if small => (r / 4 % 41) as i64 - 20,
+                    _ => ((r as i64) << 29) - (1i64 << 59),
+                }
+            };
+            let (x, y, c) = (pick(case % 2 == 0), pick(case % 2 == 0), pick(true));
+            let op = ops[case % ops.len()];
+            let diff = CExpr::Bin(BinOp::Sub, slot(0), slot(1));
+            let e = if case % 3 == 0 {
+                CExpr::Call(Func::Abs, vec![diff])
+            } else {
+                diff
+            };
+            let k = CExpr::Const(V::Int(c));
+            // Both sides: `e op c` and `c op e`.
+            let (l, r) = if case % 5 == 0 { (k, e) } else { (e, k) };
+            let compiled = cmp_filter(op, l.clone(), r.clone());
+            assert!(matches!(compiled, Filter::CmpDiff { .. }), "{compiled:?}");
+            let general = Filter::Cmp(op, l, r);
+            let mut row = [0u64; WIDTH];
+            row[0] = enc_int(x);
+            row[1] = enc_int(y);
+            assert_eq!(
+                apply(&[compiled], row).is_some(),
+                apply(&[general], row).is_some(),
+                "{op:?} on {x}, {y}, {c} (case {case})"
+            );
         }
     }
 }

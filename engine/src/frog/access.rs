@@ -42,11 +42,21 @@ impl Sig {
 
     /// The sorted, distinct copy of a stored relation.
     pub(crate) fn copy_rows<const W: usize>(&self, rows: &Rows) -> Vec<Tup<W>> {
-        let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
-        if !self.is_identity() {
-            v.sort_unstable();
-            v.dedup();
+        if self.is_identity() {
+            // The relation as it is (stored rows are sorted and distinct): words copied.
+            return rows
+                .iter()
+                .map(|t| {
+                    let mut o = [0u64; W];
+                    let n = t.len().min(W);
+                    o[..n].copy_from_slice(&t[..n]);
+                    o
+                })
+                .collect();
         }
+        let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
+        v.sort_unstable();
+        v.dedup();
         v
     }
 }
@@ -121,11 +131,46 @@ pub(crate) fn range_span<const W: usize>(s: &[Tup<W>], p: &[u64]) -> (usize, usi
             let lo = s.partition_point(|t| t[0] < k);
             (lo, lo + gallop(&s[lo..], |t| t[0] == k))
         }
-        l => {
-            let lo = s.partition_point(|t| t[..l] < *p);
-            (lo, lo + gallop(&s[lo..], |t| t[..l] == *p))
+        _ => {
+            let lo = s.partition_point(|t| prefix_cmp(t, p).is_lt());
+            (lo, lo + gallop(&s[lo..], |t| prefix_cmp(t, p).is_eq()))
         }
     }
+}
+
+/// How a tuple's first `p.len()` words compare with `p` (a word loop: prefixes are a few
+/// words, shorter than a `memcmp` call is worth).
+#[inline]
+pub(crate) fn prefix_cmp(t: &[u64], p: &[u64]) -> std::cmp::Ordering {
+    for (a, b) in t.iter().zip(p) {
+        if a != b {
+            return a.cmp(b);
+        }
+    }
+    std::cmp::Ordering::Equal
+}
+
+/// [`range_span`] for a prefix at or after every tuple before `from` (the previous lookup's
+/// range end, when lookups come in ascending order): gallops forward from `from` for the
+/// start, then for the end.
+pub(crate) fn range_span_from<const W: usize>(
+    s: &[Tup<W>],
+    p: &[u64],
+    from: usize,
+) -> (usize, usize) {
+    let from = from.min(s.len());
+    let lo = from
+        + match p.len() {
+            0 => 0,
+            1 => gallop(&s[from..], |t| t[0] < p[0]),
+            _ => gallop(&s[from..], |t| prefix_cmp(t, p).is_lt()),
+        };
+    let n = match p.len() {
+        0 => s.len() - lo,
+        1 => gallop(&s[lo..], |t| t[0] == p[0]),
+        _ => gallop(&s[lo..], |t| prefix_cmp(t, p).is_eq()),
+    };
+    (lo, lo + n)
 }
 
 /// The tuples of a slice sorted by word `pos` (one prefix range of a copy) whose word `pos`
@@ -189,9 +234,42 @@ mod tests {
         assert_eq!(within(range(&s, &[2]), 1, 0, 9), &s[1..4]);
         assert!(within(range(&s, &[2]), 1, 6, 8).is_empty());
         assert!(within(range(&s, &[3]), 1, 5, 0).is_empty());
+        // Galloping forward from the previous range's end finds the same ranges.
+        assert_eq!(range_span_from(&s, &[3], 4), (4, 6));
+        assert_eq!(range_span_from(&s, &[2, 9], 2), (3, 4));
+        assert_eq!(range_span_from(&s, &[4], 6), (6, 6));
         let many: Vec<Tup<1>> = (0..1000).map(|i| [i / 100]).collect();
         for k in 0..10 {
             assert_eq!(range(&many, &[k]).len(), 100);
+        }
+    }
+
+    #[test]
+    fn forward_gallops_match_searches_in_any_lookup_order() {
+        let mut seed = 11u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        for _ in 0..300 {
+            let n = (next() % 200) as usize;
+            let k = 1 + next() % 30;
+            let mut s: Vec<Tup<3>> = (0..n).map(|_| [next() % k, next() % 4, next()]).collect();
+            s.sort_unstable();
+            // The previous lookup's range end, as the join's memo keeps it.
+            let mut last: Option<(Vec<u64>, usize)> = None;
+            for _ in 0..50 {
+                let p: Vec<u64> = if next() % 2 == 0 {
+                    vec![next() % (k + 1)]
+                } else {
+                    vec![next() % (k + 1), next() % 5]
+                };
+                let want = range_span(&s, &p);
+                let got = match &last {
+                    Some((q, end)) if q.len() == p.len() && p > *q => range_span_from(&s, &p, *end),
+                    _ => range_span(&s, &p),
+                };
+                assert_eq!(got, want, "prefix {p:?}, previous {last:?}");
+                assert!(s[want.0..want.1].iter().all(|t| t[..p.len()] == p[..]));
+                last = Some((p, want.1));
+            }
         }
     }
 }
