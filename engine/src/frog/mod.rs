@@ -189,9 +189,7 @@ impl Stratum<'_> {
             .map(|(h, _)| rel_of.get(h.as_str()).copied())
             .collect();
         // With provenance, per relation: each tuple with its (round, plan) tag, in round order.
-        // Kept as sorted runs (one per round, disjoint: a tuple is new in one round only),
-        // merged geometrically as rounds end, as datafrog merges its stable batches.
-        let mut tagged: Vec<TagRuns<W>> = (0..names.len()).map(|_| TagRuns::default()).collect();
+        let mut tagged: Vec<Vec<(Tup<W>, u64)>> = vec![Vec::new(); names.len()];
         let mut first = true;
         let mut round: u64 = 0;
         loop {
@@ -339,22 +337,21 @@ impl Stratum<'_> {
                 }
                 if options.provenance && !recent.is_empty() {
                     // Each new tuple's plan: the first plan (in order) that produced it.
-                    let mut tags: Vec<(Tup<W>, u64)> = Vec::with_capacity(recent.len());
+                    let tags = &mut tagged[r];
                     if let Some(plan) = single[r] {
                         let tag = (round << 32) | u64::from(plan);
                         tags.extend(recent.iter().map(|t| (*t, tag)));
-                    } else {
-                        let firsts = &firsts[r];
-                        let mut at = 0;
-                        for t in recent.iter() {
-                            while firsts.get(at).is_some_and(|(f, _)| f < t) {
-                                at += 1;
-                            }
-                            let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
-                            tags.push((*t, (round << 32) | u64::from(plan)));
-                        }
+                        continue;
                     }
-                    tagged[r].push(tags);
+                    let firsts = &firsts[r];
+                    let mut at = 0;
+                    for t in recent.iter() {
+                        while firsts.get(at).is_some_and(|(f, _)| f < t) {
+                            at += 1;
+                        }
+                        let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
+                        tags.push((*t, (round << 32) | u64::from(plan)));
+                    }
                 }
             }
             for (rel, sig, index) in &indexes {
@@ -378,7 +375,9 @@ impl Stratum<'_> {
                 data.extend_from_slice(&t[..arity]);
             }
             if options.provenance {
-                let tags = std::mem::take(&mut tagged[r]).finish();
+                let mut tags = std::mem::take(&mut tagged[r]);
+                // One sorted run per round: a stable sort merges the runs it finds.
+                tags.sort_by_key(|a| a.0);
                 let unpack = |t: u64| {
                     let plan = (t & 0xffff_ffff) as u32;
                     let plan = if plan == u32::MAX {
@@ -408,107 +407,5 @@ fn parts_of<const W: usize>(v: &Variable<Tup<W>>) -> Parts<'_, W> {
     Parts {
         stable: v.stable.borrow(),
         recent: v.recent.borrow(),
-    }
-}
-
-/// A relation's provenance tags: sorted runs of (tuple, tag), pairwise disjoint, the larger
-/// first; a new run is merged into the one before while that one is at most twice its size, so
-/// each tag is copied O(log n) times and the finished runs merge without sorting.
-struct TagRuns<const W: usize> {
-    runs: Vec<Vec<(Tup<W>, u64)>>,
-}
-
-impl<const W: usize> Default for TagRuns<W> {
-    fn default() -> Self {
-        TagRuns { runs: Vec::new() }
-    }
-}
-
-impl<const W: usize> TagRuns<W> {
-    /// Adds one round's run (sorted by tuple, disjoint from the runs held).
-    fn push(&mut self, run: Vec<(Tup<W>, u64)>) {
-        if run.is_empty() {
-            return;
-        }
-        let mut run = run;
-        while let Some(last) = self.runs.pop_if(|l| l.len() <= 2 * run.len()) {
-            run = merge_runs(last, run);
-        }
-        self.runs.push(run);
-    }
-
-    /// Every tag, sorted by tuple.
-    fn finish(mut self) -> Vec<(Tup<W>, u64)> {
-        let mut acc = self.runs.pop().unwrap_or_default();
-        while let Some(run) = self.runs.pop() {
-            acc = merge_runs(run, acc);
-        }
-        acc
-    }
-}
-
-/// The merge of two sorted runs of distinct tuples.
-fn merge_runs<const W: usize>(a: Vec<(Tup<W>, u64)>, b: Vec<(Tup<W>, u64)>) -> Vec<(Tup<W>, u64)> {
-    if a.is_empty() {
-        return b;
-    }
-    if b.is_empty() {
-        return a;
-    }
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if a[i].0 < b[j].0 {
-            out.push(a[i]);
-            i += 1;
-        } else {
-            out.push(b[j]);
-            j += 1;
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Runs of every size pattern (growing, shrinking, empty, one tuple) merge to the sorted
-    /// union with each tuple's own tag.
-    #[test]
-    fn tag_runs_merge_to_the_sorted_union() {
-        let mut seed = 7u64;
-        let mut next = |m: u64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) % m
-        };
-        for case in 0..50 {
-            let mut runs = TagRuns::<2>::default();
-            let mut all: Vec<(Tup<2>, u64)> = Vec::new();
-            let mut used = HashSet::new();
-            for round in 0..(case % 13 + 1) {
-                let len = match case % 3 {
-                    0 => next(40),
-                    1 => 40 - round.min(40),
-                    _ => 1 << (round % 7),
-                };
-                let mut run: Vec<(Tup<2>, u64)> = Vec::new();
-                for _ in 0..len {
-                    let t = [next(30), next(30)];
-                    if used.insert(t) {
-                        run.push((t, round));
-                    }
-                }
-                run.sort_unstable();
-                all.extend(&run);
-                runs.push(run);
-            }
-            all.sort_unstable();
-            assert_eq!(runs.finish(), all, "case {case}");
-        }
     }
 }
