@@ -695,3 +695,30 @@ fn negation_by_search_in_the_sorted_relation() {
     // B in q's second column: 1, 4, MAX.
     assert_eq!(ints(&e, "wild"), vec![vec![1, 2], vec![2, 5]]);
 }
+
+/// A program's ground facts count against the budget as they are loaded (they are evaluated in
+/// one pass, not joined): 30 facts pass a budget of 30 and fail one of 29, naming the relation.
+#[test]
+fn ground_facts_count_against_the_budget() {
+    let mut src = String::from(".decl f(X: int, Y: int)\n");
+    for i in 0..30 {
+        src.push_str(&format!("f({i}, {}).\n", i * 2));
+    }
+    let tight = Options {
+        max_tuples: 29,
+        ..Options::default()
+    };
+    match run_with(&src, &tight) {
+        Err(EngineError::TooManyTuples { relation, limit }) => {
+            assert_eq!((relation.as_str(), limit), ("f", 29));
+        }
+        other => panic!("expected the budget to run out in `f`, got {other:?}"),
+    }
+    let fits = Options {
+        max_tuples: 30,
+        ..Options::default()
+    };
+    let e = run_with(&src, &fits).expect("30 facts fit in 30");
+    assert_eq!(e.size("f"), 30);
+    assert_eq!(ints(&e, "f")[29], vec![29, 58]);
+}
