@@ -13,7 +13,7 @@ use crate::demand;
 use crate::plan::{body_lits, plan, plan_first, BodyLit, Ctx, Plan};
 use crate::prove::{Provenance, Stamp};
 use crate::rows::Rows;
-use crate::value::{cmp_value, decode_value, encode_value, Symbols, WIDTH};
+use crate::value::{cmp_value, encode_value, Symbols, WIDTH};
 use crate::{Encoded, EngineError, Evaluation, Options};
 
 /// Evaluates a checked program. Catalog relations the program uses are asked from `provider`,
@@ -203,16 +203,7 @@ pub(crate) fn decode_relation(encoded: &Encoded, name: &str) -> Vec<Vec<Value>> 
     let (Some(rows), Some(types)) = (encoded.rels.get(name), encoded.types.get(name)) else {
         return Vec::new();
     };
-    let mut decoded: Vec<Vec<Value>> = rows
-        .iter()
-        .map(|r| {
-            types
-                .iter()
-                .enumerate()
-                .map(|(i, &ty)| decode_value(r[i], ty, &encoded.symbols))
-                .collect()
-        })
-        .collect();
+    let mut decoded: Vec<Vec<Value>> = rows.iter().map(|r| encoded.decode_row(types, r)).collect();
     // Rows are sorted and distinct in encoded order, which is value order for every type but
     // strings (interned in order of first sight): only those need sorting again.
     if types.contains(&ColType::Str) {

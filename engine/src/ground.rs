@@ -10,6 +10,7 @@ use std::time::Instant;
 use scenalog_facts::catalog::ColType;
 
 use crate::eval::{Limits, Origins};
+use crate::frog::stored_width;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
 use crate::value::WIDTH;
@@ -32,11 +33,10 @@ pub(crate) fn run(
     start: Instant,
     held: usize,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
-    let arity = |name: &str| types.get(name).map_or(0, |t| t.len()).max(1);
     // Per relation: the derived tuples in plan order, and each one's plan.
     let mut derived: HashMap<&str, (Rows, Vec<usize>)> = defined
         .iter()
-        .map(|&n| (n, (Rows::new(arity(n)), Vec::new())))
+        .map(|&n| (n, (Rows::new(stored_width(types, n)), Vec::new())))
         .collect();
     let mut produced = 0usize;
     for (pi, (head, p)) in plans.iter().enumerate() {

@@ -166,6 +166,17 @@ pub(crate) struct Encoded {
     pub(crate) rels: HashMap<String, rows::Rows>,
 }
 
+impl Encoded {
+    /// One stored tuple decoded, its columns of `types`.
+    pub(crate) fn decode_row(&self, types: &[ColType], row: &[u64]) -> Vec<Value> {
+        types
+            .iter()
+            .zip(row)
+            .map(|(&ty, &w)| value::decode_value(w, ty, &self.symbols))
+            .collect()
+    }
+}
+
 impl PartialEq for Evaluation {
     fn eq(&self, other: &Self) -> bool {
         self.derived == other.derived

@@ -238,37 +238,40 @@ impl NegSet {
     /// Whether the binding's key is in the relation; `None` when an argument fails to
     /// evaluate.
     fn contains(&self, row: &Row) -> Option<bool> {
-        match self.slots.as_deref() {
-            Some([(_, s)]) => Some(self.one.contains(&row[*s])),
-            Some(slots) if !self.rows.is_empty() => {
-                let mut key = [0u64; WIDTH];
-                for &(c, s) in slots {
-                    key[c] = row[s];
-                }
-                Some(self.rows.contains(&key))
-            }
-            None if !self.rows.is_empty() => {
-                let mut key = [0u64; WIDTH];
-                for (k, a) in key.iter_mut().zip(&self.args) {
-                    if let KeyArg::Val(e, ty) = a {
-                        match encode(e.eval(row)?, *ty) {
-                            Some(v) => *k = v,
-                            // A value the column cannot store is in no tuple.
-                            None => return Some(false),
-                        }
-                    }
-                }
-                Some(self.rows.contains(&key))
-            }
-            Some(slots) => {
-                let mut key = [0u64; WIDTH];
-                for &(c, s) in slots {
-                    key[c] = row[s];
-                }
-                Some(self.set.contains(&key))
-            }
-            None => Some(self.set.contains(&neg_key(&self.args, row)?)),
+        if let Some([(_, s)]) = self.slots.as_deref() {
+            return Some(self.one.contains(&row[*s]));
         }
+        // A value that cannot be stored in its column is in no tuple: the negation holds.
+        let Some(key) = self.key(row)? else {
+            return Some(false);
+        };
+        Some(if self.rows.is_empty() {
+            self.set.contains(&key)
+        } else {
+            self.rows.contains(&key)
+        })
+    }
+
+    /// The binding's key in column order, wildcard columns zero: copied from slots when it
+    /// can be, else computed. `None` when an argument fails to evaluate, `Some(None)` when a
+    /// value cannot be stored in its column.
+    fn key(&self, row: &Row) -> Option<Option<Row>> {
+        let mut key = [0u64; WIDTH];
+        if let Some(slots) = self.slots.as_deref() {
+            for &(c, s) in slots {
+                key[c] = row[s];
+            }
+            return Some(Some(key));
+        }
+        for (k, a) in key.iter_mut().zip(&self.args) {
+            if let KeyArg::Val(e, ty) = a {
+                match encode(e.eval(row)?, *ty) {
+                    Some(v) => *k = v,
+                    None => return Some(None),
+                }
+            }
+        }
+        Some(Some(key))
     }
 }
 
@@ -422,20 +425,6 @@ fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
     Some(())
 }
 
-fn neg_key(args: &[KeyArg], row: &Row) -> Option<Row> {
-    let mut key = [0u64; WIDTH];
-    for (i, a) in args.iter().enumerate() {
-        if let KeyArg::Val(e, ty) = a {
-            key[i] = match encode(e.eval(row)?, *ty) {
-                Some(k) => k,
-                // A value that cannot be stored in the column is in no tuple: the negation holds.
-                None => return Some([u64::MAX; WIDTH]),
-            };
-        }
-    }
-    Some(key)
-}
-
 /// An atom argument relative to what is bound before the atom is joined.
 #[derive(Debug, Clone)]
 pub enum Arg {
@@ -534,7 +523,7 @@ impl AtomStep {
     }
 
     /// The join key computed from a binding row, written to `out` (one word per key column);
-    /// `false` if a value does not fit its column. The same words as [`AtomStep::binding_key`].
+    /// `false` if a value does not fit its column ([`AtomStep::binding_key`] writes it into a row).
     pub fn key_into(&self, b: &Row, out: &mut [u64]) -> bool {
         for (o, &c) in out.iter_mut().zip(&self.keys) {
             let Some(Arg::Key(e, ty)) = self.args.get(c) else {
@@ -554,18 +543,7 @@ impl AtomStep {
     /// The join key computed from a binding row; `None` if a value does not fit its column.
     pub fn binding_key(&self, b: &Row) -> Option<Row> {
         let mut k = [0u64; WIDTH];
-        let mut n = 0;
-        for a in &self.args {
-            if let Arg::Key(e, ty) = a {
-                k[n] = match e {
-                    // A slot of the column's own type is already encoded as the column is.
-                    CExpr::Slot(s, t) if t == ty => b[*s],
-                    e => encode(e.eval(b)?, *ty)?,
-                };
-                n += 1;
-            }
-        }
-        Some(k)
+        self.key_into(b, &mut k[..self.keys.len()]).then_some(k)
     }
 }
 
@@ -1249,26 +1227,24 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
     let whole =
         args.iter().all(|x| matches!(x, KeyArg::Val(..))) && !matches!(slots.as_deref(), Some([_]));
     let mut kept = Rows::new(types.len());
-    if let Some(rows) = ctx.complete.get(&a.pred) {
-        if whole {
-            kept = rows.clone();
-        }
-        for r in rows.iter() {
-            if whole {
-                break;
-            }
-            if let Some([(c, _)]) = slots.as_deref() {
-                one.insert(r[*c]);
-                continue;
-            }
-            let mut k = Rows::row(r);
-            for (i, x) in args.iter().enumerate() {
-                if matches!(x, KeyArg::Wild) {
-                    k[i] = 0;
+    match ctx.complete.get(&a.pred) {
+        Some(rows) if whole => kept = rows.clone(),
+        Some(rows) => {
+            for r in rows.iter() {
+                if let Some([(c, _)]) = slots.as_deref() {
+                    one.insert(r[*c]);
+                    continue;
                 }
+                let mut k = Rows::row(r);
+                for (i, x) in args.iter().enumerate() {
+                    if matches!(x, KeyArg::Wild) {
+                        k[i] = 0;
+                    }
+                }
+                set.insert(k);
             }
-            set.insert(k);
         }
+        None => {}
     }
     Ok(Filter::Neg(Arc::new(NegSet {
         args,
@@ -1488,9 +1464,7 @@ fn agg_filter(
         return correlated(g, group, head, g_len, scope, ctx);
     }
     let inner = plan(&lits, &head, None, ctx)?;
-    let types = ctx.types;
-    let arity = |name: &str| types.get(name).map_or(0, |t| t.len()).max(1);
-    let rows = crate::frog::once::run_plan(&inner, ctx.complete, &arity, ctx.limits)?;
+    let rows = crate::frog::once::run_plan(&inner, ctx.complete, ctx.types, ctx.limits)?;
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let out_ty = match g.func {
         AggFunc::Count => ColType::Int,

@@ -10,7 +10,7 @@ use scenalog_facts::relation::Value;
 use crate::frog::access::Access;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
-use crate::value::{decode_value, encode, Row, V, WIDTH};
+use crate::value::{encode, Row, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,13 +96,10 @@ impl Provenance {
     }
 
     fn decode(&self, rel: &str, row: &Row) -> Vec<Value> {
-        self.encoded.types.get(rel).map_or_else(Vec::new, |types| {
-            types
-                .iter()
-                .enumerate()
-                .map(|(i, &ty)| decode_value(row[i], ty, &self.encoded.symbols))
-                .collect()
-        })
+        self.encoded
+            .types
+            .get(rel)
+            .map_or_else(Vec::new, |types| self.encoded.decode_row(types, row))
     }
 
     /// The stamp of a tuple of a derived relation.
@@ -194,13 +191,7 @@ impl Provenance {
             .unwrap_or_default();
         let mut accesses = Vec::new();
         for a in &plan.atoms {
-            let arity = self
-                .encoded
-                .types
-                .get(&a.pred)
-                .map_or(0, |t| t.len())
-                .max(1);
-            let acc = Access::of(a, arity);
+            let acc = Access::of(a, crate::frog::stored_width(&self.encoded.types, &a.pred));
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {
                 let mut copy: Vec<(Row, u32)> = Vec::new();

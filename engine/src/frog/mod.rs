@@ -10,6 +10,43 @@
 //! Negation and aggregates are the planner's filters (our own antijoin by hash lookup against
 //! completed lower strata: datafrog 2.0.1's `Relation::from_antijoin` returns nothing).
 
+/// Evaluates `$body` with the const `$W` set to the tuple width that serves `$width` stored
+/// words: the widths the stratum code is monomorphised for (1, 2, 3, 4, 6, 8 and [`WIDTH`]).
+macro_rules! with_width {
+    ($width:expr, $W:ident => $body:expr) => {
+        match $width {
+            1 => {
+                const $W: usize = 1;
+                $body
+            }
+            2 => {
+                const $W: usize = 2;
+                $body
+            }
+            3 => {
+                const $W: usize = 3;
+                $body
+            }
+            4 => {
+                const $W: usize = 4;
+                $body
+            }
+            5 | 6 => {
+                const $W: usize = 6;
+                $body
+            }
+            7 | 8 => {
+                const $W: usize = 8;
+                $body
+            }
+            _ => {
+                const $W: usize = WIDTH;
+                $body
+            }
+        }
+    };
+}
+
 pub(crate) mod access;
 pub(crate) mod join;
 pub(crate) mod once;
@@ -50,7 +87,7 @@ pub(crate) fn run_stratum(
     complete: &HashMap<String, Rows>,
     budget: &Budget<'_>,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
-    let stored = |name: &str| types.get(name).map_or(0, |t| t.len()).max(1);
+    let stored = |name: &str| stored_width(types, name);
     let mut width = 1;
     for (head, p) in plans {
         width = width.max(stored(head));
@@ -69,15 +106,13 @@ pub(crate) fn run_stratum(
         complete,
         budget,
     };
-    match width {
-        1 => s.run::<1>(),
-        2 => s.run::<2>(),
-        3 => s.run::<3>(),
-        4 => s.run::<4>(),
-        5 | 6 => s.run::<6>(),
-        7 | 8 => s.run::<8>(),
-        _ => s.run::<WIDTH>(),
-    }
+    with_width!(width, W => s.run::<W>())
+}
+
+/// Words a stored tuple of relation `name` takes, as [`Rows`] stores it: its arity, or one for
+/// a nullary (or unknown) relation.
+pub(crate) fn stored_width(types: &HashMap<String, Vec<ColType>>, name: &str) -> usize {
+    types.get(name).map_or(0, |t| t.len()).max(1)
 }
 
 /// The inputs of one stratum's run.

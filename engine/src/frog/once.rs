@@ -5,51 +5,46 @@
 
 use std::collections::HashMap;
 
+use scenalog_facts::catalog::ColType;
+
 use super::access::{Access, Tup};
 use super::join::Join;
+use super::stored_width;
 use crate::eval::Limits;
 use crate::plan::Plan;
 use crate::rows::Rows;
 use crate::value::WIDTH;
 use crate::EngineError;
 
-/// The distinct head tuples of `plan` over `complete` (an absent relation is empty), sorted.
-/// `arity` gives each relation's stored width.
+/// The distinct head tuples of `plan` over `complete` (an absent relation is empty), sorted;
+/// `types` gives the relations' column types.
 pub(crate) fn run_plan(
     plan: &Plan,
     complete: &HashMap<String, Rows>,
-    arity: &dyn Fn(&str) -> usize,
+    types: &HashMap<String, Vec<ColType>>,
     limits: &Limits<'_>,
 ) -> Result<Rows, EngineError> {
     let width = plan
         .atoms
         .iter()
-        .map(|a| arity(&a.pred))
+        .map(|a| stored_width(types, &a.pred))
         .chain([plan.head.len(), 1])
         .max()
         .unwrap_or(1);
-    match width {
-        1 => run::<1>(plan, complete, arity, limits),
-        2 => run::<2>(plan, complete, arity, limits),
-        3 => run::<3>(plan, complete, arity, limits),
-        4 => run::<4>(plan, complete, arity, limits),
-        5 | 6 => run::<6>(plan, complete, arity, limits),
-        7 | 8 => run::<8>(plan, complete, arity, limits),
-        _ => run::<WIDTH>(plan, complete, arity, limits),
-    }
+    with_width!(width, W => run::<W>(plan, complete, types, limits))
 }
 
 fn run<const W: usize>(
     plan: &Plan,
     complete: &HashMap<String, Rows>,
-    arity: &dyn Fn(&str) -> usize,
+    types: &HashMap<String, Vec<ColType>>,
     limits: &Limits<'_>,
 ) -> Result<Rows, EngineError> {
     let empty = Rows::new(1);
     let access: Vec<Access> = plan
         .atoms
         .iter()
-        .map(|a| Access::of(a, arity(&a.pred)))
+        .map(|a| Access::of(a, stored_width(types, &a.pred)))
         .collect();
     let copies: Vec<Vec<Tup<W>>> = access
         .iter()
