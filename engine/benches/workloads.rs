@@ -119,6 +119,19 @@ fn engine_counts(p: &CheckedProgram, rels: &[&str], provenance: bool) -> Vec<usi
     rels.iter().map(|r| e.size(r)).collect()
 }
 
+/// With provenance, and every counted relation's stamps read (each recursive relation's
+/// stamps are put in order on their first read): what provenance costs a caller who proves.
+fn engine_stamped(p: &CheckedProgram, rels: &[&str]) -> Vec<usize> {
+    let e = engine_run(p, true);
+    rels.iter()
+        .map(|r| {
+            let n = e.size(r);
+            assert_eq!(e.stamped(r), n, "{r}: every tuple stamped");
+            n
+        })
+        .collect()
+}
+
 fn datafrog_tc(edges: &[(u32, u32)]) -> Relation<(u32, u32)> {
     let mut it = Iteration::new();
     let edge_by_src: Relation<(u32, u32)> = edges.iter().copied().collect();
@@ -426,6 +439,9 @@ fn bench(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, w: &Workl
     g.bench_function("engine_provenance", |b| {
         b.iter(|| engine_counts(&w.program, &w.rels, true))
     });
+    g.bench_function("engine_provenance_stamps_read", |b| {
+        b.iter(|| engine_stamped(&w.program, &w.rels))
+    });
     g.bench_function("datafrog", |b| b.iter(|| (w.datafrog)()));
     g.bench_function("ascent", |b| b.iter(|| (w.ascent)()));
 }
@@ -459,6 +475,12 @@ fn main() {
             "{}: engine with provenance vs datafrog",
             w.name
         );
+        assert_eq!(
+            engine_stamped(&w.program, &w.rels),
+            want,
+            "{}: engine with stamps read vs datafrog",
+            w.name
+        );
         assert_eq!((w.ascent)(), want, "{}: ascent vs datafrog", w.name);
         eprintln!("{}: {:?} tuples ({:?})", w.name, want, w.rels);
     }
@@ -482,7 +504,8 @@ fn main() {
 
 /// Times every variant of every workload `REPS` times, interleaved (so load on a busy machine
 /// falls on all of them alike), and prints the medians and the ratios the README's goals are
-/// about: engine / datafrog, engine / Ascent, provenance on / off.
+/// about: engine / datafrog, engine / Ascent, provenance on / off (the evaluation alone, and
+/// with every counted relation's stamps read).
 fn ratios(all: &[Workload]) {
     const REPS: usize = 7;
     let time = |f: &dyn Fn()| {
@@ -496,10 +519,10 @@ fn ratios(all: &[Workload]) {
     };
     eprintln!(
         "\nmedians of {REPS} interleaved runs (s) | engine | +prov | datafrog | ascent \
-         | engine/datafrog | engine/ascent | prov on/off"
+         | +stamps | engine/datafrog | engine/ascent | prov on/off | stamps on/off"
     );
     for w in all {
-        let mut t: [Vec<f64>; 4] = Default::default();
+        let mut t: [Vec<f64>; 5] = Default::default();
         for _ in 0..REPS {
             t[0].push(time(&|| {
                 engine_counts(&w.program, &w.rels, false);
@@ -513,14 +536,18 @@ fn ratios(all: &[Workload]) {
             t[3].push(time(&|| {
                 (w.ascent)();
             }));
+            t[4].push(time(&|| {
+                engine_stamped(&w.program, &w.rels);
+            }));
         }
-        let [e, p, d, a] = t.map(median);
+        let [e, p, d, a, s] = t.map(median);
         eprintln!(
-            "{:<16} | {e:.4} | {p:.4} | {d:.4} | {a:.4} | {:.2}x | {:.2}x | {:.2}x",
+            "{:<16} | {e:.4} | {p:.4} | {d:.4} | {a:.4} | {s:.4} | {:.2}x | {:.2}x | {:.2}x | {:.2}x",
             w.name,
             e / d,
             e / a,
-            p / e
+            p / e,
+            s / e
         );
     }
 }

@@ -11,7 +11,7 @@ use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::demand;
 use crate::plan::{body_lits, plan, plan_first, BodyLit, Ctx, Plan};
-use crate::prove::{Provenance, Stamp};
+use crate::prove::{Provenance, Stamps};
 use crate::rows::Rows;
 use crate::value::{cmp_value, encode_value, Symbols, WIDTH};
 use crate::{Encoded, EngineError, Evaluation, Options};
@@ -63,8 +63,10 @@ pub fn evaluate(
     let mut sent = demand::Sent::new();
     let mut loaded_for: HashMap<String, usize> = HashMap::new();
     let clauses = &program.program.clauses;
-    let mut stamps: HashMap<String, Vec<Stamp>> = HashMap::new();
+    let mut stamps: HashMap<String, Stamps> = HashMap::new();
     let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
+    // Per stratum: whether it holds facts alone (evaluated without plans).
+    let mut ground_strata: Vec<bool> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
         if options.pushdown {
             let cx = Loading {
@@ -83,6 +85,30 @@ pub fn evaluate(
                 held,
             )?;
         }
+        let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
+        let stratum_clauses: Vec<(usize, &scenalog_rules::ast::Clause)> = stratum
+            .clauses
+            .iter()
+            .filter_map(|&ci| clauses.get(ci).map(|c| (ci, c)))
+            .collect();
+        if stratum_clauses.iter().all(|(_, c)| c.body.is_empty()) {
+            // Facts alone: evaluated without plans; their proofs are leaves (`Provenance::ground`).
+            let heads: Vec<&scenalog_rules::ast::Clause> =
+                stratum_clauses.iter().map(|&(_, c)| c).collect();
+            let cx = (options, start, held);
+            let (derived, origins) =
+                crate::ground::facts(&heads, &defined, &types, &mut symbols, cx)?;
+            held += derived.values().map(Rows::len).sum::<usize>();
+            complete.extend(derived);
+            let clause_of = stratum_clauses.iter().map(|&(ci, _)| ci).collect();
+            keep_stamps(&mut stamps, origins, si, clause_of);
+            if options.provenance {
+                all_plans.push(Vec::new());
+            }
+            ground_strata.push(true);
+            continue;
+        }
+        ground_strata.push(false);
         let mut plans: Vec<(String, Plan)> = Vec::new();
         // Per plan: the plans of its semi-naive variants, by the recursive literal read first.
         let mut variants: Vec<Vec<(usize, Plan)>> = Vec::new();
@@ -126,7 +152,6 @@ pub fn evaluate(
             plans.push((clause.head.pred.clone(), p));
             clause_of.push(ci);
         }
-        let defined: HashSet<&str> = stratum.predicates.iter().map(|s| s.as_str()).collect();
         let (derived, origins) = if crate::ground::applies(&plans) {
             crate::ground::run(&plans, &defined, &types, options, start, held)?
         } else {
@@ -139,17 +164,12 @@ pub fn evaluate(
         };
         held += derived.values().map(Rows::len).sum::<usize>();
         complete.extend(derived);
-        for (name, list) in origins {
-            let list = list
-                .into_iter()
-                .map(|(round, plan)| Stamp {
-                    stratum: si,
-                    round,
-                    clause: clause_of.get(plan).copied().unwrap_or(usize::MAX),
-                })
-                .collect();
-            stamps.insert(name, list);
-        }
+        keep_stamps(
+            &mut stamps,
+            origins,
+            si,
+            clause_of.iter().copied().collect(),
+        );
         if options.provenance {
             all_plans.push(
                 plans
@@ -183,6 +203,7 @@ pub fn evaluate(
             encoded: encoded.clone(),
             stamps,
             plans: all_plans,
+            facts_only: ground_strata,
             strata: program
                 .strata
                 .iter()
@@ -313,9 +334,28 @@ fn load_demanded(
     Ok(held)
 }
 
+/// Keeps a stratum's stamps: `origins` per relation, `clause_of` the program clause of each
+/// plan index in them.
+fn keep_stamps(
+    stamps: &mut HashMap<String, Stamps>,
+    origins: Origins,
+    stratum: usize,
+    clause_of: Arc<[usize]>,
+) {
+    for (name, packed) in origins {
+        let list = Stamps {
+            stratum,
+            clauses: clause_of.clone(),
+            packed,
+        };
+        stamps.insert(name, list);
+    }
+}
+
 /// Per derived relation, aligned with its sorted tuples: the round and plan index that first
-/// derived each tuple (with provenance on).
-pub(crate) type Origins = HashMap<String, Vec<(usize, usize)>>;
+/// derived each tuple (with provenance on), packed by [`crate::prove::pack`], or what computes
+/// them when they are first read.
+pub(crate) type Origins = HashMap<String, crate::prove::Packed>;
 
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(

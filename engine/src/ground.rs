@@ -2,18 +2,20 @@
 //! comparisons, negations of lower strata and aggregates only): each clause derives at most one
 //! tuple, from its constants alone, in one round. They are evaluated here directly, without
 //! setting up a datafrog iteration per clause, so a program with thousands of facts loads
-//! them in one pass.
+//! them in one pass; a stratum of facts alone (no bodies) is not even planned ([`facts`]).
 
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 use scenalog_facts::catalog::ColType;
 
+use scenalog_rules::ast::Clause;
+
 use crate::eval::{Limits, Origins};
 use crate::frog::stored_width;
-use crate::plan::{apply, Plan};
+use crate::plan::{apply, ground_head, Plan};
 use crate::rows::Rows;
-use crate::value::WIDTH;
+use crate::value::{Row, Symbols, WIDTH};
 use crate::{EngineError, Options};
 
 /// Whether every clause of a stratum (its plans) is atom-free, so [`run`] can evaluate it.
@@ -33,34 +35,76 @@ pub(crate) fn run(
     start: Instant,
     held: usize,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+    let heads = plans.iter().map(|(head, p)| {
+        let tuple = apply(&p.start, [0u64; WIDTH]).and_then(|b| p.project(&b));
+        if p.sum_overflowed() {
+            let limits = Limits {
+                relation: head,
+                options,
+                start,
+                held,
+            };
+            return Err(limits.sum_overflow());
+        }
+        Ok((head.as_str(), tuple))
+    });
+    collect(heads, defined, types, options, start, held)
+}
+
+/// Evaluates a stratum of ground facts (clauses without bodies, such as `pos(3, 0, 12, 1).`)
+/// without planning them: each head's expressions are computed and encoded as the plan of a
+/// fact would ([`ground_head`]). The `i`th clause is plan `i` of the stamps, as in [`run`].
+/// A stratum of thousands of facts would otherwise plan each one.
+pub(crate) fn facts(
+    clauses: &[&Clause],
+    defined: &HashSet<&str>,
+    types: &HashMap<String, Vec<ColType>>,
+    symbols: &mut Symbols,
+    cx: (&Options, Instant, usize),
+) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+    let (options, start, held) = cx;
+    let heads = clauses.iter().map(|c| {
+        let pred = c.head.pred.as_str();
+        let tuple = ground_head(&c.head.args, types.get(pred).map(Vec::as_slice), symbols)?;
+        Ok((pred, tuple))
+    });
+    collect(heads, defined, types, options, start, held)
+}
+
+/// The relations of an atom-free stratum from each clause's head (in clause order; `None`
+/// for a clause that derives nothing): sorted and distinct, and with provenance each tuple's
+/// first clause, in round 0. Heads of relations the stratum does not define are skipped.
+fn collect<'a>(
+    heads: impl Iterator<Item = Result<(&'a str, Option<Row>), EngineError>>,
+    defined: &HashSet<&str>,
+    types: &HashMap<String, Vec<ColType>>,
+    options: &Options,
+    start: Instant,
+    held: usize,
+) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     // Per relation: the derived tuples in plan order, and each one's plan.
     let mut derived: HashMap<&str, (Rows, Vec<usize>)> = defined
         .iter()
         .map(|&n| (n, (Rows::new(stored_width(types, n)), Vec::new())))
         .collect();
     let mut produced = 0usize;
-    for (pi, (head, p)) in plans.iter().enumerate() {
-        let Some((rows, from)) = derived.get_mut(head.as_str()) else {
+    for (pi, head) in heads.enumerate() {
+        let (name, tuple) = head?;
+        let (Some(t), Some((rows, from))) = (tuple, derived.get_mut(name)) else {
             continue;
         };
-        let limits = Limits {
-            relation: head,
-            options,
-            start,
-            held,
-        };
-        let tuple = apply(&p.start, [0u64; WIDTH]).and_then(|b| p.project(&b));
-        if p.sum_overflowed() {
-            return Err(limits.sum_overflow());
-        }
-        if let Some(t) = tuple {
-            rows.push(&t);
-            from.push(pi);
-            produced += 1;
-            // The clock is read once per 4,096 clauses; the budget is counted exactly.
-            if produced.is_multiple_of(4096) || held + produced > options.max_tuples {
-                limits.check(produced)?;
-            }
+        rows.push(&t);
+        from.push(pi);
+        produced += 1;
+        // The clock is read once per 4,096 clauses; the budget is counted exactly.
+        if produced.is_multiple_of(4096) || held + produced > options.max_tuples {
+            let limits = Limits {
+                relation: name,
+                options,
+                start,
+                held,
+            };
+            limits.check(produced)?;
         }
     }
     let mut done = HashMap::new();
@@ -76,10 +120,10 @@ pub(crate) fn run(
             for i in order {
                 if let (Some(t), Some(&plan)) = (rows.get(i), from.get(i)) {
                     sorted.push_slice(t);
-                    first.push((0, plan));
+                    first.push(crate::prove::pack(0, plan));
                 }
             }
-            origins.insert(name.to_string(), first);
+            origins.insert(name.to_string(), crate::prove::Packed::ready(first));
             rows = sorted;
         } else {
             rows.sort_dedup();

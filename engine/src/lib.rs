@@ -208,6 +208,17 @@ impl Evaluation {
         self.provenance.as_ref()?.stamp(relation, tuple)
     }
 
+    /// How many tuples of a derived relation carry a stamp: all of them with provenance on, 0
+    /// with it off or for a relation the program does not derive. A recursive relation's stamps
+    /// are put in its tuples' order when they are first read (here, by [`Evaluation::stamp`] or
+    /// by a proof), not during the evaluation.
+    pub fn stamped(&self, relation: &str) -> usize {
+        self.provenance
+            .as_ref()
+            .and_then(|p| p.stamps.get(relation))
+            .map_or(0, |s| s.packed.get().len())
+    }
+
     /// A derivation tree of a tuple whose leaves are input facts (catalog tuples, or ground
     /// facts of the program), built by re-running the stamping clause over tuples of earlier
     /// rounds only. `None` when the tuple is not in the relation or provenance was off.

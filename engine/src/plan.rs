@@ -969,6 +969,36 @@ pub fn plan_first(
     plan_seeded(lits, head, head_types, ctx, &[], Some(first))
 }
 
+/// The tuple a ground fact's head derives (`None` if a value cannot be stored in its column),
+/// computed as the plan of a body-less clause would ([`plan`] then [`Plan::project`]), without
+/// building the plan. `head_types` gives the column types, `None` to infer them.
+pub(crate) fn ground_head(
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    symbols: &mut Symbols,
+) -> Result<Option<Row>, EngineError> {
+    let scope = Scope {
+        slots: HashMap::new(),
+    };
+    let empty = [0u64; WIDTH];
+    let mut out = [0u64; WIDTH];
+    for (i, e) in head.iter().enumerate() {
+        let ce = compile_expr(e, &scope, symbols)?;
+        let ty = match head_types {
+            Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+            None => expr_type(&ce),
+        };
+        let Some(word) = out.get_mut(i) else {
+            return Ok(None);
+        };
+        match ce.eval(&empty).and_then(|v| encode(v, ty)) {
+            Some(w) => *word = w,
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(out))
+}
+
 /// [`plan`] with variables already bound, in slots `0..seed.len()`.
 fn plan_seeded(
     lits: &[BodyLit<'_>],

@@ -23,6 +23,98 @@ pub struct Stamp {
     pub clause: usize,
 }
 
+/// The stamps of one derived relation, aligned with its sorted tuples: 8 bytes a tuple (the
+/// round and the plan packed by [`pack`]), the stratum and the clause of each plan kept once.
+#[derive(Debug)]
+pub(crate) struct Stamps {
+    /// The stratum that defines the relation.
+    pub(crate) stratum: usize,
+    /// Per plan of the stratum: its clause's index in the program.
+    pub(crate) clauses: std::sync::Arc<[usize]>,
+    /// Per tuple: round and plan, packed; aligned when first read.
+    pub(crate) packed: Packed,
+}
+
+/// A relation's packed stamps, or what aligns them with its sorted tuples when they are first
+/// read: a recursive stratum hands over each round's new tuples with their plans, and the
+/// sort that puts them in the relation's order runs only for relations whose stamps a proof
+/// or [`crate::Evaluation::stamp`] reads.
+pub(crate) struct Packed {
+    ready: std::sync::OnceLock<Vec<u64>>,
+    pending: std::sync::Mutex<Option<Align>>,
+}
+
+/// Computes a relation's packed stamps, aligned with its sorted tuples.
+pub(crate) type Align = Box<dyn FnOnce() -> Vec<u64> + Send>;
+
+impl Packed {
+    /// Stamps already aligned.
+    pub(crate) fn ready(packed: Vec<u64>) -> Self {
+        Packed {
+            ready: std::sync::OnceLock::from(packed),
+            pending: std::sync::Mutex::new(None),
+        }
+    }
+
+    /// Stamps `align` computes when they are first read.
+    pub(crate) fn deferred(align: Align) -> Self {
+        Packed {
+            ready: std::sync::OnceLock::new(),
+            pending: std::sync::Mutex::new(Some(align)),
+        }
+    }
+
+    /// The packed stamps, aligned on the first call.
+    pub(crate) fn get(&self) -> &[u64] {
+        self.ready.get_or_init(|| {
+            let align = self
+                .pending
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .take();
+            align.map_or_else(Vec::new, |f| f())
+        })
+    }
+}
+
+impl std::fmt::Debug for Packed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.ready.get() {
+            Some(p) => write!(f, "Packed({} stamps)", p.len()),
+            None => write!(f, "Packed(not aligned yet)"),
+        }
+    }
+}
+
+/// A round and a plan index in one word: the round in the high 32 bits, the plan in the low
+/// ones (`u32::MAX` for a plan not known).
+pub(crate) fn pack(round: u64, plan: usize) -> u64 {
+    (round << 32) | u64::from(u32::try_from(plan).unwrap_or(u32::MAX))
+}
+
+impl Stamps {
+    /// The stamp of the `i`th tuple.
+    pub(crate) fn get(&self, i: usize) -> Option<Stamp> {
+        let p = *self.packed.get().get(i)?;
+        let plan = (p & 0xffff_ffff) as usize;
+        let clause = if plan == u32::MAX as usize {
+            usize::MAX
+        } else {
+            self.clauses.get(plan).copied().unwrap_or(usize::MAX)
+        };
+        Some(Stamp {
+            stratum: self.stratum,
+            round: (p >> 32) as usize,
+            clause,
+        })
+    }
+
+    /// The round of the `i`th tuple.
+    pub(crate) fn round(&self, i: usize) -> Option<usize> {
+        self.packed.get().get(i).map(|p| (p >> 32) as usize)
+    }
+}
+
 /// A derivation tree.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Proof {
@@ -66,9 +158,12 @@ pub(crate) struct Provenance {
     /// The evaluation's relations, types and symbols (shared with the [`crate::Evaluation`]).
     pub(crate) encoded: std::sync::Arc<crate::Encoded>,
     /// Per derived relation, aligned with its sorted tuples in `encoded.rels`.
-    pub(crate) stamps: HashMap<String, Vec<Stamp>>,
-    /// Per stratum: head, plan and clause index.
+    pub(crate) stamps: HashMap<String, Stamps>,
+    /// Per stratum: head, plan and clause index (none for a stratum of facts alone).
     pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
+    /// Per stratum: whether it holds facts alone, evaluated without plans: a tuple stamped by
+    /// one of its clauses is that fact, a leaf.
+    pub(crate) facts_only: Vec<bool>,
     /// Per stratum: the predicates it defines.
     pub(crate) strata: Vec<Vec<String>>,
 }
@@ -106,7 +201,7 @@ impl Provenance {
     fn stamp_of(&self, rel: &str, row: &[u64]) -> Option<Stamp> {
         let stamps = self.stamps.get(rel)?;
         let i = self.encoded.rels.get(rel)?.position(row)?;
-        stamps.get(i).copied()
+        stamps.get(i)
     }
 
     pub(crate) fn stamp(&self, rel: &str, tuple: &[Value]) -> Option<Stamp> {
@@ -147,6 +242,15 @@ impl Provenance {
                         });
                         continue;
                     };
+                    if self.facts_only.get(stamp.stratum) == Some(&true) {
+                        built.push(Proof {
+                            relation: rel.to_string(),
+                            tuple: self.decode(rel, &row),
+                            clause: Some(stamp.clause),
+                            children: Vec::new(),
+                        });
+                        continue;
+                    }
                     let (_, plan, clause) = self
                         .plans
                         .get(stamp.stratum)?
@@ -213,9 +317,11 @@ impl Provenance {
                     self.stamps.get(&a.pred),
                 ) {
                     let mut v: Vec<(usize, u32)> = st
+                        .packed
+                        .get()
                         .iter()
                         .enumerate()
-                        .map(|(i, s)| (s.round, i as u32))
+                        .map(|(i, p)| ((p >> 32) as usize, i as u32))
                         .collect();
                     v.sort_unstable_by(|a, b| b.cmp(a));
                     indexes.by_round.insert(a.pred.clone(), v);
@@ -312,8 +418,8 @@ impl Search<'_> {
             // Tuples of the stamp's own stratum: from earlier rounds only.
             if recursive
                 && stamps
-                    .and_then(|s| s.get(i as usize))
-                    .is_none_or(|s| s.round >= self.stamp.round)
+                    .and_then(|s| s.round(i as usize))
+                    .is_none_or(|r| r >= self.stamp.round)
             {
                 continue;
             }

@@ -223,8 +223,8 @@ impl Stratum<'_> {
             .iter()
             .map(|(h, _)| rel_of.get(h.as_str()).copied())
             .collect();
-        // With provenance, per relation: each tuple with its (round, plan) tag, in round order.
-        let mut tagged: Vec<Vec<(Tup<W>, u64)>> = vec![Vec::new(); names.len()];
+        // With provenance, per relation: each round's new tuples with the plan of each.
+        let mut batches: Vec<Vec<Batch<W>>> = (0..names.len()).map(|_| Vec::new()).collect();
         let mut first = true;
         let mut round: u64 = 0;
         loop {
@@ -372,21 +372,26 @@ impl Stratum<'_> {
                 }
                 if options.provenance && !recent.is_empty() {
                     // Each new tuple's plan: the first plan (in order) that produced it.
-                    let tags = &mut tagged[r];
-                    if let Some(plan) = single[r] {
-                        let tag = (round << 32) | u64::from(plan);
-                        tags.extend(recent.iter().map(|t| (*t, tag)));
-                        continue;
-                    }
-                    let firsts = &firsts[r];
-                    let mut at = 0;
-                    for t in recent.iter() {
-                        while firsts.get(at).is_some_and(|(f, _)| f < t) {
-                            at += 1;
+                    let plans = match single[r] {
+                        Some(plan) => Plans::One(plan),
+                        None => {
+                            let firsts = &firsts[r];
+                            let mut at = 0;
+                            let mut each = Vec::with_capacity(recent.len());
+                            for t in recent.iter() {
+                                while firsts.get(at).is_some_and(|(f, _)| f < t) {
+                                    at += 1;
+                                }
+                                each.push(firsts.get(at).map_or(u32::MAX, |&(_, p)| p));
+                            }
+                            Plans::Each(each)
                         }
-                        let plan = firsts.get(at).map_or(u32::MAX, |&(_, p)| p);
-                        tags.push((*t, (round << 32) | u64::from(plan)));
-                    }
+                    };
+                    batches[r].push(Batch {
+                        round,
+                        tuples: recent.elements.clone(),
+                        plans,
+                    });
                 }
             }
             for (rel, sig, index) in &indexes {
@@ -410,27 +415,58 @@ impl Stratum<'_> {
                 data.extend_from_slice(&t[..arity]);
             }
             if options.provenance {
-                let mut tags = std::mem::take(&mut tagged[r]);
-                // One sorted run per round: a stable sort merges the runs it finds.
-                tags.sort_by_key(|a| a.0);
-                let unpack = |t: u64| {
-                    let plan = (t & 0xffff_ffff) as u32;
-                    let plan = if plan == u32::MAX {
-                        usize::MAX
-                    } else {
-                        plan as usize
-                    };
-                    ((t >> 32) as usize, plan)
-                };
-                origins.insert(
-                    name.to_string(),
-                    tags.into_iter().map(|(_, t)| unpack(t)).collect(),
+                let batches = std::mem::take(&mut batches[r]);
+                debug_assert_eq!(
+                    batches.iter().map(|b| b.tuples.len()).sum::<usize>(),
+                    all.len()
                 );
+                let align: crate::prove::Align = Box::new(move || align(batches));
+                origins.insert(name.to_string(), crate::prove::Packed::deferred(align));
             }
             done.insert(name.to_string(), Rows::from_flat(arity, data));
         }
         Ok((done, origins))
     }
+}
+
+/// One round's new tuples of a relation (sorted, as datafrog's `recent` holds them) and the
+/// plan that first derived each.
+struct Batch<const W: usize> {
+    round: u64,
+    tuples: Vec<Tup<W>>,
+    plans: Plans,
+}
+
+/// The plans of a batch's tuples: one for all (a relation that one plan alone produced in the
+/// round), or one each.
+enum Plans {
+    One(u32),
+    Each(Vec<u32>),
+}
+
+/// The packed (round, plan) stamp of every tuple of a relation, in the relation's sorted
+/// order, from the batches of the rounds in which each tuple first appeared. Every tuple is new
+/// in exactly one round, so the batches hold each tuple once; each batch is a sorted run, and
+/// a stable sort merges the runs it finds.
+fn align<const W: usize>(batches: Vec<Batch<W>>) -> Vec<u64> {
+    let n = batches.iter().map(|b| b.tuples.len()).sum();
+    let mut tagged: Vec<(Tup<W>, u64)> = Vec::with_capacity(n);
+    for b in batches {
+        match b.plans {
+            Plans::One(p) => {
+                let tag = crate::prove::pack(b.round, p as usize);
+                tagged.extend(b.tuples.into_iter().map(|t| (t, tag)));
+            }
+            Plans::Each(ps) => tagged.extend(
+                b.tuples
+                    .into_iter()
+                    .zip(ps)
+                    .map(|(t, p)| (t, crate::prove::pack(b.round, p as usize))),
+            ),
+        }
+    }
+    tagged.sort_by_key(|a| a.0);
+    tagged.into_iter().map(|(_, t)| t).collect()
 }
 
 /// Tuples a variable holds (stable and recent).
