@@ -456,7 +456,12 @@ fn main() {
         let Some(w) = all.iter().find(|w| w.name == name) else {
             panic!("no workload {name}");
         };
-        for _ in 0..3 {
+        // SCENALOG_BENCH_PROFILE_REPS: how many evaluations (3 unless given), for more samples.
+        let reps = std::env::var("SCENALOG_BENCH_PROFILE_REPS")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(3);
+        for _ in 0..reps {
             eprintln!("{name}: {:?}", engine_counts(&w.program, &w.rels, prov));
         }
         return;

@@ -109,8 +109,11 @@ pub(crate) fn used_in_stratum(program: &CheckedProgram, si: usize) -> Vec<String
         .predicates
         .iter()
         .filter_map(|(name, info)| {
+            if info.kind != PredKind::Catalog {
+                return None;
+            }
             let uses = uses_in(program, &stratum.clauses, name);
-            if info.kind != PredKind::Catalog || uses.is_empty() {
+            if uses.is_empty() {
                 return None;
             }
             let selective = uses.iter().all(|u| {

@@ -63,10 +63,19 @@ pub(crate) fn facts(
     cx: (&Options, Instant, usize),
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     let (options, start, held) = cx;
+    // The previous head's types: facts of one relation usually come together.
+    let mut last: Option<(&str, Option<&[ColType]>)> = None;
     let heads = clauses.iter().map(|c| {
         let pred = c.head.pred.as_str();
-        let tuple = ground_head(&c.head.args, types.get(pred).map(Vec::as_slice), symbols)?;
-        Ok((pred, tuple))
+        let ty = match last {
+            Some((p, t)) if p == pred => t,
+            _ => {
+                let t = types.get(pred).map(Vec::as_slice);
+                last = Some((pred, t));
+                t
+            }
+        };
+        Ok((pred, ground_head(&c.head.args, ty, symbols)?))
     });
     collect(heads, defined, types, options, start, held)
 }
@@ -82,15 +91,17 @@ fn collect<'a>(
     start: Instant,
     held: usize,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
-    // Per relation: the derived tuples in plan order, and each one's plan.
-    let mut derived: HashMap<&str, (Rows, Vec<usize>)> = defined
+    // Per relation: the derived tuples in plan order, and each one's plan (a stratum defines
+    // a few relations: found by a scan, not a hash).
+    let mut derived: Vec<(&str, (Rows, Vec<usize>))> = defined
         .iter()
         .map(|&n| (n, (Rows::new(stored_width(types, n)), Vec::new())))
         .collect();
     let mut produced = 0usize;
     for (pi, head) in heads.enumerate() {
         let (name, tuple) = head?;
-        let (Some(t), Some((rows, from))) = (tuple, derived.get_mut(name)) else {
+        let entry = derived.iter_mut().find(|(n, _)| *n == name);
+        let (Some(t), Some((_, (rows, from)))) = (tuple, entry) else {
             continue;
         };
         rows.push(&t);
