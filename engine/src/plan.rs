@@ -223,6 +223,8 @@ pub struct NegSet {
     rows: Rows,
     /// Otherwise: the tuples, wildcard columns zeroed.
     set: FastSet<Row>,
+    /// Where the last search of `rows` ended (see [`Rows::contains_from`]).
+    hint: std::sync::atomic::AtomicUsize,
 }
 
 impl NegSet {
@@ -248,7 +250,7 @@ impl NegSet {
         Some(if self.rows.is_empty() {
             self.set.contains(&key)
         } else {
-            self.rows.contains(&key)
+            self.rows.contains_from(&key, &self.hint)
         })
     }
 
@@ -573,6 +575,22 @@ impl BoundExpr {
     /// comparison computes `X - E` where the bound computes `E + C`), so the range is never
     /// narrower than what the filter accepts.
     fn value(&self, row: &Row) -> Option<Num> {
+        // An int slot, alone or plus or minus an int constant (`XA - 100`): read directly.
+        if let CExpr::Slot(s, ColType::Int) = self.base {
+            let x = crate::value::dec_int(*row.get(s)?);
+            return match &self.off {
+                None => Some(Num::Int(x)),
+                Some((op @ (BinOp::Add | BinOp::Sub), CExpr::Const(V::Int(c)))) => {
+                    crate::value::int_op(*op, x, *c).map(Num::Int)
+                }
+                Some(_) => self.value_of_exprs(row),
+            };
+        }
+        self.value_of_exprs(row)
+    }
+
+    /// [`BoundExpr::value`] through the expressions.
+    fn value_of_exprs(&self, row: &Row) -> Option<Num> {
         let a = self.base.eval(row)?;
         let Some((op, e)) = &self.off else {
             return Num::of(a, 0.0);
@@ -1282,6 +1300,7 @@ fn neg_filter(a: &Atom, scope: &Scope, ctx: &mut Ctx<'_>) -> Result<Filter, Engi
         one,
         rows: kept,
         set,
+        hint: std::sync::atomic::AtomicUsize::new(0),
     })))
 }
 

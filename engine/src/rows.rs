@@ -37,9 +37,58 @@ fn chunks<const N: usize>(data: &[u64]) -> &[[u64; N]] {
     data.as_chunks::<N>().0
 }
 
+/// Slices shorter than this are sorted by comparisons; longer ones by radix.
+const RADIX_FROM: usize = 512;
+
+/// Sorts tuples of `N` words by `key` in lexicographic order. Long slices whose words vary
+/// in at most 128 bits in all (found in one pass: most columns hold small numbers, and the
+/// padding of a narrow relation in a wide stratum does not vary) are radix sorted
+/// (`radsort`) on those bits packed into one integer, first word highest; others by
+/// `sort_unstable_by`.
+pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> &[u64; N]) {
+    let Some(first) = v.first().map(|t| *key(t)) else {
+        return;
+    };
+    let by_comparison = |v: &mut [T]| v.sort_unstable_by(|a, b| key(a).cmp(key(b)));
+    if v.len() < RADIX_FROM {
+        return by_comparison(v);
+    }
+    let mut differ = [0u64; N];
+    for t in v.iter() {
+        for ((d, w), f) in differ.iter_mut().zip(key(t)).zip(&first) {
+            *d |= w ^ f;
+        }
+    }
+    // Per word: how many low bits vary. Above them every tuple holds the same bits, so the
+    // order of the low bits is the order of the words.
+    let bits = differ.map(|d| 64 - d.leading_zeros());
+    match bits.iter().sum::<u32>() {
+        0..=64 => radsort::sort_by_key(v, |t| packed(key(t), &bits) as u64),
+        65..=128 => radsort::sort_by_key(v, |t| packed(key(t), &bits)),
+        _ => by_comparison(v),
+    }
+}
+
+/// The varying low `bits` of each word, concatenated, the first word highest.
+fn packed<const N: usize>(words: &[u64; N], bits: &[u32; N]) -> u128 {
+    let mut k: u128 = 0;
+    for (&w, &b) in words.iter().zip(bits) {
+        if b > 0 {
+            let mask = u64::MAX >> (64 - b);
+            k = (k << b) | u128::from(w & mask);
+        }
+    }
+    k
+}
+
+/// Sorts tuples of `N` words in lexicographic order (see [`sort_by_words`]).
+pub(crate) fn sort_tuples<const N: usize>(v: &mut [[u64; N]]) {
+    sort_by_words(v, |t| t);
+}
+
 fn sort_dedup_n<const N: usize>(data: &mut Vec<u64>) {
     let (rows, _) = data.as_chunks_mut::<N>();
-    rows.sort_unstable();
+    sort_tuples(rows);
     let mut w = 0;
     for r in 0..rows.len() {
         if w == 0 || rows[r] != rows[w - 1] {
@@ -108,6 +157,38 @@ fn contains_n<const N: usize>(data: &[u64], row: &[u64]) -> bool {
     let mut key = [0u64; N];
     key.copy_from_slice(&row[..N]);
     chunks::<N>(data).binary_search(&key).is_ok()
+}
+
+fn contains_from_n<const N: usize>(
+    data: &[u64],
+    row: &[u64],
+    hint: &std::sync::atomic::AtomicUsize,
+) -> bool {
+    use std::sync::atomic::Ordering::Relaxed;
+    let mut key = [0u64; N];
+    key.copy_from_slice(&row[..N]);
+    let rows = chunks::<N>(data);
+    let h = hint.load(Relaxed);
+    // Every tuple before `h` is below the one at `h` (sorted, distinct): when that one is not
+    // above the key, neither are they, and the search goes on from `h`.
+    let pos = match rows.get(h) {
+        Some(at) if *at <= key => h + gallop_below(&rows[h..], &key),
+        _ => rows.partition_point(|r| *r < key),
+    };
+    hint.store(pos, Relaxed);
+    rows.get(pos) == Some(&key)
+}
+
+/// How many leading tuples of the sorted `s` are below `key`: doubling steps, then bisection.
+fn gallop_below<const N: usize>(s: &[[u64; N]], key: &[u64; N]) -> usize {
+    let mut lo = 0;
+    let mut step = 1;
+    while lo + step <= s.len() && s[lo + step - 1] < *key {
+        lo += step;
+        step <<= 1;
+    }
+    let hi = (lo + step).min(s.len());
+    lo + s[lo..hi].partition_point(|r| r < key)
 }
 
 impl Rows {
@@ -216,6 +297,16 @@ impl Rows {
             && t.len() >= self.stride
             && by_stride!(self.stride, contains_n(&self.data, t))
     }
+
+    /// [`Rows::contains`], searching on from `hint` (where the previous search ended, updated
+    /// here) when the tuple there is not above `t`: lookups in ascending order (a negation
+    /// checked along a sorted scan) gallop forward instead of searching the whole relation.
+    /// The hint only speeds the search; any value gives the same answer.
+    pub fn contains_from(&self, t: &[u64], hint: &std::sync::atomic::AtomicUsize) -> bool {
+        !self.is_empty()
+            && t.len() >= self.stride
+            && by_stride!(self.stride, contains_from_n(&self.data, t, hint))
+    }
 }
 
 #[cfg(test)]
@@ -250,5 +341,69 @@ mod tests {
         let mut wide = rows(WIDTH, &[&[1; WIDTH], &[0; WIDTH], &[1; WIDTH]]);
         wide.sort_dedup();
         assert_eq!(wide.len(), 2);
+    }
+
+    #[test]
+    fn radix_sorts_order_tuples_as_comparisons_do() {
+        let mut seed = 5u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        for case in 0..60 {
+            // Words of every width: small numbers, encoded ints near zero (high bit set), full
+            // 64-bit words (so some cases pass 128 varying bits and sort by comparison), and a
+            // constant padding word.
+            let n = if case % 3 == 0 {
+                100
+            } else {
+                600 + (next() % 3000) as usize
+            };
+            let widths = [next() % 65, next() % 65, next() % 65];
+            let mut v: Vec<[u64; 4]> = (0..n)
+                .map(|_| {
+                    let mut t = [0u64; 4];
+                    for (w, &b) in t.iter_mut().zip(&widths) {
+                        let r = (next() << 31) ^ next();
+                        *w = (1 << 63) | if b == 0 { 0 } else { r >> (64 - b.min(62)) };
+                        if b == 64 {
+                            *w = r.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+                        }
+                    }
+                    t
+                })
+                .collect();
+            let mut want = v.clone();
+            want.sort_unstable();
+            sort_tuples(&mut v);
+            assert_eq!(v, want, "case {case}, widths {widths:?}");
+            // Sorting by a key inside another element, as provenance's (tuple, stamp) pairs.
+            let mut tagged: Vec<([u64; 4], usize)> = want.iter().rev().copied().zip(0..).collect();
+            sort_by_words(&mut tagged, |p| &p.0);
+            assert!(tagged.iter().map(|p| p.0).eq(want.iter().copied()));
+        }
+    }
+
+    #[test]
+    fn searches_from_a_hint_find_what_a_fresh_search_finds() {
+        let mut seed = 9u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        for _ in 0..100 {
+            let n = (next() % 300) as usize;
+            let mut r = Rows::new(2);
+            for _ in 0..n {
+                r.push(&Rows::row(&[next() % 40, next() % 40]));
+            }
+            r.sort_dedup();
+            let hint = std::sync::atomic::AtomicUsize::new((next() % 400) as usize);
+            let mut key = [0u64, 0];
+            for _ in 0..200 {
+                // Keys mostly ascending, sometimes jumping back.
+                key = if next() % 6 == 0 {
+                    [next() % 42, next() % 42]
+                } else {
+                    [key[0] + next() % 2, next() % 42]
+                };
+                let t = Rows::row(&key);
+                assert_eq!(r.contains_from(&t, &hint), r.contains(&t), "{key:?}");
+            }
+        }
     }
 }

@@ -3,7 +3,7 @@
 //! rest; constants and key values then select one contiguous range by a prefix search.
 //! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
 
-use crate::plan::{AtomStep, Narrow};
+use crate::plan::{Arg, AtomStep, CExpr, Narrow};
 use crate::rows::Rows;
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
@@ -55,7 +55,7 @@ impl Sig {
                 .collect();
         }
         let mut v: Vec<Tup<W>> = rows.iter().filter_map(|t| self.apply(t)).collect();
-        v.sort_unstable();
+        crate::rows::sort_tuples(&mut v);
         v.dedup();
         v
     }
@@ -80,11 +80,22 @@ pub(crate) struct Access {
 impl Access {
     /// The access for an atom step over a relation of `arity` stored words.
     pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
+        Access::ordered(step, arity, &[])
+    }
+
+    /// [`Access::of`] with the copy sorted, after its constants, keys and narrowed column, by
+    /// the columns `lead` (see [`lead_columns`]).
+    pub(crate) fn ordered(step: &AtomStep, arity: usize, lead: &[usize]) -> Access {
         let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
         perm.extend(step.keys.iter().copied());
         // A range-narrowed column comes right after the keys, so that within one prefix
         // range the copy is sorted by it.
         perm.extend(step.narrow.as_ref().map(|n| n.col));
+        for &c in lead {
+            if c < arity && !perm.contains(&c) {
+                perm.push(c);
+            }
+        }
         for c in 0..arity {
             if !perm.contains(&c) {
                 perm.push(c);
@@ -120,6 +131,38 @@ impl Access {
 pub(crate) fn range<'a, const W: usize>(s: &'a [Tup<W>], p: &[u64]) -> &'a [Tup<W>] {
     let (a, b) = range_span(s, p);
     &s[a..b]
+}
+
+/// The columns of atom `first` by which to sort its copy so that the lookups of the atom
+/// `next` joined after it come in ascending order: the columns whose variables are `next`'s
+/// leading keys, then the one its window bounds are computed from (`abs(XA - XB) < 100`
+/// bounds `XB` by `XA ± 100`, which grow with `XA`). Each lookup then gallops on from the
+/// previous one, or reuses it, instead of searching the whole copy (a merge join).
+pub(crate) fn lead_columns(first: &AtomStep, next: &AtomStep) -> Vec<usize> {
+    let col_of = |e: &CExpr| match e {
+        CExpr::Slot(s, _) => first
+            .news
+            .iter()
+            .find(|&&(_, slot)| slot == *s)
+            .map(|&(c, _)| c),
+        _ => None,
+    };
+    let mut lead = Vec::new();
+    for &k in &next.keys {
+        match next.args.get(k) {
+            Some(Arg::Key(e, _)) => match col_of(e) {
+                Some(c) => lead.push(c),
+                None => return lead,
+            },
+            _ => return lead,
+        }
+    }
+    let window = next
+        .narrow
+        .as_ref()
+        .and_then(|n| n.lo.first().or(n.hi.first()));
+    lead.extend(window.and_then(|b| col_of(&b.base)));
+    lead
 }
 
 /// [`range`] as start and end indices.
@@ -190,6 +233,31 @@ pub(crate) fn within_span<const W: usize>(
 ) -> (usize, usize) {
     let a = s.partition_point(|t| t[pos] < lo);
     (a, a + s[a..].partition_point(|t| t[pos] <= hi))
+}
+
+/// [`within_span`] for a window `(lo, hi)` on the same slice as an earlier window `before`
+/// whose span was `span`: each end gallops on from the earlier one when the window moved up
+/// (lookups in ascending order), else is searched below it.
+pub(crate) fn within_span_from<const W: usize>(
+    s: &[Tup<W>],
+    pos: usize,
+    (lo, hi): (u64, u64),
+    span: (usize, usize),
+    before: (u64, u64),
+) -> (usize, usize) {
+    let (a0, b0) = (span.0.min(s.len()), span.1.min(s.len()));
+    let a = if lo >= before.0 {
+        a0 + gallop(&s[a0..], |t| t[pos] < lo)
+    } else {
+        s[..a0].partition_point(|t| t[pos] < lo)
+    };
+    let upto = b0.max(a);
+    let b = if hi >= before.1 {
+        upto + gallop(&s[upto..], |t| t[pos] <= hi)
+    } else {
+        a + s[a..upto].partition_point(|t| t[pos] <= hi)
+    };
+    (a, b)
 }
 
 /// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix
@@ -269,6 +337,35 @@ mod tests {
                 assert_eq!(got, want, "prefix {p:?}, previous {last:?}");
                 assert!(s[want.0..want.1].iter().all(|t| t[..p.len()] == p[..]));
                 last = Some((p, want.1));
+            }
+        }
+    }
+
+    #[test]
+    fn window_spans_from_the_previous_one_match_fresh_searches() {
+        let mut seed = 23u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        for _ in 0..300 {
+            let n = (next() % 150) as usize;
+            let spread = 1 + next() % 100;
+            let mut s: Vec<Tup<2>> = (0..n).map(|_| [next() % spread, next()]).collect();
+            s.sort_unstable();
+            let mut before: Option<((u64, u64), (usize, usize))> = None;
+            for _ in 0..40 {
+                // Windows mostly moving up, as along a sorted scan, sometimes down or empty.
+                let lo = next() % (spread + 10);
+                let hi = if next() % 8 == 0 {
+                    lo.saturating_sub(1)
+                } else {
+                    lo + next() % 20
+                };
+                let want = within_span(&s, 0, lo, hi);
+                let got = match before {
+                    Some((w, span)) => within_span_from(&s, 0, (lo, hi), span, w),
+                    None => want,
+                };
+                assert_eq!(got, want, "window {lo}..={hi} after {before:?} in {s:?}");
+                before = Some(((lo, hi), want));
             }
         }
     }

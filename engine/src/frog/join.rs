@@ -7,7 +7,9 @@
 use crate::eval::Limits;
 use std::cmp::Ordering;
 
-use crate::frog::access::{prefix_cmp, range_span, range_span_from, within_span, Access, Tup};
+use crate::frog::access::{
+    prefix_cmp, range_span, range_span_from, within_span, within_span_from, Access, Tup,
+};
 use crate::plan::{apply_mut, Arg, AtomStep, CExpr, Filter, Plan};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
@@ -243,6 +245,7 @@ impl<const W: usize> Join<'_, W> {
                     Ordering::Less
                 };
                 if order != Ordering::Equal || m.window != window {
+                    let before = m.window;
                     for ((r, s), part) in m.ranges.iter_mut().zip(m.spans.iter_mut()).zip(parts) {
                         *r = match order {
                             Ordering::Equal => *r,
@@ -251,7 +254,16 @@ impl<const W: usize> Join<'_, W> {
                             Ordering::Greater => range_span_from(part, prefix, r.1),
                             Ordering::Less => range_span(part, prefix),
                         };
-                        *s = narrow(part, *r);
+                        *s = match (order, before, window) {
+                            // The same range, another window: from the previous span.
+                            (Ordering::Equal, Some(before), Some(now)) => {
+                                let (a, b) = *r;
+                                let prev = (s.0 - a, s.1 - a);
+                                let (x, y) = within_span_from(&part[a..b], l, now, prev, before);
+                                (a + x, a + y)
+                            }
+                            _ => narrow(part, *r),
+                        };
                     }
                     m.valid = true;
                     m.prefix[..l].copy_from_slice(prefix);

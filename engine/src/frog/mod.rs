@@ -174,8 +174,15 @@ impl Stratum<'_> {
             .chain(self.variants.iter().flatten().map(|(_, p)| p));
         for p in all {
             let mut list = Vec::new();
-            for a in &p.atoms {
-                let acc = Access::of(a, (self.stored)(&a.pred));
+            for (i, a) in p.atoms.iter().enumerate() {
+                // A completed relation read first is sorted for the next atom's lookups.
+                let lead = match (i, p.atoms.get(1)) {
+                    (0, Some(next)) if !rel_of.contains_key(a.pred.as_str()) => {
+                        access::lead_columns(a, next)
+                    }
+                    _ => Vec::new(),
+                };
+                let acc = Access::ordered(a, (self.stored)(&a.pred), &lead);
                 let src = match known.get(&acc.sig) {
                     Some(s) => *s,
                     None => {
@@ -352,7 +359,7 @@ impl Stratum<'_> {
                     firsts[r] = pairs;
                 } else {
                     let mut out = out;
-                    out.sort_unstable();
+                    crate::rows::sort_tuples(&mut out);
                     out.dedup();
                     vars[r].insert(Relation { elements: out });
                 }
@@ -397,7 +404,7 @@ impl Stratum<'_> {
             for (rel, sig, index) in &indexes {
                 let recent = vars[*rel].recent.borrow();
                 let mut copy: Vec<Tup<W>> = recent.iter().filter_map(|t| sig.apply(t)).collect();
-                copy.sort_unstable();
+                crate::rows::sort_tuples(&mut copy);
                 copy.dedup();
                 index.insert(Relation { elements: copy });
             }
@@ -465,6 +472,7 @@ fn align<const W: usize>(batches: Vec<Batch<W>>) -> Vec<u64> {
             ),
         }
     }
+    // Stable: each batch is a sorted run, which the merges of the standard sort use.
     tagged.sort_by_key(|a| a.0);
     tagged.into_iter().map(|(_, t)| t).collect()
 }
