@@ -66,7 +66,7 @@ pub fn evaluate(
     let mut stamps: HashMap<String, Stamps> = HashMap::new();
     let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
     // Per stratum: whether it holds facts alone (evaluated without plans).
-    let mut ground_strata: Vec<bool> = Vec::new();
+    let mut facts_only: Vec<bool> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
         if options.pushdown {
             let cx = Loading {
@@ -92,7 +92,7 @@ pub fn evaluate(
             .filter_map(|&ci| clauses.get(ci).map(|c| (ci, c)))
             .collect();
         if stratum_clauses.iter().all(|(_, c)| c.body.is_empty()) {
-            // Facts alone: evaluated without plans; their proofs are leaves (`Provenance::ground`).
+            // Facts alone: evaluated without plans; their proofs are leaves (`Provenance::facts_only`).
             let heads: Vec<&scenalog_rules::ast::Clause> =
                 stratum_clauses.iter().map(|&(_, c)| c).collect();
             let cx = (options, start, held);
@@ -105,10 +105,10 @@ pub fn evaluate(
             if options.provenance {
                 all_plans.push(Vec::new());
             }
-            ground_strata.push(true);
+            facts_only.push(true);
             continue;
         }
-        ground_strata.push(false);
+        facts_only.push(false);
         let mut plans: Vec<(String, Plan)> = Vec::new();
         // Per plan: the plans of its semi-naive variants, by the recursive literal read first.
         let mut variants: Vec<Vec<(usize, Plan)>> = Vec::new();
@@ -203,7 +203,7 @@ pub fn evaluate(
             encoded: encoded.clone(),
             stamps,
             plans: all_plans,
-            facts_only: ground_strata,
+            facts_only,
             strata: program
                 .strata
                 .iter()

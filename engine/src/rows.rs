@@ -60,23 +60,35 @@ pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> 
         }
     }
     // Per word: how many low bits vary. Above them every tuple holds the same bits, so the
-    // order of the low bits is the order of the words.
+    // order of the low bits is the order of the words. Each varying word's bits go to a shift
+    // in one key, the first word highest.
     let bits = differ.map(|d| 64 - d.leading_zeros());
-    match bits.iter().sum::<u32>() {
-        0..=64 => radsort::sort_by_key(v, |t| packed(key(t), &bits) as u64),
-        65..=128 => radsort::sort_by_key(v, |t| packed(key(t), &bits)),
+    let total: u32 = bits.iter().sum();
+    let mut fields = [(0usize, 0u32, 0u64); N];
+    let mut m = 0;
+    let mut shift = total;
+    for (i, &b) in bits.iter().enumerate() {
+        if b > 0 {
+            shift -= b;
+            fields[m] = (i, shift, u64::MAX >> (64 - b));
+            m += 1;
+        }
+    }
+    let fields = &fields[..m];
+    match total {
+        0..=32 => radsort::sort_by_key(v, |t| packed(key(t), fields) as u32),
+        33..=64 => radsort::sort_by_key(v, |t| packed(key(t), fields) as u64),
+        65..=128 => radsort::sort_by_key(v, |t| packed(key(t), fields)),
         _ => by_comparison(v),
     }
 }
 
-/// The varying low `bits` of each word, concatenated, the first word highest.
-fn packed<const N: usize>(words: &[u64; N], bits: &[u32; N]) -> u128 {
+/// The varying low bits of each word (`fields`: word, shift, mask) in one integer.
+#[inline]
+fn packed<const N: usize>(words: &[u64; N], fields: &[(usize, u32, u64)]) -> u128 {
     let mut k: u128 = 0;
-    for (&w, &b) in words.iter().zip(bits) {
-        if b > 0 {
-            let mask = u64::MAX >> (64 - b);
-            k = (k << b) | u128::from(w & mask);
-        }
+    for &(i, shift, mask) in fields {
+        k |= u128::from(words[i] & mask) << shift;
     }
     k
 }
