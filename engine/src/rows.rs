@@ -64,6 +64,12 @@ pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> 
     // in one key, the first word highest.
     let bits = differ.map(|d| 64 - d.leading_zeros());
     let total: u32 = bits.iter().sum();
+    // Wider keys (floats, timestamps, hashes vary in most of their bits) sorted by radix were
+    // slower than by comparison on the real logs: `scenalog mine`'s extract + evaluate took
+    // about 10 % longer with radix keys up to 128 bits.
+    if total > 32 {
+        return by_comparison(v);
+    }
     let mut fields = [(0usize, 0u32, 0u64); N];
     let mut m = 0;
     let mut shift = total;
@@ -75,22 +81,17 @@ pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> 
         }
     }
     let fields = &fields[..m];
-    // Wider keys (floats, timestamps, hashes vary in most of their bits) sorted by radix were
-    // slower than by comparison on the real logs: `scenalog mine`'s extract + evaluate took
-    // about 10 % longer with radix keys up to 128 bits.
-    if total <= 32 {
-        radsort::sort_by_key(v, |t| packed(key(t), fields) as u32);
-    } else {
-        by_comparison(v);
-    }
+    radsort::sort_by_key(v, |t| packed(key(t), fields));
 }
 
-/// The varying low bits of each word (`fields`: word, shift, mask) in one integer.
+/// The varying low bits of each word (`fields`: word, shift, mask; at most 32 bits in all) in
+/// one key.
 #[inline]
-fn packed<const N: usize>(words: &[u64; N], fields: &[(usize, u32, u64)]) -> u128 {
-    let mut k: u128 = 0;
+fn packed<const N: usize>(words: &[u64; N], fields: &[(usize, u32, u64)]) -> u32 {
+    let mut k: u32 = 0;
     for &(i, shift, mask) in fields {
-        k |= u128::from(words[i] & mask) << shift;
+        // The field fits below bit 32 (`shift + its width <= 32`), so the cast loses nothing.
+        k |= ((words[i] & mask) << shift) as u32;
     }
     k
 }
@@ -186,23 +187,36 @@ fn contains_from_n<const N: usize>(
     // Every tuple before `h` is below the one at `h` (sorted, distinct): when that one is not
     // above the key, neither are they, and the search goes on from `h`.
     let pos = match rows.get(h) {
-        Some(at) if *at <= key => h + gallop_below(&rows[h..], &key),
+        Some(at) if *at <= key => h + gallop(&rows[h..], |r| *r < key),
         _ => rows.partition_point(|r| *r < key),
     };
     hint.store(pos, Relaxed);
     rows.get(pos) == Some(&key)
 }
 
-/// How many leading tuples of the sorted `s` are below `key`: doubling steps, then bisection.
-fn gallop_below<const N: usize>(s: &[[u64; N]], key: &[u64; N]) -> usize {
+/// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix
+/// only), found by doubling steps then bisection.
+pub(crate) fn gallop<T>(s: &[T], pred: impl Fn(&T) -> bool) -> usize {
+    if s.first().is_none_or(|t| !pred(t)) {
+        return 0;
+    }
+    // Invariant: pred(s[lo]) holds; hi is past the end or fails.
     let mut lo = 0;
     let mut step = 1;
-    while lo + step <= s.len() && s[lo + step - 1] < *key {
+    while lo + step < s.len() && pred(&s[lo + step]) {
         lo += step;
         step <<= 1;
     }
-    let hi = (lo + step).min(s.len());
-    lo + s[lo..hi].partition_point(|r| r < key)
+    let mut hi = (lo + step).min(s.len());
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if pred(&s[mid]) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo + 1
 }
 
 impl Rows {

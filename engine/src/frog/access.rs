@@ -4,7 +4,7 @@
 //! Repeated variables within the atom (`p(X, X)`) are applied when the copy is made.
 
 use crate::plan::{Arg, AtomStep, CExpr, Narrow};
-use crate::rows::Rows;
+use crate::rows::{gallop, Rows};
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
 /// after the arity.
@@ -258,31 +258,6 @@ pub(crate) fn within_span_from<const W: usize>(
         a + s[a..upto].partition_point(|t| t[pos] <= hi)
     };
     (a, b)
-}
-
-/// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix
-/// only), found by doubling steps then bisection.
-fn gallop<T>(s: &[T], pred: impl Fn(&T) -> bool) -> usize {
-    if s.first().is_none_or(|t| !pred(t)) {
-        return 0;
-    }
-    // Invariant: pred(s[lo]) holds; hi is past the end or fails.
-    let mut lo = 0;
-    let mut step = 1;
-    while lo + step < s.len() && pred(&s[lo + step]) {
-        lo += step;
-        step <<= 1;
-    }
-    let mut hi = (lo + step).min(s.len());
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        if pred(&s[mid]) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    lo + 1
 }
 
 #[cfg(test)]
