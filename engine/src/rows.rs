@@ -43,9 +43,10 @@ const RADIX_FROM: usize = 512;
 /// Sorts tuples of `N` words by `key` in lexicographic order. Long slices whose words vary
 /// in at most 32 bits in all (found in one pass: small numbers such as ids and frame indexes;
 /// the padding of a narrow relation in a wide stratum does not vary) are radix sorted
-/// (`radsort`) on those bits packed into one `u32`, first word highest; others by
+/// (`radsort`) on those bits packed into one `u32`, first word highest (each key computed
+/// once, sorted paired with its tuple's index, then the tuples gathered); others by
 /// `sort_unstable_by`.
-pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> &[u64; N]) {
+pub(crate) fn sort_by_words<T: Copy, const N: usize>(v: &mut [T], key: impl Fn(&T) -> &[u64; N]) {
     let Some(first) = v.first().map(|t| *key(t)) else {
         return;
     };
@@ -81,7 +82,20 @@ pub(crate) fn sort_by_words<T, const N: usize>(v: &mut [T], key: impl Fn(&T) -> 
         }
     }
     let fields = &fields[..m];
-    radsort::sort_by_key(v, |t| packed(key(t), fields));
+    // Each key is computed once into a pair with the tuple's index, the 8-byte pairs are radix
+    // sorted, and the tuples are gathered in their order: radix passes move pairs, not whole
+    // tuples, and do not recompute the key each pass.
+    if u32::try_from(v.len()).is_err() {
+        return by_comparison(v);
+    }
+    let mut order: Vec<(u32, u32)> = Vec::with_capacity(v.len());
+    for (i, t) in v.iter().enumerate() {
+        // `i < v.len() <= u32::MAX`, checked above.
+        order.push((packed(key(t), fields), i as u32));
+    }
+    radsort::sort_by_key(&mut order, |&(k, _)| k);
+    let sorted: Vec<T> = order.iter().map(|&(_, i)| v[i as usize]).collect();
+    v.copy_from_slice(&sorted);
 }
 
 /// The varying low bits of each word (`fields`: word, shift, mask; at most 32 bits in all) in
