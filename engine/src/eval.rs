@@ -554,7 +554,8 @@ mod tests {
         assert_eq!(p.atoms[1].after.len(), 2);
         let mut b = [0u64; crate::value::WIDTH];
         b[1] = 5; // T1 (slot 1, after V)
-        assert_eq!(n.range(&b), Some((5, 15)));
+                  // `T2 > T1` is `T2 >= 6` on times; `T2 - T1 <= 10` includes its end.
+        assert_eq!(n.range(&b), Some((6, 15)));
         let p = plan_of(src, "close_x");
         let Some(n) = &p.atoms[1].narrow else {
             panic!("no narrowing: {:?}", p.atoms[1]);
@@ -569,6 +570,50 @@ mod tests {
             (-1.5001..=-1.5).contains(&lo) && (3.5..3.5001).contains(&hi),
             "{lo} {hi}"
         );
+    }
+
+    #[test]
+    fn strict_int_windows_exclude_their_ends_and_window_checks_run_last() {
+        let src = ".decl pos(O: int, T: int, X: int, L: int)\n\
+                   .decl close(A: int, B: int, T: int)\n\
+                   pos(1, 0, 10, 2).\n\
+                   close(A, B, T) :- pos(A, T, XA, LA), pos(B, T, XB, LB), A != B, \
+                   abs(XA - XB) < 100, abs(LA - LB) <= 1.\n";
+        let p = plan_of(src, "close");
+        let Some(n) = &p.atoms[1].narrow else {
+            panic!("no narrowing: {:?}", p.atoms[1]);
+        };
+        // XB is narrowed by `abs(XA - XB) < 100`: with XA = 10 (slot 2), 10 - 99 ..= 10 + 99.
+        assert_eq!(n.col, 2);
+        let mut b = [0u64; crate::value::WIDTH];
+        b[2] = crate::value::enc_int(10);
+        let dec = crate::value::dec_int;
+        let range = n.range(&b).map(|(lo, hi)| (dec(lo), dec(hi)));
+        assert_eq!(range, Some((-89, 109)));
+        // The lane check rejects most candidates and runs first; `A != B` next; the check
+        // the range already enforces last. All three still run.
+        let after = &p.atoms[1].after;
+        assert!(
+            matches!(
+                after.as_slice(),
+                [
+                    Filter::CmpDiff {
+                        op: scenalog_rules::ast::CmpOp::Le,
+                        ..
+                    },
+                    Filter::CmpRaw(scenalog_rules::ast::CmpOp::Ne, ..),
+                    Filter::CmpDiff {
+                        op: scenalog_rules::ast::CmpOp::Lt,
+                        ..
+                    }
+                ]
+            ),
+            "{after:?}"
+        );
+        // A bound that overflows (`XA - 100` below `i64::MIN`) leaves its side open.
+        b[2] = crate::value::enc_int(i64::MIN + 99);
+        let range = n.range(&b).map(|(lo, hi)| (dec(lo), dec(hi)));
+        assert_eq!(range, Some((i64::MIN, i64::MIN + 198)));
     }
 
     #[test]

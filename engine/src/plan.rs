@@ -31,6 +31,36 @@ pub enum CExpr {
 }
 
 impl CExpr {
+    /// The value encoded into a column of type `ty`: `encode(self.eval(row)?, ty)`, with the
+    /// outer `None` when evaluation fails and the inner one when the value cannot be stored
+    /// in the column. A slot of the column's own type is copied, and an int or time slot plus
+    /// or minus an int constant (`T - 1`, `T + 1`) computed on its word without decoding.
+    #[inline]
+    pub fn word(&self, row: &Row, ty: ColType) -> Option<Option<u64>> {
+        match self {
+            // Decoding then encoding a stored word of the same type gives it back.
+            CExpr::Slot(s, t) if *t == ty => return Some(Some(row[*s])),
+            CExpr::Bin(op @ (BinOp::Add | BinOp::Sub), a, c) => {
+                if let (CExpr::Slot(s, from), CExpr::Const(V::Int(c))) = (&**a, &**c) {
+                    match (from, ty) {
+                        (ColType::Int, ColType::Int) => {
+                            let x = crate::value::int_op(*op, crate::value::dec_int(row[*s]), *c)?;
+                            return Some(Some(crate::value::enc_int(x)));
+                        }
+                        (ColType::Time, ColType::Time) => {
+                            // A time decodes to its word as an int; stored times fit in u32.
+                            let x = crate::value::int_op(*op, row[*s] as i64, *c)?;
+                            return Some(u32::try_from(x).ok().map(u64::from));
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            _ => {}
+        }
+        Some(encode(self.eval(row)?, ty))
+    }
+
     /// Evaluates; `None` on a type error, overflow or division by zero.
     pub fn eval(&self, row: &Row) -> Option<V> {
         match self {
@@ -267,7 +297,7 @@ impl NegSet {
         }
         for (k, a) in key.iter_mut().zip(&self.args) {
             if let KeyArg::Val(e, ty) = a {
-                match encode(e.eval(row)?, *ty) {
+                match e.word(row, *ty)? {
                     Some(v) => *k = v,
                     None => return Some(None),
                 }
@@ -400,7 +430,7 @@ fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
                     return None;
                 }
             }
-            Filter::Bind(slot, e, ty) => row[*slot] = encode(e.eval(row)?, *ty)?,
+            Filter::Bind(slot, e, ty) => row[*slot] = e.word(row, *ty)??,
             Filter::Neg(n) => {
                 if n.contains(row)? {
                     return None;
@@ -531,12 +561,9 @@ impl AtomStep {
             let Some(Arg::Key(e, ty)) = self.args.get(c) else {
                 return false;
             };
-            *o = match e {
-                CExpr::Slot(s, t) if t == ty => b[*s],
-                e => match e.eval(b).and_then(|v| encode(v, *ty)) {
-                    Some(w) => w,
-                    None => return false,
-                },
+            *o = match e.word(b, *ty) {
+                Some(Some(w)) => w,
+                _ => return false,
             };
         }
         true
@@ -557,36 +584,72 @@ pub struct BoundExpr {
     pub base: CExpr,
     /// The operator (`Add` or `Sub`) and right operand, if any.
     pub off: Option<(BinOp, CExpr)>,
+    /// Whether the comparison excludes the bound itself (`<`, `>`): on an int or time column
+    /// an integer bound then moves one step inward.
+    pub strict: bool,
 }
 
 impl BoundExpr {
     fn plain(base: CExpr) -> BoundExpr {
-        BoundExpr { base, off: None }
+        BoundExpr {
+            base,
+            off: None,
+            strict: false,
+        }
     }
 
     fn with(base: CExpr, op: BinOp, off: CExpr) -> BoundExpr {
         BoundExpr {
             base,
             off: Some((op, off)),
+            strict: false,
         }
+    }
+
+    fn strict(self, strict: bool) -> BoundExpr {
+        BoundExpr { strict, ..self }
     }
 
     /// The bound as a number; floats come with the slack their rounding needs (the
     /// comparison computes `X - E` where the bound computes `E + C`), so the range is never
     /// narrower than what the filter accepts.
     fn value(&self, row: &Row) -> Option<Num> {
-        // An int slot, alone or plus or minus an int constant (`XA - 100`): read directly.
-        if let CExpr::Slot(s, ColType::Int) = self.base {
-            let x = crate::value::dec_int(*row.get(s)?);
-            return match &self.off {
-                None => Some(Num::Int(x)),
-                Some((op @ (BinOp::Add | BinOp::Sub), CExpr::Const(V::Int(c)))) => {
-                    crate::value::int_op(*op, x, *c).map(Num::Int)
+        // Int slots and int constants, alone or one plus or minus the other (`XA - 100`,
+        // `300 + XA`): read directly, with the results of the general path.
+        let int = |e: &CExpr| match e {
+            CExpr::Slot(s, ColType::Int) => row.get(*s).map(|w| crate::value::dec_int(*w)),
+            CExpr::Const(V::Int(c)) => Some(*c),
+            _ => None,
+        };
+        if let Some(x) = int(&self.base) {
+            match &self.off {
+                None => return Some(Num::Int(x)),
+                Some((op @ (BinOp::Add | BinOp::Sub), e)) => {
+                    if let Some(y) = int(e) {
+                        return crate::value::int_op(*op, x, y).map(Num::Int);
+                    }
                 }
-                Some(_) => self.value_of_exprs(row),
-            };
+                Some(_) => {}
+            }
         }
         self.value_of_exprs(row)
+    }
+
+    /// [`BoundExpr::value`] moved one step inward when the bound is strict and integer and
+    /// the column holds integers (`x > 5` is `x >= 6` there); a float bound, or one at the
+    /// end of the `i64` range, stays inclusive, which admits a superset.
+    fn value_on(&self, row: &Row, ty: ColType, lower: bool) -> Option<Num> {
+        match self.value(row)? {
+            Num::Int(i) if self.strict && matches!(ty, ColType::Int | ColType::Time) => {
+                let step = if lower {
+                    i.checked_add(1)
+                } else {
+                    i.checked_sub(1)
+                };
+                Some(Num::Int(step.unwrap_or(i)))
+            }
+            n => Some(n),
+        }
     }
 
     /// [`BoundExpr::value`] through the expressions.
@@ -677,12 +740,15 @@ impl Narrow {
         let mut lo = 0u64;
         let mut hi = u64::MAX;
         for e in &self.lo {
-            if let Some(w) = e.value(b).and_then(|n| n.word(self.ty, true)) {
+            if let Some(w) = e
+                .value_on(b, self.ty, true)
+                .and_then(|n| n.word(self.ty, true))
+            {
                 lo = lo.max(w);
             }
         }
         for e in &self.hi {
-            match e.value(b) {
+            match e.value_on(b, self.ty, false) {
                 // An upper bound below every time: nothing qualifies.
                 Some(Num::Int(i)) if self.ty == ColType::Time && i < 0 => return None,
                 Some(n) => {
@@ -727,8 +793,10 @@ fn solve(
     let old = |e: &CExpr| !reads_new(e, from);
     // `x op bound`, as (lower, upper).
     let side = |op: CmpOp, b: BoundExpr| match op {
-        CmpOp::Lt | CmpOp::Le => Some((None, Some(b))),
-        CmpOp::Gt | CmpOp::Ge => Some((Some(b), None)),
+        CmpOp::Lt => Some((None, Some(b.strict(true)))),
+        CmpOp::Gt => Some((Some(b.strict(true)), None)),
+        CmpOp::Le => Some((None, Some(b))),
+        CmpOp::Ge => Some((Some(b), None)),
         CmpOp::Eq => Some((Some(b.clone()), Some(b))),
         CmpOp::Ne => None,
     };
@@ -753,9 +821,11 @@ fn solve(
                 }
                 _ => return None,
             };
+            // `abs(x - e) < r` excludes both ends of `e - r ..= e + r`.
+            let strict = op == CmpOp::Lt;
             Some((
-                Some(BoundExpr::with(e.clone(), BinOp::Sub, r.clone())),
-                Some(BoundExpr::with(e, BinOp::Add, r.clone())),
+                Some(BoundExpr::with(e.clone(), BinOp::Sub, r.clone()).strict(strict)),
+                Some(BoundExpr::with(e, BinOp::Add, r.clone()).strict(strict)),
             ))
         }
         _ => None,
@@ -764,14 +834,15 @@ fn solve(
 
 /// The range narrowing for an atom just planned: `news` are its (column, slot) new variables
 /// (slots from `from` on), `cmps` the comparisons that become ready once it is joined. The
-/// column with bounds on both sides (else one side) that comes first is chosen.
+/// column with bounds on both sides (else one side) that comes first is chosen; with it, the
+/// positions in `cmps` of the comparisons that bound it.
 fn narrowing(
     news: &[(usize, usize)],
     types: &[ColType],
     cmps: &[(CmpOp, CExpr, CExpr)],
     from: usize,
-) -> Option<Narrow> {
-    let mut best: Option<Narrow> = None;
+) -> Option<(Narrow, Vec<usize>)> {
+    let mut best: Option<(Narrow, Vec<usize>)> = None;
     for &(col, x) in news {
         let ty = *types.get(col)?;
         if !matches!(ty, ColType::Int | ColType::Time | ColType::Float) {
@@ -783,18 +854,63 @@ fn narrowing(
             lo: Vec::new(),
             hi: Vec::new(),
         };
-        for (op, l, r) in cmps {
+        let mut used = Vec::new();
+        for (i, (op, l, r)) in cmps.iter().enumerate() {
             if let Some((lo, hi)) = solve(*op, l, r, x, from) {
                 n.lo.extend(lo);
                 n.hi.extend(hi);
+                used.push(i);
             }
         }
         let sides = |n: &Narrow| usize::from(!n.lo.is_empty()) + usize::from(!n.hi.is_empty());
-        if sides(&n) > best.as_ref().map_or(0, sides) {
-            best = Some(n);
+        if sides(&n) > best.as_ref().map_or(0, |(b, _)| sides(b)) {
+            best = Some((n, used));
         }
     }
     best
+}
+
+/// How early a comparison runs among the comparisons placed after one atom (lower first; the
+/// order of a conjunction of checks does not change what passes it, only how soon a
+/// candidate that fails is dropped).
+fn cmp_rank(op: CmpOp, windowed: bool) -> u8 {
+    match (windowed, op) {
+        // The atom's range already enforces it, up to the range's ends: it rejects few.
+        (true, _) => 2,
+        // Most pairs of values differ.
+        (false, CmpOp::Ne) => 1,
+        (false, _) => 0,
+    }
+}
+
+/// Puts each run of consecutive comparisons in `after` in the order of `ranks` (stable);
+/// bindings, negations and aggregates stay where they are, and nothing moves across them.
+fn order_comparisons(after: &mut [Filter], ranks: &[u8]) {
+    let is_cmp = |f: &Filter| {
+        matches!(
+            f,
+            Filter::Cmp(..) | Filter::CmpRaw(..) | Filter::CmpInt(..) | Filter::CmpDiff { .. }
+        )
+    };
+    let mut i = 0;
+    while i < after.len() {
+        let mut j = i;
+        while j < after.len() && is_cmp(&after[j]) {
+            j += 1;
+        }
+        if j - i > 1 {
+            let mut run: Vec<(u8, Filter)> = after[i..j]
+                .iter()
+                .zip(&ranks[i..j])
+                .map(|(f, &r)| (r, f.clone()))
+                .collect();
+            run.sort_by_key(|(r, _)| *r);
+            for (slot, (_, f)) in after[i..j].iter_mut().zip(run) {
+                *slot = f;
+            }
+        }
+        i = j.max(i + 1);
+    }
 }
 
 /// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
@@ -828,10 +944,7 @@ impl Plan {
     pub fn project(&self, b: &Row) -> Option<Row> {
         let mut out = [0u64; WIDTH];
         for (i, (e, ty)) in self.head.iter().enumerate() {
-            out[i] = match e {
-                CExpr::Slot(s, t) if t == ty => b[*s],
-                e => encode(e.eval(b)?, *ty)?,
-            };
+            out[i] = e.word(b, *ty)??;
         }
         Some(out)
     }
@@ -1001,20 +1114,47 @@ pub(crate) fn ground_head(
     let empty = [0u64; WIDTH];
     let mut out = [0u64; WIDTH];
     for (i, e) in head.iter().enumerate() {
-        let ce = compile_expr(e, &scope, symbols)?;
+        // A literal (`3`, `-2`, `1.5`, `"BUS"`: nearly every argument of a fact) is its value;
+        // anything else is compiled and evaluated as a plan would.
+        let value = match literal(e, symbols) {
+            Some(v) => v,
+            None => {
+                let Some(v) = compile_expr(e, &scope, symbols)?.eval(&empty) else {
+                    return Ok(None);
+                };
+                v
+            }
+        };
         let ty = match head_types {
             Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
-            None => expr_type(&ce),
+            None => expr_type(&CExpr::Const(value)),
         };
         let Some(word) = out.get_mut(i) else {
             return Ok(None);
         };
-        match ce.eval(&empty).and_then(|v| encode(v, ty)) {
+        match encode(value, ty) {
             Some(w) => *word = w,
             None => return Ok(None),
         }
     }
     Ok(Some(out))
+}
+
+/// The value of a literal or a negated number literal, as [`compile_expr`] then
+/// [`CExpr::eval`] would compute it; `None` for any other expression (and for a negation that
+/// overflows, which the general path then reports the same way).
+fn literal(e: &Expr, symbols: &mut Symbols) -> Option<V> {
+    match &e.kind {
+        ExprKind::Int(i) => Some(V::Int(*i)),
+        ExprKind::Float(f) => Some(V::Float(*f)),
+        ExprKind::Str(s) => Some(V::Sym(symbols.intern(s))),
+        ExprKind::Neg(a) => match &a.kind {
+            ExprKind::Int(i) => i.checked_neg().map(V::Int),
+            ExprKind::Float(f) => Some(V::Float(-f)),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 /// [`plan`] with variables already bound, in slots `0..seed.len()`.
@@ -1075,6 +1215,10 @@ fn plan_seeded(
     }
     let mut start = Vec::new();
     let mut atoms: Vec<AtomStep> = Vec::new();
+    // Per atom, per filter after it: its rank among comparisons (see `cmp_rank`); the body
+    // literals whose comparisons bound an atom's range.
+    let mut ranks: Vec<Vec<u8>> = Vec::new();
+    let mut windowed: HashSet<usize> = HashSet::new();
     loop {
         // Ready filters first (comparisons, bindings, negations).
         let mut progress = true;
@@ -1129,9 +1273,12 @@ fn plan_seeded(
                         if group.iter().all(|v| scope.slots.contains_key(*v)) {
                             let (f, extra) = agg_filter(g, &group, &mut scope, ctx)?;
                             if let Some(x) = extra {
-                                match atoms.last_mut() {
-                                    Some(a) => a.after.push(f),
-                                    None => start.push(f),
+                                match (atoms.last_mut(), ranks.last_mut()) {
+                                    (Some(a), Some(r)) => {
+                                        a.after.push(f);
+                                        r.push(0);
+                                    }
+                                    _ => start.push(f),
                                 }
                                 Some(x)
                             } else {
@@ -1146,9 +1293,16 @@ fn plan_seeded(
                 if let Some(f) = f {
                     done[i] = true;
                     progress = true;
-                    match atoms.last_mut() {
-                        Some(a) => a.after.push(f),
-                        None => start.push(f),
+                    let rank = match l {
+                        BodyLit::Cmp(op, ..) => cmp_rank(*op, windowed.contains(&i)),
+                        _ => 0,
+                    };
+                    match (atoms.last_mut(), ranks.last_mut()) {
+                        (Some(a), Some(r)) => {
+                            a.after.push(f);
+                            r.push(rank);
+                        }
+                        _ => start.push(f),
                     }
                 }
             }
@@ -1215,6 +1369,7 @@ fn plan_seeded(
         step.lit = i;
         // The comparisons ready once this atom is joined may bound one of its new columns.
         let mut ready = Vec::new();
+        let mut ready_lits = Vec::new();
         for (j, l) in lits.iter().enumerate() {
             if let (false, BodyLit::Cmp(op, x, y)) = (done[j], l) {
                 if scope.bound(x) && scope.bound(y) {
@@ -1223,11 +1378,19 @@ fn plan_seeded(
                         compile_expr(x, &scope, ctx.symbols)?,
                         compile_expr(y, &scope, ctx.symbols)?,
                     ));
+                    ready_lits.push(j);
                 }
             }
         }
-        step.narrow = narrowing(&step.news, &types, &ready, from);
+        if let Some((n, used)) = narrowing(&step.news, &types, &ready, from) {
+            step.narrow = Some(n);
+            windowed.extend(used.iter().filter_map(|&u| ready_lits.get(u)));
+        }
         atoms.push(step);
+        ranks.push(Vec::new());
+    }
+    for (a, r) in atoms.iter_mut().zip(&ranks) {
+        order_comparisons(&mut a.after, r);
     }
     if let Some(i) = done.iter().position(|d| !d) {
         let _ = i;
