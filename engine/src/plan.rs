@@ -1889,4 +1889,93 @@ mod tests {
             );
         }
     }
+
+    #[test]
+    fn words_agree_with_evaluating_then_encoding() {
+        let mut seed = 7u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        let types = [ColType::Int, ColType::Time, ColType::Float, ColType::Str];
+        for case in 0..20_000usize {
+            let r = next();
+            let c = match r % 3 {
+                0 => edges[(r / 3) as usize % edges.len()],
+                _ => (r / 3 % 21) as i64 - 10,
+            };
+            let from = types[case % types.len()];
+            let to = types[(case / 4) % types.len()];
+            let op = if case % 2 == 0 {
+                BinOp::Add
+            } else {
+                BinOp::Sub
+            };
+            let slot = Box::new(CExpr::Slot(0, from));
+            let e = match case % 3 {
+                0 => CExpr::Slot(0, from),
+                1 => CExpr::Bin(op, slot, Box::new(CExpr::Const(V::Int(c)))),
+                _ => CExpr::Bin(op, Box::new(CExpr::Const(V::Int(c))), slot),
+            };
+            // A stored word of the slot's type: times fit in u32, floats are not NaN.
+            let w = next() << 31 ^ next();
+            let word = match from {
+                ColType::Int => enc_int(edges.get(w as usize % 9).copied().unwrap_or(w as i64)),
+                ColType::Time => w % (1 << 32),
+                ColType::Float => crate::value::enc_float((w % 1000) as f64 - 500.5),
+                _ => w % 50,
+            };
+            let mut row = [0u64; WIDTH];
+            row[0] = word;
+            let want = e.eval(&row).map(|v| encode(v, to));
+            assert_eq!(e.word(&row, to), want, "{e:?} into {to:?} on {word}");
+        }
+    }
+
+    #[test]
+    fn strict_windows_hold_every_value_their_comparisons_accept() {
+        let mut seed = 13u64;
+        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let ops = [CmpOp::Lt, CmpOp::Le, CmpOp::Gt, CmpOp::Ge, CmpOp::Eq];
+        let slot = |s| Box::new(CExpr::Slot(s, ColType::Int));
+        for case in 0..5_000usize {
+            let op = ops[case % ops.len()];
+            let c = (next() % 21) as i64 - 10;
+            let k = Box::new(CExpr::Const(V::Int(c)));
+            // Slot 0 is bound before the atom; slot 1 (x) is the atom's new column.
+            let (l, r) = match case % 4 {
+                0 => (CExpr::Slot(1, ColType::Int), CExpr::Slot(0, ColType::Int)),
+                1 => (CExpr::Bin(BinOp::Sub, slot(1), slot(0)), (*k).clone()),
+                2 => (CExpr::Bin(BinOp::Sub, slot(0), slot(1)), (*k).clone()),
+                _ => (
+                    CExpr::Call(Func::Abs, vec![CExpr::Bin(BinOp::Sub, slot(1), slot(0))]),
+                    (*k).clone(),
+                ),
+            };
+            let cmps = [(op, l.clone(), r.clone())];
+            let Some((n, used)) = narrowing(&[(0, 1)], &[ColType::Int], &cmps, 1) else {
+                continue;
+            };
+            assert_eq!(used, vec![0]);
+            let y = (next() % 41) as i64 - 20;
+            let mut row = [0u64; WIDTH];
+            row[0] = enc_int(y);
+            let range = n.range(&row);
+            for x in -45..=45 {
+                row[1] = enc_int(x);
+                let passes = apply(&[Filter::Cmp(op, l.clone(), r.clone())], row).is_some();
+                let inside = range.is_some_and(|(lo, hi)| (lo..=hi).contains(&enc_int(x)));
+                assert!(
+                    !passes || inside,
+                    "{l:?} {op:?} {r:?}: x = {x}, y = {y}, {range:?}"
+                );
+                // Strict bounds step inward, so on ints the window is exact (but for
+                // `abs(x - y) = c`, two values at the ends of a range).
+                if !(case % 4 == 3 && op == CmpOp::Eq) {
+                    assert_eq!(
+                        passes, inside,
+                        "{l:?} {op:?} {r:?}: x = {x}, y = {y}, {range:?}"
+                    );
+                }
+            }
+        }
+    }
 }
