@@ -399,6 +399,25 @@ pub fn apply_mut(filters: &[Filter], row: &mut Row) -> bool {
     apply_in(filters, row).is_some()
 }
 
+/// [`Filter::CmpRaw`] on the two encoded words.
+#[inline]
+pub(crate) fn raw_holds(op: CmpOp, x: u64, y: u64) -> bool {
+    holds(op, x.cmp(&y))
+}
+
+/// [`Filter::CmpDiff`] on the two slots' encoded words: `a - b op c` (`abs(a - b) op c`),
+/// failing on overflow.
+#[inline]
+pub(crate) fn diff_holds(op: CmpOp, a: u64, b: u64, abs: bool, c: i64) -> bool {
+    let Some(d) = crate::value::dec_int(a).checked_sub(crate::value::dec_int(b)) else {
+        return false;
+    };
+    match if abs { d.checked_abs() } else { Some(d) } {
+        Some(d) => holds(op, d.cmp(&c)),
+        None => false,
+    }
+}
+
 fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
     for f in filters {
         match f {
@@ -407,15 +426,12 @@ fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
                     Raw::Slot(s) => row[*s],
                     Raw::Const(c) => *c,
                 };
-                if !holds(*op, row[*a].cmp(&y)) {
+                if !raw_holds(*op, row[*a], y) {
                     return None;
                 }
             }
             Filter::CmpDiff { op, a, b, abs, c } => {
-                let d =
-                    crate::value::dec_int(row[*a]).checked_sub(crate::value::dec_int(row[*b]))?;
-                let d = if *abs { d.checked_abs()? } else { d };
-                if !holds(*op, d.cmp(c)) {
+                if !diff_holds(*op, row[*a], row[*b], *abs, *c) {
                     return None;
                 }
             }

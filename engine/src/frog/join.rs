@@ -10,9 +10,10 @@ use std::cmp::Ordering;
 use crate::frog::access::{
     prefix_cmp, range_span, range_span_from, within_span, within_span_from, Access, Tup,
 };
-use crate::plan::{apply_mut, Arg, AtomStep, CExpr, Filter, Plan};
+use crate::plan::{apply_mut, diff_holds, raw_holds, Arg, AtomStep, CExpr, Filter, Plan, Raw};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
+use scenalog_rules::ast::CmpOp;
 
 /// How often (in candidate tuples) the budget and the clock are checked.
 const CHECK_EVERY: usize = 1 << 16;
@@ -80,6 +81,51 @@ struct Leaf {
     /// When the atom's only filter is a one-column negation of one of its new variables:
     /// that variable's stored position (the negation is then looked up on the tuple).
     negated: Option<usize>,
+    /// When every filter after the atom is a comparison of encoded words or an int
+    /// difference ([`Filter::CmpRaw`], [`Filter::CmpDiff`]): the same checks reading the
+    /// candidate tuple and the binding directly (no binding row written per candidate).
+    checks: Option<Vec<Check>>,
+}
+
+/// Where a leaf check reads a word: the candidate tuple (stored position), the binding
+/// before the last atom (slot), or a constant.
+#[derive(Clone, Copy)]
+enum Word {
+    Tuple(usize),
+    Binding(usize),
+    Const(u64),
+}
+
+/// A comparison after the last atom, read from the tuple and the binding (see `Leaf::checks`).
+#[derive(Clone, Copy)]
+enum Check {
+    /// [`Filter::CmpRaw`].
+    Raw(CmpOp, Word, Word),
+    /// [`Filter::CmpDiff`].
+    Diff {
+        op: CmpOp,
+        a: Word,
+        b: Word,
+        abs: bool,
+        c: i64,
+    },
+}
+
+impl Check {
+    /// Whether the candidate `t` under binding `b` passes, as the filter would on the row
+    /// the general path writes.
+    #[inline]
+    fn holds<const W: usize>(self, b: &Row, t: &Tup<W>) -> bool {
+        let word = |w: Word| match w {
+            Word::Tuple(p) => t[p],
+            Word::Binding(s) => b[s],
+            Word::Const(c) => c,
+        };
+        match self {
+            Check::Raw(op, x, y) => raw_holds(op, word(x), word(y)),
+            Check::Diff { op, a, b, abs, c } => diff_holds(op, word(a), word(b), abs, c),
+        }
+    }
 }
 
 impl Leaf {
@@ -107,10 +153,34 @@ impl Leaf {
                 None => From::Binding(s),
             })
             .collect();
+        let word = |s: usize| match last.news.iter().find(|&&(_, slot)| slot == s) {
+            Some(&(pos, _)) => Word::Tuple(pos),
+            None => Word::Binding(s),
+        };
+        let checks = plan.atoms.last().and_then(|a| {
+            a.after
+                .iter()
+                .map(|f| match *f {
+                    Filter::CmpRaw(op, x, Raw::Slot(y)) => Some(Check::Raw(op, word(x), word(y))),
+                    Filter::CmpRaw(op, x, Raw::Const(c)) => {
+                        Some(Check::Raw(op, word(x), Word::Const(c)))
+                    }
+                    Filter::CmpDiff { op, a, b, abs, c } => Some(Check::Diff {
+                        op,
+                        a: word(a),
+                        b: word(b),
+                        abs,
+                        c,
+                    }),
+                    _ => None,
+                })
+                .collect::<Option<Vec<Check>>>()
+        });
         Some(Leaf {
             direct,
             slots,
             negated,
+            checks,
         })
     }
 }
@@ -352,6 +422,16 @@ impl<const W: usize> Join<'_, W> {
             );
             return;
         }
+        if let Some(checks) = &leaf.checks {
+            let b: &Row = b;
+            out.extend(
+                matches
+                    .iter()
+                    .filter(|t| checks.iter().all(|c| c.holds(b, t)))
+                    .map(direct),
+            );
+            return;
+        }
         for t in matches {
             for &(pos, slot) in &acc.news {
                 b[slot] = t[pos];
@@ -547,9 +627,11 @@ pub(crate) mod tests {
             };
             // No filters: the last atom writes head tuples from the binding and the tuple.
             check(&a, &mid, &b, Vec::new(), slots.clone(), merge);
-            // Comparisons: the last atom's filters on the shared binding row.
+            // Comparisons: the last atom's filters, read from the binding and the tuple (a
+            // slot of each, a slot and a constant, and an int difference).
             let filters = vec![
                 cmp_filter(CmpOp::Ne, int(0), int(2)),
+                cmp_filter(CmpOp::Gt, int(2), CExpr::Const(V::Int(-(span as i64) / 3))),
                 cmp_filter(
                     CmpOp::Le,
                     CExpr::Call(
