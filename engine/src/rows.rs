@@ -282,6 +282,11 @@ impl Rows {
         self.data.chunks_exact(self.stride.max(1))
     }
 
+    /// The tuples as `N`-word arrays, when the arity is `N` (no copy).
+    pub(crate) fn as_tuples<const N: usize>(&self) -> Option<&[[u64; N]]> {
+        (self.stride == N).then(|| chunks::<N>(&self.data))
+    }
+
     /// Appends the first columns of a full-width row.
     pub fn push(&mut self, row: &Row) {
         self.data.extend_from_slice(&row[..self.stride]);

@@ -51,6 +51,7 @@ pub(crate) mod access;
 pub(crate) mod join;
 pub(crate) mod once;
 
+use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
@@ -161,10 +162,12 @@ impl Stratum<'_> {
         // Copies of the stratum's relations in another column order, kept in step with them.
         let mut aux = Iteration::new();
         let vars: Vec<Variable<Tup<W>>> = names.iter().map(|n| iteration.variable(n)).collect();
-        let mut statics: Vec<Relation<Tup<W>>> = Vec::new();
+        let empty = Rows::new(1);
+        // Relations completed before the stratum, as its atoms read them: the stored tuples
+        // themselves when an atom reads them in their order at their width, else a copy.
+        let mut statics: Vec<Cow<'_, [Tup<W>]>> = Vec::new();
         let mut indexes: Vec<(usize, Sig, Variable<Tup<W>>)> = Vec::new();
         let mut known: HashMap<Sig, Src> = HashMap::new();
-        let empty = Rows::new(1);
         // Per plan, then per variant plan: the access of each atom and where its copy lives.
         let mut accesses: Vec<(Vec<Access>, Vec<Src>)> = Vec::new();
         let all = self
@@ -197,8 +200,9 @@ impl Stratum<'_> {
                             }
                             None => {
                                 let rows = self.complete.get(&a.pred).unwrap_or(&empty);
-                                statics.push(Relation {
-                                    elements: acc.sig.copy_rows(rows),
+                                statics.push(match rows.as_tuples::<W>() {
+                                    Some(t) if acc.sig.is_identity() => Cow::Borrowed(t),
+                                    _ => Cow::Owned(acc.sig.copy_rows(rows)),
                                 });
                                 Src::Static(statics.len() - 1)
                             }
@@ -296,7 +300,7 @@ impl Stratum<'_> {
                         let mut recent_empty = false;
                         for (step, src) in plan.atoms.iter().zip(srcs) {
                             parts.push(match (*src, delta) {
-                                (Src::Static(i), _) => vec![&statics[i].elements[..]],
+                                (Src::Static(i), _) => vec![&statics[i][..]],
                                 (Src::Own { rel, index }, Some(k)) if step.lit < k => {
                                     parts_for(rel, index).stable().collect()
                                 }
@@ -417,16 +421,20 @@ impl Stratum<'_> {
         for ((r, v), name) in vars.into_iter().enumerate().zip(&names) {
             let arity = (self.stored)(name);
             let all = v.complete();
-            let mut data = Vec::with_capacity(all.len() * arity);
-            for t in all.iter() {
-                data.extend_from_slice(&t[..arity]);
-            }
+            let count = all.len();
+            // At the stratum's width the tuples' words are the stored words as they are.
+            let data = if arity == W {
+                all.elements.into_flattened()
+            } else {
+                let mut data = Vec::with_capacity(all.len() * arity);
+                for t in all.iter() {
+                    data.extend_from_slice(&t[..arity]);
+                }
+                data
+            };
             if options.provenance {
                 let batches = std::mem::take(&mut batches[r]);
-                debug_assert_eq!(
-                    batches.iter().map(|b| b.tuples.len()).sum::<usize>(),
-                    all.len()
-                );
+                debug_assert_eq!(batches.iter().map(|b| b.tuples.len()).sum::<usize>(), count);
                 let align: crate::prove::Align = Box::new(move || align(batches));
                 origins.insert(name.to_string(), crate::prove::Packed::deferred(align));
             }
