@@ -114,7 +114,7 @@ enum Check {
 impl Check {
     /// Whether the candidate `t` under binding `b` passes, as the filter would on the row
     /// the general path writes.
-    #[inline]
+    #[inline(always)]
     fn holds<const W: usize>(self, b: &Row, t: &Tup<W>) -> bool {
         let word = |w: Word| match w {
             Word::Tuple(p) => t[p],
@@ -423,13 +423,13 @@ impl<const W: usize> Join<'_, W> {
             return;
         }
         if let Some(checks) = &leaf.checks {
-            let b: &Row = b;
-            out.extend(
-                matches
-                    .iter()
-                    .filter(|t| checks.iter().all(|c| c.holds(b, t)))
-                    .map(direct),
-            );
+            // A plain loop: the compiler inlines the checks here, where a `filter` adapter
+            // called its closure once per candidate.
+            for t in matches {
+                if checks.iter().all(|c| c.holds(b, t)) {
+                    out.push(direct(t));
+                }
+            }
             return;
         }
         for t in matches {
