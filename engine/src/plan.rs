@@ -1951,14 +1951,33 @@ mod tests {
         let mut seed = 13u64;
         let mut next = || crate::frog::join::tests::lcg(&mut seed);
         let ops = [CmpOp::Lt, CmpOp::Le, CmpOp::Gt, CmpOp::Ge, CmpOp::Eq];
-        let slot = |s| Box::new(CExpr::Slot(s, ColType::Int));
-        for case in 0..5_000usize {
-            let op = ops[case % ops.len()];
+        for case in 0..10_000usize {
+            // Int columns (any sign) or time columns (from 0, stored as the number itself).
+            let ty = if case % 2 == 0 {
+                ColType::Int
+            } else {
+                ColType::Time
+            };
+            let (word, xs, y) = match ty {
+                ColType::Int => (
+                    enc_int as fn(i64) -> u64,
+                    -45..=45,
+                    (next() % 41) as i64 - 20,
+                ),
+                _ => (
+                    (|x: i64| x as u64) as fn(i64) -> u64,
+                    0..=45,
+                    (next() % 41) as i64,
+                ),
+            };
+            let slot = |s| Box::new(CExpr::Slot(s, ty));
+            let op = ops[(case / 2) % ops.len()];
             let c = (next() % 21) as i64 - 10;
             let k = Box::new(CExpr::Const(V::Int(c)));
             // Slot 0 is bound before the atom; slot 1 (x) is the atom's new column.
-            let (l, r) = match case % 4 {
-                0 => (CExpr::Slot(1, ColType::Int), CExpr::Slot(0, ColType::Int)),
+            let shape = (case / 10) % 4;
+            let (l, r) = match shape {
+                0 => (CExpr::Slot(1, ty), CExpr::Slot(0, ty)),
                 1 => (CExpr::Bin(BinOp::Sub, slot(1), slot(0)), (*k).clone()),
                 2 => (CExpr::Bin(BinOp::Sub, slot(0), slot(1)), (*k).clone()),
                 _ => (
@@ -1967,25 +1986,24 @@ mod tests {
                 ),
             };
             let cmps = [(op, l.clone(), r.clone())];
-            let Some((n, used)) = narrowing(&[(0, 1)], &[ColType::Int], &cmps, 1) else {
+            let Some((n, used)) = narrowing(&[(0, 1)], &[ty], &cmps, 1) else {
                 continue;
             };
             assert_eq!(used, vec![0]);
-            let y = (next() % 41) as i64 - 20;
             let mut row = [0u64; WIDTH];
-            row[0] = enc_int(y);
+            row[0] = word(y);
             let range = n.range(&row);
-            for x in -45..=45 {
-                row[1] = enc_int(x);
+            for x in xs {
+                row[1] = word(x);
                 let passes = apply(&[Filter::Cmp(op, l.clone(), r.clone())], row).is_some();
-                let inside = range.is_some_and(|(lo, hi)| (lo..=hi).contains(&enc_int(x)));
+                let inside = range.is_some_and(|(lo, hi)| (lo..=hi).contains(&word(x)));
                 assert!(
                     !passes || inside,
                     "{l:?} {op:?} {r:?}: x = {x}, y = {y}, {range:?}"
                 );
-                // Strict bounds step inward, so on ints the window is exact (but for
-                // `abs(x - y) = c`, two values at the ends of a range).
-                if !(case % 4 == 3 && op == CmpOp::Eq) {
+                // Strict bounds step inward, so on ints and times the window is exact (but
+                // for `abs(x - y) = c`, two values at the ends of a range).
+                if !(shape == 3 && op == CmpOp::Eq) {
                     assert_eq!(
                         passes, inside,
                         "{l:?} {op:?} {r:?}: x = {x}, y = {y}, {range:?}"
