@@ -554,7 +554,8 @@ mod tests {
         assert_eq!(p.atoms[1].after.len(), 2);
         let mut b = [0u64; crate::value::WIDTH];
         b[1] = 5; // T1 (slot 1, after V)
-                  // `T2 > T1` is `T2 >= 6` on times; `T2 - T1 <= 10` includes its end.
+
+        // `T2 > T1` is `T2 >= 6` on times; `T2 - T1 <= 10` includes its end.
         assert_eq!(n.range(&b), Some((6, 15)));
         let p = plan_of(src, "close_x");
         let Some(n) = &p.atoms[1].narrow else {

@@ -899,6 +899,24 @@ fn cmp_rank(op: CmpOp, windowed: bool) -> u8 {
     }
 }
 
+/// Places a ready filter after the last atom planned, with its rank (`ranks` stays aligned
+/// with each atom's `after`), or before any atom when none is planned yet.
+fn place(
+    f: Filter,
+    rank: u8,
+    atoms: &mut [AtomStep],
+    ranks: &mut [Vec<u8>],
+    start: &mut Vec<Filter>,
+) {
+    match (atoms.last_mut(), ranks.last_mut()) {
+        (Some(a), Some(r)) => {
+            a.after.push(f);
+            r.push(rank);
+        }
+        _ => start.push(f),
+    }
+}
+
 /// Puts each run of consecutive comparisons in `after` in the order of `ranks` (stable);
 /// bindings, negations and aggregates stay where they are, and nothing moves across them.
 fn order_comparisons(after: &mut [Filter], ranks: &[u8]) {
@@ -1289,13 +1307,7 @@ fn plan_seeded(
                         if group.iter().all(|v| scope.slots.contains_key(*v)) {
                             let (f, extra) = agg_filter(g, &group, &mut scope, ctx)?;
                             if let Some(x) = extra {
-                                match (atoms.last_mut(), ranks.last_mut()) {
-                                    (Some(a), Some(r)) => {
-                                        a.after.push(f);
-                                        r.push(0);
-                                    }
-                                    _ => start.push(f),
-                                }
+                                place(f, 0, &mut atoms, &mut ranks, &mut start);
                                 Some(x)
                             } else {
                                 Some(f)
@@ -1313,13 +1325,7 @@ fn plan_seeded(
                         BodyLit::Cmp(op, ..) => cmp_rank(*op, windowed.contains(&i)),
                         _ => 0,
                     };
-                    match (atoms.last_mut(), ranks.last_mut()) {
-                        (Some(a), Some(r)) => {
-                            a.after.push(f);
-                            r.push(rank);
-                        }
-                        _ => start.push(f),
-                    }
+                    place(f, rank, &mut atoms, &mut ranks, &mut start);
                 }
             }
         }

@@ -87,12 +87,11 @@ struct Leaf {
     checks: Option<Vec<Check>>,
 }
 
-/// Where a leaf check reads a word: the candidate tuple (stored position), the binding
-/// before the last atom (slot), or a constant.
+/// Where a leaf check reads a word: a slot (from the candidate tuple or the binding before
+/// the last atom), or a constant.
 #[derive(Clone, Copy)]
 enum Word {
-    Tuple(usize),
-    Binding(usize),
+    Slot(From),
     Const(u64),
 }
 
@@ -117,8 +116,8 @@ impl Check {
     #[inline(always)]
     fn holds<const W: usize>(self, b: &Row, t: &Tup<W>) -> bool {
         let word = |w: Word| match w {
-            Word::Tuple(p) => t[p],
-            Word::Binding(s) => b[s],
+            Word::Slot(From::Tuple(p)) => t[p],
+            Word::Slot(From::Binding(s)) => b[s],
             Word::Const(c) => c,
         };
         match self {
@@ -146,17 +145,13 @@ impl Leaf {
                 _ => return None,
             }
         }
-        let direct = slots
-            .iter()
-            .map(|&s| match last.news.iter().find(|&&(_, slot)| slot == s) {
-                Some(&(pos, _)) => From::Tuple(pos),
-                None => From::Binding(s),
-            })
-            .collect();
-        let word = |s: usize| match last.news.iter().find(|&&(_, slot)| slot == s) {
-            Some(&(pos, _)) => Word::Tuple(pos),
-            None => Word::Binding(s),
+        // Where a slot's value is once the last atom is joined: its tuple or the binding.
+        let from = |s: usize| match last.news.iter().find(|&&(_, slot)| slot == s) {
+            Some(&(pos, _)) => From::Tuple(pos),
+            None => From::Binding(s),
         };
+        let direct = slots.iter().map(|&s| from(s)).collect();
+        let word = |s: usize| Word::Slot(from(s));
         let checks = plan.atoms.last().and_then(|a| {
             a.after
                 .iter()
