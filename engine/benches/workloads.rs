@@ -180,11 +180,17 @@ type Pos = (i32, i32, i32, i32);
 
 /// The spatio-temporal workload by hand: counts of near, follow, start, run, sustained, alone.
 fn datafrog_st(pos: &[Pos]) -> Vec<usize> {
+    datafrog_st_laps(pos, &mut |_| {})
+}
+
+/// [`datafrog_st`], calling `lap` with the name of each part as it ends (see [`split`]).
+fn datafrog_st_laps(pos: &[Pos], lap: &mut dyn FnMut(&'static str)) -> Vec<usize> {
     let pos: Relation<Pos> = pos.iter().copied().collect();
     let by_t: Relation<(i32, (i32, i32, i32))> =
         Relation::from_map(&pos, |&(o, t, x, l)| (t, (o, x, l)));
     let by_tl: Relation<((i32, i32), (i32, i32))> =
         Relation::from_map(&pos, |&(o, t, x, l)| ((t, l), (o, x)));
+    lap("facts");
     let near: Relation<(i32, i32, i32)> = Relation::from_leapjoin(
         &pos,
         (
@@ -195,6 +201,7 @@ fn datafrog_st(pos: &[Pos]) -> Vec<usize> {
         ),
         |&(a, t, _, _), &(b, _, _)| (a, b, t),
     );
+    lap("close");
     let follow: Relation<(i32, i32, i32)> = Relation::from_leapjoin(
         &pos,
         (
@@ -205,12 +212,14 @@ fn datafrog_st(pos: &[Pos]) -> Vec<usize> {
         ),
         |&(a, t, _, _), &(b, _)| (a, b, t),
     );
+    lap("behind");
     let start: Relation<(i32, i32, i32)> = follow
         .iter()
         .filter(|&&(a, b, t)| follow.elements.binary_search(&(a, b, t - 1)).is_err())
         .copied()
         .collect();
     let follow_keyed: Relation<((i32, i32, i32), ())> = Relation::from_map(&follow, |&k| (k, ()));
+    lap("run_start");
     // run(A, B, S, T) kept as ((A, B, T + 1), S): keyed by the frame that extends it.
     let mut it = Iteration::new();
     let run = it.variable::<((i32, i32, i32), i32)>("run");
@@ -221,17 +230,20 @@ fn datafrog_st(pos: &[Pos]) -> Vec<usize> {
         });
     }
     let run = run.complete();
+    lap("run");
     let sustained: Relation<(i32, i32, i32)> = run
         .iter()
         .filter(|&&((_, _, next), s)| next - 1 - s >= 20)
         .map(|&((a, b, _), s)| (a, b, s))
         .collect();
+    lap("sustained");
     let has_near: Relation<(i32, i32)> = Relation::from_map(&near, |&(a, _, t)| (a, t));
     let alone: Relation<(i32, i32)> = pos
         .iter()
         .map(|&(a, t, _, _)| (a, t))
         .filter(|k| has_near.elements.binary_search(k).is_err())
         .collect();
+    lap("has_close + alone");
     vec![
         near.len(),
         follow.len(),
@@ -290,6 +302,71 @@ ascent::ascent! {
     alone(a, t) <-- pos(a, t, _, _), !has_near(a, t);
 }
 
+/// `spatio_temporal` in Ascent by cumulative parts, for [`split`]: what each stratum adds is
+/// the difference between two of these (or the full [`AscentSt`]).
+mod ascent_parts {
+    ascent::ascent! {
+        pub struct Facts;
+        relation pos(i32, i32, i32, i32);
+    }
+    ascent::ascent! {
+        pub struct Near;
+        relation pos(i32, i32, i32, i32);
+        relation near(i32, i32, i32);
+        near(a, b, t) <-- pos(a, t, xa, la), pos(b, t, xb, lb),
+            if a != b && (xa - xb).abs() < 100 && (la - lb).abs() <= 1;
+    }
+    ascent::ascent! {
+        pub struct Follow;
+        relation pos(i32, i32, i32, i32);
+        relation follow(i32, i32, i32);
+        follow(a, b, t) <-- pos(a, t, xa, l), pos(b, t, xb, l), if xb > xa && xb - xa < 300;
+    }
+    ascent::ascent! {
+        pub struct Start;
+        relation pos(i32, i32, i32, i32);
+        relation follow(i32, i32, i32);
+        relation start(i32, i32, i32);
+        follow(a, b, t) <-- pos(a, t, xa, l), pos(b, t, xb, l), if xb > xa && xb - xa < 300;
+        start(a, b, t) <-- follow(a, b, t), !follow(a, b, t - 1);
+    }
+    ascent::ascent! {
+        pub struct Run;
+        relation pos(i32, i32, i32, i32);
+        relation follow(i32, i32, i32);
+        relation start(i32, i32, i32);
+        relation run(i32, i32, i32, i32);
+        follow(a, b, t) <-- pos(a, t, xa, l), pos(b, t, xb, l), if xb > xa && xb - xa < 300;
+        start(a, b, t) <-- follow(a, b, t), !follow(a, b, t - 1);
+        run(a, b, s, s) <-- start(a, b, s);
+        run(a, b, s, u) <-- run(a, b, s, t), let u = t + 1, follow(a, b, u);
+    }
+    ascent::ascent! {
+        pub struct Sustained;
+        relation pos(i32, i32, i32, i32);
+        relation follow(i32, i32, i32);
+        relation start(i32, i32, i32);
+        relation run(i32, i32, i32, i32);
+        relation sustained(i32, i32, i32);
+        follow(a, b, t) <-- pos(a, t, xa, l), pos(b, t, xb, l), if xb > xa && xb - xa < 300;
+        start(a, b, t) <-- follow(a, b, t), !follow(a, b, t - 1);
+        run(a, b, s, s) <-- start(a, b, s);
+        run(a, b, s, u) <-- run(a, b, s, t), let u = t + 1, follow(a, b, u);
+        sustained(a, b, s) <-- run(a, b, s, t), if t - s >= 20;
+    }
+    ascent::ascent! {
+        pub struct Alone;
+        relation pos(i32, i32, i32, i32);
+        relation near(i32, i32, i32);
+        relation has_near(i32, i32);
+        relation alone(i32, i32);
+        near(a, b, t) <-- pos(a, t, xa, la), pos(b, t, xb, lb),
+            if a != b && (xa - xb).abs() < 100 && (la - lb).abs() <= 1;
+        has_near(a, t) <-- near(a, _, t);
+        alone(a, t) <-- pos(a, t, _, _), !has_near(a, t);
+    }
+}
+
 fn ascent_tc(edges: &[(u32, u32)]) -> usize {
     let mut p = AscentTc {
         edge: edges.to_vec(),
@@ -341,23 +418,58 @@ const SG_RULES: &str = ".decl sg(A: int, B: int)\n\
                         sg(X, Y) :- parent(X, P), parent(Y, P), X != Y.\n\
                         sg(X, Y) :- parent(X, A), sg(A, B), parent(Y, B).\n";
 
-const ST_RULES: &str = "\
-.decl close(A: int, B: int, T: int)
-close(A, B, T) :- pos(A, T, XA, LA), pos(B, T, XB, LB), A != B, abs(XA - XB) < 100, abs(LA - LB) <= 1.
-.decl behind(A: int, B: int, T: int)
-behind(A, B, T) :- pos(A, T, XA, L), pos(B, T, XB, L), XB > XA, XB - XA < 300.
-.decl run_start(A: int, B: int, T: int)
-run_start(A, B, T) :- behind(A, B, T), !behind(A, B, T - 1).
-.decl run(A: int, B: int, S: int, T: int)
-run(A, B, S, S) :- run_start(A, B, S).
-run(A, B, S, U) :- run(A, B, S, T), U = T + 1, behind(A, B, U).
-.decl sustained(A: int, B: int, S: int)
-sustained(A, B, S) :- run(A, B, S, T), T - S >= 20.
-.decl has_close(A: int, T: int)
-has_close(A, T) :- close(A, _, T).
-.decl alone(A: int, T: int)
-alone(A, T) :- pos(A, T, _, _), !has_close(A, T).
-";
+/// `spatio_temporal`'s rules, one relation each (declaration and clauses), in stratum order.
+const ST_PARTS: [(&str, &str); 7] = [
+    (
+        "close",
+        ".decl close(A: int, B: int, T: int)\n\
+         close(A, B, T) :- pos(A, T, XA, LA), pos(B, T, XB, LB), A != B, \
+         abs(XA - XB) < 100, abs(LA - LB) <= 1.\n",
+    ),
+    (
+        "behind",
+        ".decl behind(A: int, B: int, T: int)\n\
+         behind(A, B, T) :- pos(A, T, XA, L), pos(B, T, XB, L), XB > XA, XB - XA < 300.\n",
+    ),
+    (
+        "run_start",
+        ".decl run_start(A: int, B: int, T: int)\n\
+         run_start(A, B, T) :- behind(A, B, T), !behind(A, B, T - 1).\n",
+    ),
+    (
+        "run",
+        ".decl run(A: int, B: int, S: int, T: int)\n\
+         run(A, B, S, S) :- run_start(A, B, S).\n\
+         run(A, B, S, U) :- run(A, B, S, T), U = T + 1, behind(A, B, U).\n",
+    ),
+    (
+        "sustained",
+        ".decl sustained(A: int, B: int, S: int)\n\
+         sustained(A, B, S) :- run(A, B, S, T), T - S >= 20.\n",
+    ),
+    (
+        "has_close",
+        ".decl has_close(A: int, T: int)\nhas_close(A, T) :- close(A, _, T).\n",
+    ),
+    (
+        "alone",
+        ".decl alone(A: int, T: int)\nalone(A, T) :- pos(A, T, _, _), !has_close(A, T).\n",
+    ),
+];
+
+/// The `pos` facts and the rules of `spatio_temporal`'s relations `names` (all with `None`).
+fn st_program(pos: &[Pos], names: Option<&[&str]>) -> CheckedProgram {
+    let mut src = String::from(".decl pos(O: int, T: int, X: int, L: int)\n");
+    for (o, t, x, l) in pos {
+        src.push_str(&format!("pos({o}, {t}, {x}, {l}).\n"));
+    }
+    for (name, rules) in ST_PARTS {
+        if names.is_none_or(|n| n.contains(&name)) {
+            src.push_str(rules);
+        }
+    }
+    program(&src)
+}
 
 const ST_RELS: [&str; 6] = ["close", "behind", "run_start", "run", "sustained", "alone"];
 
@@ -416,15 +528,10 @@ fn workloads() -> Vec<Workload> {
     });
 
     let pos = scene();
-    let mut src = String::from(".decl pos(O: int, T: int, X: int, L: int)\n");
-    for (o, t, x, l) in &pos {
-        src.push_str(&format!("pos({o}, {t}, {x}, {l}).\n"));
-    }
-    src.push_str(ST_RULES);
-    let (p1, p2) = (pos.clone(), pos);
+    let (p1, p2) = (pos.clone(), pos.clone());
     out.push(Workload {
         name: "spatio_temporal",
-        program: program(&src),
+        program: st_program(&pos, None),
         rels: ST_RELS.to_vec(),
         datafrog: Box::new(move || datafrog_st(&p1)),
         ascent: Box::new(move || ascent_st(&p2)),
@@ -447,6 +554,10 @@ fn bench(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, w: &Workl
 }
 
 fn main() {
+    if std::env::var_os("SCENALOG_BENCH_SPLIT").is_some() {
+        split();
+        return;
+    }
     let all = workloads();
     if let Ok(spec) = std::env::var("SCENALOG_BENCH_PROFILE") {
         let (name, prov) = match spec.split_once(',') {
@@ -555,4 +666,148 @@ fn ratios(all: &[Workload]) {
             s / e
         );
     }
+}
+
+/// `SCENALOG_BENCH_SPLIT=1`: where `spatio_temporal`'s time goes in each system. The engine
+/// and Ascent run cumulative parts of the program (the `pos` facts alone; `close`; `behind`;
+/// then `run_start`, `run`, `sustained` on it; `close` with `has_close` and `alone`), each
+/// part's relation counts asserted equal to the whole program's, and a stratum's time is the
+/// difference between the medians of two parts; hand-written datafrog times its own sections.
+/// Medians of `REPS` interleaved runs, in milliseconds.
+fn split() {
+    use ascent_parts as a;
+    const REPS: usize = 21;
+    let pos = scene();
+    let whole = datafrog_st(&pos);
+    let subsets: [&[&str]; 7] = [
+        &[],
+        &["close"],
+        &["behind"],
+        &["behind", "run_start"],
+        &["behind", "run_start", "run"],
+        &["behind", "run_start", "run", "sustained"],
+        &["close", "has_close", "alone"],
+    ];
+    let programs: Vec<CheckedProgram> = subsets.iter().map(|n| st_program(&pos, Some(n))).collect();
+    for (names, p) in subsets.iter().zip(&programs) {
+        let e = engine_run(p, false);
+        for (rel, want) in ST_RELS.iter().zip(&whole) {
+            if names.contains(rel) {
+                assert_eq!(e.size(rel), *want, "{rel} in part {names:?}");
+            }
+        }
+    }
+    let ascent: [&dyn Fn() -> usize; 7] = [
+        &|| {
+            let mut p = a::Facts::default();
+            p.pos = pos.clone();
+            p.run();
+            p.pos.len()
+        },
+        &|| {
+            let mut p = a::Near::default();
+            p.pos = pos.clone();
+            p.run();
+            p.near.len()
+        },
+        &|| {
+            let mut p = a::Follow::default();
+            p.pos = pos.clone();
+            p.run();
+            p.follow.len()
+        },
+        &|| {
+            let mut p = a::Start::default();
+            p.pos = pos.clone();
+            p.run();
+            p.start.len()
+        },
+        &|| {
+            let mut p = a::Run::default();
+            p.pos = pos.clone();
+            p.run();
+            p.run.len()
+        },
+        &|| {
+            let mut p = a::Sustained::default();
+            p.pos = pos.clone();
+            p.run();
+            p.sustained.len()
+        },
+        &|| {
+            let mut p = a::Alone::default();
+            p.pos = pos.clone();
+            p.run();
+            p.alone.len()
+        },
+    ];
+    // Each Ascent part's last relation has the whole program's count.
+    let counts = [
+        pos.len(),
+        whole[0],
+        whole[1],
+        whole[2],
+        whole[3],
+        whole[4],
+        whole[5],
+    ];
+    for (f, want) in ascent.iter().zip(counts) {
+        assert_eq!(f(), want, "Ascent part");
+    }
+    let ms = |t: std::time::Instant| t.elapsed().as_secs_f64() * 1e3;
+    let mut engine: Vec<Vec<f64>> = vec![Vec::new(); subsets.len()];
+    let mut asc: Vec<Vec<f64>> = vec![Vec::new(); subsets.len()];
+    let mut frog: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    for _ in 0..REPS {
+        for (i, p) in programs.iter().enumerate() {
+            let t = std::time::Instant::now();
+            engine_run(p, false);
+            engine[i].push(ms(t));
+            let t = std::time::Instant::now();
+            std::hint::black_box(ascent[i]());
+            asc[i].push(ms(t));
+        }
+        let mut k = 0;
+        let mut t = std::time::Instant::now();
+        datafrog_st_laps(&pos, &mut |name| {
+            if frog.len() <= k {
+                frog.push((name, Vec::new()));
+            }
+            frog[k].1.push(ms(t));
+            k += 1;
+            t = std::time::Instant::now();
+        });
+    }
+    let median = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let e: Vec<f64> = engine.iter().map(|v| median(v)).collect();
+    let s: Vec<f64> = asc.iter().map(|v| median(v)).collect();
+    let f: Vec<f64> = frog.iter().map(|(_, v)| median(v)).collect();
+    // (part, engine, Ascent) from the parts' medians; datafrog's sections in the same order.
+    let parts = [
+        ("facts", e[0], s[0]),
+        ("close", e[1] - e[0], s[1] - s[0]),
+        ("behind", e[2] - e[0], s[2] - s[0]),
+        ("run_start", e[3] - e[2], s[3] - s[2]),
+        ("run", e[4] - e[3], s[4] - s[3]),
+        ("sustained", e[5] - e[4], s[5] - s[4]),
+        ("has_close + alone", e[6] - e[1], s[6] - s[1]),
+    ];
+    eprintln!("\nspatio_temporal by part, medians of {REPS} interleaved runs (ms) | engine | datafrog | ascent");
+    for ((name, en, asc), (fname, fr)) in parts.iter().zip(frog.iter().map(|(n, _)| n).zip(&f)) {
+        assert_eq!(name, fname, "datafrog's sections in the parts' order");
+        eprintln!("{name:<18} | {en:.3} | {fr:.3} | {asc:.3}");
+    }
+    let sum = |v: &[f64]| v.iter().sum::<f64>();
+    let (en, asc): (Vec<f64>, Vec<f64>) = parts.iter().map(|&(_, e, s)| (e, s)).unzip();
+    eprintln!(
+        "{:<18} | {:.3} | {:.3} | {:.3}",
+        "sum",
+        sum(&en),
+        sum(&f),
+        sum(&asc)
+    );
 }
