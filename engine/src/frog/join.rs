@@ -39,6 +39,8 @@ struct Progress<'l> {
     /// that atom's filters write, so it is the same for all of the previous atom's
     /// candidates.
     invariant: Vec<bool>,
+    /// Whether the last atom only tests that its key is a tuple (see [`Join::exists`]).
+    exists: bool,
 }
 
 /// Parts an atom may read for its lookups to be remembered (datafrog keeps about log2(n)
@@ -243,8 +245,10 @@ impl<const W: usize> Join<'_, W> {
             candidates: 0,
             memo: vec![memo; self.plan.atoms.len()],
             invariant: invariant(self.plan),
+            exists: false,
         };
         let leaf = self.access.last().and_then(|a| Leaf::of(self.plan, a));
+        progress.exists = leaf.is_some() && self.exists_last();
         self.step(0, &mut b, out, &mut progress, leaf.as_ref())?;
         if self.plan.sum_overflowed() {
             return Err(limits.sum_overflow());
@@ -367,18 +371,102 @@ impl<const W: usize> Join<'_, W> {
                     // One binding row for the whole join: each candidate overwrites this
                     // atom's slots (and its filters' bindings), deeper atoms write only
                     // slots bound after it.
+                    let exists = match leaf {
+                        Some(leaf) if progress.exists && depth + 2 == self.plan.atoms.len() => {
+                            Some(leaf)
+                        }
+                        _ => None,
+                    };
                     for t in matches {
                         for &(pos, slot) in &acc.news {
                             b[slot] = t[pos];
                         }
                         if apply_mut(&step.after, b) {
-                            self.step(depth + 1, b, out, progress, leaf)?;
+                            match exists {
+                                Some(leaf) => self.exists(b, out, progress, leaf),
+                                None => self.step(depth + 1, b, out, progress, leaf)?,
+                            }
                         }
                     }
                 }
             }
         }
         Ok(())
+    }
+
+    /// Whether the last atom (after at least one other) binds no variable, has no filter after
+    /// it and every column of its copy is a constant or a key: it then matches the binding's
+    /// key itself or nothing, and [`Join::exists`] looks the key up in the loop of the atom
+    /// before it.
+    fn exists_last(&self) -> bool {
+        let (Some(step), Some(acc), Some(parts)) = (
+            self.plan.atoms.last(),
+            self.access.last(),
+            self.parts.last(),
+        ) else {
+            return false;
+        };
+        self.plan.atoms.len() >= 2
+            && acc.news.is_empty()
+            && acc.narrow.is_none()
+            && step.after.is_empty()
+            && acc.prefix_len() == acc.sig.perm.len()
+            && acc.prefix_len() <= W
+            && parts.len() <= MEMO_PARTS
+    }
+
+    /// The last atom as an existence test (see [`Join::exists_last`]): the binding's key,
+    /// padded with zeros as the copy's tuples are past its columns, searched in each part
+    /// (galloping on from the previous search when keys come in ascending order), and the
+    /// head projected from the binding for each part that holds it, as the general path
+    /// would.
+    fn exists(&self, b: &Row, out: &mut Vec<Tup<W>>, progress: &mut Progress<'_>, leaf: &Leaf) {
+        let d = self.plan.atoms.len() - 1;
+        let (Some(step), Some(acc), Some(parts), Some(m)) = (
+            self.plan.atoms.get(d),
+            self.access.get(d),
+            self.parts.get(d),
+            progress.memo.get_mut(d),
+        ) else {
+            return;
+        };
+        let mut key = [0u64; W];
+        let nc = acc.consts.len();
+        let l = acc.prefix_len();
+        key[..nc].copy_from_slice(&acc.consts);
+        // A key value that does not fit its column matches no tuple.
+        if acc.nkeys > 0 && !step.key_into(b, &mut key[nc..l]) {
+            return;
+        }
+        let order = if m.valid {
+            prefix_cmp(&key[..l], &m.prefix[..l])
+        } else {
+            Ordering::Less
+        };
+        for (r, part) in m.ranges.iter_mut().zip(parts) {
+            // `r.0`: where the previous key was, or would be, in this part.
+            let at = match order {
+                Ordering::Equal => r.0,
+                Ordering::Greater => {
+                    let from = r.0.min(part.len());
+                    from + crate::rows::gallop(&part[from..], |t| *t < key)
+                }
+                Ordering::Less => part.partition_point(|t| *t < key),
+            };
+            r.0 = at;
+            if part.get(at) == Some(&key) {
+                let mut o = [0u64; W];
+                for (o, f) in o.iter_mut().zip(&leaf.direct) {
+                    *o = match *f {
+                        From::Binding(s) => b[s],
+                        From::Tuple(p) => key[p],
+                    };
+                }
+                out.push(o);
+            }
+        }
+        m.valid = true;
+        m.prefix[..l].copy_from_slice(&key[..l]);
     }
 
     /// The last atom's candidates through the fast path (see [`Leaf`]).
@@ -463,6 +551,23 @@ pub(crate) mod tests {
 
     fn int(s: usize) -> CExpr {
         CExpr::Slot(s, ColType::Int)
+    }
+
+    /// The join's output under default options, sorted.
+    fn sorted_output(join: &Join<'_, 2>) -> Vec<Tup<2>> {
+        let options = Options::default();
+        let limits = Limits {
+            relation: "out",
+            options: &options,
+            start: Instant::now(),
+            held: 0,
+        };
+        let mut got: Vec<Tup<2>> = Vec::new();
+        if let Err(e) = join.run(&mut got, &limits) {
+            panic!("join failed: {e}");
+        }
+        got.sort_unstable();
+        got
     }
 
     /// `out(X, Z) :- a(X, Y), [c(W),] b(Y, Z), <filters>` with head `heads`, joined by
@@ -558,18 +663,7 @@ pub(crate) mod tests {
             access: &access,
             parts,
         };
-        let options = Options::default();
-        let limits = Limits {
-            relation: "out",
-            options: &options,
-            start: Instant::now(),
-            held: 0,
-        };
-        let mut got: Vec<Tup<2>> = Vec::new();
-        if let Err(e) = join.run(&mut got, &limits) {
-            panic!("join failed: {e}");
-        }
-        got.sort_unstable();
+        let got = sorted_output(&join);
         // The nested loop: every combination, the filters and head through `apply`.
         let mut want: Vec<Tup<2>> = Vec::new();
         let mut a = a.to_vec();
@@ -651,6 +745,78 @@ pub(crate) mod tests {
                 ),
             ];
             check(&a, &mid, &b, bind, computed, merge);
+        }
+    }
+
+    /// `out(X, Y) :- a(X, Y), U = X + 1, b(Y, U).`: `b` binds nothing, so the join tests each
+    /// key for existence in `a`'s loop ([`Join::exists`]), over `b` in three parts and with
+    /// `a` read in `Y` order (keys ascending) or `X` order (back and forth), against a nested
+    /// loop.
+    #[test]
+    fn existence_tests_agree_with_a_nested_loop() {
+        let mut seed = 11;
+        for case in 0..200 {
+            let n = 1 + (lcg(&mut seed) % 80) as usize;
+            let span = 1 + lcg(&mut seed) % 12;
+            let draw = |seed: &mut u64| (lcg(seed) % span) as i64 - (span / 2) as i64;
+            let mut pairs = |k: usize| -> Vec<(i64, i64)> {
+                let mut v: Vec<(i64, i64)> =
+                    (0..k).map(|_| (draw(&mut seed), draw(&mut seed))).collect();
+                v.sort_unstable();
+                v.dedup();
+                v
+            };
+            let (a, b) = (pairs(n), pairs(n + 5));
+            let bind = Filter::Bind(
+                2,
+                CExpr::Bin(
+                    BinOp::Add,
+                    Box::new(int(0)),
+                    Box::new(CExpr::Const(V::Int(1))),
+                ),
+                ColType::Int,
+            );
+            let sa = AtomStep::new("a".into(), vec![Arg::New(0), Arg::New(1)], vec![bind]);
+            let sb = AtomStep::new(
+                "b".into(),
+                vec![
+                    Arg::Key(int(1), ColType::Int),
+                    Arg::Key(int(2), ColType::Int),
+                ],
+                Vec::new(),
+            );
+            let plan = Plan {
+                start: Vec::new(),
+                atoms: vec![sa, sb],
+                head: vec![(int(0), ColType::Int), (int(1), ColType::Int)],
+            };
+            let access: Vec<Access> = plan.atoms.iter().map(|s| Access::of(s, 2)).collect();
+            let enc = |v: &[(i64, i64)]| -> Vec<Tup<2>> {
+                v.iter().map(|&(x, y)| [enc_int(x), enc_int(y)]).collect()
+            };
+            let mut copy_a = enc(&a);
+            if case % 2 == 0 {
+                copy_a.sort_unstable_by_key(|t| (t[1], t[0]));
+            }
+            let bs: Vec<Vec<Tup<2>>> = (0..3)
+                .map(|k| {
+                    let part: Vec<(i64, i64)> = b.iter().skip(k).step_by(3).copied().collect();
+                    enc(&part)
+                })
+                .collect();
+            let join = Join {
+                plan: &plan,
+                access: &access,
+                parts: vec![vec![&copy_a[..]], bs.iter().map(|p| &p[..]).collect()],
+            };
+            assert!(join.exists_last(), "case {case}: b is an existence test");
+            let got = sorted_output(&join);
+            let want: Vec<Tup<2>> = enc(&a
+                .iter()
+                .copied()
+                .filter(|&(x, y)| b.contains(&(y, x + 1)))
+                .collect::<Vec<_>>());
+            assert_eq!(got, want, "case {case}");
         }
     }
 }
