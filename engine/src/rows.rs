@@ -54,11 +54,22 @@ pub(crate) fn sort_by_words<T: Copy, const N: usize>(v: &mut [T], key: impl Fn(&
     if v.len() < RADIX_FROM {
         return by_comparison(v);
     }
+    // One pass: whether the tuples are in order already (a projection onto a prefix of the
+    // order they were read in, e.g. `sustained(A, B, S) :- run(A, B, S, T), ...`), and which
+    // bits of each word vary.
     let mut differ = [0u64; N];
+    let mut sorted = true;
+    let mut prev = &first;
     for t in v.iter() {
-        for ((d, w), f) in differ.iter_mut().zip(key(t)).zip(&first) {
+        let k = key(t);
+        sorted &= prev <= k;
+        prev = k;
+        for ((d, w), f) in differ.iter_mut().zip(k).zip(&first) {
             *d |= w ^ f;
         }
+    }
+    if sorted {
+        return;
     }
     // Per word: how many low bits vary. Above them every tuple holds the same bits, so the
     // order of the low bits is the order of the words. Each varying word's bits go to a shift
@@ -421,6 +432,15 @@ mod tests {
             want.sort_unstable();
             sort_tuples(&mut v);
             assert_eq!(v, want, "case {case}, widths {widths:?}");
+            // In order already (duplicates and all): left as it is; one pair of distinct
+            // tuples out of order: sorted again.
+            sort_tuples(&mut v);
+            assert_eq!(v, want, "case {case}: sorted input");
+            if let Some(i) = (1..v.len()).find(|&i| v[i - 1] != v[i]) {
+                v.swap(i - 1, i);
+                sort_tuples(&mut v);
+                assert_eq!(v, want, "case {case}: one swap");
+            }
             // Sorting by a key inside another element, as provenance's (tuple, stamp) pairs.
             let mut tagged: Vec<([u64; 4], usize)> = want.iter().rev().copied().zip(0..).collect();
             sort_by_words(&mut tagged, |p| &p.0);
