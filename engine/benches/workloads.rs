@@ -697,49 +697,25 @@ fn split() {
             }
         }
     }
+    // One Ascent part from `pos`: the size of its last relation.
+    macro_rules! part {
+        ($program:ident, $last:ident) => {
+            &|| {
+                let mut p = a::$program::default();
+                p.pos = pos.clone();
+                p.run();
+                p.$last.len()
+            }
+        };
+    }
     let ascent: [&dyn Fn() -> usize; 7] = [
-        &|| {
-            let mut p = a::Facts::default();
-            p.pos = pos.clone();
-            p.run();
-            p.pos.len()
-        },
-        &|| {
-            let mut p = a::Near::default();
-            p.pos = pos.clone();
-            p.run();
-            p.near.len()
-        },
-        &|| {
-            let mut p = a::Follow::default();
-            p.pos = pos.clone();
-            p.run();
-            p.follow.len()
-        },
-        &|| {
-            let mut p = a::Start::default();
-            p.pos = pos.clone();
-            p.run();
-            p.start.len()
-        },
-        &|| {
-            let mut p = a::Run::default();
-            p.pos = pos.clone();
-            p.run();
-            p.run.len()
-        },
-        &|| {
-            let mut p = a::Sustained::default();
-            p.pos = pos.clone();
-            p.run();
-            p.sustained.len()
-        },
-        &|| {
-            let mut p = a::Alone::default();
-            p.pos = pos.clone();
-            p.run();
-            p.alone.len()
-        },
+        part!(Facts, pos),
+        part!(Near, near),
+        part!(Follow, follow),
+        part!(Start, start),
+        part!(Run, run),
+        part!(Sustained, sustained),
+        part!(Alone, alone),
     ];
     // Each Ascent part's last relation has the whole program's count.
     let counts = [

@@ -208,15 +208,20 @@ fn contains_from_n<const N: usize>(
     let mut key = [0u64; N];
     key.copy_from_slice(&row[..N]);
     let rows = chunks::<N>(data);
-    let h = hint.load(Relaxed);
-    // Every tuple before `h` is below the one at `h` (sorted, distinct): when that one is not
-    // above the key, neither are they, and the search goes on from `h`.
-    let pos = match rows.get(h) {
-        Some(at) if *at <= key => h + gallop(&rows[h..], |r| *r < key),
-        _ => rows.partition_point(|r| *r < key),
-    };
+    let pos = search_from(rows, &key, hint.load(Relaxed));
     hint.store(pos, Relaxed);
     rows.get(pos) == Some(&key)
+}
+
+/// The position of the first element of sorted, distinct `s` not below `key`, searched from
+/// `hint` (where the previous, usually smaller, key was): every element before `hint` is below
+/// the one at `hint`, so when that one is not above `key` the search gallops on from `hint`
+/// (a merge when keys come in order), else it bisects the whole slice.
+pub(crate) fn search_from<T: Ord>(s: &[T], key: &T, hint: usize) -> usize {
+    match s.get(hint) {
+        Some(at) if at <= key => hint + gallop(&s[hint..], |x| x < key),
+        _ => s.partition_point(|x| x < key),
+    }
 }
 
 /// The length of the prefix of `s` whose elements satisfy `pred` (which holds for a prefix

@@ -5,6 +5,7 @@
 
 use crate::plan::{Arg, AtomStep, CExpr, Narrow};
 use crate::rows::{gallop, Rows};
+use crate::value::Row;
 
 /// A stored tuple of a stratum: `W` words, the columns first (permuted for an index), zeros
 /// after the arity.
@@ -122,6 +123,15 @@ impl Access {
     /// Words of the lookup prefix.
     pub(crate) fn prefix_len(&self) -> usize {
         self.consts.len() + self.nkeys
+    }
+
+    /// Writes the prefix a binding looks up into `out[..self.prefix_len()]`: the constants,
+    /// then the key values computed from `b` (`step` is the atom this access reads). `false`
+    /// when a key value does not fit its column: the atom then matches no tuple.
+    pub(crate) fn prefix_into(&self, step: &AtomStep, b: &Row, out: &mut [u64]) -> bool {
+        let nc = self.consts.len();
+        out[..nc].copy_from_slice(&self.consts);
+        self.nkeys == 0 || step.key_into(b, &mut out[nc..self.prefix_len()])
     }
 }
 

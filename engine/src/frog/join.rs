@@ -50,7 +50,8 @@ const MEMO_PARTS: usize = 32;
 /// One atom's last lookup: its prefix and window, and per part the prefix's range and the
 /// span of that range within the window. A lookup with a greater prefix gallops on from the
 /// end of the previous range (a merge when lookups arrive in key order), a smaller one
-/// searches the whole part.
+/// searches the whole part. An existence test ([`Join::exists`]) keeps only where its last
+/// key was in each part, as the start of each range.
 #[derive(Clone, Copy)]
 struct Memo {
     valid: bool,
@@ -130,6 +131,19 @@ impl Check {
 }
 
 impl Leaf {
+    /// The head tuple from the binding before the last atom and the last atom's tuple `t`.
+    #[inline]
+    fn project<const W: usize>(&self, b: &Row, t: &Tup<W>) -> Tup<W> {
+        let mut o = [0u64; W];
+        for (o, f) in o.iter_mut().zip(&self.direct) {
+            *o = match *f {
+                From::Binding(s) => b[s],
+                From::Tuple(p) => t[p],
+            };
+        }
+        o
+    }
+
     fn of(plan: &Plan, last: &Access) -> Option<Leaf> {
         let negated = match plan.atoms.last().map(|a| a.after.as_slice()) {
             Some([Filter::Neg(n)]) => n.single().and_then(|(slot, _)| {
@@ -283,11 +297,8 @@ impl<const W: usize> Join<'_, W> {
         let mut searched = Vec::new();
         if !fresh {
             let mut prefix = [0u64; WIDTH];
-            let nc = acc.consts.len();
             let l = acc.prefix_len();
-            prefix[..nc].copy_from_slice(&acc.consts);
-            // A key value that does not fit its column matches no tuple.
-            if acc.nkeys > 0 && !step.key_into(b, &mut prefix[nc..l]) {
+            if !acc.prefix_into(step, b, &mut prefix) {
                 return Ok(());
             }
             let prefix = &prefix[..l];
@@ -417,9 +428,9 @@ impl<const W: usize> Join<'_, W> {
 
     /// The last atom as an existence test (see [`Join::exists_last`]): the binding's key,
     /// padded with zeros as the copy's tuples are past its columns, searched in each part
-    /// (galloping on from the previous search when keys come in ascending order), and the
-    /// head projected from the binding for each part that holds it, as the general path
-    /// would.
+    /// from where the previous key was (a gallop when keys come in ascending order, see
+    /// [`crate::rows::search_from`]), and the head projected for each part that holds it, as
+    /// the general path would.
     fn exists(&self, b: &Row, out: &mut Vec<Tup<W>>, progress: &mut Progress<'_>, leaf: &Leaf) {
         let d = self.plan.atoms.len() - 1;
         let (Some(step), Some(acc), Some(parts), Some(m)) = (
@@ -431,42 +442,16 @@ impl<const W: usize> Join<'_, W> {
             return;
         };
         let mut key = [0u64; W];
-        let nc = acc.consts.len();
-        let l = acc.prefix_len();
-        key[..nc].copy_from_slice(&acc.consts);
-        // A key value that does not fit its column matches no tuple.
-        if acc.nkeys > 0 && !step.key_into(b, &mut key[nc..l]) {
+        if !acc.prefix_into(step, b, &mut key) {
             return;
         }
-        let order = if m.valid {
-            prefix_cmp(&key[..l], &m.prefix[..l])
-        } else {
-            Ordering::Less
-        };
+        // Per part, `r.0`: where the previous key was, or would be.
         for (r, part) in m.ranges.iter_mut().zip(parts) {
-            // `r.0`: where the previous key was, or would be, in this part.
-            let at = match order {
-                Ordering::Equal => r.0,
-                Ordering::Greater => {
-                    let from = r.0.min(part.len());
-                    from + crate::rows::gallop(&part[from..], |t| *t < key)
-                }
-                Ordering::Less => part.partition_point(|t| *t < key),
-            };
-            r.0 = at;
-            if part.get(at) == Some(&key) {
-                let mut o = [0u64; W];
-                for (o, f) in o.iter_mut().zip(&leaf.direct) {
-                    *o = match *f {
-                        From::Binding(s) => b[s],
-                        From::Tuple(p) => key[p],
-                    };
-                }
-                out.push(o);
+            r.0 = crate::rows::search_from(part, &key, r.0);
+            if part.get(r.0) == Some(&key) {
+                out.push(leaf.project(b, &key));
             }
         }
-        m.valid = true;
-        m.prefix[..l].copy_from_slice(&key[..l]);
     }
 
     /// The last atom's candidates through the fast path (see [`Leaf`]).
@@ -478,16 +463,7 @@ impl<const W: usize> Join<'_, W> {
         matches: &[Tup<W>],
         out: &mut Vec<Tup<W>>,
     ) {
-        let direct = |t: &Tup<W>| {
-            let mut o = [0u64; W];
-            for (o, f) in o.iter_mut().zip(&leaf.direct) {
-                *o = match *f {
-                    From::Binding(s) => b[s],
-                    From::Tuple(p) => t[p],
-                };
-            }
-            o
-        };
+        let direct = |t: &Tup<W>| leaf.project(b, t);
         if step.after.is_empty() {
             out.extend(matches.iter().map(direct));
             return;
