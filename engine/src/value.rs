@@ -296,3 +296,12 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod width_tests {
+    /// The checker rejects (E0406) exactly the rules the engine's tuples cannot hold.
+    #[test]
+    fn the_checker_and_the_engine_agree_on_the_widest_rule() {
+        assert_eq!(super::WIDTH, scenalog_rules::check::meaning::MAX_VARIABLES);
+    }
+}

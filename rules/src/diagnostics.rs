@@ -38,13 +38,33 @@ pub const SINGLETON: &str = "W0501";
 pub const EMPTY_PREDICATE: &str = "W0502";
 /// A helper predicate defined but used by no other rule.
 pub const UNUSED_PREDICATE: &str = "W0503";
+/// A program defines a name that a prelude relation it uses depends on.
+pub const SHADOWED_PRELUDE: &str = "E0405";
+/// A rule (or an aggregate's braces) with more variables than the engine's tuples hold.
+pub const TOO_MANY_VARIABLES: &str = "E0406";
+/// An atom that names no object the rest of its body uses: a cross product (an existence test),
+/// usually a `_` meant to join.
+pub const CROSS_PRODUCT: &str = "W0506";
+/// A `_` in the time column of an aggregate's atom while the clause is about a frame: it folds
+/// over every frame, not the clause's.
+pub const AGGREGATE_OVER_TIME: &str = "W0507";
+/// A `related` rule that is not tied to `referred`: pairs whose first object is not referred at
+/// that frame.
+pub const RELATED_NOT_REFERRED: &str = "W0508";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
 pub const COUNT_OF_ONE: &str = "W0505";
 /// Warnings that usually mean the program does not say what was meant; the synthesis repair
 /// loop sends them back to the model.
-pub const MEANING_WARNINGS: &[&str] = &[SINGLETON, TIME_VS_FLOAT, COUNT_OF_ONE];
+pub const MEANING_WARNINGS: &[&str] = &[
+    SINGLETON,
+    TIME_VS_FLOAT,
+    COUNT_OF_ONE,
+    CROSS_PRODUCT,
+    AGGREGATE_OVER_TIME,
+    RELATED_NOT_REFERRED,
+];
 
 /// Every code, in order, with its severity and a one-line summary.
 pub const CODES: &[(&str, Severity, &str)] = &[
@@ -81,6 +101,16 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         "catalog relation redefined",
     ),
     (DUPLICATE_DECL, Severity::Error, "predicate declared twice"),
+    (
+        SHADOWED_PRELUDE,
+        Severity::Error,
+        "prelude relation's dependency redefined",
+    ),
+    (
+        TOO_MANY_VARIABLES,
+        Severity::Error,
+        "too many variables in one rule",
+    ),
     (SINGLETON, Severity::Warning, "variable used once"),
     (
         EMPTY_PREDICATE,
@@ -101,6 +131,21 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         COUNT_OF_ONE,
         Severity::Warning,
         "count with no variable of its own",
+    ),
+    (
+        CROSS_PRODUCT,
+        Severity::Warning,
+        "atom sharing no variable with its body",
+    ),
+    (
+        AGGREGATE_OVER_TIME,
+        Severity::Warning,
+        "aggregate over every frame",
+    ),
+    (
+        RELATED_NOT_REFERRED,
+        Severity::Warning,
+        "related not tied to referred",
     ),
 ];
 

@@ -151,20 +151,38 @@ fn decl(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -
         for (span, w) in edits.iter().rev() {
             fixed.replace_range(span.start - start..span.end - start, w);
         }
-        let mut d = error(
+        let d = error(
             diagnostics::SYNTAX,
             edits[0].0,
             format!(
                 "syntax error: `{}` is not a Scenalog column type",
                 &source[edits[0].0.start..edits[0].0.end]
             ),
-        )
-        .with_hint(format!(
-            "column types are track, time, lane, str, float and int: `{fixed}`"
-        ));
-        for (span, w) in &edits {
-            d = d.with_edit(*span, *w);
-        }
+        );
+        // Soufflé's integer types are a Scenalog int, time or float by what the column holds;
+        // the checker infers it, so the fix drops the declaration rather than guess (an `int`
+        // for a frame would turn every use into a type error).
+        let integer = edits.iter().any(|(span, _)| {
+            matches!(
+                &source[span.start..span.end],
+                "number" | "unsigned" | "integer"
+            )
+        });
+        let d = if integer && required.is_none() {
+            d.with_hint(format!(
+                "Scenalog's types are track, time (a frame), lane, str, float and int; column types are inferred, so drop the line `{}` or write the type its column holds",
+                source[start..end].trim_end()
+            ))
+            .with_edit(Span::new(start, line_end(source, end.saturating_sub(1)).max(end)), "")
+        } else {
+            let mut d = d.with_hint(format!(
+                "column types are track, time, lane, str, float and int: `{fixed}`"
+            ));
+            for (span, w) in &edits {
+                d = d.with_edit(*span, *w);
+            }
+            d
+        };
         out.push(d);
     }
     j + 1
@@ -205,9 +223,94 @@ fn starts_with(source: &str, t: &Token<'_>, c: u8) -> bool {
     source.as_bytes().get(t.span.start) == Some(&c)
 }
 
-/// Habits that one token shows: `\+`, single quotes, bad escapes, `count(C) :`.
+/// `ego` written as an argument of a body atom (`near(ego, X, T, D)`): the ego vehicle is an
+/// object bound by `ego(E)`, not a constant. The fix binds it before the atom and uses the
+/// variable, so the program means the ego (writing `Ego` alone would be a variable matching any
+/// object, and `_` after that any object too).
+fn ego_constant(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagnostic>) {
+    let t = &toks[k];
+    let before = k.checked_sub(1).map(|p| &toks[p].tok);
+    let after = toks.get(k + 1).map(|n| &n.tok);
+    if !matches!(before, Some(Tok::LParen | Tok::Comma))
+        || !matches!(after, Some(Tok::Comma | Tok::RParen))
+    {
+        return;
+    }
+    // The atom's opening parenthesis, its predicate, and a `!` before it.
+    let mut depth = 0i32;
+    let mut open = None;
+    for p in (0..k).rev() {
+        match toks[p].tok {
+            Tok::RParen | Tok::RBrace => depth += 1,
+            Tok::LParen if depth == 0 => {
+                open = Some(p);
+                break;
+            }
+            Tok::LParen | Tok::LBrace => depth -= 1,
+            Tok::Dot | Tok::If => return,
+            _ => {}
+        }
+    }
+    let Some(pred) = open.and_then(|o| o.checked_sub(1)) else {
+        return;
+    };
+    let Tok::Ident(name) = toks[pred].tok else {
+        return;
+    };
+    if name == "ego" {
+        return;
+    }
+    // Only in a body: a `:-` between the clause's start and the atom.
+    let in_body = toks[..pred]
+        .iter()
+        .rev()
+        .take_while(|x| x.tok != Tok::Dot)
+        .any(|x| x.tok == Tok::If);
+    if !in_body {
+        return;
+    }
+    let start = match pred.checked_sub(1).map(|b| &toks[b]) {
+        Some(b) if b.tok == Tok::Bang || b.tok == Tok::Ident("not") => b.span.start,
+        _ => toks[pred].span.start,
+    };
+    out.push(
+        error(
+            diagnostics::SYNTAX,
+            t.span,
+            "syntax error: `ego` is not a value: the ego vehicle is an object, bound by `ego(E)`",
+        )
+        .with_hint(format!(
+            "bind the ego vehicle and use its variable: `ego(Ego), {}Ego{}`",
+            &source[start..t.span.start],
+            &source[t.span.end..atom_end(toks, k).max(t.span.end)]
+        ))
+        .with_edit(Span::new(start, start), "ego(Ego), ")
+        .with_edit(t.span, "Ego"),
+    );
+}
+
+/// The byte after the `)` that closes the atom whose argument token `k` is.
+fn atom_end(toks: &[Token<'_>], k: usize) -> usize {
+    let mut depth = 0i32;
+    for t in &toks[k..] {
+        match t.tok {
+            Tok::LParen | Tok::LBrace => depth += 1,
+            Tok::RParen if depth == 0 => return t.span.end,
+            Tok::RParen | Tok::RBrace => depth -= 1,
+            Tok::Dot | Tok::Eof => return t.span.start,
+            _ => {}
+        }
+    }
+    toks[k].span.end
+}
+
+/// Habits that one token shows: `\+`, single quotes, bad escapes, `count(C) :`, `ego` as a value.
 fn token_habits(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagnostic>) {
     let t = &toks[k];
+    if t.tok == Tok::Ident("ego") {
+        ego_constant(source, toks, k, out);
+        return;
+    }
     match &t.tok {
         Tok::Error(_) if starts_with(source, t, b'\\') => {
             if let Some(plus) = toks

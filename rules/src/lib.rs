@@ -55,6 +55,7 @@ pub mod diagnostics;
 mod habits;
 pub mod lexer;
 pub mod parser;
+pub mod prelude;
 pub mod printer;
 pub mod render;
 pub mod strata;
@@ -172,6 +173,9 @@ pub struct CheckedProgram {
     pub strata: Vec<Stratum>,
     /// Warnings the checker found (the program has no error).
     pub warnings: Vec<Diagnostic>,
+    /// The prelude relations ([`prelude`]) the checker added to the program because it uses
+    /// them: their clauses are at the end of `program.clauses`, spans past the program's text.
+    pub prelude: Vec<String>,
 }
 
 pub use ast::Program;

@@ -393,3 +393,68 @@ fn every_code_is_documented() {
         );
     }
 }
+
+#[test]
+fn e0405_a_helper_named_like_what_a_used_prelude_relation_needs() {
+    let src = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- waiting(X, T).\n";
+    let d = expect(src, "E0405", "stopped", "another name");
+    assert!(d.message.contains("`waiting`"), "{}", d.message);
+    // Its own variant of a concept it uses directly is its right.
+    let own = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- stopped(X, T).\n";
+    assert!(diags(own).is_empty(), "{:#?}", diags(own));
+}
+
+#[test]
+fn e0406_a_rule_wider_than_the_engine_holds() {
+    let wide = "p(A, B, C, D, E, F, T) :- present(A, T), present(B, T), present(C, T), present(D, T), present(E, T), present(F, T).\n\
+                q(G, H, I, J, K, L, T) :- p(G, H, I, J, K, L, T).\n\
+                referred(A, T) :- p(A, B, C, D, E, F, T), q(G, H, I, J, K, L, T), A != G, B != H, C != I, D != J, E != K, F != L.\n";
+    let d = expect(wide, "E0406", "referred(A, T)", "helper rule");
+    assert!(d.message.contains("13 variables"), "{}", d.message);
+    // Twelve is the engine's width: that rule checks.
+    let twelve = wide.replace(", F != L", "").replace(
+        "F, T), q(G, H, I, J, K, L, T)",
+        "F, T), q(G, H, I, J, K, F, T)",
+    );
+    assert!(
+        diags(&twelve).iter().all(|x| x.code != "E0406"),
+        "{:#?}",
+        diags(&twelve)
+    );
+}
+
+#[test]
+fn w0506_to_w0508_programs_that_check_but_mean_something_else() {
+    let d = expect(
+        "referred(V, T) :- category(V, \"BUS\"), present(V, T), N = count : { near(V, _, T, D), category(_, \"PEDESTRIAN\"), D < 10.0 }, N >= 3.\n",
+        "W0506",
+        "category(_, \"PEDESTRIAN\")",
+        "name the column in both atoms (`Y1`)",
+    );
+    assert_eq!(d.fix.len(), 2);
+    expect(
+        "referred(X, T) :- present(X, T), stopped(_, T).\n",
+        "W0506",
+        "stopped(_, T)",
+        "joins nothing",
+    );
+    expect(
+        "p(V, P, T) :- near(V, P, T, D), D < 10.0.\nreferred(V, T) :- present(V, T), N = count : { p(V, _, _) }, N >= 3.\n",
+        "W0507",
+        "_",
+        "write `T` here",
+    );
+    expect(
+        "referred(P, T) :- near(P, B, T, D), D < 2.0, category(B, \"BUS\").\nrelated(P, B, T) :- near(P, B, T, D), D < 10.0, category(B, \"BUS\").\n",
+        "W0508",
+        "related(P, B, T)",
+        "add `referred(P, T)`",
+    );
+    // Tied to referred by the same helper, or by `referred` itself: no warning.
+    for clean in [
+        "h(P, B, T) :- near(P, B, T, D), D < 2.0.\nreferred(P, T) :- h(P, _, T).\nrelated(P, B, T) :- h(P, B, T).\n",
+        "referred(P, T) :- near(P, B, T, D), D < 2.0, category(B, \"BUS\").\nrelated(P, B, T) :- referred(P, T), near(P, B, T, D), D < 10.0.\n",
+    ] {
+        assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
+    }
+}

@@ -196,8 +196,15 @@ fn souffle_directives_are_deleted_and_souffle_types_renamed() {
         ".decl fast(X: symbol, N: number)\nfast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
         "E0001",
         "symbol",
-        "`.decl fast(X: str, N: int)`",
-        ".decl fast(X: str, N: int)\nfast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+        "drop the line `.decl fast(X: symbol, N: number)`",
+        "fast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+    );
+    fixes_to(
+        ".decl fast(X: symbol)\nfast(\"a\").\nreferred(X, T) :- present(X, T), fast(\"a\").\n",
+        "E0001",
+        "symbol",
+        "`.decl fast(X: str)`",
+        ".decl fast(X: str)\nfast(\"a\").\nreferred(X, T) :- present(X, T), fast(\"a\").\n",
     );
     fixes_to(
         ".decl referred(X: symbol, T: number)\nreferred(X, T) :- present(X, T).\n",

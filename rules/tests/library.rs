@@ -64,3 +64,18 @@ fn every_library_program_checks_clean() {
         assert_eq!(print_program(&again), printed, "{path}");
     }
 }
+
+#[test]
+fn no_library_program_writes_out_a_prelude_relation() {
+    let mut found = Vec::new();
+    for (path, text) in library() {
+        let (program, _) = scenalog_rules::parse(&text);
+        for (i, name) in scenalog_rules::prelude::rederivations(&program) {
+            found.push(format!(
+                "{path}: `{}` re-derives the prelude's `{name}`; use `{name}` instead",
+                scenalog_rules::printer::print_clause(&program.clauses[i])
+            ));
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}

@@ -3,6 +3,7 @@
 
 pub mod binders;
 pub mod counts;
+pub mod meaning;
 pub mod preds;
 pub mod safety;
 pub mod types;
@@ -130,7 +131,16 @@ fn place_back(mut d: Diagnostic, edits: &[Edit]) -> Diagnostic {
 fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let parsed = parse_detailed(source);
     let mut diags = parsed.diagnostics;
-    let program = parsed.program;
+    let mut program = parsed.program;
+    // The prelude's clauses go after the program's own text, so their spans say whose they are.
+    let prelude_at = source.len() + 1;
+    let prelude = if diags.iter().any(|d| d.is_error()) {
+        Vec::new()
+    } else {
+        let (names, shadowed) = crate::prelude::extend(&mut program, prelude_at);
+        diags.extend(shadowed);
+        names
+    };
     let table = preds::collect(&program, &parsed.broken_heads, options, &mut diags);
     let inferred = types::infer(&program, &table, &mut diags);
     let first_safety = diags.len();
@@ -141,6 +151,8 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     binders::refine(source, &program, &inferred, &mut diags[first_safety..]);
     let (strata, cycle_diags) = strata::stratify(&program);
     diags.extend(cycle_diags);
+    meaning::check_program(&program, &table, &inferred, &mut diags);
+    within_source(&mut diags, source.len(), prelude_at);
     diags.sort_by_key(|d| (d.span.start, d.span.end));
     diags.dedup();
     let has_error = diags.iter().any(|d| d.is_error());
@@ -169,11 +181,27 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
             predicates,
             strata,
             warnings: diags.clone(),
+            prelude,
         })
     };
     CheckOutcome {
         program,
         diagnostics: diags,
+    }
+}
+
+/// Keeps every diagnostic on the program's own text: the prelude is checked clean on its own,
+/// so a warning placed in it is dropped, an error in it (a use that does not fit it) is moved
+/// to the end of the program and says where it arose, and related places in it are dropped.
+fn within_source(diags: &mut Vec<Diagnostic>, len: usize, prelude_at: usize) {
+    diags.retain(|d| d.is_error() || d.span.start < prelude_at);
+    for d in diags.iter_mut() {
+        if d.span.start >= prelude_at {
+            d.message = format!("in the prelude: {}", d.message);
+            d.span = Span::new(len, len);
+            d.fix.clear();
+        }
+        d.related.retain(|(s, _)| s.start < prelude_at);
     }
 }
 
