@@ -33,7 +33,17 @@ fn json_is_an_array_of_relations_with_typed_columns() {
     assert!(out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     let arr = v.as_array().expect("array");
-    assert_eq!(arr.len(), catalog::catalog().len());
+    let prelude = scenalog_rules::prelude::relations();
+    assert_eq!(arr.len(), catalog::catalog().len() + prelude.len());
+    let stopped = arr
+        .iter()
+        .find(|r| r["name"] == "stopped")
+        .expect("stopped");
+    assert_eq!(stopped["prelude"], true);
+    assert_eq!(
+        stopped["definition"],
+        serde_json::json!(["stopped(X, T) :- speed(X, T, V), V < 0.5."])
+    );
     let near = arr.iter().find(|r| r["name"] == "near").expect("near");
     let types: Vec<&str> = near["columns"]
         .as_array()
@@ -54,6 +64,28 @@ fn json_is_an_array_of_relations_with_typed_columns() {
         assert!(r["doc"].as_str().is_some_and(|d| !d.is_empty()), "{r}");
         assert!(r["group"].as_str().is_some(), "{r}");
     }
+}
+
+#[test]
+fn the_prelude_concepts_are_listed_with_their_definitions() {
+    let out = scenalog(&["catalog"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Concepts (the prelude"), "{text}");
+    assert!(
+        text.contains("group_size(P: track, T: time, N: int): P is in a group"),
+        "{text}"
+    );
+    let out = scenalog(&["catalog", "nearby"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("nearby(X: track, Y: track, T: time) (prelude)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("nearby(X, Y, T) :- near(X, Y, T, D), D <= 10.0, X != Y."),
+        "{text}"
+    );
 }
 
 #[test]

@@ -451,3 +451,30 @@ fn a_runaway_program_stops_at_the_limits_with_a_clear_error() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("5000"), "{err}");
 }
+
+/// A proof descends into a prelude relation like into any other rule, and says where that rule
+/// is: the library's stopped car uses the prelude's `stopped`.
+#[test]
+fn a_proof_descends_into_the_prelude() {
+    let log = &logs()[0];
+    let (code, out, err) = scenalog(&[
+        "explain",
+        "--rules",
+        "rules/library/stopped_car.dl",
+        "--log",
+        log.to_str().unwrap_or_default(),
+        "--track",
+        "0f0d16d4",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("✓ stopped(V, T)"), "{out}");
+    assert!(
+        out.contains("by the rule at the prelude, rules/prelude.dl:"),
+        "{out}"
+    );
+    assert!(
+        out.contains("| stopped(X, T) :- speed(X, T, V), V < 0.5."),
+        "{out}"
+    );
+    assert!(out.contains("✓ V < 0.5"), "{out}");
+}

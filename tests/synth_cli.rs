@@ -597,3 +597,89 @@ fn deep_expressions_in_a_completion_are_a_diagnostic_and_the_cache_stays_usable(
         assert!(diags.contains("E0002"), "{what}: {diags}");
     }
 }
+
+/// The programs of a held-out prompt's examples, in the order the prompt shows them (the
+/// closest to the description last).
+fn shown_examples(description: &str) -> Vec<String> {
+    let o = scenalog(&["--print-prompt", "--held-out", description], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    stdout(&o)
+        .split("```scenalog\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .map(str::to_string)
+        .collect()
+}
+
+/// What a model that imitates the examples instead of the conventions writes: it takes the
+/// closest example whose program mentions `word`, copies that example's helper rules (every rule
+/// but `referred` and `related`) and then writes `answer`, where `{BIKE}` becomes the example's
+/// own bicycle helper when it has one (`bike(B)`) and `category(B, "BICYCLE")` otherwise.
+fn imitating(description: &str, word: &str, answer: &str) -> String {
+    let examples = shown_examples(description);
+    let Some(example) = examples.iter().rev().find(|e| {
+        e.lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .any(|l| l.contains(word))
+    }) else {
+        panic!("no example for {description:?} mentions {word}")
+    };
+    let (program, _) = scenalog_rules::parse(example);
+    let helpers: Vec<&scenalog_rules::ast::Clause> = program
+        .clauses
+        .iter()
+        .filter(|c| c.head.pred != "referred" && c.head.pred != "related")
+        .collect();
+    let bike = helpers
+        .iter()
+        .find(|c| {
+            scenalog_rules::printer::print_clause(c).contains("\"BICYCLE\"")
+                && c.head.args.len() == 1
+        })
+        .map_or("category(B, \"BICYCLE\")".to_string(), |c| {
+            format!("{}(B)", c.head.pred)
+        });
+    let mut out = format!("// description: {description}\n");
+    for c in helpers {
+        out.push_str(&scenalog_rules::printer::print_clause(c));
+        out.push('\n');
+    }
+    out.push_str(&answer.replace("{BIKE}", &bike));
+    out
+}
+
+#[test]
+fn held_out_synthesis_scores_the_same_whichever_part_of_the_prompt_a_model_follows() {
+    // Answering the fixture's two prompts from the conventions (the prelude's `stopped`; a
+    // bicycle is a BICYCLE) and by imitating the closest example that speaks of the concept give
+    // one fixture score, because the examples use the prelude's relations rather than their own
+    // meanings of them.
+    let stopped = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).";
+    let bike = "answer_right(V, B, T) :- category(V, \"VEHICLE\"), {BIKE}, direction(V, B, T, \"right\", Dist, Lat), Dist <= 3.0, Lat <= 5.0.\nreferred(V, T) :- answer_right(V, _, T).\nrelated(V, B, T) :- answer_right(V, B, T).";
+    let set = "stopped car\nvehicle with a bicycle to its right\n";
+    let by_conventions = eval_json(
+        set,
+        vec![
+            program(&format!("// description: stopped car\n{stopped}")),
+            program(&format!(
+                "// description: vehicle with a bicycle to its right\n{}",
+                bike.replace("{BIKE}", "category(B, \"BICYCLE\")")
+            )),
+        ],
+        &["--held-out"],
+    );
+    let copied_stopped = imitating("stopped car", "stopped", stopped);
+    let copied_bike = imitating("vehicle with a bicycle to its right", "BICYCLE", bike);
+    let by_examples = eval_json(
+        set,
+        vec![program(&copied_stopped), program(&copied_bike)],
+        &["--held-out"],
+    );
+    let score = |r: &serde_json::Value| r["fixture"]["hota_temporal"].as_f64();
+    assert!(score(&by_conventions).is_some(), "{by_conventions:#}");
+    assert_eq!(
+        score(&by_conventions),
+        score(&by_examples),
+        "imitating the examples:\n{copied_stopped}\n{copied_bike}\n{by_examples:#}"
+    );
+}

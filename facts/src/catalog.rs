@@ -328,13 +328,13 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "speed",
         columns: &[X, T, col("V", ColType::Float)],
-        doc: "X's speed in m/s (city frame, smoothed); < 0.5 is stopped, parked objects included",
+        doc: "X's speed in m/s (city frame, smoothed); the concepts stopped, moving and fast are the prelude's `stopped`, `moving`, `fast`",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "accel",
         columns: &[X, T, col("A", ColType::Float)],
-        doc: "X's forward acceleration in m/s² in its own frame (<= -1 braking, <= -3 braking hard or heavily, >= 0.65 accelerating, >= 1 unmistakably)",
+        doc: "X's forward acceleration in m/s² in its own frame; the concepts are the prelude's `accelerating`, `braking`, `braking_hard`",
         group: Group::Kinematics,
     },
     RelationSpec {

@@ -1,7 +1,11 @@
-//! The conventions: how the phrases of descriptions are written with the catalog, with the
-//! thresholds the scenario library uses. One table, from which the synthesis prompt's
-//! conventions are generated; tests check that every idiom checks and that the library programs
-//! named for a convention use its threshold.
+//! The conventions: how the phrases of descriptions are written with the catalog and the
+//! prelude. One table, from which the synthesis prompt's conventions are generated; tests check
+//! that every idiom checks and that the library programs named for a convention follow it.
+//!
+//! The concepts themselves ("stopped", "near", "a group", …) and their thresholds are not here:
+//! they are relations of the prelude (`rules/prelude.dl`), defined once, and the prompt lists
+//! them from there. A convention only says how to use them and how to write what is not a
+//! concept.
 
 /// One convention.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -17,60 +21,19 @@ pub struct Convention {
     pub library: &'static [(&'static str, &'static str)],
 }
 
-/// Speed below which an object is stopped, m/s (parked objects included).
-pub const STOPPED_SPEED: f64 = 0.5;
-/// Forward acceleration at or below which an object is braking, m/s².
-pub const BRAKING_ACCEL: f64 = -1.0;
-/// Forward acceleration at or below which an object is braking hard (or heavily), m/s².
-pub const HARD_BRAKING_ACCEL: f64 = -3.0;
-
 /// Every convention, in the order the prompt lists them.
 pub const CONVENTIONS: &[Convention] = &[
     Convention {
         phrase: "an object's kind",
-        idiom: "`category(X, \"PEDESTRIAN\")`; \"vehicle\" is `category(X, \"VEHICLE\")` (every vehicle category, the ego included); \"car\" is \"REGULAR_VEHICLE\"; the ego vehicle is `ego(X)`. AV2 has no emergency-vehicle, police or traffic-light class",
+        idiom: "`category(X, \"PEDESTRIAN\")`; \"vehicle\" is `category(X, \"VEHICLE\")` (every vehicle category, the ego included); \"car\" is \"REGULAR_VEHICLE\"; \"bicycle\" is \"BICYCLE\" (every bicycle, ridden or not: a ridden one also has a \"BICYCLIST\" box for its rider, so never add \"BICYCLIST\" to a bicycle); \"bicyclist\" or \"cyclist\" is \"BICYCLIST\"; the ego vehicle is `ego(X)`. AV2 has no emergency-vehicle, police or traffic-light class",
         example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), present(X, T).",
         library: &[("stopped_car", "category(V, \"REGULAR_VEHICLE\")")],
     },
     Convention {
-        phrase: "stopped",
-        idiom: "`speed(X, T, V), V < 0.5`: parked objects are stopped too (the library and the benchmark count them); \"stopped but not parked\" adds `!stationary(X)`; parked for the whole log is `stationary(X)`",
-        example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), speed(X, T, V), V < 0.5.",
-        library: &[("stopped_car", "S < 0.5"), ("parked_vehicle", "stationary(")],
-    },
-    Convention {
-        phrase: "moving, fast",
-        idiom: "moving: `speed(X, T, V), V > 0.5`; fast: `V > 10`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V > 10.0.",
-        library: &[],
-    },
-    Convention {
-        phrase: "accelerating",
-        idiom: "`accel(X, T, A), A >= 0.65` (`A >= 1` when it must be unmistakable)",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), accel(X, T, A), A >= 0.65.",
-        library: &[("accelerating_truck", "A >= 1.0")],
-    },
-    Convention {
-        phrase: "braking",
-        idiom: "`accel(X, T, A), A <= -1`; braking hard, heavily or sharply: `A <= -3`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), accel(X, T, A), A <= -3.0.",
-        library: &[
-            ("braking_vehicle", "A <= -1.0"),
-            ("vehicle_braking_heavily", "A <= -3.0"),
-            ("motorcyclist_braking_hard", "A <= -3.0"),
-        ],
-    },
-    Convention {
-        phrase: "turning, changing lanes",
-        idiom: "`turning(X, T, \"left\")`; `lane_change(X, T, \"right\")`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), turning(X, T, \"left\").",
-        library: &[],
-    },
-    Convention {
-        phrase: "near, close to, next to",
-        idiom: "`near(X, Y, T, D), D < 10` (`D < 5` for \"very close\"); X != Y",
-        example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), near(X, Y, T, D), D < 10.0, category(Y, \"BUS\").",
-        library: &[],
+        phrase: "concepts: stopped, moving, fast, accelerating, braking, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, against traffic, a group",
+        idiom: "use the prelude relation listed under Concepts (`stopped(X, T)`, `nearby(X, Y, T)`, `group_size(P, T, N)`, …): it is already defined, so never define it again or re-derive it from the catalog. Parked vehicles are stopped; \"stopped but not parked\" adds `!parked(X)`; an object of any kind that stays put over its whole track is `stationary(X)`. A number the description gives is written with the catalog relation itself: \"within 5 m\" is `near(X, Y, T, D), D <= 5.0`",
+        example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), stopped(X, T).",
+        library: &[("stopped_car", "stopped(V, T)")],
     },
     Convention {
         phrase: "in front of, behind, beside",
@@ -79,22 +42,28 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[],
     },
     Convention {
+        phrase: "no reference object (\"within 5 m to the right\", \"ahead\", \"behind\")",
+        idiom: "a position or distance with no object to measure from is measured from the ego vehicle: `ego(E), direction(E, X, T, \"right\", D, _), D <= 5.0`; the ego is then the related object",
+        example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), ego(E), direction(E, X, T, \"right\", D, _), D <= 5.0.",
+        library: &[("pedestrian_within_5_meters_to_the_right", "ego(E), direction(E, P, T, \"right\"")],
+    },
+    Convention {
+        phrase: "two subjects (\"bicycle and vehicle …\", \"a bus and a pedestrian\")",
+        idiom: "both are what the description is about: one `referred` rule per subject, each with the whole condition; when the description relates them, each is the other's related object",
+        example: "pair(B, V, T) :- category(B, \"BICYCLE\"), category(V, \"VEHICLE\"), nearby(B, V, T).\nreferred(B, T) :- pair(B, _, T).\nreferred(V, T) :- pair(_, V, T).\nrelated(B, V, T) :- pair(B, V, T).\nrelated(V, B, T) :- pair(B, V, T).",
+        library: &[("bicycle_and_vehicle_near_each_other", "referred(V, T) :- pair(_, V, T).")],
+    },
+    Convention {
+        phrase: "turning, changing lanes",
+        idiom: "`turning(X, T, \"left\")`; `lane_change(X, T, \"right\")`",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), turning(X, T, \"left\").",
+        library: &[],
+    },
+    Convention {
         phrase: "following, same lane, crossing in front",
-        idiom: "`following(X, Y, T)` (every lead within 25 m, not only the nearest), `same_lane(X, Y, T)`, `crossing(X, Y, T, \"forward\")` (Y crosses in front of X). The direct lead: `between(X, Y, T) :- following(X, Z, T), following(Z, Y, T).` then `lead(X, Y, T) :- following(X, Y, T), !between(X, Y, T).`",
+        idiom: "`following(X, Y, T)` (every lead within 25 m, not only the nearest; the nearest is the prelude's `lead(X, Y, T)`), `same_lane(X, Y, T)`, `crossing(X, Y, T, \"forward\")` (Y crosses in front of X)",
         example: "referred(X, T) :- category(X, \"VEHICLE\"), following(X, Y, T), category(Y, \"BUS\").",
         library: &[],
-    },
-    Convention {
-        phrase: "at an intersection, a crosswalk",
-        idiom: "`on_intersection(X, T)`; near one: `near_intersection(X, T, D), D < 10`; at a crosswalk: `at_crosswalk(X, T, D), D < 1`",
-        example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), at_crosswalk(X, T, D), D < 1.0.",
-        library: &[],
-    },
-    Convention {
-        phrase: "approaching a place or an object",
-        idiom: "a place along one's path: its distance shrinks, at least 1 m within the next second: `near_intersection(X, T, D), D > 0, D <= 30, T2 = T + 10, near_intersection(X, T2, D2), D2 <= D - 1` (the same with `at_crosswalk`); a stop sign: `at_stop_sign(X, S, T)` while moving; an object ahead: `heading_toward(X, Y, T)` (X's velocity points at Y and it closes in)",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), near_intersection(X, T, D), D > 0.0, D <= 30.0, T2 = T + 10, near_intersection(X, T2, D2), D2 <= D - 1.0.",
-        library: &[("vehicle_approaching_intersection", "D2 <= D - 1.0")],
     },
     Convention {
         phrase: "between",
@@ -103,10 +72,10 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[("pedestrian_walking_between_two_stopped_vehicles", "in_between(P, A, B, T)")],
     },
     Convention {
-        phrase: "against traffic, wrong way, oncoming",
-        idiom: "driving against traffic (wrong way): `lane_direction(X, T, \"opposite\")` (X travels against its own lane) with `speed(X, T, V), V > 1` and `!on_intersection(X, T)` (lanes of every direction overlap there), for at least 2 s in a row (a second in the oncoming lane is a turn cutting across it); oncoming traffic or an oncoming vehicle: `heading_relative(X, Y, T, \"opposite\")` with Y ahead, `direction(X, Y, T, \"forward\", _, _)`; the oncoming side of the road: `road_side(X, Y, T, \"opposite\")`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V > 1.0, lane_direction(X, T, \"opposite\"), !on_intersection(X, T).",
-        library: &[("vehicle_driving_against_traffic", "lane_direction(V, T, \"opposite\"), !on_intersection(V, T)")],
+        phrase: "oncoming",
+        idiom: "oncoming traffic or an oncoming vehicle: `heading_relative(X, Y, T, \"opposite\")` with Y ahead, `direction(X, Y, T, \"forward\", _, _)`; the oncoming side of the road: `road_side(X, Y, T, \"opposite\")`; driving against traffic is the prelude's `against_traffic(X, T)`",
+        example: "referred(Y, T) :- ego(E), heading_relative(E, Y, T, \"opposite\"), direction(E, Y, T, \"forward\", _, _).",
+        library: &[("vehicle_driving_against_traffic", "against_traffic(V, T)")],
     },
     Convention {
         phrase: "swerving",
@@ -122,37 +91,31 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "construction objects, a construction zone",
-        idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is a cluster: link objects within 10 m and close the links by recursion, then count, as for a group",
+        idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is a cluster: link objects within 10 m and close the links by recursion, then count, as the prelude's `in_group` does for people",
         example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10.0, category(C, \"CONSTRUCTION\").",
         library: &[("construction_zone", "category(C, \"CONSTRUCTION\")")],
     },
     Convention {
-        phrase: "a group of N people",
-        idiom: "a group is connected, not a neighbour count: `link(P, Q, T)` for pedestrians within 2 m, `grouped(P, Q, T) :- link(P, Q, T).` `grouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).` then `N = count : { grouped(P, Q, T) }` is P's group size (P included)",
-        example: "link(P, Q, T) :- category(P, \"PEDESTRIAN\"), category(Q, \"PEDESTRIAN\"), P != Q, near(P, Q, T, D), D <= 2.0.\ngrouped(P, Q, T) :- link(P, Q, T).\ngrouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).\nreferred(P, T) :- grouped(P, _, T), N = count : { grouped(P, Q, T) }, N >= 3.",
-        library: &[("group_of_three_people", "grouped(P, R, T) :- grouped(P, Q, T), link(Q, R, T).")],
-    },
-    Convention {
-        phrase: "time: frames",
-        idiom: "times are frames at 10 Hz: `T + 10` is one second later, 2 s is 20 frames; compare times with integers, never floats (`seconds(T, S)` gives seconds)",
+        phrase: "time",
+        idiom: "a time is in tenths of a second from the log's start, whatever the tracker's rate (at 2 Hz only every fifth value has data): `T + 10` is one second later, 2 s is 20; compare times with integers, never floats (`seconds(T, S)` gives seconds). Never count samples to measure a duration",
         example: "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 > T1, T2 - T1 <= 20.",
         library: &[],
     },
     Convention {
         phrase: "for at least 2 s",
-        idiom: "count the frames of the last 2 s: `N = count : { stopped(X, T2), T2 > T - 20, T2 <= T }, N >= 20` (every frame of the window holds)",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), present(X, T), N = count : { speed(X, T2, V), V < 0.5, T2 > T - 20, T2 <= T }, N >= 20.",
+        idiom: "it holds at every sample from 2 s before T to T: `p(X, T), T0 = T - 20, p(X, T0), N = count : { p(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M` (the same at any tracker rate; the prelude's `against_traffic` is written so)",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), T0 = T - 20, stopped(X, T0), N = count : { stopped(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M.",
         library: &[],
     },
     Convention {
         phrase: "A then B, after A, before B",
         idiom: "join the two moments and order them: `a(X, T1), b(X, T2), T2 > T1, T2 - T1 <= 30` (B within 3 s after A); \"after stopping\" is `stopped(X, T1), T > T1`",
-        example: "referred(X, T2) :- speed(X, T1, V), V < 0.5, accel(X, T2, A), A >= 1.0, T2 > T1, T2 - T1 <= 30.",
+        example: "referred(X, T2) :- stopped(X, T1), accelerating(X, T2), T2 > T1, T2 - T1 <= 30.",
         library: &[],
     },
     Convention {
         phrase: "something the catalog cannot express",
-        idiom: "write the closest program you can and say in a `//` comment what it approximates and why; use only catalog relations, categories and your own helpers, never invented ones",
+        idiom: "write the closest program you can and say in a `//` comment what it approximates and why; use only catalog relations, the prelude's concepts, categories and your own helpers, never invented ones",
         example: "referred(X, T) :- category(X, \"LARGE_VEHICLE\"), present(X, T).",
         library: &[],
     },
@@ -179,14 +142,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn thresholds_named_here_are_the_ones_the_idioms_use() {
-        let stopped = CONVENTIONS.iter().find(|c| c.phrase == "stopped");
-        assert!(stopped.is_some_and(|c| c.idiom.contains(&format!("V < {STOPPED_SPEED}"))));
-        assert!(stopped.is_some_and(|c| !c.idiom.contains("(not parked)")));
-        let braking = CONVENTIONS.iter().find(|c| c.phrase == "braking");
-        let hard = format!("A <= {}", HARD_BRAKING_ACCEL as i64);
-        let plain = format!("A <= {}", BRAKING_ACCEL as i64);
-        assert!(braking.is_some_and(|c| c.idiom.contains(&hard) && c.idiom.contains(&plain)));
+    fn no_convention_writes_a_concept_threshold_of_its_own() {
+        // The concepts' thresholds are the prelude's (rules/prelude.dl); a convention that
+        // restated one would be a second definition.
+        for c in CONVENTIONS {
+            for restated in [
+                "V < 0.5",
+                "A <= -1",
+                "A <= -3",
+                "A >= 0.65",
+                "D < 10",
+                "D < 1",
+            ] {
+                assert!(!c.idiom.contains(restated), "{}: {restated}", c.phrase);
+            }
+        }
         let text = render_text();
         assert_eq!(text.lines().count(), CONVENTIONS.len());
         assert!(text.starts_with("- An object's kind: "), "{text}");

@@ -8,6 +8,11 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+/// The distance of the prelude's `at_a_crosswalk` (`rules/prelude.dl`): RefAV's
+/// `at_pedestrian_crossing` at this distance means the same and is written with it; a test
+/// checks the prelude still says so.
+const AT_A_CROSSWALK_M: f64 = 1.0;
+
 use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
 
 use crate::signatures::{self, Default, Kind, Signature};
@@ -824,6 +829,10 @@ impl Translator<'_> {
             }
             "at_pedestrian_crossing" => {
                 let d = self.num(f, "within_distance", &a("within_distance"))?;
+                // RefAV's default distance is the prelude's meaning of "at a crosswalk".
+                if d == AT_A_CROSSWALK_M {
+                    return Ok(vec!["at_a_crosswalk(X, T)".to_string()]);
+                }
                 let mut v = vec!["at_crosswalk(X, T, D)".to_string()];
                 v.extend(range("D", f64::NEG_INFINITY, d));
                 v

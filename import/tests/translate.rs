@@ -281,3 +281,24 @@ mod fuzz {
         }
     }
 }
+
+/// `at_pedestrian_crossing` at RefAV's default distance is the prelude's `at_a_crosswalk`
+/// (`rules/prelude.dl`), written with it; another distance keeps the catalog relation. Both
+/// find the same pairs as the catalog relation written out.
+#[test]
+fn at_pedestrian_crossing_at_the_default_distance_is_the_prelude_concept() {
+    let prelude = scenalog_rules::prelude::relation("at_a_crosswalk").expect("prelude relation");
+    assert_eq!(
+        prelude.definition,
+        ["at_a_crosswalk(X, T) :- at_crosswalk(X, T, D), D <= 1.0."]
+    );
+    let default = imported("result = at_pedestrian_crossing(peds, log_dir)");
+    assert!(default.contains("at_a_crosswalk(X, T)"), "{default}");
+    let wider = imported("result = at_pedestrian_crossing(peds, log_dir, within_distance=2)");
+    assert!(wider.contains("at_crosswalk(X, T, D), D <= 2"), "{wider}");
+    let (by_prelude, _) = run("result = at_pedestrian_crossing(objects, log_dir)");
+    let (by_catalog, _) =
+        run("result = at_pedestrian_crossing(objects, log_dir, within_distance=1.0000001)");
+    assert!(!by_prelude.is_empty());
+    assert!(by_prelude.is_subset(&by_catalog));
+}

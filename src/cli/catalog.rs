@@ -1,8 +1,10 @@
-//! `scenalog catalog [NAME]`: print the catalog of relations, or one relation of it.
+//! `scenalog catalog [NAME]`: print the catalog of relations and the prelude's concepts, or one
+//! relation of either.
 
 use std::process::ExitCode;
 
 use scenalog_facts::catalog;
+use scenalog_rules::prelude;
 
 /// Arguments of `scenalog catalog`.
 #[derive(clap::Args)]
@@ -17,13 +19,41 @@ pub struct Args {
 /// Prints the catalog (or one relation) as text or JSON.
 pub fn run(args: Args) -> ExitCode {
     match args.name {
-        None if args.json => outln!("{:#}", catalog::render_json()),
-        None => out!("{}", catalog::render_text()),
+        None if args.json => {
+            let mut all = catalog::catalog()
+                .iter()
+                .map(|r| r.to_json())
+                .collect::<Vec<_>>();
+            all.extend(prelude::relations().iter().map(|r| r.to_json()));
+            outln!("{:#}", serde_json::Value::Array(all))
+        }
+        None => {
+            out!("{}", catalog::render_text());
+            outln!(
+                "\nConcepts (the prelude: relations every program can use without defining them)"
+            );
+            out!("{}", prelude::render_text());
+        }
         Some(name) => {
+            if let Some(p) = prelude::relation(&name) {
+                if args.json {
+                    outln!("{:#}", p.to_json());
+                } else {
+                    outln!("{} (prelude)\n    {}", p.signature(), p.doc);
+                    for line in &p.definition {
+                        outln!("    {line}");
+                    }
+                }
+                return ExitCode::SUCCESS;
+            }
             let Some(r) = catalog::relation(&name) else {
-                let names: Vec<&str> = catalog::catalog().iter().map(|r| r.name).collect();
+                let names: Vec<&str> = catalog::catalog()
+                    .iter()
+                    .map(|r| r.name)
+                    .chain(prelude::relations().iter().map(|r| r.name.as_str()))
+                    .collect();
                 eprintln!(
-                    "scenalog catalog: no relation `{name}` in the catalog; it has: {}",
+                    "scenalog catalog: no relation `{name}` in the catalog or the prelude; they have: {}",
                     names.join(", ")
                 );
                 return ExitCode::from(2);

@@ -246,6 +246,9 @@ impl Renderer<'_> {
     pub fn clause_source(&self, clause: usize) -> Option<(usize, String)> {
         let c = self.scenario.program.program.clauses.get(clause)?;
         let src = &self.scenario.source;
+        if let Some(found) = scenalog_rules::prelude::clause_text(src.len(), c.span) {
+            return Some(found);
+        }
         let text = src.get(c.span.start..c.span.end)?.trim().to_string();
         let line = src.get(..c.span.start)?.matches('\n').count() + 1;
         Some((line, text))
@@ -260,6 +263,23 @@ impl Renderer<'_> {
 
     fn file(&self) -> String {
         self.scenario.path.display().to_string()
+    }
+
+    /// The file a clause's text is in: the program's, or the prelude's for a clause the checker
+    /// added from it.
+    fn clause_file(&self, clause: usize) -> String {
+        let from_prelude = self
+            .scenario
+            .program
+            .program
+            .clauses
+            .get(clause)
+            .is_some_and(|c| c.span.start > self.scenario.source.len());
+        if from_prelude {
+            format!("the prelude, {}", scenalog_rules::prelude::PATH)
+        } else {
+            self.file()
+        }
     }
 
     pub(crate) fn literal(&self, clause: Option<usize>, li: usize) -> Option<&Literal> {
@@ -369,7 +389,10 @@ impl Renderer<'_> {
             out.push_str(&format!("{pad}{}\n", self.fact(&d.relation, &d.tuple)));
         }
         if let Some((line, text)) = self.clause_source(ci) {
-            out.push_str(&format!("{pad}  by the rule at {}:{line}:\n", self.file()));
+            out.push_str(&format!(
+                "{pad}  by the rule at {}:{line}:\n",
+                self.clause_file(ci)
+            ));
             for l in text.lines() {
                 out.push_str(&format!("{pad}    | {}\n", l.trim_end()));
             }
@@ -609,7 +632,10 @@ impl Renderer<'_> {
     fn attempt_text(&self, a: &ClauseAttempt, indent: usize, out: &mut String, depth: usize) {
         let pad = " ".repeat(indent);
         if let Some((line, text)) = self.clause_source(a.clause) {
-            out.push_str(&format!("{pad}the rule at {}:{line}:\n", self.file()));
+            out.push_str(&format!(
+                "{pad}the rule at {}:{line}:\n",
+                self.clause_file(a.clause)
+            ));
             for l in text.lines() {
                 out.push_str(&format!("{pad}    | {}\n", l.trim_end()));
             }

@@ -20,7 +20,8 @@ use crate::library::Example;
 pub const DEFAULT_EXAMPLES: usize = 8;
 
 /// What the model is asked to do and how the language works (before the catalog);
-/// `{CONVENTIONS}` is replaced by the conventions table (`scenalog_facts::conventions`).
+/// `{CONVENTIONS}` is replaced by the prelude's concepts (`scenalog_rules::prelude`) and the
+/// conventions table (`scenalog_facts::conventions`).
 const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (close to Soufflé) for finding scenarios described in words in Argoverse 2 driving logs. A program is evaluated over facts extracted from one log and says which objects the description is about, at which frames.
 
 # Outputs
@@ -38,7 +39,7 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 - Helper predicates may be declared, `.decl name(X: track, T: time)`, but their types are inferred when they are not.
 - Recursion is allowed (e.g. a chain over `following`), but not through negation or aggregates.
 - Safety: every variable of the head, of a negation and of a comparison must occur in a positive atom of the body or be bound by `X = expr`.
-- Types: track (an object; the ego is one), time (frame index, 10 Hz: T + 10 is one second later), lane, str, float, int. Each column has one type: never put a track where a lane goes, or a string where a number goes. A string column with listed values takes only those values.
+- Types: track (an object; the ego is one), time (tenths of a second from the log's start: T + 10 is one second later), lane, str, float, int. Each column has one type: never put a track where a lane goes, or a string where a number goes. A string column with listed values takes only those values.
 
 {CONVENTIONS}
 # Answer format
@@ -47,7 +48,8 @@ Reply with the complete program in one fenced code block (```scenalog ... ```), 
 /// The system message: the task and language, the catalog, the categories.
 pub fn system_message() -> String {
     let conventions = format!(
-        "# Conventions (use these thresholds unless the description says otherwise)\n{}",
+        "# Concepts: the prelude\nThese relations are defined once, for every program: use them as they are, never define or re-derive them (a program that defines one of these names replaces it).\n{}\n# Conventions\n{}",
+        scenalog_rules::prelude::render_text(),
         conventions::render_text()
     );
     let mut s = LANGUAGE.replace("{CONVENTIONS}", &conventions);

@@ -10,7 +10,7 @@ use support::server::{program, Reply, Server};
 
 const LEFT: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
 const STOPPED: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.";
-const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), stopped(V, T).";
+const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), halted(V, T).";
 
 fn config(server: &Server) -> SynthConfig {
     SynthConfig {
