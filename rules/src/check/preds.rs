@@ -336,17 +336,26 @@ fn unknown_predicate(a: &Atom, program_names: &[String]) -> Diagnostic {
     let candidates = catalog::catalog()
         .iter()
         .map(|r| r.name)
+        .chain(crate::prelude::relations().iter().map(|r| r.name.as_str()))
         .chain(program_names.iter().map(String::as_str));
-    let near = closest(&a.pred, candidates, 3);
+    let mut seen = std::collections::BTreeSet::new();
+    let near: Vec<&str> = closest(&a.pred, candidates, 4)
+        .into_iter()
+        .filter(|n| seen.insert(*n))
+        .take(3)
+        .collect();
     let hint = if near.is_empty() {
-        "it is neither a catalog relation nor defined by a rule here; `scenalog catalog` lists the relations".to_string()
+        "it is neither a relation of the catalog or the prelude nor defined by a rule here: define it with a rule of its own (`name(X, T) :- …`) or use one of the relations the catalog and the prelude list".to_string()
     } else {
         let names: Vec<String> = near
             .iter()
-            .map(|n| match catalog::relation(n) {
-                Some(r) => format!("`{}`", r.signature()),
-                None => format!("`{n}` (defined in this program)"),
-            })
+            .map(
+                |n| match (catalog::relation(n), crate::prelude::relation(n)) {
+                    (Some(r), _) => format!("`{}`", r.signature()),
+                    (None, Some(p)) => format!("`{}` (the prelude's: {})", p.signature(), p.doc),
+                    (None, None) => format!("`{n}` (defined in this program)"),
+                },
+            )
             .collect();
         format!("did you mean {}?", names.join(" or "))
     };
