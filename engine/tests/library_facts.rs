@@ -376,8 +376,24 @@ fn accelerating_truck() {
     // A tractor unit and a plain truck are trucks too.
     finds(name, &swap(base, "BOX_TRUCK", "TRUCK_CAB"), &[(1, 10)], &[]);
     finds(name, &swap(base, "BOX_TRUCK", "TRUCK"), &[(1, 10)], &[]);
-    // Just below the reliable-acceleration threshold of 1 m/s².
-    nothing(name, &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, 0.95)"));
+    // Pulling away gently still counts: `accelerating` is 0.65 m/s² or more, the threshold
+    // included.
+    finds(
+        name,
+        &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, 0.7)"),
+        &[(1, 10)],
+        &[],
+    );
+    finds(
+        name,
+        &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, 0.65)"),
+        &[(1, 10)],
+        &[],
+    );
+    // Just below it (0.6 m/s²): holding speed on a slope, not accelerating.
+    nothing(name, &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, 0.6)"));
+    // Decelerating is not accelerating.
+    nothing(name, &swap(base, "accel(1, 10, 1.5)", "accel(1, 10, -1.5)"));
 }
 
 #[test]
@@ -488,21 +504,33 @@ fn vehicle_braking_heavily() {
 #[test]
 fn vehicle_braking_at_pedestrian_crossing() {
     let name = "vehicle_braking_at_pedestrian_crossing";
-    // A car braking at -2 m/s² with its box 1.5 m from a crosswalk at frame 4; braking as
+    // A car braking at -2 m/s² with its box 0.5 m from a crosswalk at frame 4; braking as
     // hard far from any crosswalk at frame 9.
     let base = r#"
         category(1, "REGULAR_VEHICLE").
-        accel(1, 4, -2.0). at_crosswalk(1, 4, 1.5).
+        accel(1, 4, -2.0). at_crosswalk(1, 4, 0.5).
         accel(1, 9, -2.0). at_crosswalk(1, 9, 25.0).
     "#;
     finds(name, base, &[(1, 4)], &[]);
-    // At the crosswalk but not braking.
+    // On the crosswalk, and exactly 1 m from it (`at_a_crosswalk` includes 1 m).
+    for d in ["0.0", "1.0"] {
+        let on = swap(
+            base,
+            "at_crosswalk(1, 4, 0.5)",
+            &format!("at_crosswalk(1, 4, {d})"),
+        );
+        finds(name, &on, &[(1, 4)], &[]);
+    }
+    // At the crosswalk but not braking: coasting (-0.5) or just under braking (-0.9 m/s²).
     nothing(name, &swap(base, "accel(1, 4, -2.0)", "accel(1, 4, -0.5)"));
-    // Braking 2.5 m from the crosswalk: not at it.
+    nothing(name, &swap(base, "accel(1, 4, -2.0)", "accel(1, 4, -0.9)"));
+    // Braking 1.5 m from the crosswalk: short of it, not at it.
     nothing(
         name,
-        &swap(base, "at_crosswalk(1, 4, 1.5)", "at_crosswalk(1, 4, 2.5)"),
+        &swap(base, "at_crosswalk(1, 4, 0.5)", "at_crosswalk(1, 4, 1.5)"),
     );
+    // A bicyclist braking there is not a vehicle.
+    nothing(name, &swap(base, "REGULAR_VEHICLE", "BICYCLIST"));
 }
 
 // ---- lane changes -----------------------------------------------------------------------------
@@ -682,8 +710,7 @@ fn object_that_has_not_moved() {
 fn vehicle_stopped_at_intersection() {
     let name = "vehicle_stopped_at_intersection";
     // A car waiting on an intersection at 0.2 m/s over frames 0-30, on the intersection at
-    // frames 10 and 20 (each has a whole second of history either side); it drives away
-    // later, so it is not parked.
+    // frames 10 and 20; it drives away later, so it is not parked.
     let mut base = String::from(
         r#"category(1, "REGULAR_VEHICLE"). on_intersection(1, 10). on_intersection(1, 20)."#,
     );
@@ -691,27 +718,55 @@ fn vehicle_stopped_at_intersection() {
         base.push_str(&format!(" speed(1, {f}, 0.2)."));
     }
     finds(name, &base, &[(1, 10), (1, 20)], &[]);
-    // It moves at 0.6 m/s at frame 25: within a second of frame 20, not of frame 10.
+    // `stopped` is the frame's own speed below 0.5 m/s: creeping at 0.6 m/s at frame 25 does
+    // not undo frame 20, while 0.5 m/s at frame 20 itself is not stopped, 0.45 is.
     finds(
         name,
         &swap(&base, "speed(1, 25, 0.2)", "speed(1, 25, 0.6)"),
+        &[(1, 10), (1, 20)],
+        &[],
+    );
+    finds(
+        name,
+        &swap(&base, "speed(1, 20, 0.2)", "speed(1, 20, 0.5)"),
         &[(1, 10)],
         &[],
     );
-    // At frame 31 it is more than a second after frame 20: both still stopped.
-    let later = format!("{base} speed(1, 31, 5.0).");
-    finds(name, &later, &[(1, 10), (1, 20)], &[]);
-    // Parked on the intersection (stationary): not "stopped".
-    nothing(name, &format!("{base} stationary(1)."));
-    // Stopped, but not on an intersection.
-    nothing(
+    finds(
         name,
-        &swap(
-            &swap(&base, "on_intersection(1, 10).", ""),
-            "on_intersection(1, 20).",
-            "",
-        ),
+        &swap(&base, "speed(1, 20, 0.2)", "speed(1, 20, 0.45)"),
+        &[(1, 10), (1, 20)],
+        &[],
     );
+    // Parked on the intersection (stationary over its whole track): parked is stopped too.
+    finds(
+        name,
+        &format!("{base} stationary(1)."),
+        &[(1, 10), (1, 20)],
+        &[],
+    );
+    // Stopped, but not on an intersection.
+    let off = swap(
+        &swap(&base, "on_intersection(1, 10).", ""),
+        "on_intersection(1, 20).",
+        "",
+    );
+    nothing(name, &off);
+    // At frame 5 it waits at the stop line: in lane 7, which leads into intersection lane 8,
+    // 3 m from the intersection.
+    let line = format!(
+        "{off} in_lane(1, 5, 7). lane_successor(7, 8). intersection_lane(8). \
+         near_intersection(1, 5, 3.0)."
+    );
+    finds(name, &line, &[(1, 5)], &[]);
+    // 5 m from it is still at it; 6 m is short of it.
+    let at = |d: &str| swap(&line, "near_intersection(1, 5, 3.0)", d);
+    finds(name, &at("near_intersection(1, 5, 5.0)"), &[(1, 5)], &[]);
+    nothing(name, &at("near_intersection(1, 5, 6.0)"));
+    // 3 m from an intersection its lane does not lead into (a side street's, across a median).
+    nothing(name, &swap(&line, "intersection_lane(8).", ""));
+    // A pedestrian standing there is not a vehicle.
+    nothing(name, &swap(&base, "REGULAR_VEHICLE", "PEDESTRIAN"));
 }
 
 // ---- turns ------------------------------------------------------------------------------------
@@ -874,20 +929,18 @@ fn any_object_within_5_meters_of_an_intersection() {
 #[test]
 fn bicycle_on_intersection() {
     let name = "bicycle_on_intersection";
-    // A bicyclist and a parked bicycle on an intersection at frame 4, a car too.
+    // A ridden bicycle on an intersection at frame 4: the BICYCLE box (2) and its rider's
+    // BICYCLIST box (1); a car too. The bicycle is the BICYCLE, never its rider.
     let base = r#"
         category(1, "BICYCLIST"). on_intersection(1, 4).
         category(2, "BICYCLE"). on_intersection(2, 4).
         category(3, "REGULAR_VEHICLE"). on_intersection(3, 4).
     "#;
-    finds(name, base, &[(1, 4), (2, 4)], &[]);
-    // A motorcyclist is not a bicycle.
-    finds(
-        name,
-        &swap(base, "BICYCLIST", "MOTORCYCLIST"),
-        &[(2, 4)],
-        &[],
-    );
+    finds(name, base, &[(2, 4)], &[]);
+    // The bicycle waits before the intersection while its rider leans onto it: nothing.
+    nothing(name, &swap(base, "on_intersection(2, 4).", ""));
+    // A motorcycle is not a bicycle.
+    nothing(name, &swap(base, "\"BICYCLE\"", "\"MOTORCYCLE\""));
 }
 
 #[test]
@@ -923,16 +976,24 @@ fn active_vehicle_at_stop_sign() {
 #[test]
 fn pedestrian_near_stop_sign() {
     let name = "pedestrian_near_stop_sign";
-    // A pedestrian 3 m from a stop sign's box at frame 6, 8 m at frame 7.
+    // A pedestrian 8 m from a stop sign's box at frame 6 (`nearby`: 10 m at most), 12 m at
+    // frame 7.
     let base = r#"
         category(1, "PEDESTRIAN"). category(9, "STOP_SIGN").
-        near(1, 9, 6, 3.0). near(1, 9, 7, 8.0).
+        near(1, 9, 6, 8.0). near(1, 9, 7, 12.0).
     "#;
     finds(name, base, &[(1, 6)], &[(1, 9, 6)]);
-    // 5.5 m away at frame 6 too.
+    // Exactly 10 m away at frame 7 is near too.
+    finds(
+        name,
+        &swap(base, "near(1, 9, 7, 12.0)", "near(1, 9, 7, 10.0)"),
+        &[(1, 6), (1, 7)],
+        &[(1, 9, 6), (1, 9, 7)],
+    );
+    // 10.5 m away at frame 6 too.
     nothing(
         name,
-        &swap(base, "near(1, 9, 6, 3.0)", "near(1, 9, 6, 5.5)"),
+        &swap(base, "near(1, 9, 6, 8.0)", "near(1, 9, 6, 10.5)"),
     );
     // Next to a sign that is not a stop sign.
     nothing(name, &swap(base, "STOP_SIGN", "SIGN"));
@@ -1136,19 +1197,34 @@ fn motorcycle_or_pedestrian_within_5_meters_to_the_right_of_the_ego_vehicle() {
 #[test]
 fn moving_bicycle_directly_to_the_left_of_the_ego_vehicle() {
     let name = "moving_bicycle_directly_to_the_left_of_the_ego_vehicle";
-    // At frame 3 a bicyclist riding at 5 m/s 1.5 m to the ego's left, alongside it (its
-    // centre between the ego's ends, Lat 0).
+    // At frame 3 a bicycle (1) ridden at 5 m/s 1.5 m to the ego's left, alongside it (its
+    // centre between the ego's ends, Lat 0); its rider is the BICYCLIST box 2 beside it.
     let base = r#"
-        category(0, "EGO_VEHICLE"). category(1, "BICYCLIST").
+        category(0, "EGO_VEHICLE"). category(1, "BICYCLE"). category(2, "BICYCLIST").
         direction(0, 1, 3, "left", 1.5, 0.0). speed(1, 3, 5.0).
+        direction(0, 2, 3, "left", 1.6, 0.0). speed(2, 3, 5.0).
     "#;
     finds(name, base, &[(1, 3)], &[(1, 0, 3)]);
     // Left of the ego but 2 m past its front end: not directly beside it.
-    nothing(name, &swap(base, "1.5, 0.0", "1.5, 2.0"));
-    // A parked bicycle there (0 m/s).
-    nothing(name, &swap(base, "speed(1, 3, 5.0)", "speed(1, 3, 0.0)"));
+    nothing(
+        name,
+        &base
+            .replace("1.5, 0.0", "1.5, 2.0")
+            .replace("1.6, 0.0", "1.6, 2.0"),
+    );
+    // The bicycle pushed at 0.5 m/s is moving (the threshold included); at 0.45 m/s, or
+    // parked (0 m/s), it is not, whatever the rider's box does.
+    let pushed = |v: &str| swap(base, "speed(1, 3, 5.0)", &format!("speed(1, 3, {v})"));
+    finds(name, &pushed("0.5"), &[(1, 3)], &[(1, 0, 3)]);
+    nothing(name, &pushed("0.45"));
+    nothing(name, &pushed("0.0"));
     // On the ego's right.
-    nothing(name, &swap(base, "\"left\"", "\"right\""));
+    nothing(name, &base.replace("\"left\"", "\"right\""));
+    // A moving bicyclist with no BICYCLE box is not a bicycle.
+    nothing(
+        name,
+        &swap(base, "direction(0, 1, 3, \"left\", 1.5, 0.0).", ""),
+    );
 }
 
 #[test]
@@ -1268,20 +1344,41 @@ fn pedestrians_over_30_meters_away() {
 #[test]
 fn group_of_pedestrians_ahead_of_the_ego_vehicle() {
     let name = "group_of_pedestrians_ahead_of_the_ego_vehicle";
-    // At frame 10 three pedestrians 15-18 m ahead of the ego, within 3 m of its path.
+    // At frame 10 three pedestrians 15-17 m ahead of the ego, within 5 m of its path, in one
+    // group: 1-2 and 2-3 are 1 m apart, 1-3 2.2 m (chained, not each within 2 m of both).
     let base = r#"
         category(0, "EGO_VEHICLE").
         category(1, "PEDESTRIAN"). category(2, "PEDESTRIAN"). category(3, "PEDESTRIAN").
-        direction(0, 1, 10, "forward", 15.0, 0.0).
-        direction(0, 2, 10, "forward", 16.0, 1.0).
-        direction(0, 3, 10, "forward", 18.0, 3.0).
+        direction(0, 1, 10, "forward", 15.0, 3.0).
+        direction(0, 2, 10, "forward", 16.0, 4.0).
+        direction(0, 3, 10, "forward", 17.0, 4.5).
+        near(1, 2, 10, 1.0). near(2, 3, 10, 1.0). near(1, 3, 10, 2.2).
     "#;
-    finds(name, base, &[(1, 10), (2, 10), (3, 10)], &[]);
-    // The third is behind the ego: two are not a group.
-    nothing(name, &swap(base, "\"forward\", 18.0", "\"backward\", 18.0"));
-    // The third is 8 m off to the side, on the sidewalk.
-    nothing(name, &swap(base, "18.0, 3.0", "18.0, 8.0"));
-    // The third is a dog.
+    let all = [
+        (1, 2, 10),
+        (1, 3, 10),
+        (2, 1, 10),
+        (2, 3, 10),
+        (3, 1, 10),
+        (3, 2, 10),
+    ];
+    finds(name, base, &[(1, 10), (2, 10), (3, 10)], &all);
+    // Three pedestrians ahead, but spread out (2-3 2.1 m apart): a pair and one alone.
+    nothing(
+        name,
+        &swap(base, "near(2, 3, 10, 1.0)", "near(2, 3, 10, 2.1)"),
+    );
+    // The third stands 5.5 m off the ego's path, still in the group: the two ahead are
+    // found, with the whole group related.
+    finds(
+        name,
+        &swap(base, "17.0, 4.5", "17.0, 5.5"),
+        &[(1, 10), (2, 10)],
+        &[(1, 2, 10), (1, 3, 10), (2, 1, 10), (2, 3, 10)],
+    );
+    // The group is behind the ego.
+    nothing(name, &base.replace("\"forward\"", "\"backward\""));
+    // The third is a dog: two pedestrians are not a group.
     nothing(
         name,
         &swap(base, "category(3, \"PEDESTRIAN\")", "category(3, \"DOG\")"),
@@ -1314,16 +1411,23 @@ fn multiple_motorcycles_ahead_of_the_ego_vehicle() {
 #[test]
 fn multiple_pedestrians_near_a_vehicle() {
     let name = "multiple_pedestrians_near_a_vehicle";
-    // At frame 12 two pedestrians 1 m and 4 m from a parked car's box.
+    // At frame 12 two pedestrians 1 m and 8 m from a parked car's box (`nearby`: 10 m at most).
     let base = r#"
         category(1, "REGULAR_VEHICLE"). category(2, "PEDESTRIAN"). category(3, "PEDESTRIAN").
-        near(1, 2, 12, 1.0). near(1, 3, 12, 4.0). near(2, 3, 12, 2.5).
+        near(1, 2, 12, 1.0). near(1, 3, 12, 8.0). near(2, 3, 12, 7.5).
     "#;
     finds(name, base, &[(1, 12)], &[(1, 2, 12), (1, 3, 12)]);
-    // The second 5.5 m away: one pedestrian is not multiple.
+    // The second exactly 10 m away is near too.
+    finds(
+        name,
+        &swap(base, "near(1, 3, 12, 8.0)", "near(1, 3, 12, 10.0)"),
+        &[(1, 12)],
+        &[(1, 2, 12), (1, 3, 12)],
+    );
+    // The second 10.5 m away: one pedestrian is not multiple.
     nothing(
         name,
-        &swap(base, "near(1, 3, 12, 4.0)", "near(1, 3, 12, 5.5)"),
+        &swap(base, "near(1, 3, 12, 8.0)", "near(1, 3, 12, 10.5)"),
     );
     // The "vehicle" is a bollard.
     nothing(name, &swap(base, "REGULAR_VEHICLE", "BOLLARD"));
@@ -1450,10 +1554,19 @@ fn pedestrians_using_designated_crossing() {
         category(1, "PEDESTRIAN"). at_crosswalk(1, 17, 0.0). speed(1, 17, 1.2).
     "#;
     finds(name, base, &[(1, 17)], &[]);
-    // Walking along the kerb 0.5 m from the crosswalk.
+    // Stepping onto it, 0.5 m and 1 m from it: `at_a_crosswalk` (1 m at most).
+    for d in ["0.5", "1.0"] {
+        let at = swap(
+            base,
+            "at_crosswalk(1, 17, 0.0)",
+            &format!("at_crosswalk(1, 17, {d})"),
+        );
+        finds(name, &at, &[(1, 17)], &[]);
+    }
+    // Walking along the kerb 1.5 m from the crosswalk.
     nothing(
         name,
-        &swap(base, "at_crosswalk(1, 17, 0.0)", "at_crosswalk(1, 17, 0.5)"),
+        &swap(base, "at_crosswalk(1, 17, 0.0)", "at_crosswalk(1, 17, 1.5)"),
     );
     // Standing on it (0.1 m/s).
     nothing(name, &swap(base, "speed(1, 17, 1.2)", "speed(1, 17, 0.1)"));
@@ -1529,27 +1642,34 @@ fn vehicle_crossed_by_pedestrian() {
 #[test]
 fn bicycle_following_closely_behind_a_vehicle() {
     let name = "bicycle_following_closely_behind_a_vehicle";
-    // At frame 6 a bicyclist follows a car, 3 m behind its box.
+    // At frame 6 a bicycle (1) follows a car, 3 m behind its box; its rider's BICYCLIST box (3)
+    // follows the car too.
     let base = r#"
-        category(1, "BICYCLIST"). category(2, "REGULAR_VEHICLE").
+        category(1, "BICYCLE"). category(2, "REGULAR_VEHICLE"). category(3, "BICYCLIST").
         following(1, 2, 6). near(1, 2, 6, 3.0).
+        following(3, 2, 6). near(3, 2, 6, 3.2).
     "#;
     finds(name, base, &[(1, 6)], &[(1, 2, 6)]);
     // 6 m behind: not closely.
-    nothing(name, &swap(base, "3.0", "6.0"));
-    // The car follows the bicyclist instead.
+    nothing(
+        name,
+        &swap(base, "near(1, 2, 6, 3.0)", "near(1, 2, 6, 6.0)"),
+    );
+    // The car follows the bicycle instead.
     nothing(
         name,
         &swap(base, "following(1, 2, 6)", "following(2, 1, 6)"),
     );
     // Following a pedestrian, not a vehicle.
     nothing(name, &swap(base, "REGULAR_VEHICLE", "PEDESTRIAN"));
-    // A riderless bicycle counts as a bicycle too.
-    finds(
+    // The rider alone (no BICYCLE box) is not a bicycle.
+    nothing(
         name,
-        &swap(base, "BICYCLIST", "BICYCLE"),
-        &[(1, 6)],
-        &[(1, 2, 6)],
+        &swap(
+            base,
+            "category(1, \"BICYCLE\")",
+            "category(1, \"BICYCLIST\")",
+        ),
     );
 }
 
@@ -1771,23 +1891,53 @@ fn the_vehicle_behind_another_vehicle_being_crossed_by_a_jaywalking_pedestrian()
 #[test]
 fn bicycle_traveling_against_traffic() {
     let name = "bicycle_traveling_against_traffic";
-    // At frame 14 a bicyclist rides at 4 m/s on the same side of the road as a car driving
-    // at 10 m/s, 15 m away, heading the opposite way.
-    let base = r#"
-        category(1, "BICYCLIST"). category(2, "REGULAR_VEHICLE").
-        speed(1, 14, 4.0). speed(2, 14, 10.0).
-        road_side(2, 1, 14, "same"). road_side(1, 2, 14, "same").
-        heading_relative(2, 1, 14, "opposite"). near(2, 1, 14, 15.0).
+    // A bicycle (1) ridden at 4 m/s against its lane for 2 s (frames 10-30, 21 samples), its
+    // rider's BICYCLIST box (3) with it. At frame 14 a car drives at 10 m/s on the same side
+    // of the road, 15 m away, heading the opposite way: the traffic it rides against.
+    let car = r#"
+        category(2, "REGULAR_VEHICLE"). speed(2, 14, 10.0).
+        road_side(2, 1, 14, "same"). heading_relative(2, 1, 14, "opposite").
+        near(2, 1, 14, 15.0).
     "#;
-    finds(name, base, &[(1, 14)], &[(1, 2, 14)]);
-    // Riding with the traffic.
-    nothing(name, &swap(base, "\"opposite\"", "\"same\""));
-    // Riding on the other side of the road, where that traffic is oncoming anyway.
-    nothing(name, &base.replace("14, \"same\"", "14, \"opposite\""));
-    // Standing with the bike (0.2 m/s).
-    nothing(name, &swap(base, "speed(1, 14, 4.0)", "speed(1, 14, 0.2)"));
-    // The car 35 m away.
-    nothing(name, &swap(base, "15.0", "35.0"));
+    let scene = |frames: std::ops::Range<u32>, speed: f64| {
+        let bike = wrong_way(1, "BICYCLE", frames.clone(), speed);
+        let rider = wrong_way(3, "BICYCLIST", frames, speed);
+        format!("{bike} {rider} {car}")
+    };
+    let base = scene(10..31, 4.0);
+    let all: Vec<(u32, u32)> = (10..31).map(|f| (1, f)).collect();
+    finds(name, &base, &all, &[(1, 2, 14)]);
+    // 1.9 s against the lane (20 samples) is a bicycle cutting across it, not riding against
+    // traffic.
+    nothing(name, &scene(10..30, 4.0));
+    // Riding with the traffic (its lane's direction, the car's too); walking the bike at 1 m/s.
+    nothing(name, &base.replace("\"opposite\")", "\"same\")"));
+    nothing(name, &scene(10..31, 1.0));
+    // The rider alone (no BICYCLE box) is not a bicycle.
+    nothing(
+        name,
+        &swap(
+            &base,
+            "category(1, \"BICYCLE\")",
+            "category(1, \"BICYCLIST\")",
+        ),
+    );
+    // Vehicles not met head-on on its side are not related: heading the same way, on the other
+    // side of the road, 35 m away, or stopped (0.2 m/s).
+    for (from, to) in [
+        (
+            "heading_relative(2, 1, 14, \"opposite\")",
+            "heading_relative(2, 1, 14, \"same\")",
+        ),
+        (
+            "road_side(2, 1, 14, \"same\")",
+            "road_side(2, 1, 14, \"opposite\")",
+        ),
+        ("near(2, 1, 14, 15.0)", "near(2, 1, 14, 35.0)"),
+        ("speed(2, 14, 10.0)", "speed(2, 14, 0.2)"),
+    ] {
+        finds(name, &swap(&base, from, to), &all, &[]);
+    }
 }
 
 #[test]
@@ -1800,13 +1950,22 @@ fn ego_vehicle_approaching_stopped_truck() {
         speed(1, 15, 0.2). heading_toward(0, 1, 15). near(0, 1, 15, 20.0).
     "#;
     finds(name, base, &[(0, 15)], &[(0, 1, 15)]);
-    // The truck is parked for the whole log: parked, not stopped.
-    nothing(name, &format!("{base} stationary(1)."));
-    // The truck drives at 3 m/s.
-    nothing(name, &swap(base, "speed(1, 15, 0.2)", "speed(1, 15, 3.0)"));
+    // The truck is parked for the whole log: a parked truck is stopped too.
+    finds(
+        name,
+        &format!("{base} stationary(1)."),
+        &[(0, 15)],
+        &[(0, 1, 15)],
+    );
+    // `stopped` is below 0.5 m/s: 0.45 is, 0.5 and 3 m/s are not.
+    let at = |v: &str| swap(base, "speed(1, 15, 0.2)", &format!("speed(1, 15, {v})"));
+    finds(name, &at("0.45"), &[(0, 15)], &[(0, 1, 15)]);
+    nothing(name, &at("0.5"));
+    nothing(name, &at("3.0"));
     // The ego is not heading toward it.
     nothing(name, &swap(base, "heading_toward(0, 1, 15).", ""));
-    // 40 m away.
+    // 30 m away is still approaching; 40 m is not.
+    finds(name, &swap(base, "20.0", "30.0"), &[(0, 15)], &[(0, 1, 15)]);
     nothing(name, &swap(base, "20.0", "40.0"));
     // A stopped bus is not a truck.
     nothing(name, &swap(base, "BOX_TRUCK", "BUS"));
@@ -2083,12 +2242,14 @@ fn truck_cab_towing_a_trailer() {
     );
 }
 
-/// `frames` of a vehicle driving at `speed` against its lane (`lane_direction` "opposite").
-fn wrong_way(category: &str, frames: std::ops::Range<u32>, speed: f64) -> String {
-    let mut s = format!("category(1, \"{category}\").");
+/// Track `id` of `category` present at `frames`, driving at `speed` against its lane
+/// (`lane_direction` "opposite") at each.
+fn wrong_way(id: u32, category: &str, frames: impl IntoIterator<Item = u32>, speed: f64) -> String {
+    let mut s = format!("category({id}, \"{category}\").");
     for f in frames {
         s.push_str(&format!(
-            " speed(1, {f}, {speed:.1}). lane_direction(1, {f}, \"opposite\")."
+            " present({id}, {f}). speed({id}, {f}, {speed:.1}). \
+             lane_direction({id}, {f}, \"opposite\")."
         ));
     }
     s
@@ -2097,22 +2258,40 @@ fn wrong_way(category: &str, frames: std::ops::Range<u32>, speed: f64) -> String
 #[test]
 fn vehicle_driving_against_traffic() {
     let name = "vehicle_driving_against_traffic";
-    // A car driving the wrong way down a street for 2.5 s (frames 10-34) at 8 m/s: every frame.
-    let base = wrong_way("REGULAR_VEHICLE", 10..35, 8.0);
+    // A car driving the wrong way down a street for 2.4 s (frames 10-34) at 8 m/s: every frame.
+    let base = wrong_way(1, "REGULAR_VEHICLE", 10..35, 8.0);
     let all: Vec<(u32, u32)> = (10..35).map(|f| (1, f)).collect();
     finds(name, &base, &all, &[]);
-    // Exactly 2 s (20 frames) is enough; 1.9 s is a car cutting the oncoming lane (a left turn
-    // into a driveway, nosing out of a side road), not wrong-way driving.
-    let two: Vec<(u32, u32)> = (10..30).map(|f| (1, f)).collect();
-    finds(name, &wrong_way("REGULAR_VEHICLE", 10..30, 8.0), &two, &[]);
-    nothing(name, &wrong_way("REGULAR_VEHICLE", 10..29, 8.0));
+    // Exactly 2 s (frames 10-30, 21 samples) is enough; 1.9 s (20 samples) is a car cutting
+    // the oncoming lane (a left turn into a driveway, nosing out of a side road), not
+    // wrong-way driving.
+    let two: Vec<(u32, u32)> = (10..31).map(|f| (1, f)).collect();
+    finds(
+        name,
+        &wrong_way(1, "REGULAR_VEHICLE", 10..31, 8.0),
+        &two,
+        &[],
+    );
+    nothing(name, &wrong_way(1, "REGULAR_VEHICLE", 10..30, 8.0));
+    // The samples are counted, not assumed 10 a second: a track annotated at 5 Hz (every
+    // other frame) over 2 s is found at its samples, over 1.8 s is not.
+    let half: Vec<(u32, u32)> = (10..31).step_by(2).map(|f| (1, f)).collect();
+    let five_hz = |to: u32| wrong_way(1, "REGULAR_VEHICLE", (10..to).step_by(2), 8.0);
+    finds(name, &five_hz(31), &half, &[]);
+    nothing(name, &five_hz(29));
+    // A sample it is present at but not against its lane (between lanes at frame 20) splits
+    // the 2.4 s into two stretches too short.
+    nothing(
+        name,
+        &swap(&base, "lane_direction(1, 20, \"opposite\").", ""),
+    );
     // On an intersection, lanes of several directions overlap: frames there do not count, so
-    // 2.5 s with an intersection crossed in the middle is two stretches too short.
+    // 2.4 s with an intersection crossed in the middle is two stretches too short.
     nothing(
         name,
         &format!("{base} on_intersection(1, 20). on_intersection(1, 21)."),
     );
-    // The same stretch with the intersection at its start still leaves 2.3 s off it.
+    // The same stretch with the intersection at its start still leaves 2.2 s off it.
     let off: Vec<(u32, u32)> = (12..35).map(|f| (1, f)).collect();
     finds(
         name,
@@ -2120,12 +2299,14 @@ fn vehicle_driving_against_traffic() {
         &off,
         &[],
     );
-    // With traffic; crossing the lane; parked facing the wrong way (0.2 m/s).
+    // With traffic; crossing the lane; parked facing the wrong way (0.2 m/s); rolling at
+    // 1 m/s (`wrong_way` is faster than 1 m/s).
     nothing(name, &base.replace("\"opposite\"", "\"same\""));
     nothing(name, &base.replace("\"opposite\"", "\"perpendicular\""));
-    nothing(name, &wrong_way("REGULAR_VEHICLE", 10..35, 0.2));
+    nothing(name, &wrong_way(1, "REGULAR_VEHICLE", 10..35, 0.2));
+    nothing(name, &wrong_way(1, "REGULAR_VEHICLE", 10..35, 1.0));
     // A pedestrian walking against the lane is not a vehicle.
-    nothing(name, &wrong_way("PEDESTRIAN", 10..35, 1.5));
+    nothing(name, &wrong_way(1, "PEDESTRIAN", 10..35, 1.5));
 }
 
 #[test]
