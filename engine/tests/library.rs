@@ -231,21 +231,44 @@ fn two_cars_ahead_of_ego_is_two_hops_of_direct_leads() {
 }
 
 #[test]
-fn a_group_of_people_is_a_pedestrian_with_two_others_within_two_metres() {
+fn a_group_of_people_is_a_connected_cluster_of_three_or_more_pedestrians() {
     compare_on_real_logs("a_group_of_people", |ex| {
         let peds = of_category(ex, "PEDESTRIAN");
-        let mut close: BTreeMap<(TrackId, Frame), usize> = BTreeMap::new();
+        // Per frame, each pedestrian's links: the other pedestrians within 2 m of its box.
+        let mut links: BTreeMap<Frame, BTreeMap<TrackId, Vec<TrackId>>> = BTreeMap::new();
         for r in rows(ex, "near") {
             let (p, q, t, d) = (track(&r[0]), track(&r[1]), time(&r[2]), float(&r[3]));
             if p != q && peds.contains(&p) && peds.contains(&q) && d <= 2.0 {
-                *close.entry((p, t)).or_default() += 1;
+                let frame = links.entry(t).or_default();
+                frame.entry(p).or_default().push(q);
+                frame.entry(q).or_default().push(p);
             }
         }
-        close
-            .into_iter()
-            .filter(|&(_, n)| n >= 2)
-            .map(|(k, _)| k)
-            .collect()
+        // A group is a connected cluster of links, found by flooding from each pedestrian not
+        // yet placed (a chain counts, not only a pedestrian's own neighbours).
+        let mut out = BTreeSet::new();
+        for (t, adj) in links {
+            let mut placed = BTreeSet::new();
+            for &start in adj.keys() {
+                if !placed.insert(start) {
+                    continue;
+                }
+                let mut cluster = vec![start];
+                let mut i = 0;
+                while let Some(&p) = cluster.get(i) {
+                    for &q in &adj[&p] {
+                        if placed.insert(q) {
+                            cluster.push(q);
+                        }
+                    }
+                    i += 1;
+                }
+                if cluster.len() >= 3 {
+                    out.extend(cluster.into_iter().map(|p| (p, t)));
+                }
+            }
+        }
+        out
     });
 }
 
@@ -265,24 +288,42 @@ fn vehicle_with_bicycle_to_its_right_uses_the_right_region_within_three_metres()
 
 #[test]
 fn moving_vehicles_not_on_road_are_outside_the_drivable_area_and_moving() {
-    let src = std::fs::read_to_string(root().join("rules/library/moving_vehicles_not_on_road.dl"))
-        .unwrap_or_else(|e| panic!("{e}"));
-    // The oracle below is written for this exact program; fail loudly if it changes.
+    let read = |path: &str| {
+        std::fs::read_to_string(root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+    };
+    // The oracle below is written for this exact program and the prelude's `moving` (0.5 m/s
+    // or more) and `on_sidewalk` (present outside the drivable area); fail loudly if they
+    // change.
+    let src = read("rules/library/moving_vehicles_not_on_road.dl");
     assert!(
-        src.contains("!in_drivable_area(V, T)") && src.contains("S > 0.5"),
+        src.contains("moving(V, T)") && src.contains("on_sidewalk(V, T)"),
         "{src}"
     );
+    let prelude = read("rules/prelude.dl");
+    for clause in [
+        "moving(X, T) :- speed(X, T, V), V >= 0.5.",
+        "on_sidewalk(X, T) :- present(X, T), !in_drivable_area(X, T).",
+    ] {
+        assert!(
+            prelude.contains(clause),
+            "the prelude no longer has `{clause}`"
+        );
+    }
     compare_on_real_logs("moving_vehicles_not_on_road", |ex| {
         let vehicles = of_category(ex, "VEHICLE");
         let drivable: BTreeSet<(TrackId, Frame)> = rows(ex, "in_drivable_area")
             .iter()
             .map(|r| (track(&r[0]), time(&r[1])))
             .collect();
+        let present: BTreeSet<(TrackId, Frame)> = rows(ex, "present")
+            .iter()
+            .map(|r| (track(&r[0]), time(&r[1])))
+            .collect();
         rows(ex, "speed")
             .iter()
-            .filter(|r| float(&r[2]) > 0.5)
+            .filter(|r| float(&r[2]) >= 0.5)
             .map(|r| (track(&r[0]), time(&r[1])))
-            .filter(|k| vehicles.contains(&k.0) && !drivable.contains(k))
+            .filter(|k| vehicles.contains(&k.0) && present.contains(k) && !drivable.contains(k))
             .collect()
     });
 }
@@ -404,9 +445,18 @@ fn motorcyclist_braking_hard_needs_minus_three_metres_per_second_squared() {
             })
             .collect()
     };
+    // The motorcyclist is the rider's box; the motorcycle under it is a separate MOTORCYCLE
+    // box, which braking as hard is not a motorcyclist braking.
+    let rider = [2.0, 0.8, 1.7];
     let scene = SceneBuilder::new(n as usize)
-        .track("hard", "MOTORCYCLE", [2.0, 0.8, 1.4], braking(0.0, 4.0))
-        .track("gentle", "MOTORCYCLE", [2.0, 0.8, 1.4], braking(5.0, 2.2))
+        .track("hard", "MOTORCYCLIST", rider, braking(0.0, 4.0))
+        .track("gentle", "MOTORCYCLIST", rider, braking(5.0, 2.2))
+        .track(
+            "motorcycle",
+            "MOTORCYCLE",
+            [2.0, 0.8, 1.4],
+            braking(15.0, 4.0),
+        )
         .track("car", "REGULAR_VEHICLE", CAR, braking(10.0, 4.0))
         .build();
     let got = referred_uuids(&scene, "motorcyclist_braking_hard");
