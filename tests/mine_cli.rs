@@ -215,16 +215,26 @@ fn resume_skips_finished_pairs_and_redoes_lost_or_changed_ones() {
     };
     assert!(statuses(&out).iter().all(|s| s.ends_with("\"done\"")));
 
-    // A crash after some pairs: lose one pair's record, change one program.
+    // A crash after some pairs: lose one pair's record, change one program (parked cars are
+    // no longer stopped cars).
     fs::remove_file(out.join(format!("pairs/{OTHER_LOG}/parked_vehicle.json"))).expect("rm");
-    let changed = fs::read_to_string(rules.join("stopped_car.dl"))
-        .expect("read")
-        .replace("S < 0.5", "S < 0.4");
-    fs::write(rules.join("stopped_car.dl"), changed).expect("write");
+    let original = fs::read_to_string(rules.join("stopped_car.dl")).expect("read");
+    let (from, to) = ("stopped(V, T).", "stopped(V, T),\n    !parked(V).");
+    assert!(
+        original.contains(from),
+        "stopped_car.dl changed:\n{original}"
+    );
+    fs::write(rules.join("stopped_car.dl"), original.replace(from, to)).expect("write");
     let mut resume: Vec<&str> = args.to_vec();
     resume.push("--resume");
     let second = mine(&resume);
     assert_eq!(second.status.code(), Some(0), "{}", stderr(&second));
+    // The changed program was run again, not resumed from its old result.
+    assert_ne!(
+        fs::read(out.join("predictions.pkl")).expect("pickle"),
+        pickle,
+        "the changed stopped_car.dl left the predictions as they were"
+    );
     let st = statuses(&out);
     assert_eq!(st.len(), 9);
     for line in &st {
@@ -327,10 +337,10 @@ fn a_corrupt_log_and_a_broken_program_are_reported_and_the_rest_is_mined() {
         "10",
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    // The budget counts extracted relations too: `category` alone passes 10 tuples.
+    // The budget counts extracted relations too: `speed`, read first for the prelude's
+    // `stopped`, alone passes 10 tuples.
     assert!(
-        stderr(&o)
-            .contains("relation `category` would hold more than 10 tuples (the tuple budget)"),
+        stderr(&o).contains("relation `speed` would hold more than 10 tuples (the tuple budget)"),
         "{}",
         stderr(&o)
     );
