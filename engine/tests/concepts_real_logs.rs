@@ -284,11 +284,12 @@ fn real_vehicles_played_backwards_drive_against_traffic() {
                 })
                 .map(|(&now, _)| now)
                 .collect();
-            // Runs of at least 20 consecutive frames.
+            // Runs spanning at least 2 s: 21 consecutive frames, from T - 20 to T (the
+            // prelude's `against_traffic`).
             let mut run: Vec<u32> = Vec::new();
             for f in mirrored.iter().copied().chain([u32::MAX]) {
                 if run.last().is_some_and(|&l| l + 1 != f) {
-                    if run.len() >= 20 {
+                    if run.len() >= 21 {
                         want.extend(run.iter().map(|&g| (track.id, g)));
                     }
                     run.clear();

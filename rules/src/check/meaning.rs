@@ -105,7 +105,6 @@ fn negation_helpers(program: &Program, diags: &mut [Diagnostic]) {
         let Some((helper, rewritten)) = negation_helper(c, n, &var) else {
             continue;
         };
-        let name = helper.head.pred.clone();
         let helper_text = crate::printer::print_clause(&helper);
         let clause_text = crate::printer::print_clause(&rewritten);
         d.hint = Some(format!(
@@ -121,7 +120,6 @@ fn negation_helpers(program: &Program, diags: &mut [Diagnostic]) {
             span: c.span,
             text: format!("{}\n{}", helper_text.trim_end(), clause_text.trim_end()),
         }];
-        let _ = name;
     }
 }
 
@@ -582,11 +580,7 @@ fn tied(r: &Clause, referred: &[&Clause]) -> bool {
     if has_referred {
         return true;
     }
-    let body: Vec<String> = r
-        .body
-        .iter()
-        .map(|l| crate::printer::print_literal(l))
-        .collect();
+    let body: Vec<String> = r.body.iter().map(crate::printer::print_literal).collect();
     referred.iter().any(|q| {
         let (Some(x), Some(s)) = (
             q.head.args.first().and_then(|e| e.as_var()),
@@ -642,8 +636,8 @@ fn related_not_referred(program: &Program, diags: &mut Vec<Diagnostic>) {
             continue;
         }
         let (Some(a), Some(t)) = (
-            r.head.args.first().map(|e| crate::printer::print_expr(e)),
-            r.head.args.get(2).map(|e| crate::printer::print_expr(e)),
+            r.head.args.first().map(crate::printer::print_expr),
+            r.head.args.get(2).map(crate::printer::print_expr),
         ) else {
             continue;
         };
