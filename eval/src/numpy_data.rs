@@ -65,6 +65,7 @@ fn half_to_f64(bits: u16) -> f64 {
 }
 
 /// Decodes raw numeric numpy bytes to `f64`, in the order they are stored.
+#[allow(clippy::modulo_one)]
 pub(crate) fn decode(d: &Dtype, raw: &[u8]) -> Result<Vec<f64>, String> {
     let be = d.big_endian();
     let code = d.bare();

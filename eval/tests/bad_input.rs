@@ -214,7 +214,8 @@ fn non_finite_boxes_name_sequence_frame_and_field() {
     let (pred, gt) = load();
     let dir = tempfile::tempdir().expect("tempdir");
     let k = key(LOG_A);
-    let cases: [(&str, fn(&mut scenalog_eval::FrameData)); 5] = [
+    type Spoil = fn(&mut scenalog_eval::FrameData);
+    let cases: [(&str, Spoil); 5] = [
         ("translation_m", |f| f.translation_m[1][0] = f64::NAN),
         ("size", |f| f.size[0][2] = f32::INFINITY),
         ("yaw", |f| f.yaw[0] = f32::NEG_INFINITY),
@@ -271,8 +272,7 @@ fn climbing_and_absolute_log_ids_are_refused() {
             .to_string();
         assert!(e.contains(&format!("log id {id:?}")), "{e}");
         let e = RoiMaps::load(&data("logs"), [id])
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         assert!(e.contains(&format!("log id {id:?}")), "{e}");
     }
