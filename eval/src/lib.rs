@@ -11,7 +11,9 @@ pub mod error;
 pub mod hota;
 pub mod mining;
 pub mod model;
+mod numpy_data;
 pub mod pickle;
+mod pickle_text;
 pub mod pickle_write;
 pub mod roi;
 

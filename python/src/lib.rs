@@ -52,7 +52,7 @@ fn check(
 ) -> PyResult<String> {
     let work = move || -> Result<String, String> {
         let source = match &path {
-            Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read `{p}`: {e}"))?,
+            Some(p) => scenalog::input::read_text(std::path::Path::new(p))?,
             None => text,
         };
         let options = scenalog_rules::CheckOptions { require_referred };

@@ -131,7 +131,7 @@ pub struct BatchReport {
 /// The descriptions of a file: one a line, blank lines and lines starting with `#` skipped,
 /// whitespace runs made one space, repeated descriptions kept once.
 pub fn read_descriptions(path: &Path) -> Result<Vec<String>, SynthError> {
-    let text = fs::read_to_string(path).map_err(|e| SynthError::io(path, e))?;
+    let text = SynthError::read_text(path)?;
     let mut out: Vec<String> = Vec::new();
     for line in text.lines() {
         let d = one_line(line);
@@ -153,7 +153,7 @@ pub fn read_descriptions(path: &Path) -> Result<Vec<String>, SynthError> {
 
 /// Whether the file exists and holds a program that checks clean.
 fn checks_clean(path: &Path) -> Option<String> {
-    let source = fs::read_to_string(path).ok()?;
+    let source = SynthError::read_text(path).ok()?;
     let outcome = check(
         &source,
         &CheckOptions {

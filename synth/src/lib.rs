@@ -47,6 +47,15 @@ pub enum SynthError {
         /// What went wrong.
         source: std::io::Error,
     },
+    /// An input file is not a readable regular file (missing, a FIFO, a device, a directory, a
+    /// symlink loop, too large, not UTF-8).
+    #[error("{path}: {problem}")]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What it is or why it cannot be read.
+        problem: scenalog_input::FileProblem,
+    },
     /// A file's content is not what was expected.
     #[error("{path}: {message}")]
     Invalid {
@@ -58,6 +67,17 @@ pub enum SynthError {
 }
 
 impl SynthError {
+    /// Reads a text input file through `scenalog-input` (never blocking on a FIFO, never past
+    /// [`scenalog_input::TEXT_LIMIT`]).
+    pub(crate) fn read_text(path: &std::path::Path) -> Result<String, SynthError> {
+        scenalog_input::read_text_file(path, scenalog_input::TEXT_LIMIT).map_err(|problem| {
+            SynthError::File {
+                path: path.to_path_buf(),
+                problem,
+            }
+        })
+    }
+
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> SynthError {
         SynthError::Io {
             path: path.into(),
