@@ -29,4 +29,4 @@ pub use pickle_write::{
     SUBMISSION_TAIL,
 };
 pub use roi::{RoiMaps, RoiRaster};
-pub use sampling::{read_timestamps, resample, Sampling};
+pub use sampling::{parse_timestamps, read_timestamps, resample, Sampling};

@@ -31,8 +31,17 @@ fn ferr(msg: String) -> EvalError {
 pub fn read_timestamps(path: &Path) -> Result<BTreeMap<String, BTreeSet<i64>>, EvalError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| EvalError::Io(name.clone(), e))?;
+    parse_timestamps(&text, &name)
+}
+
+/// Parses timestamps given as JSON text (see [`read_timestamps`]); `name` says where they came
+/// from in errors.
+pub fn parse_timestamps(
+    text: &str,
+    name: &str,
+) -> Result<BTreeMap<String, BTreeSet<i64>>, EvalError> {
     let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| ferr(format!("{name}: not JSON: {e}")))?;
+        serde_json::from_str(text).map_err(|e| ferr(format!("{name}: not JSON: {e}")))?;
     let obj = v.as_object().ok_or_else(|| {
         ferr(format!(
             "{name}: expected an object of log id to a list of timestamps (ns)"
