@@ -25,6 +25,9 @@ mod pipeline {
     pub mod scenario;
     pub mod tracks;
 }
+#[allow(dead_code)]
+#[path = "../src/input.rs"]
+mod input;
 
 use pipeline::run::{run, LogInput, RunOptions};
 use pipeline::scenario::{evaluate_on, load_scenario, Scenario};

@@ -3,4 +3,5 @@
 //! Python package (`python/`), which calls the same functions instead of duplicating them.
 
 pub mod cli;
+pub mod input;
 pub mod pipeline;

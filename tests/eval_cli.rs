@@ -245,3 +245,105 @@ fn dataset_dir_missing_log_or_map_is_an_error() {
         "{err}"
     );
 }
+
+/// Runs `scenalog eval` on the fixture with `extra` arguments.
+fn eval_fixture(extra: &[&str]) -> std::process::Output {
+    scenalog()
+        .args(["eval", "--pred"])
+        .arg(data("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data("combined_gt_dev.pkl"))
+        .args(extra)
+        .output()
+        .expect("run scenalog")
+}
+
+#[test]
+fn related_other_and_tracker_hota_in_text_json_and_out() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = eval_fixture(&["--json", "--out", dir.path().to_str().expect("utf-8")]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    // The fixture's ground truth labels no object related: null, overall and per prompt.
+    assert!(v["hota_temporal_related"].is_null(), "{v:#}");
+    assert!(v["hota_temporal_related_by_prompt"]["stopped car"].is_null());
+    let other = v["hota_temporal_other"].as_f64().expect("other");
+    let hota = v["hota"].as_f64().expect("hota");
+    assert!((other - 0.5807763575364608).abs() <= 1e-12, "{other}");
+    assert!((hota - 0.7466950270710451).abs() <= 1e-12, "{hota}");
+    assert!(v["hota_by_prompt"]["stopped car"]["score_threshold"].is_number());
+    let paper: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("paper_metrics.json")).expect("paper_metrics"),
+    )
+    .expect("json");
+    assert_eq!(paper["hota_temporal_other"], v["hota_temporal_other"]);
+    assert_eq!(paper["hota"], v["hota"]);
+    assert!(paper["hota_temporal_related"].is_null());
+    assert_eq!(
+        paper["hota_by_prompt"]["stopped car"],
+        v["hota_by_prompt"]["stopped car"]["value"]
+    );
+    let text = eval_fixture(&["--per-prompt"]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("HOTA-Temporal (related objects): - (no related object in the ground truth)"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("HOTA-Temporal (other objects): {other}")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("HOTA (tracker, every object): {hota}")),
+        "{text}"
+    );
+    assert!(
+        text.contains("\tHOTA-Temporal related\tHOTA-Temporal other\tHOTA\n"),
+        "{text}"
+    );
+}
+
+#[test]
+fn rate_and_timestamps() {
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["--json"];
+        args.extend_from_slice(extra);
+        let out = eval_fixture(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).expect("json")
+    };
+    // The fixture is at 2 Hz: --rate 2 changes nothing, --rate 10 is refused.
+    assert_eq!(json(&["--rate", "2"]), json(&[]));
+    let out = eval_fixture(&["--rate", "10"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("cannot be sampled at 10 Hz"), "{err}");
+    // Listed timestamps: the first frame of each log only.
+    let gt = scenalog_eval::read_pickle(&data("combined_gt_dev.pkl")).expect("gt");
+    let first: serde_json::Map<String, serde_json::Value> = gt
+        .sequences
+        .iter()
+        .map(|(k, f)| (k.0.clone(), serde_json::json!([f[0].timestamp_ns])))
+        .collect();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("ts.json");
+    std::fs::write(&file, serde_json::Value::Object(first).to_string()).expect("write");
+    let one = json(&["--timestamps", file.to_str().expect("utf-8")]);
+    assert_ne!(one["hota_temporal"], json(&[])["hota_temporal"]);
+    std::fs::write(&file, "{\"x\": [1]}").expect("write");
+    let out = eval_fixture(&["--timestamps", file.to_str().expect("utf-8")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("is not listed"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

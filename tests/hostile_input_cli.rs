@@ -225,3 +225,151 @@ fn a_closed_stdout_pipe_ends_every_command_quietly() {
     // `mine` still wrote its outputs.
     assert!(out_dir.path().join("predictions.pkl").is_file());
 }
+
+/// How long one command on a special file may take: reading a FIFO would wait forever and
+/// `/dev/zero` would fill the memory, so ending at all, quickly, is the point.
+const SPECIAL_DEADLINE: Duration = Duration::from_secs(30);
+
+/// Every input flag of every command given a FIFO and `/dev/zero` (directly, and through a `.dl`
+/// link in a `--rules`/`--programs` directory and a log's files): each ends within seconds with
+/// an error naming the path and what it is.
+#[test]
+fn every_input_flag_refuses_a_fifo_and_dev_zero_naming_the_path() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let fifo = tmp.path().join("special.fifo");
+    mkfifo(&fifo);
+    let zero = Path::new("/dev/zero");
+    if !zero.exists() {
+        eprintln!("skipped: no /dev/zero");
+        return;
+    }
+    let s = |p: &Path| p.to_str().expect("utf8").to_owned();
+    let rules = s(&repo("tests/support/stopped_not_parked.dl"));
+    let logs = s(&repo("tests/data/av2/logs"));
+    let log = s(&log_dir(MIA));
+    let gt = s(&repo("tests/data/av2/eval/combined_gt_dev.pkl"));
+    let pairs = s(&repo(
+        "tests/data/av2/tracker/log_prompt_pairs_fixture.json",
+    ));
+    let out = s(&tmp.path().join("out"));
+    // `{}` stands for the special file.
+    let commands: Vec<Vec<&str>> = vec![
+        vec!["check", "{}"],
+        vec!["run", "{}"],
+        vec!["mine", "--rules", "{}", "--logs", &log, "--out", &out],
+        vec![
+            "mine", "--rules", &rules, "--logs", &log, "--gt", "{}", "--out", &out,
+        ],
+        vec![
+            "mine",
+            "--rules",
+            &rules,
+            "--logs",
+            &log,
+            "--eval-timestamps",
+            "{}",
+            "--out",
+            &out,
+        ],
+        vec![
+            "mine",
+            "--log-prompts",
+            "{}",
+            "--dataset-dir",
+            &logs,
+            "--out",
+            &out,
+        ],
+        vec![
+            "mine",
+            "--log-prompts",
+            &pairs,
+            "--dataset-dir",
+            &logs,
+            "--tracks",
+            "{}",
+            "--out",
+            &out,
+        ],
+        vec![
+            "mine",
+            "--descriptions",
+            "{}",
+            "--logs",
+            &log,
+            "--out",
+            &out,
+        ],
+        vec!["explain", "--rules", "{}", "--log", &log, "--track", "ego"],
+        vec!["eval", "--pred", "{}", "--gt", &gt],
+        vec!["eval", "--pred", &gt, "--gt", "{}"],
+        vec!["synth", "--eval", "{}", "--logs", &logs],
+        vec!["synth", "--descriptions", "{}", "--out", &out],
+        vec!["import", "refav", "{}", "-o", &out],
+    ];
+    for special in [&fifo, &zero.to_path_buf()] {
+        let path = s(special);
+        let what = if special == &fifo {
+            "FIFO"
+        } else {
+            "character device"
+        };
+        for template in &commands {
+            let args: Vec<&str> = template
+                .iter()
+                .map(|a| if *a == "{}" { path.as_str() } else { a })
+                .collect();
+            let start = Instant::now();
+            let o = scenalog(&args);
+            assert!(start.elapsed() < SPECIAL_DEADLINE, "{args:?} took too long");
+            assert!(!o.status.success(), "{args:?} succeeded");
+            let err = stderr(&o);
+            assert!(
+                err.contains(&path) && err.contains(what),
+                "{args:?}: the error must name {path} and say it is a {what}: {err}"
+            );
+            assert!(!err.contains("panicked"), "{args:?}: {err}");
+        }
+
+        // Inside directories: a `.dl` link in `--rules` and `--programs`, a log's map file.
+        let dir = tempfile::tempdir().expect("tempdir");
+        let link = dir.path().join("special.dl");
+        std::os::unix::fs::symlink(special, &link).expect("symlink");
+        let d = s(dir.path());
+        for args in [
+            vec!["mine", "--rules", &d, "--logs", &log, "--out", &out],
+            vec![
+                "mine",
+                "--log-prompts",
+                &pairs,
+                "--dataset-dir",
+                &logs,
+                "--programs",
+                &d,
+                "--out",
+                &out,
+            ],
+        ] {
+            let o = scenalog(&args);
+            let err = stderr(&o);
+            assert!(
+                err.contains("special.dl") && err.contains(what),
+                "{args:?}: {err}"
+            );
+        }
+        let (_log_tmp, copy) = copy_log();
+        let map = std::fs::read_dir(copy.join("map"))
+            .expect("map dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| {
+                p.file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("log_map_archive"))
+            })
+            .expect("a map file");
+        std::fs::remove_file(&map).expect("rm");
+        std::os::unix::fs::symlink(special, &map).expect("symlink");
+        let o = scenalog(&["facts", &s(&copy)]);
+        assert_fails_saying(&o, 2, &["log_map_archive", what]);
+    }
+}

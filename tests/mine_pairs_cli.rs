@@ -495,3 +495,47 @@ fn refav_per_log_feather_with_scores_is_read_and_its_scores_carried() {
         "{quarter} scored 0.25, {other} other"
     );
 }
+
+/// Log ids that would climb out of `--dataset-dir` or name an absolute path, in `--log-prompts`
+/// and in a tracker pickle, are refused with the id named; nothing outside the split is read.
+#[test]
+fn climbing_and_absolute_log_ids_are_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // A log outside the split, which a joined path would reach.
+    let outside = dir.path().join("elsewhere");
+    std::fs::create_dir_all(&outside).expect("mkdir");
+    for id in [
+        "../../elsewhere/log",
+        "..",
+        "/etc",
+        outside.to_str().expect("utf8"),
+    ] {
+        let pairs = dir.path().join("pairs.json");
+        let json = serde_json::json!({ id: ["stopped car"] });
+        std::fs::write(&pairs, json.to_string()).expect("write");
+        let o = mine(&pairs, None, &dir.path().join("out"), &[]);
+        assert_eq!(o.status.code(), Some(2), "{id}: {}", text(&o));
+        assert!(
+            text(&o).contains(&format!("log id {id:?}")),
+            "{id}: {}",
+            text(&o)
+        );
+
+        let s = |x: &str| P::Str(x.to_string());
+        let tracks = dir.path().join("tracks.pkl");
+        let value = P::Dict(vec![(s(id), P::List(Vec::new()))]);
+        std::fs::write(&tracks, scenalog_eval::encode_value(&value)).expect("write");
+        let o = mine(
+            &data("tracker/log_prompt_pairs_fixture.json"),
+            Some(&tracks),
+            &dir.path().join("out"),
+            &[],
+        );
+        assert_eq!(o.status.code(), Some(2), "{id}: {}", text(&o));
+        assert!(
+            text(&o).contains(&format!("log id {id:?}")),
+            "{id}: {}",
+            text(&o)
+        );
+    }
+}

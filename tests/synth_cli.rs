@@ -7,7 +7,7 @@ mod server;
 use std::fs;
 use std::process::{Command, Output};
 
-use server::{program, Reply, Server};
+use server::{program, with_usage, Reply, Server};
 
 const GOOD: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
 const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning_left(V, T).";
@@ -474,12 +474,12 @@ fn eval_text_report_shows_the_fixture_score() {
     let o = run_eval(
         "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
         vec![
-            program(stopped),
-            program(UNKNOWN),
-            program(TRAIN),
-            program(bike),
+            with_usage(program(stopped), 4812, Some(0), 131),
+            with_usage(program(UNKNOWN), 4790, Some(4736), 38),
+            with_usage(program(TRAIN), 5102, Some(4736), 41),
+            with_usage(program(bike), 4840, Some(4736), 172),
         ],
-        &[],
+        &["--price", "2,0.5,8"],
     );
     let text = stdout(&o);
     let readme = include_str!("../README.md");
@@ -682,4 +682,183 @@ fn held_out_synthesis_scores_the_same_whichever_part_of_the_prompt_a_model_follo
         score(&by_examples),
         "imitating the examples:\n{copied_stopped}\n{copied_bike}\n{by_examples:#}"
     );
+
+#[test]
+fn eval_prints_tokens_and_cost() {
+    const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
+    let replies = || {
+        vec![
+            with_usage(program(UNKNOWN), 5000, Some(0), 100),
+            with_usage(program(TRAIN), 5300, Some(4992), 60),
+        ]
+    };
+    let o = run_eval("tram crossing\n", replies(), &["--price", "2,0.5,8"]);
+    let text = stdout(&o);
+    // 10,300 prompt tokens of which 4,992 cached: 5,308 uncached at 2, 4,992 cached at 0.5,
+    // 160 output at 8, per million: 0.014392.
+    assert!(
+        text.contains("tokens: uncached input            5308"),
+        "{text}"
+    );
+    assert!(
+        text.contains("tokens: cached input              4992"),
+        "{text}"
+    );
+    assert!(
+        text.contains("tokens: output                    160"),
+        "{text}"
+    );
+    assert!(
+        text.contains("cost at 2, 0.5, 8 per million     0.0144"),
+        "{text}"
+    );
+    let j = eval_json("tram crossing\n", replies(), &["--price", "2,0.5,8"]);
+    let cost = j["usage"]["cost"].as_f64().expect("cost");
+    assert!(
+        (cost - (5308.0 * 2.0 + 4992.0 * 0.5 + 160.0 * 8.0) / 1e6).abs() < 1e-15,
+        "{j:#}"
+    );
+    assert_eq!(j["items"][0]["usage"]["prompt_tokens"], 10300);
+    assert_eq!(j["price"]["cached"], 0.5);
+    // No price: tokens, no cost; a server without usage says so.
+    let j = eval_json("tram crossing\n", vec![program(TRAIN)], &[]);
+    assert!(j["usage"].get("cost").is_none(), "{j:#}");
+    assert_eq!(j["usage"]["without_usage"], 1);
+    // A malformed price is refused before anything is asked.
+    let o = scenalog(&["--eval", "x.txt", "--price", "2,0.5"], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("IN,CACHED,OUT"), "{}", stderr(&o));
+}
+
+/// Tokens of `text` for the scripted server below: 4 characters a token, rounded up.
+fn tokens(chars: usize) -> u64 {
+    chars.div_ceil(4) as u64
+}
+
+/// The token table of README.md: the library's descriptions synthesized one after another
+/// against a scripted server that answers each with the library's own program and reports
+/// `usage` as a provider with automatic prompt caching would (OpenAI's rule: prompts of 1,024
+/// tokens or more, the longest prefix shared with an earlier request cached in 128-token steps),
+/// counting 4 characters a token. Run with `--nocapture` to see the table.
+#[test]
+fn usage_table_of_the_library_descriptions() {
+    use std::sync::Mutex;
+    let lib = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("rules/library");
+    let mut programs: Vec<(String, String)> = fs::read_dir(&lib)
+        .expect("library")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "dl"))
+        .map(|p| {
+            let text = fs::read_to_string(&p).expect("read program");
+            let d = text
+                .lines()
+                .find_map(|l| l.strip_prefix("// description:"))
+                .expect("a description line")
+                .trim()
+                .to_string();
+            (d, text)
+        })
+        .collect();
+    programs.sort();
+    programs.dedup_by(|a, b| a.0 == b.0);
+    let by_description: std::collections::BTreeMap<String, String> =
+        programs.iter().cloned().collect();
+    let seen: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let server = Server::start(move |_, r| {
+        let prompt: String = r.messages().concat();
+        let mut seen = seen.lock().expect("lock");
+        let shared = seen
+            .iter()
+            .map(|p| {
+                p.chars()
+                    .zip(prompt.chars())
+                    .take_while(|(a, b)| a == b)
+                    .count()
+            })
+            .max()
+            .unwrap_or(0);
+        seen.push(prompt.clone());
+        let (total, shared) = (tokens(prompt.len()), shared as u64 / 4);
+        let cached = if total >= 1024 && shared >= 1024 {
+            shared / 128 * 128
+        } else {
+            0
+        };
+        let answer = by_description
+            .get(&r.description())
+            .cloned()
+            .unwrap_or_default();
+        let out = tokens(answer.len());
+        with_usage(program(&answer), total, Some(cached), out)
+    });
+    let dir = tempfile::tempdir().expect("tempdir");
+    let list = dir.path().join("library.txt");
+    let set: Vec<&str> = programs.iter().map(|(d, _)| d.as_str()).collect();
+    fs::write(&list, set.join("\n")).expect("write");
+    let out = dir.path().join("out");
+    let url = server.base_url();
+    let o = scenalog(
+        &[
+            "--descriptions",
+            list.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--base-url",
+            &url,
+            "--jobs",
+            "1",
+            "--price",
+            "2,0.5,8",
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    let items = summary["items"].as_array().expect("items");
+    assert_eq!(items.len(), programs.len());
+    let field = |v: &serde_json::Value, k: &str| v[k].as_u64().expect("a count");
+    let mut sum = [0u64; 3];
+    for (i, item) in items.iter().enumerate() {
+        let u = &item["usage"];
+        let (p, c, o) = (
+            field(u, "prompt_tokens"),
+            field(u, "cached_tokens"),
+            field(u, "completion_tokens"),
+        );
+        assert!(c <= p && o > 0, "{item:#}");
+        // Every description after the first shares the system message with the one before.
+        assert_eq!(c > 0, i > 0, "{item:#}");
+        sum = [sum[0] + p, sum[1] + c, sum[2] + o];
+    }
+    let total = &summary["summary"]["usage"];
+    assert_eq!(
+        [
+            field(total, "prompt_tokens"),
+            field(total, "cached_tokens"),
+            field(total, "completion_tokens")
+        ],
+        sum
+    );
+    let cost = ((sum[0] - sum[1]) as f64 * 2.0 + sum[1] as f64 * 0.5 + sum[2] as f64 * 8.0) / 1e6;
+    let err = stderr(&o);
+    assert!(err.contains(&format!("cost {cost:.4}")), "{err}");
+    let first = &items[0]["usage"];
+    eprintln!(
+        "| descriptions | uncached input | cached input | output | cost at 2 / 0.5 / 8 per million |"
+    );
+    eprintln!("|---|---|---|---|---|");
+    eprintln!(
+        "| {} (the first alone: {} / {} / {}) | {} | {} | {} | {cost:.4} |",
+        items.len(),
+        field(first, "prompt_tokens") - field(first, "cached_tokens"),
+        field(first, "cached_tokens"),
+        field(first, "completion_tokens"),
+        sum[0] - sum[1],
+        sum[1],
+        sum[2]
+    );
+    let uncached_all = (sum[0] as f64 * 2.0 + sum[2] as f64 * 8.0) / 1e6;
+    eprintln!("without the prompt cache: {uncached_all:.4}");
 }

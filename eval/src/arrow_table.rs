@@ -32,8 +32,8 @@ fn col<'a, T: 'static>(b: &'a RecordBatch, name: &str, what: &str) -> Result<&'a
 /// the file, never a panic or an allocation the bytes cannot back.
 pub fn read_table(path: &Path) -> Result<Submission, EvalError> {
     let what = path.display().to_string();
-    let bytes =
-        scenalog_input::read_regular_file(path).map_err(|p| EvalError::File(what.clone(), p))?;
+    let bytes = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
+        .map_err(|p| EvalError::File(what.clone(), p))?;
     table_from_bytes(&bytes, &what)
 }
 
@@ -130,6 +130,7 @@ pub fn table_from_bytes(bytes: &[u8], what: &str) -> Result<Submission, EvalErro
             }
         }
     }
+    sub.validate(&what)?;
     Ok(sub)
 }
 
@@ -311,8 +312,8 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
 /// is an [`EvalError::File`] saying which.
 pub fn read_any(path: &Path) -> Result<Submission, EvalError> {
     let what = path.display().to_string();
-    let bytes =
-        scenalog_input::read_regular_file(path).map_err(|p| EvalError::File(what.clone(), p))?;
+    let bytes = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
+        .map_err(|p| EvalError::File(what.clone(), p))?;
     if bytes.starts_with(b"ARROW1") {
         table_from_bytes(&bytes, &what)
     } else {

@@ -2,20 +2,26 @@
 //!
 //! Owns: reading (and writing) the official pickle format into a plain [`Submission`], HOTA as TrackEval
 //! computes it, and the scenario-mining metrics (HOTA-Temporal, HOTA-Track, timestamp- and log-level
-//! balanced accuracy), and the optional drivable-area ROI filter ([`roi`], rasters built from each log's vector
+//! balanced accuracy), the paper's further columns (HOTA-Temporal of related and other objects, the
+//! tracker's HOTA: [`classes`]), sampling at a chosen rate ([`sampling`]), and the optional drivable-area ROI filter ([`roi`], rasters built from each log's vector
 //! map). Does not own: mining itself, or any other use of the map.
 #![warn(missing_docs)]
 
 pub mod arrow_table;
+pub mod classes;
 pub mod error;
 pub mod hota;
 pub mod mining;
 pub mod model;
+mod numpy_data;
 pub mod pickle;
+mod pickle_text;
 pub mod pickle_write;
 pub mod roi;
+pub mod sampling;
 
 pub use arrow_table::{read_any, read_table, table_from_bytes, write_table};
+pub use classes::{ClassHota, Further};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
@@ -25,3 +31,4 @@ pub use pickle_write::{
     SUBMISSION_TAIL,
 };
 pub use roi::{RoiMaps, RoiRaster};
+pub use sampling::{parse_timestamps, read_timestamps, resample, Sampling};

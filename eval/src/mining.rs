@@ -3,6 +3,7 @@
 //! [`EvalOptions::roi`], objects outside the drivable-area ROI are dropped after the range filter, as
 //! the official `filter_drivable_area` (tracking submissions only).
 
+use crate::classes::{self, Further};
 use crate::error::EvalError;
 use crate::hota::{self, ClassFrame, Hota};
 use crate::model::{FrameData, SeqKey, Submission};
@@ -63,6 +64,9 @@ pub struct Report {
     pub timestamp_ba_by_prompt: BTreeMap<String, f64>,
     /// Log balanced accuracy per prompt.
     pub log_ba_by_prompt: BTreeMap<String, f64>,
+    /// HOTA-Temporal of the related and of the other objects and the tracker's HOTA
+    /// ([`crate::classes`]).
+    pub further: Further,
 }
 
 fn ferr(msg: String) -> EvalError {
@@ -223,7 +227,7 @@ fn kept(f: &FrameData, i: usize, max_range_m: f64, roi: Option<&RoiRaster>) -> b
 }
 
 /// Which objects the filters keep.
-enum Filter<'a> {
+pub(crate) enum Filter<'a> {
     /// The range filter alone, tested inline.
     Range(f64),
     /// Range and ROI, per sequence, frame and object: computed once, as the box test is the costly part.
@@ -231,7 +235,7 @@ enum Filter<'a> {
 }
 
 impl<'a> Filter<'a> {
-    fn new(sub: &'a Submission, max_range_m: f64, roi: Option<&RoiMaps>) -> Filter<'a> {
+    pub(crate) fn new(sub: &'a Submission, max_range_m: f64, roi: Option<&RoiMaps>) -> Filter<'a> {
         let Some(maps) = roi else {
             return Filter::Range(max_range_m);
         };
@@ -251,10 +255,31 @@ impl<'a> Filter<'a> {
     }
 }
 
+/// Which objects of a frame [`pick`] keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Pick {
+    /// The objects carrying this label (0 referred, 1 related, 2 other).
+    Label(i32),
+    /// Every object of a track referred in any kept object (`referred_full_tracks`).
+    ReferredTracks,
+    /// Every object, labels ignored.
+    Every,
+}
+
 /// The referred objects kept by the filters (`filter_max_dist`, `filter_drivable_area`, then
 /// `classify_referred_objects`); with `full_tracks`, every kept object of a track referred in any kept
 /// object (`referred_full_tracks`).
 fn referred(sub: &Submission, filter: &Filter, full_tracks: bool) -> Submission {
+    let which = if full_tracks {
+        Pick::ReferredTracks
+    } else {
+        Pick::Label(0)
+    };
+    pick(sub, filter, which)
+}
+
+/// The objects kept by the filters that `which` selects, in copies of every sequence.
+pub(crate) fn pick(sub: &Submission, filter: &Filter, which: Pick) -> Submission {
     let sequences = sub
         .sequences
         .iter()
@@ -267,21 +292,23 @@ fn referred(sub: &Submission, filter: &Filter, full_tracks: bool) -> Submission 
                 (Filter::Range(r), _) => kept(f, i, *r, None),
                 (Filter::Masks(_), m) => m.is_some_and(|m| m[j][i]),
             };
-            let out = if full_tracks {
-                let ids: BTreeSet<i32> = frames
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(j, f)| {
-                        (0..f.len())
-                            .filter(move |&i| f.label[i] == 0 && keep(j, f, i))
-                            .map(move |i| f.track_id[i])
+            let out = match which {
+                Pick::ReferredTracks => {
+                    let ids: BTreeSet<i32> = frames
+                        .iter()
+                        .enumerate()
+                        .flat_map(|(j, f)| {
+                            (0..f.len())
+                                .filter(move |&i| f.label[i] == 0 && keep(j, f, i))
+                                .map(move |i| f.track_id[i])
+                        })
+                        .collect();
+                    select(frames, |j, f, i| {
+                        ids.contains(&f.track_id[i]) && keep(j, f, i)
                     })
-                    .collect();
-                select(frames, |j, f, i| {
-                    ids.contains(&f.track_id[i]) && keep(j, f, i)
-                })
-            } else {
-                select(frames, |j, f, i| f.label[i] == 0 && keep(j, f, i))
+                }
+                Pick::Label(l) => select(frames, |j, f, i| f.label[i] == l && keep(j, f, i)),
+                Pick::Every => select(frames, keep),
             };
             (k.clone(), out)
         })
@@ -387,7 +414,7 @@ fn score_thresholds(seqs: &[(&Vec<FrameData>, &Vec<FrameData>)]) -> Vec<f64> {
 }
 
 /// HOTA with threshold tuning for every prompt of referred-only data (`_tune_score_thresholds`).
-fn tune(pred: &Submission, gt: &Submission) -> BTreeMap<String, PromptHota> {
+pub(crate) fn tune(pred: &Submission, gt: &Submission) -> BTreeMap<String, PromptHota> {
     let mut by_prompt: BTreeMap<&str, Vec<&SeqKey>> = BTreeMap::new();
     for k in gt.sequences.keys() {
         by_prompt.entry(k.1.as_str()).or_default().push(k);
@@ -403,15 +430,28 @@ fn tune(pred: &Submission, gt: &Submission) -> BTreeMap<String, PromptHota> {
             let candidates = score_thresholds(&pairs);
             let gt_frames: Vec<Vec<ClassFrame>> =
                 pairs.iter().map(|(g, _)| class_frames(g, None)).collect();
-            let mut best: Option<(f64, f64, Hota)> = None;
+            // Equal candidates score equally, and np.argmax keeps the first maximum, so each distinct
+            // threshold is scored once (in parallel: a pooled class is one large group).
+            let mut distinct: Vec<f64> = Vec::new();
             for &th in &candidates {
-                let seqs: Vec<(&[ClassFrame], Vec<ClassFrame>)> = pairs
-                    .iter()
-                    .zip(&gt_frames)
-                    .map(|((_, p), g)| (g.as_slice(), class_frames(p, Some(th))))
-                    .collect();
-                let h = hota::hota(&seqs);
-                let m = h.mean();
+                if !distinct.iter().any(|d| d.to_bits() == th.to_bits()) {
+                    distinct.push(th);
+                }
+            }
+            let scored: Vec<(f64, f64, Hota)> = distinct
+                .par_iter()
+                .map(|&th| {
+                    let seqs: Vec<(&[ClassFrame], Vec<ClassFrame>)> = pairs
+                        .iter()
+                        .zip(&gt_frames)
+                        .map(|((_, p), g)| (g.as_slice(), class_frames(p, Some(th))))
+                        .collect();
+                    let h = hota::hota(&seqs);
+                    (th, h.mean(), h)
+                })
+                .collect();
+            let mut best: Option<(f64, f64, Hota)> = None;
+            for (th, m, h) in scored {
                 // np.argmax: the first maximum wins
                 if best.as_ref().is_none_or(|b| m > b.1) {
                     best = Some((th, m, h));
@@ -576,6 +616,10 @@ pub fn evaluate(
             &referred(gt, &Filter::Range(f64::INFINITY), false),
             None,
         );
+        // No objects predicted: 0 where the ground truth holds the class (within range; the ROI
+        // is not applied, as the predictions carry no boxes to check it with).
+        let range = Filter::Range(opts.max_range_m);
+        let further = classes::further(pred, gt, &range, &range);
         return Ok(Report {
             hota_temporal: 0.0,
             hota_track: 0.0,
@@ -586,6 +630,7 @@ pub fn evaluate(
             hota_track_by_prompt: BTreeMap::new(),
             timestamp_ba_by_prompt: ts,
             log_ba_by_prompt: sc,
+            further,
         });
     }
     let r = opts.max_range_m;
@@ -599,6 +644,7 @@ pub fn evaluate(
     let (ts, sc) = temporal(&pr, &gr, Some(&temporal_h));
     let (pf, gf) = (referred(pred, &fp, true), referred(gt, &fg, true));
     let track_h = tune(&pf, &gf);
+    let further = classes::further(pred, gt, &fp, &fg);
     Ok(Report {
         hota_temporal: mean(temporal_h.values().map(|h| h.value)),
         hota_track: mean(track_h.values().map(|h| h.value)),
@@ -609,12 +655,14 @@ pub fn evaluate(
         hota_track_by_prompt: track_h,
         timestamp_ba_by_prompt: ts,
         log_ba_by_prompt: sc,
+        further,
     })
 }
 
 impl Report {
     /// The report as JSON: the four headline numbers (`hota_temporal`, `hota_track`, `timestamp_ba`,
-    /// `log_ba`) and per-prompt values.
+    /// `log_ba`), the further three (`hota_temporal_related`, `hota_temporal_other`, `hota`; `null`
+    /// where the ground truth holds no such object), per-prompt values and `warnings`.
     pub fn to_json(&self) -> serde_json::Value {
         let hota = |m: &BTreeMap<String, PromptHota>| -> serde_json::Value {
             m.iter()
@@ -637,6 +685,27 @@ impl Report {
             "hota_track_by_prompt": hota(&self.hota_track_by_prompt),
             "timestamp_ba_by_prompt": self.timestamp_ba_by_prompt,
             "log_ba_by_prompt": self.log_ba_by_prompt,
+            "hota_temporal_related": self.further.related.value(),
+            "hota_temporal_other": self.further.other.value(),
+            "hota": self.further.tracker.value(),
+            "hota_temporal_related_by_prompt": self.further.related.by_prompt_json(),
+            "hota_temporal_other_by_prompt": self.further.other.by_prompt_json(),
+            "hota_by_prompt": self.further.tracker.by_prompt_json(),
+            "warnings": self.further.warnings,
+        })
+    }
+
+    /// The further columns as `--out` writes them (`paper_metrics.json`): the three values and
+    /// `{prompt: value | null}` for each.
+    pub fn paper_json(&self) -> serde_json::Value {
+        let f = &self.further;
+        serde_json::json!({
+            "hota_temporal_related": f.related.value(),
+            "hota_temporal_other": f.other.value(),
+            "hota": f.tracker.value(),
+            "hota_temporal_related_by_prompt": f.related.values_json(),
+            "hota_temporal_other_by_prompt": f.other.values_json(),
+            "hota_by_prompt": f.tracker.values_json(),
         })
     }
 }

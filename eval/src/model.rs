@@ -74,3 +74,62 @@ pub struct Submission {
     /// The sequences.
     pub sequences: BTreeMap<SeqKey, Vec<FrameData>>,
 }
+
+impl Submission {
+    /// Checks what every reader of a submission or ground truth must refuse, naming the place:
+    /// a log id that is not a plain directory name ([`scenalog_input::check_log_id`]: the
+    /// evaluation joins ids to `--dataset-dir`), and NaN or infinite numbers in a box, a score
+    /// or the ego's position (they would shift the scores in silence). `what` names the file.
+    pub fn validate(&self, what: &str) -> Result<(), crate::EvalError> {
+        for ((log, prompt), frames) in &self.sequences {
+            scenalog_input::check_log_id(log)
+                .map_err(|e| crate::EvalError::Format(format!("{what}: {e}")))?;
+            for (i, f) in frames.iter().enumerate() {
+                if let Some((field, object)) = f.first_non_finite() {
+                    let at = match object {
+                        Some(j) => format!(" object {j}"),
+                        None => String::new(),
+                    };
+                    return Err(crate::EvalError::Format(format!(
+                        "{what}: sequence ({log:?}, {prompt:?}) frame {i} (timestamp_ns {}) \
+                         field {field:?}{at}: NaN or infinite value (every number of a box must \
+                         be finite)",
+                        f.timestamp_ns
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl FrameData {
+    /// The first field (and object index) holding a NaN or an infinity, if any.
+    fn first_non_finite(&self) -> Option<(&'static str, Option<usize>)> {
+        if self.ego_translation_m.iter().any(|x| !x.is_finite()) {
+            return Some(("ego_translation_m", None));
+        }
+        let rows3 = |v: &[[f64; 3]]| v.iter().position(|r| r.iter().any(|x| !x.is_finite()));
+        let rows = |v: &[f32]| v.iter().position(|x| !x.is_finite());
+        if let Some(j) = rows3(&self.translation_m) {
+            return Some(("translation_m", Some(j)));
+        }
+        if let Some(j) = self
+            .size
+            .iter()
+            .position(|r| r.iter().any(|x| !x.is_finite()))
+        {
+            return Some(("size", Some(j)));
+        }
+        if let Some(j) = rows(&self.yaw) {
+            return Some(("yaw", Some(j)));
+        }
+        if let Some(j) = rows3(&self.velocity_m_per_s) {
+            return Some(("velocity_m_per_s", Some(j)));
+        }
+        if let Some(j) = self.score.as_deref().and_then(rows) {
+            return Some(("score", Some(j)));
+        }
+        None
+    }
+}

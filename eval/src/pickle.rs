@@ -1,5 +1,11 @@
-//! A reader for exactly the subset of Python pickle (protocol 2-5) the official scenario-mining files use,
-//! numpy arrays, dtypes and scalars included, into [`crate::Submission`].
+//! A reader for the subset of Python pickle the official scenario-mining files and trackers'
+//! outputs use, into [`crate::Submission`]: every protocol (0–5, what `pickle.dump` writes by
+//! default in any Python 3), plain containers, strings, numbers, and numpy arrays (C or Fortran
+//! order, in-band protocol-5 buffers, any byte order and int/float width, object arrays of
+//! strings or numbers), dtypes and scalars. Nothing is ever executed: a global is only ever one
+//! of a fixed list of names (numpy's array, dtype and scalar constructors, `bytes`, `bytearray`,
+//! `_codecs.encode`, `set`, `OrderedDict`), read as data; any other is an error saying what to
+//! write instead.
 //!
 //! Two layers: [`parse_pickle`] runs the pickle machine into a [`Pickle`] (an arena of objects; an
 //! object repeated by reference is stored once, and arrays point at their raw bytes instead of
@@ -11,16 +17,13 @@
 
 use crate::error::EvalError;
 use crate::model::{FrameData, SeqKey, Submission};
+use crate::numpy_data::{decode, fortran_to_c, scalar_i64, width, Dtype};
+use crate::pickle_text::{quoted_string, raw_unicode_escape};
 use std::collections::BTreeMap;
 
-/// A numpy dtype as far as this reader needs it.
-#[derive(Debug, Clone, PartialEq)]
-struct Dtype {
-    /// e.g. "f8", "i4", "U31", "b1".
-    code: String,
-    /// '<', '>', '|' or '='.
-    endian: char,
-}
+/// What to do with a pickle this reader refuses, appended to the error.
+const WRITE_HINT: &str = "write the file with `pickle.dump(obj, f)` (any protocol 0-5) from \
+     plain dicts, lists, tuples, str, int, float, bool, None and numpy arrays or scalars";
 
 #[derive(Debug, Clone)]
 enum Obj {
@@ -35,7 +38,8 @@ enum Obj {
     Dict(Vec<(usize, usize)>),
     Global(String, String),
     Dtype(Dtype),
-    /// An ndarray: dtype, shape, fortran order, the arena index of its raw bytes (filled by BUILD).
+    /// An ndarray: dtype, shape, fortran order, the arena index of its data (filled by BUILD):
+    /// raw bytes, or a list of objects for numpy's object dtype.
     Array(Option<Dtype>, Vec<usize>, bool, Option<usize>),
     /// A numpy scalar: dtype and the arena index of its raw bytes.
     Scalar(Dtype, usize),
@@ -107,6 +111,56 @@ impl<'a> Machine<'a> {
         String::from_utf8(b.to_vec())
             .map_err(|_| perr(format!("invalid UTF-8 string at byte {at}")))
     }
+    /// A protocol-0 argument: the bytes up to the next newline (which is consumed).
+    fn line(&mut self) -> Result<&'a [u8], EvalError> {
+        let rest = &self.data[self.pos.min(self.data.len())..];
+        let n = rest.iter().position(|&b| b == b'\n').ok_or_else(|| {
+            perr(format!(
+                "truncated at byte {} (a text argument without its newline)",
+                self.pos
+            ))
+        })?;
+        self.pos += n + 1;
+        Ok(&rest[..n])
+    }
+    /// A protocol-0 argument line as ASCII text.
+    fn text_line(&mut self) -> Result<&'a str, EvalError> {
+        let at = self.pos;
+        let line = self.line()?;
+        std::str::from_utf8(line).map_err(|_| perr(format!("non-ASCII argument at byte {at}")))
+    }
+    /// A protocol-0 integer argument (`INT`, `LONG`, `PUT`, `GET`).
+    fn int_line(&mut self, at: usize) -> Result<i64, EvalError> {
+        let text = self.text_line()?;
+        let digits = text.trim().trim_end_matches('L');
+        digits.parse().map_err(|_| {
+            perr(format!(
+                "integer {text:?} out of range or malformed at byte {at}"
+            ))
+        })
+    }
+    /// A protocol-0 memo index.
+    fn memo_line(&mut self, at: usize) -> Result<usize, EvalError> {
+        let i = self.int_line(at)?;
+        usize::try_from(i).map_err(|_| perr(format!("negative memo index at byte {at}")))
+    }
+    /// Sign-extends a little-endian two's-complement integer of at most 8 bytes (`LONG1`/`LONG4`).
+    fn long(&mut self, n: usize, at: usize) -> Result<Obj, EvalError> {
+        if n > 8 {
+            return Err(perr(format!(
+                "integer of {n} bytes at byte {at}: larger than 64 bits"
+            )));
+        }
+        let b = self.take(n)?;
+        let mut v: i64 = 0;
+        for (i, &x) in b.iter().enumerate() {
+            v |= (x as i64) << (8 * i);
+        }
+        if n > 0 && n < 8 && b[n - 1] & 0x80 != 0 {
+            v -= 1i64 << (8 * n);
+        }
+        Ok(Obj::Int(v))
+    }
     fn top_mut(&mut self) -> Result<usize, EvalError> {
         self.stack
             .last()
@@ -122,7 +176,10 @@ impl<'a> Machine<'a> {
                 0x80 => {
                     let v = self.u8()?;
                     if v > 5 {
-                        return Err(perr(format!("unsupported protocol {v}")));
+                        return Err(perr(format!(
+                            "pickle protocol {v} is newer than 5, the highest read here: \
+                             write it with `pickle.dump(obj, f, protocol=5)` or lower"
+                        )));
                     }
                 }
                 0x95 => {
@@ -201,18 +258,153 @@ impl<'a> Machine<'a> {
                 }
                 0x8a => {
                     let n = self.u8()? as usize;
-                    let b = self.take(n)?;
-                    if n > 8 {
-                        return Err(perr(format!("integer too large at byte {at}")));
-                    }
-                    let mut v: i64 = 0;
-                    for (i, &x) in b.iter().enumerate() {
-                        v |= (x as i64) << (8 * i);
-                    }
-                    if n > 0 && n < 8 && b[n - 1] & 0x80 != 0 {
-                        v -= 1i64 << (8 * n);
-                    }
+                    let o = self.long(n, at)?;
+                    self.push(o);
+                }
+                0x8b => {
+                    let n = self.u32()? as usize;
+                    let o = self.long(n, at)?;
+                    self.push(o);
+                }
+                // Protocol 0 and 1: arguments as text lines.
+                b'I' => {
+                    let text = self.text_line()?;
+                    let o = match text {
+                        "00" => Obj::Bool(false),
+                        "01" => Obj::Bool(true),
+                        t => Obj::Int(t.trim().parse().map_err(|_| {
+                            perr(format!(
+                                "integer {t:?} out of range or malformed at byte {at}"
+                            ))
+                        })?),
+                    };
+                    self.push(o);
+                }
+                b'L' => {
+                    let v = self.int_line(at)?;
                     self.push(Obj::Int(v));
+                }
+                b'F' => {
+                    let text = self.text_line()?;
+                    let v = text
+                        .trim()
+                        .parse::<f64>()
+                        .map_err(|_| perr(format!("float {text:?} malformed at byte {at}")))?;
+                    self.push(Obj::Float(v));
+                }
+                b'V' => {
+                    let line = self.line()?;
+                    let s =
+                        raw_unicode_escape(line).map_err(|e| perr(format!("{e} at byte {at}")))?;
+                    self.push(Obj::Str(s));
+                }
+                b'S' => {
+                    let line = self.line()?;
+                    let b = quoted_string(line).map_err(|e| perr(format!("{e} at byte {at}")))?;
+                    // Python 3 reads a STRING as str (ASCII by default).
+                    let s = String::from_utf8(b)
+                        .map_err(|_| perr(format!("non-ASCII STRING at byte {at}")))?;
+                    self.push(Obj::Str(s));
+                }
+                b'U' => {
+                    let n = self.u8()? as usize;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                b'T' => {
+                    let n = self.u32()? as usize;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                b'p' => {
+                    let i = self.memo_line(at)?;
+                    self.memo_put(i)?;
+                }
+                b'g' => {
+                    let i = self.memo_line(at)?;
+                    self.memo_get(i)?;
+                }
+                b'c' => {
+                    let module = self.text_line()?.to_string();
+                    let name = self.text_line()?.to_string();
+                    self.push(Obj::Global(module, name));
+                }
+                b'l' => {
+                    let items = self.pop_mark()?;
+                    self.push(Obj::List(items));
+                }
+                b'd' => {
+                    let items = self.pop_mark()?;
+                    if items.len() % 2 != 0 {
+                        return Err(perr(format!("odd DICT at byte {at}")));
+                    }
+                    let pairs = items.chunks(2).map(|c| (c[0], c[1])).collect();
+                    self.push(Obj::Dict(pairs));
+                }
+                b'0' => {
+                    self.pop()?;
+                }
+                b'1' => {
+                    self.pop_mark()?;
+                }
+                b'2' => {
+                    let top = self.top_mut()?;
+                    self.stack.push(top);
+                }
+                // Sets (protocol 4) are read as lists of their items.
+                0x8f => self.push(Obj::List(Vec::new())),
+                0x90 => {
+                    let items = self.pop_mark()?;
+                    let l = self.top_mut()?;
+                    match &mut self.arena[l] {
+                        Obj::List(v) => v.extend(items),
+                        _ => return Err(perr(format!("ADDITEMS to a non-set at byte {at}"))),
+                    }
+                }
+                0x91 => {
+                    let items = self.pop_mark()?;
+                    self.push(Obj::List(items));
+                }
+                // Protocol 5: a bytearray, and in-band buffers (already bytes).
+                0x96 => {
+                    let n = usize::try_from(self.u64()?).map_err(|_| perr("bytearray too long"))?;
+                    let b = self.take(n)?.to_vec();
+                    self.push(Obj::Bytes(b));
+                }
+                0x98 => {
+                    self.top_mut()?;
+                }
+                0x97 => {
+                    return Err(perr(format!(
+                        "out-of-band buffer (NEXT_BUFFER) at byte {at}: the file was written with \
+                         `pickle.dump(..., protocol=5, buffer_callback=...)` and its array data is \
+                         not in it; write it without `buffer_callback`"
+                    )))
+                }
+                0x81 | 0x92 => {
+                    if op == 0x92 {
+                        // NEWOBJ_EX's keyword arguments: only an empty dict is read.
+                        let kwargs = self.pop()?;
+                        if !matches!(&self.arena[kwargs], Obj::Dict(d) if d.is_empty()) {
+                            return Err(perr(format!(
+                                "NEWOBJ_EX with keyword arguments at byte {at}; {WRITE_HINT}"
+                            )));
+                        }
+                    }
+                    let args = self.pop()?;
+                    let cls = self.pop()?;
+                    let o = self.reduce(cls, args, at)?;
+                    self.push(o);
+                }
+                b'P' | b'Q' | b'i' | b'o' | 0x82..=0x84 => {
+                    let what = match op {
+                        b'P' | b'Q' => "a persistent id (a custom Pickler.persistent_id)",
+                        b'i' | b'o' => "an instance of a class (INST/OBJ)",
+                        _ => "a copyreg extension code (EXT)",
+                    };
+                    return Err(perr(format!(
+                        "{what} at byte {at} is not read (nothing is executed); {WRITE_HINT}"
+                    )));
                 }
                 b'G' => {
                     let b = self.take(8)?;
@@ -289,7 +481,12 @@ impl<'a> Machine<'a> {
                     let target = self.top_mut()?;
                     self.build(target, state, at)?;
                 }
-                _ => return Err(perr(format!("unsupported opcode 0x{op:02x} at byte {at}"))),
+                _ => {
+                    return Err(perr(format!(
+                        "unknown opcode 0x{op:02x} at byte {at} (not a pickle, or a corrupt one); \
+                         {WRITE_HINT}"
+                    )))
+                }
             }
         }
     }
@@ -317,6 +514,7 @@ impl<'a> Machine<'a> {
         }
     }
 
+    /// What a call of a global makes, for the few globals read as data; any other is an error.
     fn reduce(&self, f: usize, args: usize, at: usize) -> Result<Obj, EvalError> {
         let (module, name) = match &self.arena[f] {
             Obj::Global(m, n) => (m.as_str(), n.as_str()),
@@ -325,9 +523,16 @@ impl<'a> Machine<'a> {
         let args = self
             .tuple(args)
             .ok_or_else(|| perr(format!("REDUCE args not a tuple at byte {at}")))?;
-        let numpy_mod = matches!(module, "numpy.core.multiarray" | "numpy._core.multiarray");
+        let arg = |k: usize| args.get(k).map(|&a| &self.arena[a]);
+        let numpy_core = |sub: &str| {
+            module
+                .strip_prefix("numpy.core.")
+                .or_else(|| module.strip_prefix("numpy._core."))
+                == Some(sub)
+        };
+        let builtins = matches!(module, "builtins" | "__builtin__");
         match (module, name) {
-            ("numpy", "dtype") => match args.first().map(|&a| &self.arena[a]) {
+            ("numpy", "dtype") => match arg(0) {
                 Some(Obj::Str(code)) => Ok(Obj::Dtype(Dtype {
                     code: code.clone(),
                     endian: '=',
@@ -336,23 +541,101 @@ impl<'a> Machine<'a> {
                     "numpy.dtype without a type code at byte {at}"
                 ))),
             },
-            (_, "_reconstruct") if numpy_mod => Ok(Obj::Array(None, Vec::new(), false, None)),
-            (_, "scalar") if numpy_mod => {
+            (_, "_reconstruct") if numpy_core("multiarray") => match arg(0) {
+                Some(Obj::Global(m, n)) if m == "numpy" && n == "ndarray" => {
+                    Ok(Obj::Array(None, Vec::new(), false, None))
+                }
+                Some(Obj::Global(m, n)) => Err(perr(format!(
+                    "a numpy array subclass {m}.{n} at byte {at}: store `np.asarray(x)` instead"
+                ))),
+                _ => Err(perr(format!(
+                    "numpy _reconstruct without a class at byte {at}"
+                ))),
+            },
+            (_, "_frombuffer") if numpy_core("numeric") => {
+                let (Some(Obj::Bytes(_)), Some(Obj::Dtype(d)), Some(Obj::Tuple(shape))) =
+                    (arg(0), arg(1), arg(2))
+                else {
+                    return Err(perr(format!(
+                        "numpy _frombuffer with unexpected arguments at byte {at}"
+                    )));
+                };
+                let fortran = match arg(3) {
+                    Some(Obj::Str(o)) => o == "F",
+                    _ => false,
+                };
+                let shape = self.shape(shape, at)?;
+                Ok(Obj::Array(Some(d.clone()), shape, fortran, Some(args[0])))
+            }
+            (_, "scalar") if numpy_core("multiarray") => {
                 let (d, bi) = match args.as_slice() {
                     [d, b] => (&self.arena[*d], *b),
                     _ => return Err(perr(format!("numpy scalar needs 2 arguments at byte {at}"))),
                 };
                 match (d, &self.arena[bi]) {
                     (Obj::Dtype(d), Obj::Bytes(_)) => Ok(Obj::Scalar(d.clone(), bi)),
+                    (Obj::Dtype(d), _) => Err(perr(format!(
+                        "a numpy scalar of dtype {:?} at byte {at} (an object scalar?): store a \
+                         number or a string",
+                        d.code
+                    ))),
                     _ => Err(perr(format!(
                         "numpy scalar with unexpected arguments at byte {at}"
                     ))),
                 }
             }
-            _ => Err(perr(format!(
-                "unsupported global {module}.{name} at byte {at}"
-            ))),
+            // How protocols 0-2 write bytes: `_codecs.encode(text, "latin1")`, `bytes()`.
+            ("_codecs", "encode") => match (arg(0), arg(1)) {
+                (Some(Obj::Str(text)), Some(Obj::Str(enc)))
+                    if enc == "latin1" || enc == "latin-1" =>
+                {
+                    text.chars()
+                        .map(|c| u8::try_from(u32::from(c)).ok())
+                        .collect::<Option<Vec<u8>>>()
+                        .map(Obj::Bytes)
+                        .ok_or_else(|| perr(format!("non-Latin-1 bytes text at byte {at}")))
+                }
+                _ => Err(perr(format!(
+                    "_codecs.encode with unexpected arguments at byte {at}"
+                ))),
+            },
+            (_, "bytes" | "bytearray") if builtins => match arg(0) {
+                None => Ok(Obj::Bytes(Vec::new())),
+                Some(Obj::Bytes(b)) => Ok(Obj::Bytes(b.clone())),
+                _ => Err(perr(format!(
+                    "{name}() with unexpected arguments at byte {at}"
+                ))),
+            },
+            (_, "set" | "frozenset") if builtins => match arg(0) {
+                None => Ok(Obj::List(Vec::new())),
+                Some(Obj::List(items)) => Ok(Obj::List(items.clone())),
+                _ => Err(perr(format!(
+                    "{name}() with unexpected arguments at byte {at}"
+                ))),
+            },
+            ("collections", "OrderedDict" | "defaultdict") => Ok(Obj::Dict(Vec::new())),
+            _ => {
+                let hint = if module.starts_with("pandas") {
+                    "a pandas object: store plain numpy arrays (`df[[...]].to_numpy()`) in dicts"
+                } else {
+                    WRITE_HINT
+                };
+                Err(perr(format!(
+                    "global {module}.{name} at byte {at} is not read (nothing is executed); {hint}"
+                )))
+            }
         }
+    }
+
+    /// An array shape: a tuple of non-negative ints.
+    fn shape(&self, items: &[usize], at: usize) -> Result<Vec<usize>, EvalError> {
+        items
+            .iter()
+            .map(|&i| match self.arena[i] {
+                Obj::Int(n) if n >= 0 => Ok(n as usize),
+                _ => Err(perr(format!("bad ndarray shape at byte {at}"))),
+            })
+            .collect()
     }
 
     fn build(&mut self, target: usize, state: usize, at: usize) -> Result<(), EvalError> {
@@ -379,13 +662,7 @@ impl<'a> Machine<'a> {
                     )));
                 };
                 let shape = match &self.arena[*shape] {
-                    Obj::Tuple(v) => v
-                        .iter()
-                        .map(|&i| match self.arena[i] {
-                            Obj::Int(n) if n >= 0 => Ok(n as usize),
-                            _ => Err(perr(format!("bad ndarray shape at byte {at}"))),
-                        })
-                        .collect::<Result<Vec<_>, _>>()?,
+                    Obj::Tuple(v) => self.shape(v, at)?,
                     _ => return Err(perr(format!("bad ndarray shape at byte {at}"))),
                 };
                 let dtype = match &self.arena[*dtype] {
@@ -395,9 +672,12 @@ impl<'a> Machine<'a> {
                 let fortran = matches!(self.arena[*fortran], Obj::Bool(true));
                 let raw = match &self.arena[*raw] {
                     Obj::Bytes(_) => *raw,
+                    Obj::List(_) if dtype.is_object() => *raw,
                     _ => {
                         return Err(perr(format!(
-                            "ndarray data is not raw bytes (object array?) at byte {at}"
+                            "ndarray data of dtype {:?} is neither raw bytes nor a list of \
+                             objects at byte {at}",
+                            dtype.code
                         )))
                     }
                 };
@@ -597,35 +877,56 @@ impl<'a> Node<'a> {
         }
     }
 
-    /// A numeric numpy array (C order), decoded to `f64` and charged to the budget; the error
-    /// says what is wrong (not an array, an unsupported dtype, data of the wrong size).
+    /// A numeric numpy array decoded to `f64` in row-major order (Fortran-order data reordered,
+    /// object arrays of numbers read item by item), charged to the budget; the error says what
+    /// is wrong (not an array, an unsupported dtype, data of the wrong size).
     pub fn num_array(&self) -> Result<NumArray, String> {
         let Obj::Array(Some(d), shape, fortran, Some(raw)) = self.obj() else {
             return Err(format!("expected a numpy array, got {}", self.kind()));
         };
-        if *fortran && shape.len() > 1 {
-            return Err("Fortran-order arrays are not supported".into());
-        }
-        let raw = self.pickle.raw(*raw);
         let want = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
-        let width = dtype_width(d).ok_or_else(|| format!("unsupported dtype {:?}", d.code))?;
-        if want.and_then(|n| n.checked_mul(width)) != Some(raw.len()) {
-            return Err(format!(
-                "{} bytes of {} data for shape {shape:?}",
-                raw.len(),
-                d.code
-            ));
-        }
-        self.pickle.charge(raw.len() / width * 8)?;
-        let values = decode(d, raw)?;
+        let values = if let Obj::List(items) = &self.pickle.arena[*raw] {
+            if Some(items.len()) != want {
+                return Err(format!("{} objects for shape {shape:?}", items.len()));
+            }
+            self.pickle.charge(items.len() * 8)?;
+            items
+                .iter()
+                .map(|&i| {
+                    let n = self.pickle.node(i);
+                    n.float().ok_or_else(|| {
+                        format!("an object array holding a {}, not numbers", n.kind())
+                    })
+                })
+                .collect::<Result<Vec<f64>, String>>()?
+        } else {
+            let raw = self.pickle.raw(*raw);
+            let width = width(d).ok_or_else(|| crate::numpy_data::unsupported(d))?;
+            if want.and_then(|n| n.checked_mul(width)) != Some(raw.len()) {
+                return Err(format!(
+                    "{} bytes of {} data for shape {shape:?}",
+                    raw.len(),
+                    d.code
+                ));
+            }
+            self.pickle.charge(raw.len() / width * 8)?;
+            decode(d, raw)?
+        };
+        let values = if *fortran {
+            fortran_to_c(&values, shape)
+        } else {
+            values
+        };
         Ok(NumArray {
             values,
             shape: shape.clone(),
-            dtype: d.code.trim_start_matches(['<', '>', '=', '|']).to_string(),
+            dtype: d.bare().to_string(),
         })
     }
 
-    /// A 1-d numpy unicode array (`U<n>`) as strings, charged to the budget.
+    /// A 1-d array of strings as Rust strings, charged to the budget: numpy unicode (`U<n>`,
+    /// either byte order), bytes (`S<n>`, UTF-8) or an object array of `str` (what pandas'
+    /// `.to_numpy()` gives for a text column).
     pub fn str_array(&self) -> Result<Vec<String>, String> {
         let Obj::Array(Some(d), shape, _, Some(raw)) = self.obj() else {
             return Err(format!(
@@ -636,59 +937,75 @@ impl<'a> Node<'a> {
         if shape.len() != 1 {
             return Err(format!("expected a 1-d array, got shape {shape:?}"));
         }
-        let raw = self.pickle.raw(*raw);
-        let chars: usize = d
-            .code
-            .strip_prefix('U')
-            .and_then(|n| n.parse().ok())
-            .ok_or_else(|| format!("expected a unicode dtype, got {:?}", d.code))?;
         let n = shape[0];
-        if n.checked_mul(chars).and_then(|x| x.checked_mul(4)) != Some(raw.len()) {
+        if let Obj::List(items) = &self.pickle.arena[*raw] {
+            if items.len() != n {
+                return Err(format!("{} objects for shape {shape:?}", items.len()));
+            }
+            self.pickle.charge(n * 24)?;
+            return items
+                .iter()
+                .map(|&i| {
+                    let node = self.pickle.node(i);
+                    node.str().map(str::to_string).ok_or_else(|| {
+                        format!("an object array holding a {}, not strings", node.kind())
+                    })
+                })
+                .collect();
+        }
+        let raw = self.pickle.raw(*raw);
+        let (kind, chars) = d.bare().split_at(1.min(d.bare().len()));
+        let chars: usize = chars
+            .parse()
+            .ok()
+            .filter(|_| kind == "U" || kind == "S")
+            .ok_or_else(|| format!("expected a string dtype (U or S), got {:?}", d.code))?;
+        let unit = if kind == "U" { 4 } else { 1 };
+        if n.checked_mul(chars).and_then(|x| x.checked_mul(unit)) != Some(raw.len()) {
             return Err("string array data of the wrong size".into());
         }
-        self.pickle.charge(raw.len() / 4 + n * 24)?;
+        self.pickle.charge(raw.len() / unit + n * 24)?;
         let mut out = Vec::with_capacity(n);
         for i in 0..n {
-            let mut s = String::new();
-            for c in 0..chars {
-                let o = (i * chars + c) * 4;
-                let b = [raw[o], raw[o + 1], raw[o + 2], raw[o + 3]];
-                let cp = if d.endian == '>' {
-                    u32::from_be_bytes(b)
-                } else {
-                    u32::from_le_bytes(b)
-                };
-                if cp == 0 {
-                    break;
+            let item = &raw[i * chars * unit..(i + 1) * chars * unit];
+            let s = if unit == 1 {
+                let end = item.iter().position(|&b| b == 0).unwrap_or(item.len());
+                String::from_utf8(item[..end].to_vec())
+                    .map_err(|_| "a bytes string that is not UTF-8".to_string())?
+            } else {
+                let mut s = String::new();
+                for c in item.chunks_exact(4) {
+                    let b = [c[0], c[1], c[2], c[3]];
+                    let cp = if d.endian == '>' {
+                        u32::from_be_bytes(b)
+                    } else {
+                        u32::from_le_bytes(b)
+                    };
+                    if cp == 0 {
+                        break;
+                    }
+                    s.push(char::from_u32(cp).ok_or("invalid code point")?);
                 }
-                s.push(char::from_u32(cp).ok_or("invalid code point")?);
-            }
+                s
+            };
             out.push(s);
         }
         Ok(out)
     }
 }
 
-/// Bytes per value of a numeric dtype.
-fn dtype_width(d: &Dtype) -> Option<usize> {
-    match d.code.trim_start_matches(['<', '>', '=', '|']) {
-        "f8" | "i8" | "u8" => Some(8),
-        "f4" | "i4" | "u4" => Some(4),
-        "i2" | "u2" => Some(2),
-        "i1" | "u1" | "b1" => Some(1),
-        _ => None,
-    }
-}
-
 /// Reads a scenario-mining pickle from bytes; `what` names the source in errors.
 pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalError> {
     let pickle = parse_pickle(data, what)?;
-    Conv { pickle: &pickle }.submission(pickle.root)
+    let sub = Conv { pickle: &pickle }.submission(pickle.root)?;
+    sub.validate(what)?;
+    Ok(sub)
 }
 
 /// Reads a scenario-mining pickle file.
 pub fn read_pickle(path: &std::path::Path) -> Result<Submission, EvalError> {
-    let data = std::fs::read(path).map_err(|e| EvalError::Io(path.display().to_string(), e))?;
+    let data = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
+        .map_err(|p| EvalError::File(path.display().to_string(), p))?;
     read_pickle_bytes(&data, &path.display().to_string())
 }
 
@@ -790,7 +1107,7 @@ impl Conv<'_> {
                         Obj::None => None,
                         Obj::Bool(b) => Some(*b),
                         Obj::Int(i) => Some(*i != 0),
-                        Obj::Scalar(d, b) if d.code == "b1" || d.code == "?" => {
+                        Obj::Scalar(d, b) if d.bare() == "b1" || d.bare() == "?" => {
                             Some(self.pickle.raw(*b).first().copied().unwrap_or(0) != 0)
                         }
                         _ => return Err(self.ferr(&fp, "expected True, False or None")),
@@ -927,75 +1244,6 @@ impl Conv<'_> {
     fn strings(&self, v: usize, fp: &str) -> Result<Vec<String>, EvalError> {
         self.node(v).str_array().map_err(|m| self.ferr(fp, m))
     }
-}
-
-/// An integer numpy scalar, exactly (timestamps exceed f64 precision).
-fn scalar_i64(d: &Dtype, b: &[u8]) -> Option<i64> {
-    let code = d.code.trim_start_matches(['<', '>', '=', '|']);
-    let be = d.endian == '>';
-    let mut a = [0u8; 8];
-    match (code, b.len()) {
-        ("i8" | "u8", 8) => {
-            a.copy_from_slice(b);
-            let v = if be {
-                u64::from_be_bytes(a)
-            } else {
-                u64::from_le_bytes(a)
-            };
-            if code == "i8" {
-                Some(v as i64)
-            } else {
-                i64::try_from(v).ok()
-            }
-        }
-        _ => decode(d, b)
-            .ok()
-            .and_then(|x| x.first().copied())
-            .filter(|x| x.fract() == 0.0)
-            .map(|x| x as i64),
-    }
-}
-
-/// Decodes raw numeric numpy bytes to f64.
-#[allow(clippy::modulo_one)]
-fn decode(d: &Dtype, raw: &[u8]) -> Result<Vec<f64>, String> {
-    let be = d.endian == '>';
-    let code = d.code.trim_start_matches(['<', '>', '=', '|']);
-    macro_rules! dec {
-        ($t:ty, $n:expr) => {{
-            if raw.len() % $n != 0 {
-                return Err(format!(
-                    "{} bytes is not a whole number of {} values",
-                    raw.len(),
-                    code
-                ));
-            }
-            raw.chunks($n)
-                .map(|c| {
-                    let mut a = [0u8; $n];
-                    a.copy_from_slice(c);
-                    (if be {
-                        <$t>::from_be_bytes(a)
-                    } else {
-                        <$t>::from_le_bytes(a)
-                    }) as f64
-                })
-                .collect()
-        }};
-    }
-    Ok(match code {
-        "f8" => dec!(f64, 8),
-        "f4" => dec!(f32, 4),
-        "i8" => dec!(i64, 8),
-        "i4" => dec!(i32, 4),
-        "i2" => dec!(i16, 2),
-        "i1" => dec!(i8, 1),
-        "u8" => dec!(u64, 8),
-        "u4" => dec!(u32, 4),
-        "u2" => dec!(u16, 2),
-        "u1" | "b1" => dec!(u8, 1),
-        other => return Err(format!("unsupported dtype {other:?}")),
-    })
 }
 
 /// Parses the string form "('log', 'prompt')" of a sequence key.

@@ -522,7 +522,7 @@ fn find_vector_map(map_dir: &Path) -> Result<PathBuf, EvalError> {
 
 /// The drivable-area polygons (x-y of `area_boundary`) of a vector map file, in file order.
 pub fn read_drivable_areas(path: &Path) -> Result<Vec<Vec<[f64; 2]>>, EvalError> {
-    let text = scenalog_input::read_regular_file(path)
+    let text = scenalog_input::read_regular_file(path, scenalog_input::TEXT_LIMIT)
         .map_err(|p| EvalError::File(path.display().to_string(), p))?;
     let doc: serde_json::Value = serde_json::from_slice(&text)
         .map_err(|e| EvalError::Format(format!("{}: not JSON: {e}", path.display())))?;
@@ -571,6 +571,9 @@ impl RoiMaps {
         ids.sort_unstable();
         ids.dedup();
         for id in &ids {
+            // A submission read by this crate has its ids checked already; ids given otherwise
+            // are checked here, so nothing outside the dataset directory is read.
+            scenalog_input::check_log_id(id).map_err(EvalError::Format)?;
             let dir = dataset_dir.join(id);
             if !dir.is_dir() {
                 return Err(EvalError::Format(format!(

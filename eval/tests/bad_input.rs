@@ -206,3 +206,74 @@ fn boxes_off_the_grid_are_outside() {
     }
     assert!(!r.box_in_roi([f64::NAN; 3], [f32::NAN; 3], f32::NAN));
 }
+
+/// NaN or infinite numbers in a box of predictions or ground truth, in the pickle and the Arrow
+/// table, are errors naming the sequence, the frame and the field.
+#[test]
+fn non_finite_boxes_name_sequence_frame_and_field() {
+    let (pred, gt) = load();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let k = key(LOG_A);
+    type Spoil = fn(&mut scenalog_eval::FrameData);
+    let cases: [(&str, Spoil); 5] = [
+        ("translation_m", |f| f.translation_m[1][0] = f64::NAN),
+        ("size", |f| f.size[0][2] = f32::INFINITY),
+        ("yaw", |f| f.yaw[0] = f32::NEG_INFINITY),
+        ("score", |f| {
+            if let Some(s) = f.score.as_mut() {
+                s[0] = f32::NAN
+            }
+        }),
+        ("ego_translation_m", |f| f.ego_translation_m[2] = f64::NAN),
+    ];
+    for (which, sub) in [("predictions", &pred), ("ground truth", &gt)] {
+        for (field, spoil) in cases {
+            if field == "score" && which == "ground truth" {
+                continue;
+            }
+            let mut bad = sub.clone();
+            let frames = bad.sequences.get_mut(&k).expect("the sequence");
+            let frame = frames
+                .iter()
+                .position(|f| f.len() > 1)
+                .expect("a frame with two boxes");
+            spoil(&mut frames[frame]);
+            let path = dir.path().join("bad.pkl");
+            scenalog_eval::write_pickle(&bad, &path).expect("write");
+            let table = dir.path().join("bad.feather");
+            scenalog_eval::write_table(&bad, &table).expect("write");
+            for file in [&path, &table] {
+                let e = scenalog_eval::read_any(file)
+                    .expect_err("a NaN box must be refused")
+                    .to_string();
+                for part in [LOG_A, &format!("frame {frame} "), &format!("{field:?}")] {
+                    assert!(e.contains(part), "{which} {field}: {e} lacks {part}");
+                }
+            }
+        }
+    }
+}
+
+/// A log id that would climb out of the dataset directory, in a prediction or ground-truth key,
+/// is refused with the id named, before anything is joined to `--dataset-dir`.
+#[test]
+fn climbing_and_absolute_log_ids_are_refused() {
+    let (pred, _) = load();
+    let dir = tempfile::tempdir().expect("tempdir");
+    for id in ["../../elsewhere/log", "/etc", "a/b", ".."] {
+        let mut bad = pred.clone();
+        let frames = bad.sequences.remove(&key(LOG_A)).expect("the sequence");
+        bad.sequences
+            .insert((id.to_string(), "a prompt".to_string()), frames);
+        let path = dir.path().join("ids.pkl");
+        scenalog_eval::write_pickle(&bad, &path).expect("write");
+        let e = scenalog_eval::read_any(&path)
+            .expect_err("refused")
+            .to_string();
+        assert!(e.contains(&format!("log id {id:?}")), "{e}");
+        let e = RoiMaps::load(&data("logs"), [id])
+            .expect_err("refused")
+            .to_string();
+        assert!(e.contains(&format!("log id {id:?}")), "{e}");
+    }
+}

@@ -90,7 +90,24 @@ fn truncated_and_foreign_pickles_are_errors() {
     }
     let feather = std::fs::read(data("combined_gt_dev.feather")).expect("read");
     let e = read_pickle_bytes(&feather, "feather").expect_err("foreign");
-    assert!(e.to_string().contains("unsupported opcode"), "{e}");
+    assert!(e.to_string().contains("unknown opcode 0x41"), "{e}");
+    // What is refused says why and what to write instead; nothing is executed.
+    for (bytes, says) in [
+        (
+            &b"\x80\x02cos\nsystem\n(X\x02\x00\x00\x00lstR."[..],
+            "global os.system",
+        ),
+        (
+            &b"\x80\x02cpandas.core.frame\nDataFrame\n)R."[..],
+            "store plain numpy arrays",
+        ),
+        (&b"\x80\x05\x97."[..], "without `buffer_callback`"),
+        (&b"\x80\x06N."[..], "protocol=5"),
+        (&b"(i__main__\nC\n."[..], "nothing is executed"),
+    ] {
+        let e = read_pickle_bytes(bytes, "refused").expect_err("refused");
+        assert!(e.to_string().contains(says), "{e}");
+    }
     // every single-byte corruption of the header region errors or parses, never panics
     for i in 0..400 {
         let mut b = bytes.clone();

@@ -1,6 +1,6 @@
 //! Events over a track's frames: `turning` and `lane_change`.
 //!
-//! - **turning**: the yaw rate is median-filtered ([`MEDIAN_WINDOW`]); maximal runs of boxes whose
+//! - **turning**: the yaw rate is median-filtered (`kinematics::median_window`: 0.7 s of samples); maximal runs of boxes whose
 //!   filtered rate has one sign and exceeds [`TURN_DEAD_BAND_DEG_S`] are integrated over real time;
 //!   every frame of a run turning more than [`TURN_MIN_ANGLE_DEG`] in all is `turning` that way.
 //! - **lane_change**: when a track's assigned lane changes from A to B and B is A's left or right
@@ -24,7 +24,7 @@ use crate::kinematics::{median_filter, TrackKinematics};
 use crate::map::geometry::{nearest_on_polyline, Pt};
 use crate::map::MapIndex;
 use crate::thresholds::{
-    LANE_CHANGE_MIN_ABS_COS, LANE_CHANGE_MIN_LATERAL_SPEED, LANE_CHANGE_SPAN_WIDTHS, MEDIAN_WINDOW,
+    LANE_CHANGE_MIN_ABS_COS, LANE_CHANGE_MIN_LATERAL_SPEED, LANE_CHANGE_SPAN_WIDTHS,
     TURN_DEAD_BAND_DEG_S, TURN_MIN_ANGLE_DEG,
 };
 
@@ -50,7 +50,7 @@ impl Side {
 /// The frames of one track's turns, in frame order.
 pub fn turning(t: &TrackKinematics) -> Vec<(Frame, Side)> {
     let n = t.frames.len();
-    let rate = median_filter(&t.yaw_rate, MEDIAN_WINDOW);
+    let rate = median_filter(&t.yaw_rate, t.window);
     let sign = |w: f64| {
         if w > TURN_DEAD_BAND_DEG_S {
             1

@@ -31,6 +31,8 @@ pub struct TrackKinematics {
     pub yaw_rate: Vec<f64>,
     /// Whether the whole track is stationary (smoothed positions' bounding-box diagonal < 3 m).
     pub stationary: bool,
+    /// The median filters' window in samples ([`median_window`]).
+    pub window: usize,
 }
 
 impl TrackKinematics {
@@ -79,7 +81,7 @@ pub fn track_kinematics(scene: &Scene, track: &Track) -> TrackKinematics {
         .collect();
     let yaw: Vec<f64> = track.boxes.iter().map(|b| b.city_yaw()).collect();
 
-    let window = MEDIAN_WINDOW;
+    let window = median_window(&times);
     let pos = median_filter_2d(&center, window);
     let vel = median_filter_2d(&derivative_2d(&pos, &times), window);
     let acc = median_filter_2d(&derivative_2d(&vel, &times), window);
@@ -105,7 +107,27 @@ pub fn track_kinematics(scene: &Scene, track: &Track) -> TrackKinematics {
         yaw,
         yaw_rate,
         stationary,
+        window,
     }
+}
+
+/// The median filters' window in samples for a track sampled at `times` (seconds): the same
+/// span of time as [`MEDIAN_WINDOW`] frames of 0.1 s at the track's median spacing, odd, at
+/// least 1 and at most [`MEDIAN_WINDOW`]: 7 samples at 10 Hz, 1 at 2 Hz (a 7-sample window there
+/// would smooth over 3.5 s).
+pub fn median_window(times: &[f64]) -> usize {
+    let mut gaps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+    if gaps.is_empty() {
+        return MEDIAN_WINDOW;
+    }
+    gaps.sort_by(f64::total_cmp);
+    let gap = gaps[gaps.len() / 2];
+    if gap <= 0.0 || !gap.is_finite() {
+        return MEDIAN_WINDOW;
+    }
+    let w = ((MEDIAN_WINDOW as f64 * 0.1) / gap).round() as usize;
+    let w = w.clamp(1, MEDIAN_WINDOW);
+    w - (1 - (w & 1))
 }
 
 /// The window actually used for `n` samples: `window`, or the largest odd number `<= n`.
@@ -238,6 +260,19 @@ fn bbox_diagonal(p: &[[f64; 2]]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_median_window_spans_the_same_time_at_any_rate() {
+        let at = |hz: f64, n: usize| (0..n).map(|i| i as f64 / hz).collect::<Vec<f64>>();
+        // AV2 sweeps are about 99.7 ms apart.
+        let av2: Vec<f64> = (0..50).map(|i| i as f64 * 0.0997).collect();
+        assert_eq!(median_window(&av2), MEDIAN_WINDOW);
+        assert_eq!(median_window(&at(10.0, 50)), 7);
+        assert_eq!(median_window(&at(5.0, 50)), 3);
+        assert_eq!(median_window(&at(2.0, 50)), 1);
+        assert_eq!(median_window(&at(20.0, 50)), 7);
+        assert_eq!(median_window(&[0.0]), MEDIAN_WINDOW);
+    }
 
     #[test]
     fn median_filter_truncates_at_ends_and_removes_spikes() {

@@ -11,7 +11,9 @@
 // Kinematics
 // ---------------------------------------------------------------------------------------------
 
-/// Window (frames, odd) of the median filter over positions and their derivatives. Tracks shorter
+/// Window (frames of 0.1 s, odd) of the median filter over positions and their derivatives; a
+/// track sampled less often uses the same span of time in samples (`kinematics::median_window`:
+/// 7 at 10 Hz, 1 at 2 Hz). Tracks shorter
 /// than this use the largest odd window that fits; at a track's ends the window is truncated to
 /// the boxes that exist (no zero padding, which pulled RefAV's end values towards 0).
 pub const MEDIAN_WINDOW: usize = 7;

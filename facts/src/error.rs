@@ -23,7 +23,8 @@ pub enum LoadError {
     NotRegularFile {
         /// The path.
         path: PathBuf,
-        /// What it is and what was expected, e.g. "is a FIFO (named pipe), not a regular file".
+        /// What it is and what was expected, e.g. "is a FIFO (named pipe), not a regular file",
+        /// or why it was not read ("is too large …").
         what: String,
     },
     /// A file or directory exists but could not be read: permission denied, a symlink loop, an

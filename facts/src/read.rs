@@ -111,7 +111,11 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
     }
     let timeline = Timeline::new(stamps);
 
-    let ego_poses = ego_poses_at(&pose_path, &ann_path, timeline.timestamps_ns())?;
+    let ego_poses = timeline.per_frame(&ego_poses_at(
+        &pose_path,
+        &ann_path,
+        timeline.timestamps_ns(),
+    )?);
     let tracks = build_tracks(&ann_path, &ann, &timeline, &ego_poses)?;
     let ego = tracks
         .iter()
@@ -157,9 +161,10 @@ pub fn log_map(log_dir: &Path) -> Result<(crate::map::VectorMap, String), LoadEr
 }
 
 /// The ego track a scene without an `EGO_VEHICLE` track gets: uuid [`ADDED_EGO_UUID`], the car's
-/// body in the ego frame ([`ego_box_in_ego_frame`]), size [`EGO_SIZE`], one box per frame.
-pub fn added_ego(ego_poses: &[Pose]) -> (String, Vec<TrackBox>) {
-    let b = added_ego_track(ego_poses);
+/// body in the ego frame ([`ego_box_in_ego_frame`]), size [`EGO_SIZE`], one box at each of
+/// `frames` (the timeline's frames holding data; `ego_poses` is indexed by frame).
+pub fn added_ego(ego_poses: &[Pose], frames: &[Frame]) -> (String, Vec<TrackBox>) {
+    let b = added_ego_track(ego_poses, frames);
     (b.uuid.to_string(), b.boxes)
 }
 
@@ -213,7 +218,7 @@ pub fn box_scores(log_dir: &Path, scene: &Scene) -> Result<Option<Vec<Vec<f32>>>
         }
         first_row += b.num_rows();
     }
-    let stamps = scene.timeline.timestamps_ns();
+    let timeline = &scene.timeline;
     Ok(Some(
         scene
             .tracks
@@ -223,9 +228,9 @@ pub fn box_scores(log_dir: &Path, scene: &Scene) -> Result<Option<Vec<Vec<f32>>>
                     .boxes
                     .iter()
                     .map(|b| {
-                        stamps
-                            .get(b.frame as usize)
-                            .and_then(|&t| by_box.get(&(track.uuid.as_str(), t)))
+                        timeline
+                            .ns(b.frame)
+                            .and_then(|t| by_box.get(&(track.uuid.as_str(), t)))
                             .copied()
                             .unwrap_or(1.0)
                     })
@@ -468,7 +473,7 @@ fn build_tracks(
                 category: t.category.to_owned(),
             });
         }
-        building.push(added_ego_track(ego_poses));
+        building.push(added_ego_track(ego_poses, timeline.frames()));
     }
 
     // The file's ego rows are at the rear axle (identity in the ego frame): move each box to the
@@ -498,13 +503,14 @@ fn build_tracks(
     Ok(tracks)
 }
 
-/// The ego track added to annotations without one: identity pose, AV2 ego size, every frame.
-fn added_ego_track(ego_poses: &[Pose]) -> Building<'static> {
-    let boxes = ego_poses
+/// The ego track added to annotations without one: identity pose, AV2 ego size, a box at each
+/// of `frames` (the frames holding data; `ego_poses` is indexed by frame).
+fn added_ego_track(ego_poses: &[Pose], frames: &[Frame]) -> Building<'static> {
+    let boxes = frames
         .iter()
-        .enumerate()
-        .map(|(f, pose)| TrackBox {
-            frame: f as Frame,
+        .filter_map(|&f| Some((f, ego_poses.get(f as usize)?)))
+        .map(|(frame, pose)| TrackBox {
+            frame,
             ego: ego_box_in_ego_frame(),
             city: pose * ego_box_in_ego_frame(),
             size: EGO_SIZE,

@@ -195,13 +195,14 @@ pub struct Scene {
     pub log_id: String,
     /// City code from the map file name ("MIA", "PIT", …), empty when unknown.
     pub city: String,
-    /// Annotation timestamps as frames 0..N.
+    /// The timestamps as frames on the 10 Hz grid (`time.rs`).
     pub timeline: Timeline,
     /// Every track, the ego included; `tracks[i].id == TrackId(i)`. Sorted by uuid.
     pub tracks: Vec<Track>,
     /// The ego vehicle's track.
     pub ego: TrackId,
-    /// The ego pose in the city frame at each frame (`p_city = pose * p_ego`).
+    /// The ego pose in the city frame at each frame of the grid (`p_city = pose * p_ego`); a
+    /// frame without a timestamp has the pose of the frame before it.
     pub ego_poses: Vec<Pose>,
     /// The vector map.
     pub map: VectorMap,
@@ -220,9 +221,10 @@ impl Scene {
         self.track_by_uuid.get(uuid).map(|&id| self.track(id))
     }
 
-    /// Number of frames (annotation timestamps).
+    /// Number of frames of the grid, the last frame plus one (the number of timestamps for a
+    /// 10 Hz log; frames between a slower input's timestamps hold no boxes).
     pub fn num_frames(&self) -> usize {
-        self.timeline.len()
+        self.timeline.frame_count()
     }
 
     /// Maps a point in the ego frame at `frame` to the city frame.

@@ -13,8 +13,10 @@ pub struct SceneSummary {
     pub log_id: String,
     /// The city code ("" when unknown).
     pub city: String,
-    /// Number of annotation timestamps (frames).
+    /// Number of annotation timestamps (frames holding data).
     pub timestamps: usize,
+    /// The last frame on the 0.1 s grid (`timestamps - 1` for a 10 Hz log, more for a slower one).
+    pub last_frame: u32,
     /// First annotation timestamp, ns (0 for an empty log).
     pub first_timestamp_ns: i64,
     /// Seconds from the first to the last annotation timestamp.
@@ -66,6 +68,7 @@ impl SceneSummary {
             log_id: scene.log_id.clone(),
             city: scene.city.clone(),
             timestamps: ts.len(),
+            last_frame: scene.timeline.frames().last().copied().unwrap_or(0),
             first_timestamp_ns: first,
             duration_s: (last - first) as f64 * 1e-9,
             boxes: scene.num_boxes(),
@@ -91,6 +94,7 @@ impl SceneSummary {
             "log_id": self.log_id,
             "city": self.city,
             "timestamps": self.timestamps,
+            "last_frame": self.last_frame,
             "first_timestamp_ns": self.first_timestamp_ns,
             "duration_s": self.duration_s,
             "boxes": self.boxes,
@@ -119,9 +123,7 @@ impl SceneSummary {
         let _ = writeln!(
             s,
             "  timestamps  {} over {:.2} s (10 Hz frames 0..{})",
-            self.timestamps,
-            self.duration_s,
-            self.timestamps.saturating_sub(1)
+            self.timestamps, self.duration_s, self.last_frame
         );
         let _ = writeln!(s, "  boxes       {}", self.boxes);
         let _ = writeln!(s, "  tracks      {} (ego {})", self.tracks, self.ego_uuid);

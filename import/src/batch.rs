@@ -57,6 +57,12 @@ pub fn programs_in(input: &Path) -> Result<Vec<PathBuf>, String> {
     if meta.is_file() {
         return Ok(vec![input.to_path_buf()]);
     }
+    if let Err(problem) = scenalog_input::directory(input) {
+        return Err(format!(
+            "{}: {problem} (give a program file or a directory of them)",
+            input.display()
+        ));
+    }
     let mut files = Vec::new();
     let entries = std::fs::read_dir(input)
         .map_err(|e| format!("{}: cannot list the directory: {e}", input.display()))?;
@@ -113,16 +119,14 @@ pub fn import_path(input: &Path, out_dir: &Path) -> Result<ImportReport, String>
     let mut report = ImportReport::default();
     let mut taken = std::collections::BTreeSet::new();
     for source in files {
-        let text = match std::fs::read(&source) {
-            Ok(bytes) => match String::from_utf8(bytes) {
-                Ok(t) => t,
-                Err(_) => {
-                    report
-                        .files
-                        .push(failure(source, "file", "not UTF-8 text".into()));
-                    continue;
-                }
-            },
+        let text = match scenalog_input::read_text_file(&source, scenalog_input::TEXT_LIMIT) {
+            Ok(t) => t,
+            Err(scenalog_input::FileProblem::NotUtf8(_)) => {
+                report
+                    .files
+                    .push(failure(source, "file", "not UTF-8 text".into()));
+                continue;
+            }
             Err(e) => {
                 report
                     .files

@@ -1,8 +1,19 @@
 //! Is a path a regular file? Reading one without blocking on a FIFO or misreporting a symlink
-//! loop or a permission problem as "not found".
+//! loop or a permission problem as "not found", and never past a size limit.
+//!
+//! [`read_regular_file`] is the one way every command reads an input file: it opens the path
+//! without blocking (a FIFO's open would otherwise wait for a writer), checks what the opened
+//! descriptor is (so a path swapped between a check and the open is still caught), and reads at
+//! most the given limit, so `/dev/zero`, a FIFO or a file growing under the reader is an error
+//! naming what it is rather than a read that never ends or exhausts memory.
 
-use std::io::ErrorKind;
+use std::io::{ErrorKind, Read};
 use std::path::Path;
+
+/// The largest text input read (rules, prompt lists, descriptions, JSON maps and timestamps).
+pub const TEXT_LIMIT: u64 = 256 << 20;
+/// The largest binary input read (Arrow tables, pickles of predictions, ground truth, tracks).
+pub const DATA_LIMIT: u64 = 32 << 30;
 
 /// Why a path cannot be read as a regular file.
 #[derive(Debug)]
@@ -16,6 +27,15 @@ pub enum FileProblem {
         /// What was wanted: "a regular file" or "a directory".
         expected: &'static str,
     },
+    /// The file is larger than the reader accepts.
+    TooLarge {
+        /// Its size in bytes (at least this many: reading stops one byte past the limit).
+        size: u64,
+        /// The limit in bytes.
+        limit: u64,
+    },
+    /// A text file is not UTF-8; the byte offset of the first invalid byte.
+    NotUtf8(usize),
     /// The path could not be examined or read: permission denied, a symlink loop, an I/O error.
     Io(std::io::Error),
 }
@@ -25,6 +45,13 @@ impl std::fmt::Display for FileProblem {
         match self {
             FileProblem::NotFound => write!(f, "not found"),
             FileProblem::WrongKind { found, expected } => write!(f, "is {found}, not {expected}"),
+            FileProblem::TooLarge { size, limit } => write!(
+                f,
+                "is too large ({size} bytes or more; the limit for this input is {limit} bytes)"
+            ),
+            FileProblem::NotUtf8(at) => {
+                write!(f, "is not UTF-8 text (invalid byte at offset {at})")
+            }
             FileProblem::Io(e) => write!(f, "cannot read: {}", describe_io(e)),
         }
     }
@@ -97,14 +124,77 @@ pub fn directory(path: &Path) -> Result<(), FileProblem> {
     }
 }
 
-/// Reads the whole of `path` after checking it is a regular file (so a FIFO is an error, not a
-/// read that waits forever for a writer).
-pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, FileProblem> {
+/// Opens `path` for reading without blocking, whatever is there (a FIFO's open returns at once).
+fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    options.open(path)
+}
+
+/// Reads the whole of `path`, at most `limit` bytes, after checking that what was opened is a
+/// regular file: a FIFO, a device (`/dev/zero`), a directory or a symlink loop is an error
+/// saying what it is, never a read that waits forever or runs out of memory. Every input file of
+/// every command is read through this function (or [`read_text_file`]).
+pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, FileProblem> {
+    // The kind first by path, so a directory or FIFO is named without being opened at all.
     regular_file(path)?;
-    std::fs::read(path).map_err(|e| match e.kind() {
+    let file = open_nonblocking(path).map_err(|e| match e.kind() {
         ErrorKind::NotFound => FileProblem::NotFound,
         _ => FileProblem::Io(e),
-    })
+    })?;
+    // Then the kind of what was opened, in case the path changed in between.
+    let meta = file.metadata().map_err(FileProblem::Io)?;
+    if !meta.is_file() {
+        return Err(FileProblem::WrongKind {
+            found: kind_of(meta.file_type()),
+            expected: "a regular file",
+        });
+    }
+    if meta.len() > limit {
+        return Err(FileProblem::TooLarge {
+            size: meta.len(),
+            limit,
+        });
+    }
+    let mut data = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut data)
+        .map_err(FileProblem::Io)?;
+    if data.len() as u64 > limit {
+        return Err(FileProblem::TooLarge {
+            size: data.len() as u64,
+            limit,
+        });
+    }
+    Ok(data)
+}
+
+/// [`read_regular_file`] for a UTF-8 text file.
+pub fn read_text_file(path: &Path, limit: u64) -> Result<String, FileProblem> {
+    let data = read_regular_file(path, limit)?;
+    String::from_utf8(data).map_err(|e| FileProblem::NotUtf8(e.utf8_error().valid_up_to()))
+}
+
+/// Reads standard input as UTF-8 text, at most `limit` bytes (`check -`, `run -`).
+pub fn read_stdin_text(limit: u64) -> Result<String, FileProblem> {
+    let mut data = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut data)
+        .map_err(FileProblem::Io)?;
+    if data.len() as u64 > limit {
+        return Err(FileProblem::TooLarge {
+            size: data.len() as u64,
+            limit,
+        });
+    }
+    String::from_utf8(data).map_err(|e| FileProblem::NotUtf8(e.utf8_error().valid_up_to()))
 }
 
 #[cfg(test)]
@@ -117,7 +207,18 @@ mod tests {
         let file = dir.path().join("a.feather");
         std::fs::write(&file, b"abc").expect("write");
         assert_eq!(regular_file(&file).expect("regular"), 3);
-        assert_eq!(read_regular_file(&file).expect("read"), b"abc");
+        assert_eq!(read_regular_file(&file, 3).expect("read"), b"abc");
+        let problem = read_regular_file(&file, 2).expect_err("over the limit");
+        assert_eq!(
+            problem.to_string(),
+            "is too large (3 bytes or more; the limit for this input is 2 bytes)"
+        );
+        std::fs::write(&file, [b'a', 0xff]).expect("write");
+        let problem = read_text_file(&file, 10).expect_err("not UTF-8");
+        assert_eq!(
+            problem.to_string(),
+            "is not UTF-8 text (invalid byte at offset 1)"
+        );
 
         assert!(directory(dir.path()).is_ok());
         let problem = directory(&file).expect_err("a file");
@@ -133,7 +234,7 @@ mod tests {
             let b = dir.path().join("loop_b");
             std::os::unix::fs::symlink(&b, &a).expect("symlink");
             std::os::unix::fs::symlink(&a, &b).expect("symlink");
-            let problem = read_regular_file(&a).expect_err("a loop");
+            let problem = read_regular_file(&a, 10).expect_err("a loop");
             assert!(problem.to_string().contains("symlink loop"), "{problem}");
             let dangling = dir.path().join("dangling");
             std::os::unix::fs::symlink(&missing, &dangling).expect("symlink");
@@ -149,11 +250,21 @@ mod tests {
                 .expect("run mkfifo");
             assert!(made.success(), "mkfifo failed");
             // Would block forever if it were opened for reading.
-            let problem = read_regular_file(&fifo).expect_err("a FIFO");
+            let problem = read_regular_file(&fifo, 10).expect_err("a FIFO");
             assert_eq!(
                 problem.to_string(),
                 "is a FIFO (named pipe), not a regular file"
             );
+            // Opening it does not wait for a writer either.
+            let opened = open_nonblocking(&fifo).expect("open a FIFO without blocking");
+            assert!(!opened.metadata().expect("fstat").is_file());
+            if Path::new("/dev/zero").exists() {
+                let problem = read_regular_file(Path::new("/dev/zero"), 10).expect_err("a device");
+                assert_eq!(
+                    problem.to_string(),
+                    "is a character device, not a regular file"
+                );
+            }
         }
     }
 }

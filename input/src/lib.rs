@@ -7,6 +7,9 @@
 //! uncompressed length larger than the bytes could hold. A corrupt length otherwise makes the
 //! decoder panic or allocate petabytes and abort the process.
 //!
+//! Also owns the one check of a log id read from an input file ([`log_id::check_log_id`]), since
+//! every reader joins ids to a dataset directory.
+//!
 //! Does not own: what the columns mean. The log reader (`scenalog-facts`) and the evaluation
 //! (`scenalog-eval`) both read their tables through [`arrow::read_batches`] and wrap
 //! [`arrow::Corrupt`] and [`file::FileProblem`] into their own errors, naming the file.
@@ -17,6 +20,11 @@
 
 pub mod arrow;
 pub mod file;
+pub mod log_id;
 
 pub use arrow::{read_batches, read_schema, Corrupt};
-pub use file::{directory, read_regular_file, regular_file, FileProblem};
+pub use file::{
+    directory, read_regular_file, read_stdin_text, read_text_file, regular_file, FileProblem,
+    DATA_LIMIT, TEXT_LIMIT,
+};
+pub use log_id::check_log_id;

@@ -297,17 +297,24 @@ def evaluate(
     ground_truth: Any,
     dataset_dir: Optional[PathLike] = None,
     max_range_m: float = 50.0,
+    rate: Optional[int] = None,
+    timestamps: Optional[Dict[str, Sequence[int]]] = None,
 ) -> dict:
     """The official scenario-mining metrics of ``predictions`` against ``ground_truth``: the
-    dict ``scenalog eval --json`` prints (``HOTA-Temporal``, ``HOTA-Track``, the balanced
-    accuracies, per prompt ...).
+    dict ``scenalog eval --json`` prints (``hota_temporal``, ``hota_track``, the balanced
+    accuracies, the paper's ``hota_temporal_related``, ``hota_temporal_other`` and the tracker's
+    ``hota`` (``None`` where the ground truth holds no such object), per prompt ...).
 
     Each side is what the official ``av2`` ``evaluate`` takes (``{(log_id, prompt): [frame
     dict of numpy arrays, ...]}``), a path to an official pickle or a long Arrow table, their
     bytes, or a ``pyarrow.Table``. ``dataset_dir`` turns on the drivable-area filter (the official
-    ``dataset_dir``); ``max_range_m`` is the range filter.
+    ``dataset_dir``); ``max_range_m`` is the range filter. ``rate`` (Hz, e.g. 2 or 10) or
+    ``timestamps`` (``{log_id: [timestamp_ns, ...]}``) evaluate the chosen frames, as
+    ``scenalog eval --rate`` / ``--timestamps``.
     """
     pk, pv = _source("predictions", predictions)
     gk, gv = _source("ground_truth", ground_truth)
     ds = None if dataset_dir is None else os.fspath(dataset_dir)
-    return json.loads(_native.evaluate(pk, pv, gk, gv, float(max_range_m), ds))
+    ts = None if timestamps is None else json.dumps({str(k): [int(t) for t in v] for k, v in timestamps.items()})
+    r = None if rate is None else int(rate)
+    return json.loads(_native.evaluate(pk, pv, gk, gv, float(max_range_m), ds, r, ts))

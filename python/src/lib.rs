@@ -52,7 +52,7 @@ fn check(
 ) -> PyResult<String> {
     let work = move || -> Result<String, String> {
         let source = match &path {
-            Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read `{p}`: {e}"))?,
+            Some(p) => scenalog::input::read_text(std::path::Path::new(p))?,
             None => text,
         };
         let options = scenalog_rules::CheckOptions { require_referred };
@@ -304,9 +304,11 @@ impl Source {
 }
 
 /// The official metrics of `pred` against `gt` (each a kind — "path", "pickle", "arrow" — and
-/// its value): the JSON `scenalog eval --json` prints.
+/// its value): the JSON `scenalog eval --json` prints. `rate` and `timestamps` (JSON text of
+/// `{log_id: [timestamp_ns, ...]}`) are `eval --rate` and `eval --timestamps`.
 #[pyfunction]
-#[pyo3(signature = (pred_kind, pred, gt_kind, gt, max_range_m=50.0, dataset_dir=None))]
+#[pyo3(signature = (pred_kind, pred, gt_kind, gt, max_range_m=50.0, dataset_dir=None, rate=None, timestamps=None))]
+#[allow(clippy::too_many_arguments)]
 fn evaluate(
     py: Python<'_>,
     pred_kind: &str,
@@ -315,7 +317,22 @@ fn evaluate(
     gt: &Bound<'_, PyAny>,
     max_range_m: f64,
     dataset_dir: Option<PathBuf>,
+    rate: Option<u32>,
+    timestamps: Option<String>,
 ) -> PyResult<String> {
+    let sampling = match (rate, timestamps) {
+        (Some(_), Some(_)) => {
+            return Err(PyValueError::new_err(
+                "rate and timestamps: give one or the other",
+            ))
+        }
+        (Some(0), None) => return Err(PyValueError::new_err("rate: expected at least 1 (Hz)")),
+        (Some(hz), None) => Some(scenalog_eval::Sampling::Rate(hz)),
+        (None, Some(text)) => Some(scenalog_eval::Sampling::Timestamps(
+            scenalog_eval::parse_timestamps(&text, "timestamps").map_err(|e| err(e.to_string()))?,
+        )),
+        (None, None) => None,
+    };
     if !(max_range_m.is_finite() && max_range_m > 0.0) {
         return Err(PyValueError::new_err(format!(
             "max_range_m: expected a finite number greater than 0, got {max_range_m}"
@@ -324,8 +341,11 @@ fn evaluate(
     let pred = Source::from_py(pred_kind, pred)?;
     let gt = Source::from_py(gt_kind, gt)?;
     let work = move || -> Result<String, String> {
-        let pred = pred.read("predictions")?;
-        let gt = gt.read("ground truth")?;
+        let mut pred = pred.read("predictions")?;
+        let mut gt = gt.read("ground truth")?;
+        if let Some(s) = &sampling {
+            scenalog_eval::resample(&mut pred, &mut gt, s).map_err(|e| e.to_string())?;
+        }
         let roi = match &dataset_dir {
             None => None,
             Some(dir) => {

@@ -1,5 +1,6 @@
 """`scenalog.evaluate` against `scenalog eval --json` (to 1e-12) and the official numbers."""
 
+import json
 import math
 import pickle
 
@@ -45,6 +46,51 @@ def test_fixture_official_numbers():
     roi = scenalog.evaluate(PRED, GT, dataset_dir=LOGS)
     assert abs(roi["hota_temporal"] - 0.38316587964415044) <= 1e-12
     assert abs(roi["hota_track"] - 0.4016635999319241) <= 1e-12
+
+
+def test_related_other_and_tracker_hota():
+    """The paper's further columns, as `scenalog eval --json` (eval/README.md): the fixture
+    labels no object related (None), other and the tracker's HOTA as pinned in eval's tests."""
+    r = scenalog.evaluate(PRED, GT)
+    assert r["hota_temporal_related"] is None
+    assert r["hota_temporal_related_by_prompt"] == {"stopped car": None, "vehicle with a bicycle to its right": None}
+    assert abs(r["hota_temporal_other"] - 0.5807763575364608) <= 1e-12
+    assert abs(r["hota"] - 0.7466950270710451) <= 1e-12
+    assert abs(r["hota_by_prompt"]["stopped car"]["value"] - 0.7583319113505939) <= 1e-12
+    assert r["warnings"] == []
+    roi = scenalog.evaluate(PRED, GT, dataset_dir=LOGS)
+    assert abs(roi["hota_temporal_other"] - 0.5715236915701356) <= 1e-12
+    assert abs(roi["hota"] - 0.7537326721599327) <= 1e-12
+
+
+def test_ground_truth_against_itself_is_one_on_every_defined_key():
+    with open(GT, "rb") as f:
+        gt_obj = pickle.load(f)
+    import numpy as np
+
+    pred = {
+        k: [dict(fr, score=np.ones(len(fr["track_id"]), dtype=np.float32)) for fr in frames]
+        for k, frames in gt_obj.items()
+    }
+    r = scenalog.evaluate(pred, gt_obj)
+    for k in ["hota_temporal", "hota_track", "timestamp_ba", "log_ba", "hota_temporal_other", "hota"]:
+        assert abs(r[k] - 1.0) <= 1e-12, k
+    assert r["hota_temporal_related"] is None
+
+
+def test_rate_and_timestamps(cli_json, tmp_path):
+    assert_close(scenalog.evaluate(PRED, GT, rate=2), scenalog.evaluate(PRED, GT))
+    with pytest.raises(scenalog.ScenalogError, match="cannot be sampled at 10 Hz"):
+        scenalog.evaluate(PRED, GT, rate=10)
+    with open(GT, "rb") as f:
+        gt_obj = pickle.load(f)
+    first = {k[0]: [int(frames[0]["timestamp_ns"])] for k, frames in gt_obj.items()}
+    path = tmp_path / "ts.json"
+    path.write_text(json.dumps(first))
+    want = cli_json("eval", "--json", "--pred", PRED, "--gt", GT, "--timestamps", path)
+    assert_close(scenalog.evaluate(PRED, GT, timestamps=first), want)
+    with pytest.raises(ValueError):
+        scenalog.evaluate(PRED, GT, rate=2, timestamps=first)
 
 
 # The drivable-area filter on the fixture and one holdout submission (building the rasters is

@@ -2,7 +2,7 @@
 //! diagnostics. Exit 0 when no file has an error (warnings allowed), 1 when some file has an
 //! error, 2 when some input cannot be read.
 
-use std::io::{IsTerminal, Read};
+use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use scenalog_rules::{check, diagnostics_json, render_human, CheckOptions};
@@ -22,15 +22,7 @@ pub struct Args {
 }
 
 fn read_input(name: &str) -> Result<String, String> {
-    if name == "-" {
-        let mut s = String::new();
-        std::io::stdin()
-            .read_to_string(&mut s)
-            .map_err(|e| format!("cannot read standard input: {e}"))?;
-        Ok(s)
-    } else {
-        std::fs::read_to_string(name).map_err(|e| format!("cannot read `{name}`: {e}"))
-    }
+    crate::input::read_text(std::path::Path::new(name))
 }
 
 /// Checks every file and prints the diagnostics.

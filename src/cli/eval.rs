@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use scenalog_eval::{evaluate, read_any, EvalOptions, RoiMaps};
+use scenalog_eval::{
+    evaluate, read_any, read_timestamps, resample, EvalOptions, RoiMaps, Sampling,
+};
 
 /// Arguments of `scenalog eval`.
 #[derive(clap::Args)]
@@ -29,21 +31,48 @@ pub struct Args {
     /// Also print per-prompt values.
     #[arg(long)]
     per_prompt: bool,
-    /// Write `temporal_metrics.json` and `spatiotemporal_metrics.json` (as the official code) into this directory.
+    /// Write `temporal_metrics.json` and `spatiotemporal_metrics.json` (as the official code) and
+    /// `paper_metrics.json` (HOTA-Temporal of related and other objects, the tracker's HOTA) into
+    /// this directory.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Evaluate at this rate (Hz, e.g. 2 or 10): every k-th frame of each ground-truth sequence,
+    /// k its own rate over this one; the predictions keep the frames at those timestamps.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "timestamps")]
+    rate: Option<u32>,
+    /// Evaluate at the timestamps this JSON file lists per log (`{log_id: [timestamp_ns, ...]}`,
+    /// as RefAV's `eval_timestamps.json`).
+    #[arg(long)]
+    timestamps: Option<PathBuf>,
 }
 
 /// Runs the subcommand: exit 0 on success, 2 on unreadable or inconsistent input.
 pub fn run(args: Args) -> ExitCode {
     let loaded = read_any(&args.pred).and_then(|p| read_any(&args.gt).map(|g| (p, g)));
-    let (pred, gt) = match loaded {
+    let (mut pred, mut gt) = match loaded {
         Ok(x) => x,
         Err(e) => {
             eprintln!("scenalog eval: {e}");
             return ExitCode::from(2);
         }
     };
+    let sampling = match (&args.rate, &args.timestamps) {
+        (Some(hz), _) => Some(Sampling::Rate(*hz)),
+        (None, Some(path)) => match read_timestamps(path) {
+            Ok(t) => Some(Sampling::Timestamps(t)),
+            Err(e) => {
+                eprintln!("scenalog eval: --timestamps: {e}");
+                return ExitCode::from(2);
+            }
+        },
+        (None, None) => None,
+    };
+    if let Some(s) = &sampling {
+        if let Err(e) = resample(&mut pred, &mut gt, s) {
+            eprintln!("scenalog eval: {e}");
+            return ExitCode::from(2);
+        }
+    }
     let roi = match &args.dataset_dir {
         None => None,
         Some(dir) => {
@@ -74,6 +103,7 @@ pub fn run(args: Args) -> ExitCode {
         if let Some(s) = spatio {
             files.push(("spatiotemporal_metrics.json", s));
         }
+        files.push(("paper_metrics.json", report.paper_json()));
         let written = std::fs::create_dir_all(dir).and_then(|()| {
             files
                 .iter()
@@ -84,17 +114,40 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     }
+    for w in &report.further.warnings {
+        eprintln!("scenalog eval: warning: {w}");
+    }
     if args.json {
         outln!("{:#}", report.to_json());
         return ExitCode::SUCCESS;
     }
+    let f = &report.further;
     outln!("HOTA-Temporal: {}", report.hota_temporal);
     outln!("HOTA-Track: {}", report.hota_track);
     outln!("Timestamp-level Balanced Accuracy: {}", report.timestamp_ba);
     outln!("Log-level Balanced Accuracy: {}", report.log_ba);
+    outln!(
+        "HOTA-Temporal (related objects): {}",
+        shown(f.related.value(), "no related object in the ground truth")
+    );
+    outln!(
+        "HOTA-Temporal (other objects): {}",
+        shown(f.other.value(), "no other object in the ground truth")
+    );
+    outln!(
+        "HOTA (tracker, every object): {}",
+        shown(f.tracker.value(), "no object in the ground truth")
+    );
     if args.per_prompt {
         outln!();
-        outln!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA");
+        outln!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA\tHOTA-Temporal related\tHOTA-Temporal other\tHOTA");
+        let by = |c: &scenalog_eval::ClassHota, prompt: &str| {
+            let v = c
+                .by_prompt
+                .get(prompt)
+                .and_then(|h| h.as_ref().map(|h| h.value));
+            v.map_or_else(|| "-".to_string(), |v| v.to_string())
+        };
         for (prompt, ts) in &report.timestamp_ba_by_prompt {
             let ht = report
                 .hota_temporal_by_prompt
@@ -109,8 +162,18 @@ pub fn run(args: Args) -> ExitCode {
                 .get(prompt)
                 .copied()
                 .unwrap_or(f64::NAN);
-            outln!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}");
+            let (rel, oth, trk) = (
+                by(&f.related, prompt),
+                by(&f.other, prompt),
+                by(&f.tracker, prompt),
+            );
+            outln!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}\t{rel}\t{oth}\t{trk}");
         }
     }
     ExitCode::SUCCESS
+}
+
+/// A value, or `-` and why there is none.
+fn shown(v: Option<f64>, why_none: &str) -> String {
+    v.map_or_else(|| format!("- ({why_none})"), |v| v.to_string())
 }

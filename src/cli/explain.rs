@@ -231,9 +231,9 @@ pub fn explain_track(
     limits: &scenalog_engine::Options,
 ) -> Result<Explained, (u8, String)> {
     let display = rules.display().to_string();
-    let source = match std::fs::read_to_string(rules) {
+    let source = match crate::input::read_text(rules) {
         Ok(s) => s,
-        Err(e) => return Err((2, format!("cannot read `{display}`: {e}"))),
+        Err(e) => return Err((2, e)),
     };
     let scenario = match scenario_from_source(rules, source) {
         Ok(s) => s,

@@ -499,15 +499,19 @@ fn explain_hint(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput]) -
 
 /// Reads `--eval-timestamps`: `{"<log_id>": [timestamp_ns, …], …}`.
 pub fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("--eval-timestamps: cannot read `{}`: {e}", path.display()))?;
-    serde_json::from_str(&text).map_err(|e| {
+    let text = crate::input::read_text(path).map_err(|e| format!("--eval-timestamps: {e}"))?;
+    let timestamps: BTreeMap<String, Vec<i64>> = serde_json::from_str(&text).map_err(|e| {
         format!(
             "--eval-timestamps: `{}`: expected a JSON object mapping log ids to lists of \
              integer timestamps (ns): {e}",
             path.display()
         )
-    })
+    })?;
+    for log in timestamps.keys() {
+        scenalog_input::check_log_id(log)
+            .map_err(|e| format!("--eval-timestamps: `{}`: {e}", path.display()))?;
+    }
+    Ok(timestamps)
 }
 
 /// The `.dl` files named by `--rules`: files as given, directories' `.dl` files sorted by name.
@@ -518,17 +522,20 @@ pub fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
             let mut files: Vec<PathBuf> = std::fs::read_dir(p)
                 .map_err(|e| format!("--rules: cannot read directory `{}`: {e}", p.display()))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "dl"))
+                // Anything named *.dl but a directory is kept, so a FIFO or a dangling link
+                // is reported when read rather than skipped in silence.
+                .filter(|f| !f.is_dir() && f.extension().is_some_and(|x| x == "dl"))
                 .collect();
             files.sort();
             if files.is_empty() {
                 return Err(format!("--rules: no .dl file in `{}`", p.display()));
             }
             out.extend(files);
-        } else if p.is_file() {
-            out.push(p.clone());
         } else {
-            return Err(format!("--rules: `{}` does not exist", p.display()));
+            match scenalog_input::regular_file(p) {
+                Ok(_) => out.push(p.clone()),
+                Err(problem) => return Err(format!("--rules: `{}` {problem}", p.display())),
+            }
         }
     }
     Ok(out)

@@ -28,14 +28,18 @@ const EMPTY_PROGRAM: &str = "referred(X, T) :- category(X, \"ANY\"), present(X, 
 
 /// Reads `{"<log_id>": ["prompt", …]}`.
 fn read_pairs(path: &Path) -> Result<BTreeMap<String, Vec<String>>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("--log-prompts: cannot read `{}`: {e}", path.display()))?;
-    serde_json::from_str(&text).map_err(|e| {
+    let text = crate::input::read_text(path).map_err(|e| format!("--log-prompts: {e}"))?;
+    let pairs: BTreeMap<String, Vec<String>> = serde_json::from_str(&text).map_err(|e| {
         format!(
             "--log-prompts: `{}`: expected a JSON object mapping log ids to lists of prompts: {e}",
             path.display()
         )
-    })
+    })?;
+    for log in pairs.keys() {
+        scenalog_input::check_log_id(log)
+            .map_err(|e| format!("--log-prompts: `{}`: {e}", path.display()))?;
+    }
+    Ok(pairs)
 }
 
 /// A description as matched: trimmed, lower-case, single spaces.
@@ -149,10 +153,7 @@ pub fn prepare(args: &Options) -> Result<PairsPlan, String> {
     let tracker = match &args.tracks {
         None => None,
         Some(p) => {
-            let bytes = match std::fs::read(p) {
-                Ok(b) => b,
-                Err(e) => return Err(format!("--tracks: cannot read `{}`: {e}", p.display())),
-            };
+            let bytes = crate::input::read_data(p).map_err(|e| format!("--tracks: {e}"))?;
             let filter = if args.no_confidence_filter {
                 scenalog_tracker::Filter::None
             } else {

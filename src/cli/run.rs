@@ -4,7 +4,7 @@
 //! of relation name -> array of tuples); without `--print`, the size of every derived relation.
 //! Exit 0 when it ran, 1 on check or evaluation errors, 2 when the input cannot be read.
 
-use std::io::{IsTerminal, Read};
+use std::io::IsTerminal;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -100,15 +100,7 @@ pub fn render_json(ev: &Evaluation, print: &[String]) -> serde_json::Value {
 }
 
 fn read_input(name: &str) -> Result<String, String> {
-    if name == "-" {
-        let mut s = String::new();
-        std::io::stdin()
-            .read_to_string(&mut s)
-            .map_err(|e| format!("cannot read standard input: {e}"))?;
-        Ok(s)
-    } else {
-        std::fs::read_to_string(name).map_err(|e| format!("cannot read `{name}`: {e}"))
-    }
+    crate::input::read_text(std::path::Path::new(name))
 }
 
 /// Checks and evaluates the program and prints what was asked.

@@ -48,6 +48,10 @@ pub struct Options {
     /// With `--eval`: print the report as one JSON object instead of text.
     #[arg(long, requires = "eval")]
     pub json: bool,
+    /// Prices per million tokens, `IN,CACHED,OUT` (uncached input, cached input, output), e.g.
+    /// `2,0.5,8`: the cost of the tokens the server reports is shown with them.
+    #[arg(long, value_name = "IN,CACHED,OUT", value_parser = scenalog_synth::Price::parse)]
+    pub price: Option<scenalog_synth::Price>,
     /// With `--eval`: most tuples one (log, program) evaluation may hold, as `mine
     /// --max-tuples` [default: sized to the machine, as `mine`'s].
     #[arg(long, value_name = "N", requires = "eval", value_parser = clap::value_parser!(u64).range(1..))]
@@ -225,13 +229,25 @@ pub fn run(args: Args) -> ExitCode {
             args.timeout_ms,
             rayon::current_num_threads(),
         );
-        return eval(&synth, file, &args.logs, gt.as_deref(), args.json, &limits);
+        let shown = Shown {
+            json: args.json,
+            price: args.price,
+        };
+        return eval(&synth, file, &args.logs, gt.as_deref(), shown, &limits);
     }
     match (&args.description, &args.descriptions, &args.out) {
         (Some(d), _, _) => one(&synth, d, &args),
-        (None, Some(file), Some(out)) => many(&synth, file, out, args.jobs as usize),
+        (None, Some(file), Some(out)) => {
+            many(&synth, file, out, args.jobs as usize, args.price.as_ref())
+        }
         _ => fail("give a description, or --descriptions FILE.txt with --out DIR"),
     }
+}
+
+/// How `--eval` shows its report: as JSON or text, with the cost at a price.
+struct Shown {
+    json: bool,
+    price: Option<scenalog_synth::Price>,
 }
 
 /// `--eval FILE`: every description synthesized with held-out prompts, each clean program run on
@@ -243,7 +259,7 @@ fn eval(
     file: &std::path::Path,
     logs: &std::path::Path,
     gt: Option<&std::path::Path>,
-    json: bool,
+    shown: Shown,
     limits: &scenalog_engine::Options,
 ) -> ExitCode {
     let descriptions = match batch::read_descriptions(file) {
@@ -290,6 +306,7 @@ fn eval(
         Ok(n)
     });
     let mut report = report;
+    report.price = shown.price;
     let mut code = ExitCode::SUCCESS;
     if let Some(g) = gt {
         let scratch = std::env::temp_dir();
@@ -301,7 +318,7 @@ fn eval(
             }
         }
     }
-    if json {
+    if shown.json {
         match serde_json::to_string_pretty(&report.to_json()) {
             Ok(text) => outln!("{text}"),
             Err(e) => return fail(format!("cannot encode the report: {e}")),
@@ -339,6 +356,10 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
         }
     }
     let rounds = t.rounds.len();
+    eprintln!(
+        "scenalog synth: {}",
+        tokens_line(&t.usage(), args.price.as_ref())
+    );
     match &t.outcome {
         Outcome::Clean { round } => {
             eprintln!("scenalog synth: checked clean in round {round}");
@@ -390,11 +411,32 @@ fn report_last(t: &scenalog_synth::Transcript, args: &Options) {
     }
 }
 
+/// The tokens of `u` on one line, with their cost at `price`.
+fn tokens_line(u: &scenalog_synth::Usage, price: Option<&scenalog_synth::Price>) -> String {
+    let mut s = format!(
+        "tokens: {} uncached input, {} cached input, {} output",
+        u.uncached_tokens(),
+        u.cached_tokens,
+        u.completion_tokens
+    );
+    if let Some(p) = price {
+        s.push_str(&format!(", cost {:.4}", p.cost(u)));
+    }
+    if u.without_usage > 0 {
+        s.push_str(&format!(
+            " ({} of {} server answers reported no usage)",
+            u.without_usage, u.completions
+        ));
+    }
+    s
+}
+
 fn many(
     synth: &Synthesizer,
     file: &std::path::Path,
     out: &std::path::Path,
     jobs: usize,
+    price: Option<&scenalog_synth::Price>,
 ) -> ExitCode {
     let descriptions = match batch::read_descriptions(file) {
         Ok(d) => d,
@@ -421,6 +463,9 @@ fn many(
     }
     let s = &report.summary;
     eprintln!("scenalog synth: {s}");
+    if let Some(p) = price {
+        eprintln!("scenalog synth: cost {:.4}", p.cost(&s.usage));
+    }
     if s.unreachable + s.skipped > 0 {
         ExitCode::from(2)
     } else if s.failed > 0 {

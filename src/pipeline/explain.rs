@@ -96,7 +96,11 @@ pub fn referred_frames(ev: &Evaluation, track: TrackId) -> Vec<Frame> {
 
 /// The frame whose time is nearest to `seconds` from the log's start (the earlier on a tie).
 pub fn frame_nearest(scene: &Scene, seconds: f64) -> Option<Frame> {
-    (0..scene.timeline.len() as Frame)
+    scene
+        .timeline
+        .frames()
+        .iter()
+        .copied()
         .filter_map(|f| scene.timeline.seconds(f).map(|s| (f, (s - seconds).abs())))
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(f, _)| f)

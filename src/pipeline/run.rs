@@ -455,7 +455,7 @@ fn log_fingerprint(log: &LogInput) -> String {
     }
     for f in files {
         h.update(f.to_string_lossy().as_bytes());
-        match std::fs::read(&f) {
+        match scenalog_input::read_regular_file(&f, scenalog_input::DATA_LIMIT) {
             Ok(bytes) => {
                 h.update((bytes.len() as u64).to_le_bytes());
                 h.update(&bytes);

@@ -29,8 +29,7 @@ pub struct Scenario {
 /// Reads and checks a scenario program. The error is printable as is: it names the file and,
 /// when the program does not check, carries the rendered diagnostics.
 pub fn load_scenario(path: &Path) -> Result<Scenario, String> {
-    let source = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    let source = crate::input::read_text(path)?;
     scenario_from_source(path, source)
 }
 

@@ -3,18 +3,19 @@
 //! The rules: every run of consecutive referred frames of a track is dilated symmetrically until
 //! it lasts at least [`MIN_RUN_SECONDS`] (only over frames where the track is annotated, and within
 //! the log); a related object farther than [`MAX_RELATED_DISTANCE_M`] from its referred object at
-//! that frame is dropped; frames are emitted at the benchmark's 2 Hz timestamps (every
-//! [`EVAL_STRIDE`]th frame from the first) or at a given list.
+//! that frame is dropped; frames are emitted at the benchmark's 2 Hz timestamps (the frames
+//! holding data that are a multiple of [`EVAL_STRIDE`] on the 10 Hz grid: every fifth of a 10 Hz
+//! log, every one of a 2 Hz tracker's, never a second down-sampling) or at a given list.
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use scenalog_facts::{Frame, Scene, TrackId};
+use scenalog_facts::{Frame, Scene, Timeline, TrackId};
 
 /// A referred run shorter than this (seconds) is dilated symmetrically to this length.
 pub const MIN_RUN_SECONDS: f64 = 1.5;
 /// Related objects farther than this (metres, centre to centre) from their referred object are dropped.
 pub const MAX_RELATED_DISTANCE_M: f64 = 50.0;
-/// The benchmark's 2 Hz output: every 5th frame of a 10 Hz log, from the first.
+/// The benchmark's 2 Hz output: every 5th frame of the 10 Hz grid, from the first.
 pub const EVAL_STRIDE: usize = 5;
 
 /// The label of an object in a prediction frame.
@@ -37,28 +38,33 @@ pub struct LabelledFrame {
     pub objects: Vec<(TrackId, Label)>,
 }
 
-/// The default output frames of a scene: every [`EVAL_STRIDE`]th frame from the first.
+/// The default output frames of a scene: the frames holding data on the 2 Hz grid (a multiple
+/// of [`EVAL_STRIDE`]): every 5th frame of a 10 Hz log, each frame of a 2 Hz input.
 pub fn eval_frames(scene: &Scene) -> Vec<Frame> {
-    (0..scene.num_frames())
-        .step_by(EVAL_STRIDE)
-        .map(|f| f as Frame)
+    scene
+        .timeline
+        .frames()
+        .iter()
+        .copied()
+        .filter(|f| (*f as usize).is_multiple_of(EVAL_STRIDE))
         .collect()
 }
 
-/// Dilates the referred frames of one track: every run of consecutive frames lasting less than
-/// [`MIN_RUN_SECONDS`] grows one frame at a time on alternate sides (over frames where the track
-/// is `present`) until it lasts that long or cannot grow.
+/// Dilates the referred frames of one track: every run of consecutive frames (frames of the
+/// timeline with none between them that holds data) lasting less than [`MIN_RUN_SECONDS`] grows
+/// one frame of the timeline at a time on alternate sides (over frames where the track is
+/// `present`) until it lasts that long or cannot grow.
 pub fn dilate(
     frames: &BTreeSet<Frame>,
     present: &BTreeSet<Frame>,
-    timestamps_ns: &[i64],
+    timeline: &Timeline,
 ) -> BTreeSet<Frame> {
-    let ts = |f: Frame| timestamps_ns.get(f as usize).copied();
+    let ts = |f: Frame| timeline.ns(f);
     let mut out = frames.clone();
     let mut runs: Vec<(Frame, Frame)> = Vec::new();
     for &f in frames {
         match runs.last_mut() {
-            Some((_, end)) if *end + 1 == f => *end = f,
+            Some((_, end)) if timeline.next(*end) == Some(f) => *end = f,
             _ => runs.push((f, f)),
         }
     }
@@ -69,16 +75,16 @@ pub fn dilate(
             if tb - ta >= min_ns {
                 break;
             }
-            let can_left = a > 0 && present.contains(&(a - 1));
-            let can_right = present.contains(&(b + 1)) && ts(b + 1).is_some();
-            match (left_turn, can_left, can_right) {
-                (true, true, _) | (false, true, false) => a -= 1,
-                (false, _, true) | (true, false, true) => b += 1,
+            let left = timeline.previous(a).filter(|f| present.contains(f));
+            let right = timeline.next(b).filter(|f| present.contains(f));
+            match (left_turn, left, right) {
+                (true, Some(l), _) | (false, Some(l), None) => a = l,
+                (false, _, Some(r)) | (true, None, Some(r)) => b = r,
                 _ => break,
             }
             left_turn = !left_turn;
         }
-        out.extend(a..=b);
+        out.extend(timeline.frames().iter().filter(|f| (a..=b).contains(*f)));
     }
     out
 }
@@ -92,7 +98,6 @@ pub fn label_frames(
     related: &[(TrackId, TrackId, Frame)],
     output_frames: &[Frame],
 ) -> Vec<LabelledFrame> {
-    let timestamps = scene.timeline.timestamps_ns();
     let mut by_track: BTreeMap<TrackId, BTreeSet<Frame>> = BTreeMap::new();
     for &(t, f) in referred {
         by_track.entry(t).or_default().insert(f);
@@ -100,7 +105,7 @@ pub fn label_frames(
     let mut referred_at: BTreeSet<(Frame, TrackId)> = BTreeSet::new();
     for (&track, frames) in &by_track {
         let present: BTreeSet<Frame> = scene.track(track).boxes.iter().map(|b| b.frame).collect();
-        for f in dilate(frames, &present, timestamps) {
+        for f in dilate(frames, &present, &scene.timeline) {
             referred_at.insert((f, track));
         }
     }
@@ -141,8 +146,8 @@ pub fn label_frames(
 mod tests {
     use super::*;
 
-    fn ts(n: usize) -> Vec<i64> {
-        (0..n as i64).map(|i| i * 100_000_000).collect()
+    fn ts(n: usize) -> Timeline {
+        Timeline::new((0..n as i64).map(|i| i * 100_000_000).collect())
     }
 
     #[test]

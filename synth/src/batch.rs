@@ -18,6 +18,7 @@ use crate::cache::write_atomic;
 use crate::extract::one_line;
 use crate::repair::{Outcome, Transcript};
 use crate::slug::unique_slugs;
+use crate::usage::Usage;
 use crate::{SynthError, Synthesizer};
 
 /// How to run a batch.
@@ -64,6 +65,8 @@ pub struct BatchItem {
     pub status: ItemStatus,
     /// The program written to `path` (`None` when no round produced one).
     pub program: Option<String>,
+    /// The tokens the server reported for this description's completions.
+    pub usage: Usage,
 }
 
 /// Counts of a batch.
@@ -85,6 +88,8 @@ pub struct Summary {
     pub requests: usize,
     /// Completions the cache answered.
     pub cache_hits: usize,
+    /// The tokens the server reported, over every description.
+    pub usage: Usage,
 }
 
 impl std::fmt::Display for Summary {
@@ -115,7 +120,17 @@ impl std::fmt::Display for Summary {
             f,
             "; {} completions from the server, {} from the cache",
             self.requests, self.cache_hits
-        )
+        )?;
+        let u = &self.usage;
+        write!(
+            f,
+            "; tokens: {} prompt ({} cached), {} completion",
+            u.prompt_tokens, u.cached_tokens, u.completion_tokens
+        )?;
+        if u.without_usage > 0 {
+            write!(f, " ({} answers reported no usage)", u.without_usage)?;
+        }
+        Ok(())
     }
 }
 
@@ -131,7 +146,7 @@ pub struct BatchReport {
 /// The descriptions of a file: one a line, blank lines and lines starting with `#` skipped,
 /// whitespace runs made one space, repeated descriptions kept once.
 pub fn read_descriptions(path: &Path) -> Result<Vec<String>, SynthError> {
-    let text = fs::read_to_string(path).map_err(|e| SynthError::io(path, e))?;
+    let text = SynthError::read_text(path)?;
     let mut out: Vec<String> = Vec::new();
     for line in text.lines() {
         let d = one_line(line);
@@ -153,7 +168,7 @@ pub fn read_descriptions(path: &Path) -> Result<Vec<String>, SynthError> {
 
 /// Whether the file exists and holds a program that checks clean.
 fn checks_clean(path: &Path) -> Option<String> {
-    let source = fs::read_to_string(path).ok()?;
+    let source = SynthError::read_text(path).ok()?;
     let outcome = check(
         &source,
         &CheckOptions {
@@ -266,6 +281,7 @@ pub fn run(
         ..Summary::default()
     };
     for item in &items {
+        summary.usage = summary.usage.add(&item.usage);
         match &item.status {
             ItemStatus::Resumed => summary.resumed += 1,
             ItemStatus::Clean { round } => {
@@ -297,6 +313,7 @@ fn one(
             path,
             status: ItemStatus::Resumed,
             program: Some(program),
+            usage: Usage::default(),
         });
     }
     if down.load(Ordering::Relaxed) {
@@ -305,6 +322,7 @@ fn one(
             path,
             status: ItemStatus::Skipped,
             program: None,
+            usage: Usage::default(),
         });
     }
     let transcript = synth.synthesize(description);
@@ -324,5 +342,6 @@ fn one(
         path,
         program: transcript.program().map(str::to_string),
         status,
+        usage: transcript.usage(),
     })
 }

@@ -46,7 +46,8 @@ impl Cache {
     /// The cached completion for `key`, if there is a readable entry. A corrupt entry is
     /// treated as missing (and replaced by the next [`Cache::put`]).
     pub fn get(&self, key: &str) -> Option<String> {
-        let text = fs::read_to_string(self.path(key)).ok()?;
+        let text =
+            scenalog_input::read_text_file(&self.path(key), scenalog_input::TEXT_LIMIT).ok()?;
         let v: serde_json::Value = serde_json::from_str(&text).ok()?;
         v.get("completion")?.as_str().map(str::to_string)
     }

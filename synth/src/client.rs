@@ -10,6 +10,8 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
+use crate::usage::Usage;
+
 /// One chat message.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Message {
@@ -160,6 +162,15 @@ pub enum ClientError {
     },
 }
 
+/// One answer: the assistant's text and the tokens the server says it used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Completion {
+    /// `choices[0].message.content`.
+    pub text: String,
+    /// The answer's `usage` (`None`: it had none, or an unusable one).
+    pub usage: Option<Usage>,
+}
+
 /// A chat-completions client. Cheap to share between threads.
 #[derive(Debug)]
 pub struct Client {
@@ -169,7 +180,7 @@ pub struct Client {
 
 /// One attempt's result, deciding whether to retry.
 enum Attempt {
-    Done(String),
+    Done(Completion),
     Retry {
         message: String,
         status: Option<u16>,
@@ -198,6 +209,11 @@ impl Client {
 
     /// Asks for one completion of `messages` and returns the assistant's text.
     pub fn complete(&self, messages: &[Message]) -> Result<String, ClientError> {
+        self.complete_with_usage(messages).map(|c| c.text)
+    }
+
+    /// Asks for one completion of `messages`: the assistant's text and the server's `usage`.
+    pub fn complete_with_usage(&self, messages: &[Message]) -> Result<Completion, ClientError> {
         let url = self.config.endpoint();
         let mut body = serde_json::json!({
             "model": self.config.model,
@@ -359,8 +375,9 @@ fn error_message(body: &str) -> String {
     cut
 }
 
-/// The assistant's text from a chat-completions answer: `choices[0].message.content`.
-fn parse_completion(body: &str) -> Result<String, String> {
+/// The assistant's text from a chat-completions answer, `choices[0].message.content`, and its
+/// `usage`.
+fn parse_completion(body: &str) -> Result<Completion, String> {
     let v: serde_json::Value = serde_json::from_str(body).map_err(|e| {
         let start: String = body.chars().take(200).collect();
         format!("invalid JSON ({e}); the answer began {start:?}")
@@ -369,16 +386,20 @@ fn parse_completion(body: &str) -> Result<String, String> {
         .get("choices")
         .and_then(|c| c.get(0))
         .ok_or_else(|| "no `choices[0]` in the answer".to_string())?;
-    match choice.pointer("/message/content") {
-        Some(serde_json::Value::String(s)) => Ok(s.clone()),
+    let usage = Usage::from_answer(&v);
+    let text = match choice.pointer("/message/content") {
+        Some(serde_json::Value::String(s)) => s.clone(),
         // A reasoning model that spent every token thinking: an empty answer, which the repair
         // loop reports back as an answer with no program.
-        Some(serde_json::Value::Null) => Ok(String::new()),
-        Some(other) => Err(format!(
-            "`choices[0].message.content` is {other}, not a string"
-        )),
-        None => Err("no `choices[0].message.content` in the answer".into()),
-    }
+        Some(serde_json::Value::Null) => String::new(),
+        Some(other) => {
+            return Err(format!(
+                "`choices[0].message.content` is {other}, not a string"
+            ))
+        }
+        None => return Err("no `choices[0].message.content` in the answer".into()),
+    };
+    Ok(Completion { text, usage })
 }
 
 #[cfg(test)]
@@ -413,9 +434,9 @@ mod tests {
     #[test]
     fn completions_parse_or_say_why_not() {
         let ok = r#"{"choices":[{"message":{"role":"assistant","content":"hi"}}]}"#;
-        assert_eq!(parse_completion(ok), Ok("hi".into()));
+        assert_eq!(parse_completion(ok).map(|c| c.text), Ok("hi".into()));
         let null = r#"{"choices":[{"message":{"role":"assistant","content":null}}]}"#;
-        assert_eq!(parse_completion(null), Ok(String::new()));
+        assert_eq!(parse_completion(null).map(|c| c.text), Ok(String::new()));
         assert!(parse_completion("{not json")
             .unwrap_err()
             .contains("invalid JSON"));

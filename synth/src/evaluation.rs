@@ -12,6 +12,7 @@
 use serde::Serialize;
 
 use crate::repair::Outcome;
+use crate::usage::{Price, Usage};
 use crate::Synthesizer;
 
 /// What became of one description.
@@ -30,6 +31,8 @@ pub struct EvalItem {
     pub error: Option<String>,
     /// The clean program (`None`: none checked clean).
     pub program: Option<String>,
+    /// The tokens the server reported for this description's completions.
+    pub usage: Usage,
 }
 
 /// One prompt's scores on the fixture.
@@ -118,6 +121,8 @@ pub struct EvalReport {
     /// The fixture score of the descriptions that are ground-truth prompts (`None`: the set has
     /// none, or no ground truth was given).
     pub fixture: Option<FixtureScore>,
+    /// Prices per million tokens the cost is computed at (`None`: no cost reported).
+    pub price: Option<Price>,
 }
 
 impl EvalReport {
@@ -154,6 +159,13 @@ impl EvalReport {
             .collect()
     }
 
+    /// The tokens over every description.
+    pub fn usage(&self) -> Usage {
+        self.items
+            .iter()
+            .fold(Usage::default(), |t, i| t.add(&i.usage))
+    }
+
     /// Descriptions whose synthesis or run ended in an error.
     pub fn errors(&self) -> usize {
         self.items.iter().filter(|i| i.error.is_some()).count()
@@ -161,8 +173,16 @@ impl EvalReport {
 
     /// The report as one JSON object: the counts of [`EvalReport::render`] (`descriptions`,
     /// `clean_first_round`, `clean`, `max_rounds`, `mean_rounds`, `match_nothing`, `errors`), the
-    /// `items` (with each clean program) and `fixture` (null without one).
+    /// `items` (with each clean program and its `usage`, with `cost` when priced), the total
+    /// `usage` (likewise), `price` (null without one) and `fixture` (null without one).
     pub fn to_json(&self) -> serde_json::Value {
+        let price = self.price.as_ref();
+        let mut items = serde_json::to_value(&self.items).unwrap_or_default();
+        if let Some(list) = items.as_array_mut() {
+            for (v, i) in list.iter_mut().zip(&self.items) {
+                v["usage"] = i.usage.to_json(price);
+            }
+        }
         serde_json::json!({
             "descriptions": self.items.len(),
             "clean_first_round": self.clean_first_round(),
@@ -171,7 +191,9 @@ impl EvalReport {
             "mean_rounds": self.mean_rounds(),
             "match_nothing": self.match_nothing(),
             "errors": self.errors(),
-            "items": self.items,
+            "items": items,
+            "usage": self.usage().to_json(price),
+            "price": self.price,
             "fixture": self.fixture,
         })
     }
@@ -203,6 +225,7 @@ impl EvalReport {
             self.mean_rounds(),
             nothing.len(),
         );
+        s.push_str(&self.render_usage());
         if let Some(f) = &self.fixture {
             s.push_str(&f.render());
         }
@@ -217,6 +240,53 @@ impl EvalReport {
                     .as_deref()
                     .map(|e| format!(" ({e})"))
                     .unwrap_or_default()
+            ));
+        }
+        s
+    }
+}
+
+impl EvalReport {
+    /// The token lines of [`EvalReport::render`]: the totals, then one line a description, with
+    /// the cost when priced.
+    pub fn render_usage(&self) -> String {
+        let u = self.usage();
+        let cost = |u: &Usage| {
+            self.price
+                .map(|p| format!(", cost {:.4}", p.cost(u)))
+                .unwrap_or_default()
+        };
+        let mut s = format!(
+            "tokens: uncached input            {}\n\
+             tokens: cached input              {}\n\
+             tokens: output                    {}\n",
+            u.uncached_tokens(),
+            u.cached_tokens,
+            u.completion_tokens,
+        );
+        if let Some(p) = &self.price {
+            s.push_str(&format!(
+                "cost at {}, {}, {} per million     {:.4}\n",
+                p.input,
+                p.cached,
+                p.output,
+                p.cost(&u)
+            ));
+        }
+        if u.without_usage > 0 {
+            s.push_str(&format!(
+                "  {} of {} server answers reported no usage (not counted)\n",
+                u.without_usage, u.completions
+            ));
+        }
+        for i in &self.items {
+            s.push_str(&format!(
+                "  tokens {}: {} uncached, {} cached, {} output{}\n",
+                i.description,
+                i.usage.uncached_tokens(),
+                i.usage.cached_tokens,
+                i.usage.completion_tokens,
+                cost(&i.usage)
             ));
         }
         s
@@ -241,6 +311,7 @@ pub fn evaluate(
             matches: None,
             error: None,
             program: None,
+            usage: t.usage(),
         };
         match &t.outcome {
             Outcome::Clean { round } => {
@@ -262,5 +333,6 @@ pub fn evaluate(
         max_rounds: synth.config().rounds.max(1),
         items,
         fixture: None,
+        price: None,
     }
 }

@@ -26,15 +26,18 @@ pub mod library;
 pub mod prompt;
 pub mod repair;
 pub mod slug;
+pub mod usage;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 pub use batch::{BatchItem, BatchOptions, BatchReport, ItemStatus};
 pub use cache::Cache;
 pub use client::{Client, ClientError, LlmConfig, Message};
 pub use library::Example;
 pub use repair::{Outcome, Round, Transcript};
+pub use usage::{Price, Usage};
 
 /// Errors of synthesis that are not the model's or the server's fault: files and directories.
 #[derive(Debug, thiserror::Error)]
@@ -47,6 +50,15 @@ pub enum SynthError {
         /// What went wrong.
         source: std::io::Error,
     },
+    /// An input file is not a readable regular file (missing, a FIFO, a device, a directory, a
+    /// symlink loop, too large, not UTF-8).
+    #[error("{path}: {problem}")]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What it is or why it cannot be read.
+        problem: scenalog_input::FileProblem,
+    },
     /// A file's content is not what was expected.
     #[error("{path}: {message}")]
     Invalid {
@@ -58,6 +70,17 @@ pub enum SynthError {
 }
 
 impl SynthError {
+    /// Reads a text input file through `scenalog-input` (never blocking on a FIFO, never past
+    /// [`scenalog_input::TEXT_LIMIT`]).
+    pub(crate) fn read_text(path: &std::path::Path) -> Result<String, SynthError> {
+        scenalog_input::read_text_file(path, scenalog_input::TEXT_LIMIT).map_err(|problem| {
+            SynthError::File {
+                path: path.to_path_buf(),
+                problem,
+            }
+        })
+    }
+
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> SynthError {
         SynthError::Io {
             path: path.into(),
@@ -108,6 +131,8 @@ pub struct Stats {
     pub requests: usize,
     /// Completions answered by the cache.
     pub cache_hits: usize,
+    /// Tokens the server reported for its completions.
+    pub usage: Usage,
 }
 
 /// Turns descriptions into checked programs: the client, the cache and the prompt's examples.
@@ -119,6 +144,7 @@ pub struct Synthesizer {
     cache: Option<Cache>,
     requests: AtomicUsize,
     cache_hits: AtomicUsize,
+    usage: Mutex<Usage>,
 }
 
 impl Synthesizer {
@@ -134,6 +160,7 @@ impl Synthesizer {
             cache,
             requests: AtomicUsize::new(0),
             cache_hits: AtomicUsize::new(0),
+            usage: Mutex::new(Usage::default()),
         })
     }
 
@@ -163,28 +190,36 @@ impl Synthesizer {
         Stats {
             requests: self.requests.load(Ordering::Relaxed),
             cache_hits: self.cache_hits.load(Ordering::Relaxed),
+            usage: *self.usage.lock().unwrap_or_else(|e| e.into_inner()),
         }
     }
 
     /// One completion: from the cache when it has one, else from the server, stored in the cache
-    /// before it is returned. The flag says whether it came from the cache.
-    pub fn complete(&self, messages: &[Message]) -> Result<(String, bool), ClientError> {
+    /// before it is returned. Also returned: whether it came from the cache, and the tokens the
+    /// server reported (zero from the cache; [`Usage::missing`] when the server reported none).
+    pub fn complete(&self, messages: &[Message]) -> Result<(String, bool, Usage), ClientError> {
         let key = Cache::key(&self.config.llm.model, messages);
         if let Some(cache) = &self.cache {
             if let Some(text) = cache.get(&key) {
                 self.cache_hits.fetch_add(1, Ordering::Relaxed);
-                return Ok((text, true));
+                return Ok((text, true, Usage::default()));
             }
         }
-        let text = self.client.complete(messages)?;
+        let answer = self.client.complete_with_usage(messages)?;
+        let usage = answer.usage.unwrap_or_else(Usage::missing);
         self.requests.fetch_add(1, Ordering::Relaxed);
+        {
+            let mut total = self.usage.lock().unwrap_or_else(|e| e.into_inner());
+            *total = total.add(&usage);
+        }
+        let text = answer.text;
         if let Some(cache) = &self.cache {
             if let Err(e) = cache.put(&key, &self.config.llm.model, messages, &text) {
                 // The completion is still good; say the cache could not keep it.
                 eprintln!("warning: could not cache a completion: {e}");
             }
         }
-        Ok((text, false))
+        Ok((text, false, usage))
     }
 }
 

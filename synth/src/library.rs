@@ -60,7 +60,7 @@ pub fn load_dir(dir: &Path) -> Result<Vec<Example>, SynthError> {
         if path.extension().is_none_or(|x| x != "dl") {
             continue;
         }
-        let source = fs::read_to_string(&path).map_err(|e| SynthError::io(&path, e))?;
+        let source = SynthError::read_text(&path)?;
         let name = entry.file_name().to_string_lossy().into_owned();
         out.push(Example::new(&name, &source));
     }

@@ -8,6 +8,7 @@ use serde::Serialize;
 use crate::client::Message;
 use crate::diagnostics;
 use crate::extract::{extract, one_line, with_description, Extracted};
+use crate::usage::Usage;
 use crate::Synthesizer;
 
 /// What one round produced.
@@ -32,6 +33,8 @@ pub struct Round {
     pub round: usize,
     /// Whether the completion came from the cache.
     pub cached: bool,
+    /// The tokens the server reported for it (zero from the cache).
+    pub usage: Usage,
     /// The model's whole answer.
     pub completion: String,
     /// The program taken from it, with the description comment first (`None`: no code).
@@ -98,6 +101,13 @@ impl Transcript {
             .map_or_else(|| serde_json::json!([]), |r| r.diagnostics.clone())
     }
 
+    /// The tokens the server reported over every round.
+    pub fn usage(&self) -> Usage {
+        self.rounds
+            .iter()
+            .fold(Usage::default(), |t, r| t.add(&r.usage))
+    }
+
     /// The transcript as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
@@ -158,7 +168,7 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
     // Meaning-changing warnings are sent back once; a program that keeps them is then clean.
     let mut warned = false;
     for round in 1..=rounds {
-        let (completion, cached) = match synth.complete(&messages) {
+        let (completion, cached, usage) = match synth.complete(&messages) {
             Ok(c) => c,
             Err(e) => {
                 transcript.outcome = Outcome::Unreachable {
@@ -170,6 +180,7 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
         let mut r = Round {
             round,
             cached,
+            usage,
             completion: completion.clone(),
             program: None,
             diagnostics: serde_json::json!([]),

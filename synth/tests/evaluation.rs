@@ -5,8 +5,9 @@ mod support;
 use std::time::Duration;
 
 use scenalog_synth::evaluation::evaluate;
+use scenalog_synth::Price;
 use scenalog_synth::{Example, LlmConfig, SynthConfig, Synthesizer};
-use support::server::{program, Reply, Server};
+use support::server::{program, with_usage, Reply, Server};
 
 const LEFT: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
 const STOPPED: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.";
@@ -122,4 +123,82 @@ fn the_report_counts_rounds_and_programs_that_match_nothing() {
         .find(|r| r.description() == "stopped vehicle")
         .expect("a request for stopped vehicle");
     assert!(!stopped.messages()[1].contains("// description: stopped vehicle"));
+}
+
+/// The server's `usage` per description and in total: with cached-token details, without them
+/// (nothing counted as cached), and without `usage` at all (counted as such, no tokens).
+#[test]
+fn usage_with_and_without_cached_details_and_without_usage() {
+    let server = Server::scripted(vec![
+        // "vehicle turning left": wrong, then right: 1000 + 1200 prompt (0 + 900 cached).
+        with_usage(program(UNKNOWN), 1000, Some(0), 40),
+        with_usage(program(LEFT), 1200, Some(900), 30),
+        // "stopped vehicle": no cached-token details.
+        with_usage(program(STOPPED), 800, None, 20),
+        // "vehicle turning right": no usage at all.
+        program(LEFT),
+    ]);
+    let s = Synthesizer::new(config(&server)).expect("synth");
+    let set = [
+        "vehicle turning left".to_string(),
+        "stopped vehicle".to_string(),
+        "vehicle turning right".to_string(),
+    ];
+    let mut report = evaluate(&s, &set, |_| Ok(1));
+    let u: Vec<_> = report.items.iter().map(|i| i.usage).collect();
+    assert_eq!(
+        (
+            u[0].prompt_tokens,
+            u[0].cached_tokens,
+            u[0].completion_tokens,
+            u[0].completions
+        ),
+        (2200, 900, 70, 2)
+    );
+    assert_eq!(u[0].uncached_tokens(), 1300);
+    assert_eq!(
+        (
+            u[1].prompt_tokens,
+            u[1].cached_tokens,
+            u[1].completion_tokens
+        ),
+        (800, 0, 20)
+    );
+    assert_eq!(
+        (u[2].prompt_tokens, u[2].completions, u[2].without_usage),
+        (0, 1, 1)
+    );
+    let total = report.usage();
+    assert_eq!(
+        (
+            total.prompt_tokens,
+            total.cached_tokens,
+            total.completion_tokens
+        ),
+        (3000, 900, 90)
+    );
+    assert_eq!((total.completions, total.without_usage), (4, 1));
+    assert_eq!(s.stats().usage, total);
+    // Priced: 2100 uncached at 2, 900 cached at 0.5, 90 output at 8 (per million).
+    report.price = Some(Price::parse("2,0.5,8").expect("price"));
+    let want = (2100.0 * 2.0 + 900.0 * 0.5 + 90.0 * 8.0) / 1e6;
+    let j = report.to_json();
+    assert!(
+        (j["usage"]["cost"].as_f64().unwrap() - want).abs() < 1e-15,
+        "{j:#}"
+    );
+    assert_eq!(j["usage"]["cached_tokens"], 900);
+    assert_eq!(j["usage"]["without_usage"], 1);
+    assert_eq!(j["items"][0]["usage"]["uncached_tokens"], 1300);
+    assert!(j["items"][2]["usage"]["cost"].as_f64() == Some(0.0));
+    let text = report.render();
+    assert!(
+        text.contains("tokens: cached input              900"),
+        "{text}"
+    );
+    assert!(
+        text.contains("1 of 4 server answers reported no usage"),
+        "{text}"
+    );
+    assert!(text.contains(&format!("{want:.4}")), "{text}");
 }

@@ -96,9 +96,10 @@ pub fn tracked_log(
     if frames.is_empty() {
         return Err(TrackerError::log(file, log_id, "no frames"));
     }
-    let ego_poses =
-        scenalog_facts::read::ego_poses(log_dir, Path::new(file), timeline.timestamps_ns())
-            .map_err(|e| TrackerError::log(file, log_id, format!("ego poses: {e}")))?;
+    let ego_poses = timeline.per_frame(
+        &scenalog_facts::read::ego_poses(log_dir, Path::new(file), timeline.timestamps_ns())
+            .map_err(|e| TrackerError::log(file, log_id, format!("ego poses: {e}")))?,
+    );
     let (map, city) = scenalog_facts::read::log_map(log_dir)
         .map_err(|e| TrackerError::log(file, log_id, format!("map: {e}")))?;
     let kept = kept_tracks(frames, filter);
@@ -111,7 +112,9 @@ pub fn tracked_log(
     for f in frames {
         // Frames were timestamped by the timeline itself.
         let frame = timeline.frame_of(f.timestamp_ns).unwrap_or(0);
-        let ego = ego_poses[frame as usize];
+        let Some(&ego) = ego_poses.get(frame as usize) else {
+            continue;
+        };
         for i in 0..f.len() {
             let id = f.track_id[i];
             if !kept.contains(&id) {
@@ -149,7 +152,7 @@ pub fn tracked_log(
             (track_uuid(log_id, id), category, Some(id), b.boxes)
         })
         .collect();
-    let (ego_uuid, ego_boxes) = scenalog_facts::read::added_ego(&ego_poses);
+    let (ego_uuid, ego_boxes) = scenalog_facts::read::added_ego(&ego_poses, timeline.frames());
     tracks.push((
         ego_uuid,
         EGO_CATEGORY.to_string(),

@@ -23,8 +23,8 @@ impl TrackerPickle {
     /// not a pickle, not `{log_id: [frame dict, …]}`, frames without the tracking fields).
     pub fn open(path: &Path) -> Result<TrackerPickle, TrackerError> {
         let file = path.display().to_string();
-        let data = std::fs::read(path)
-            .map_err(|e| TrackerError::file(&file, format!("cannot read: {e}")))?;
+        let data = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
+            .map_err(|problem| TrackerError::file(&file, problem.to_string()))?;
         Self::from_bytes(&data, &file)
     }
 
@@ -47,6 +47,7 @@ impl TrackerPickle {
             let Some(log) = k.str() else {
                 return Err(not_format(format!("a key is a {}, not a log id", k.kind())));
             };
+            scenalog_input::check_log_id(log).map_err(not_format)?;
             let frames = v
                 .items()
                 .ok_or_else(|| not_format(format!("log {log} holds a {}, not a list", v.kind())))?;

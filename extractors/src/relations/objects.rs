@@ -71,21 +71,22 @@ pub fn present(ex: &Extractor, q: &Query) -> RelationData {
 
 /// `frame_ns(T, Ns)`.
 pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
-    let ns = ex.scene().timeline.timestamps_ns();
-    let r = q.frames(0, ns.len());
+    let tl = &ex.scene().timeline;
+    let r = q.frames(0, tl.frame_count());
+    let (frames, ns): (Vec<u32>, Vec<i64>) = r.filter_map(|f| Some((f, tl.ns(f)?))).unzip();
     RelationData {
         name: q.spec.name.into(),
-        columns: vec![
-            Column::Time(r.clone().collect()),
-            Column::Int(ns[r.start as usize..r.end as usize].to_vec()),
-        ],
+        columns: vec![Column::Time(frames), Column::Int(ns)],
     }
 }
 
 /// `seconds(T, S)`.
 pub fn seconds(ex: &Extractor, q: &Query) -> RelationData {
     let tl = &ex.scene().timeline;
-    let frames: Vec<u32> = q.frames(0, tl.len()).collect();
+    let frames: Vec<u32> = q
+        .frames(0, tl.frame_count())
+        .filter(|&f| tl.ns(f).is_some())
+        .collect();
     let secs = frames
         .iter()
         .map(|&f| tl.seconds(f).unwrap_or(0.0))

@@ -115,7 +115,8 @@ pub(crate) fn read_table(path: &Path, wanted: &[ColumnWant]) -> Result<Table, Lo
 
 /// Reads a whole input file, which must be a regular file (a FIFO would block the read).
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
-    scenalog_input::read_regular_file(path).map_err(|problem| file_error(path, problem))
+    scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
+        .map_err(|problem| file_error(path, problem))
 }
 
 /// The error for a path that is not a readable regular file: missing, something else (a
@@ -126,7 +127,9 @@ pub(crate) fn file_error(path: &Path, problem: FileProblem) -> LoadError {
             path: path.to_path_buf(),
             expected: "the file to exist",
         },
-        wrong @ FileProblem::WrongKind { .. } => LoadError::NotRegularFile {
+        wrong @ (FileProblem::WrongKind { .. }
+        | FileProblem::TooLarge { .. }
+        | FileProblem::NotUtf8(_)) => LoadError::NotRegularFile {
             path: path.to_path_buf(),
             what: wrong.to_string(),
         },

@@ -16,6 +16,8 @@ use std::time::{Duration, Instant};
 pub enum Reply {
     /// 200 with a chat completion whose content is this text.
     Completion(String),
+    /// 200 with a chat completion of this text carrying this `usage` object.
+    WithUsage(String, serde_json::Value),
     /// This status with a JSON error body `{"error": {"message": …}}` and maybe `Retry-After`.
     Error {
         status: u16,
@@ -33,6 +35,23 @@ pub fn program(code: &str) -> Reply {
     Reply::Completion(format!(
         "Here is the program:\n\n```scenalog\n{code}\n```\n"
     ))
+}
+
+/// `reply` (a [`Reply::Completion`]) with a `usage` of `prompt` and `completion` tokens, and
+/// `prompt_tokens_details.cached_tokens` when `cached` is given.
+pub fn with_usage(reply: Reply, prompt: u64, cached: Option<u64>, completion: u64) -> Reply {
+    let Reply::Completion(text) = reply else {
+        panic!("with_usage takes a completion");
+    };
+    let mut usage = serde_json::json!({
+        "prompt_tokens": prompt,
+        "completion_tokens": completion,
+        "total_tokens": prompt + completion,
+    });
+    if let Some(c) = cached {
+        usage["prompt_tokens_details"] = serde_json::json!({ "cached_tokens": c });
+    }
+    Reply::WithUsage(text, usage)
 }
 
 /// One request as received.
@@ -211,18 +230,21 @@ fn serve(stream: TcpStream, requests: &Mutex<Vec<Request>>, handler: &Handler) {
         r.push(request.clone());
         r.len() - 1
     };
+    let completion = |text: String| {
+        serde_json::json!({
+            "id": format!("cmpl-{index}"),
+            "object": "chat.completion",
+            "model": request.json["model"],
+            "choices": [{"index": 0, "message": {"role": "assistant", "content": text}, "finish_reason": "stop"}],
+        })
+    };
     let (status, extra, body) = match handler(index, &request) {
-        Reply::Completion(text) => (
-            200,
-            String::new(),
-            serde_json::json!({
-                "id": format!("cmpl-{index}"),
-                "object": "chat.completion",
-                "model": request.json["model"],
-                "choices": [{"index": 0, "message": {"role": "assistant", "content": text}, "finish_reason": "stop"}],
-            })
-            .to_string(),
-        ),
+        Reply::Completion(text) => (200, String::new(), completion(text).to_string()),
+        Reply::WithUsage(text, usage) => {
+            let mut body = completion(text);
+            body["usage"] = usage;
+            (200, String::new(), body.to_string())
+        }
         Reply::Error {
             status,
             message,
