@@ -682,6 +682,7 @@ fn held_out_synthesis_scores_the_same_whichever_part_of_the_prompt_a_model_follo
         score(&by_examples),
         "imitating the examples:\n{copied_stopped}\n{copied_bike}\n{by_examples:#}"
     );
+}
 
 #[test]
 fn eval_prints_tokens_and_cost() {
