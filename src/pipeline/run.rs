@@ -255,8 +255,15 @@ pub fn run_unpublished(
             options.out.display()
         )
     })?;
-    output::clean_orphans(&options.out);
+    // The folder is held before anything in it is touched: a second run into it stops here.
     let staging = output::Staging::new(&options.out)?;
+    if let Some(holder) = staging.took_over() {
+        eprintln!(
+            "scenalog: took over the lock of `{}` left by a run no longer running ({holder})",
+            options.out.display()
+        );
+    }
+    output::clean_orphans(&options.out);
     let total: u64 = logs
         .iter()
         .map(|l| l.program_indices(scenarios.len()).len() as u64)
