@@ -205,5 +205,8 @@ fn a_relation_is_extracted_within_the_limits() {
     let late = scenalog(&["facts", dir, "--relation", "near", "--timeout-ms", "1"]);
     assert_eq!(late.status.code(), Some(2));
     let err = String::from_utf8_lossy(&late.stderr);
-    assert!(err.contains("near") && err.contains("time limit of 1 ms"), "{err}");
+    assert!(
+        err.contains("near") && err.contains("time limit of 1 ms"),
+        "{err}"
+    );
 }

@@ -140,8 +140,14 @@ fn programs_nested_too_deep_fail_alone_and_the_batch_goes_on() {
     let head = "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n";
     let tail = "\noutput_scenario(result, description, log_dir, output_dir)\n";
     let deep = [
-        ("calls", format!("{}vehicles{}", "scenario_not(".repeat(n), ")".repeat(n))),
-        ("parentheses", format!("{}vehicles{}", "(".repeat(n), ")".repeat(n))),
+        (
+            "calls",
+            format!("{}vehicles{}", "scenario_not(".repeat(n), ")".repeat(n)),
+        ),
+        (
+            "parentheses",
+            format!("{}vehicles{}", "(".repeat(n), ")".repeat(n)),
+        ),
         ("lists", format!("{}{}", "[".repeat(n), "]".repeat(n))),
         ("nots", format!("{}vehicles", "not ".repeat(n))),
         ("signs", format!("{}vehicles", "-".repeat(n))),
@@ -149,12 +155,18 @@ fn programs_nested_too_deep_fail_alone_and_the_batch_goes_on() {
         ("attributes", format!("vehicles{}", ".a".repeat(n))),
         ("subscripts", format!("vehicles{}", "[0]".repeat(n))),
         ("call_chain", format!("vehicles{}", "()".repeat(n))),
-        ("conditionals", format!("{}vehicles", "vehicles if is_gt else ".repeat(n))),
+        (
+            "conditionals",
+            format!("{}vehicles", "vehicles if is_gt else ".repeat(n)),
+        ),
         ("lambdas", format!("{}vehicles", "lambda: ".repeat(n))),
     ];
     for (name, expr) in &deep {
-        std::fs::write(input.join(format!("{name}.py")), format!("{head}result = {expr}{tail}"))
-            .expect("write");
+        std::fs::write(
+            input.join(format!("{name}.py")),
+            format!("{head}result = {expr}{tail}"),
+        )
+        .expect("write");
     }
     let good = root().join("import/tests/data/refav_programs/stopped car.txt");
     std::fs::copy(&good, input.join("stopped car.txt")).expect("copy");
@@ -175,7 +187,9 @@ fn programs_nested_too_deep_fail_alone_and_the_batch_goes_on() {
     );
     for (name, _) in &deep {
         assert!(
-            stdout.contains(&format!("{name}.py:2: not imported: nesting: too deep to translate")),
+            stdout.contains(&format!(
+                "{name}.py:2: not imported: nesting: too deep to translate"
+            )),
             "{name}: {stdout:.2000}"
         );
     }

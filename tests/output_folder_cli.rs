@@ -25,8 +25,16 @@ fn s(p: &Path) -> String {
 
 fn mine_command(rules: &Path, out: &Path, extra: &[&str]) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
-    c.args(["mine", "--rules", &s(rules), "--logs", &s(&log()), "--out", &s(out)])
-        .args(extra);
+    c.args([
+        "mine",
+        "--rules",
+        &s(rules),
+        "--logs",
+        &s(&log()),
+        "--out",
+        &s(out),
+    ])
+    .args(extra);
     c
 }
 
@@ -39,7 +47,8 @@ fn text(o: &Output) -> String {
 }
 
 /// A program that runs until its pair's time limit: no range narrowing applies to `T3 * T < 0`.
-const RUNAWAY: &str = "referred(A, T) :- present(A, T), present(B, T), present(C, T3), T3 * T < 0.\n";
+const RUNAWAY: &str =
+    "referred(A, T) :- present(A, T), present(B, T), present(C, T3), T3 * T < 0.\n";
 
 #[test]
 fn a_second_run_into_a_held_folder_is_refused_naming_the_holder() {
@@ -47,7 +56,7 @@ fn a_second_run_into_a_held_folder_is_refused_naming_the_holder() {
     let out = dir.path().join("out");
     let runaway = dir.path().join("runaway.dl");
     std::fs::write(&runaway, RUNAWAY).expect("write");
-    let mut first = mine_command(&runaway, &out, &["--timeout-ms", "6000"])
+    let first = mine_command(&runaway, &out, &["--timeout-ms", "6000"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -85,7 +94,9 @@ fn a_second_run_into_a_held_folder_is_refused_naming_the_holder() {
     assert!(summary.contains("runaway"), "{summary}");
     assert!(!summary.contains("stopped_car"), "{summary}");
     // Released: the next run goes ahead.
-    let third = mine_command(&stopped_car(), &out, &[]).output().expect("third");
+    let third = mine_command(&stopped_car(), &out, &[])
+        .output()
+        .expect("third");
     assert_eq!(third.status.code(), Some(0), "{}", text(&third));
 }
 

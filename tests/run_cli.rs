@@ -142,5 +142,8 @@ fn a_program_deriving_forever_ends_at_the_tuple_budget() {
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("`n`") && err.contains("5000"), "{err}");
-    assert!(out.stdout.is_empty(), "nothing printed from a failed evaluation");
+    assert!(
+        out.stdout.is_empty(),
+        "nothing printed from a failed evaluation"
+    );
 }

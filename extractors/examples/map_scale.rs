@@ -15,6 +15,9 @@ use scenalog_facts::Scene;
 #[path = "support/grid_map.rs"]
 mod grid_map;
 
+/// A map shape: its name and the scene of `n` lanes.
+type Shape = (&'static str, fn(usize) -> Scene);
+
 fn main() {
     let sizes: Vec<usize> = {
         let given: Vec<usize> = std::env::args()
@@ -28,7 +31,7 @@ fn main() {
         }
     };
     println!("map | lanes | MapIndex::new (median of 3) | µs per lane");
-    let shapes: [(&str, fn(usize) -> Scene); 3] = [
+    let shapes: [Shape; 3] = [
         ("grid", |n| grid_map::grid_scene(n, 1_000, 1.0)),
         ("hub", grid_map::hub_scene),
         ("tiny", grid_map::tiny_lanes_scene),

@@ -47,7 +47,10 @@ fn timed<T>(f: impl FnOnce() -> T) -> Duration {
 }
 
 /// The program shapes measured: a name and how a program of `n` items is written.
-const SHAPES: &[(&str, fn(usize) -> String)] = &[
+/// A shape: its name and the program of `n` items.
+type Shape = (&'static str, fn(usize) -> String);
+
+const SHAPES: &[Shape] = &[
     ("rules", chain_program),
     ("body", wide_body_program),
     ("bindings", bindings_program),
@@ -65,7 +68,7 @@ fn main() {
             given
         }
     };
-    let shapes: Vec<&(&str, fn(usize) -> String)> = SHAPES
+    let shapes: Vec<&Shape> = SHAPES
         .iter()
         .filter(|(name, _)| {
             !args.iter().any(|a| SHAPES.iter().any(|s| s.0 == a)) || args.iter().any(|a| a == name)

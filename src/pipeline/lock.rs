@@ -50,7 +50,8 @@ impl OutputLock {
             if e.kind() != std::io::ErrorKind::WouldBlock {
                 return Err(cannot(e));
             }
-            let holder = previous.unwrap_or_else(|| "a process that has not named itself yet".into());
+            let holder =
+                previous.unwrap_or_else(|| "a process that has not named itself yet".into());
             return Err(format!(
                 "`{}` is in use by another run ({holder}); wait for it to finish or write to \
                  another folder (its lock: `{}`)",
@@ -168,15 +169,24 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         std::fs::write(lock_path(dir.path()), "pid 4000000, started long ago\n").expect("write");
         let held = OutputLock::acquire(dir.path()).expect("a stale lock is taken over");
-        assert_eq!(held.took_over.as_deref(), Some("pid 4000000, started long ago"));
+        assert_eq!(
+            held.took_over.as_deref(),
+            Some("pid 4000000, started long ago")
+        );
         let me = format!("pid {}", std::process::id());
         let text = std::fs::read_to_string(held.path()).expect("read");
         assert!(text.starts_with(&me), "{text}");
         // A second holder (another open file description, as another process has) is refused.
         let refused = OutputLock::acquire(dir.path()).expect_err("held");
-        assert!(refused.contains(&me) && refused.contains("in use"), "{refused}");
+        assert!(
+            refused.contains(&me) && refused.contains("in use"),
+            "{refused}"
+        );
         drop(held);
-        assert_eq!(std::fs::read_to_string(lock_path(dir.path())).expect("read"), "");
+        assert_eq!(
+            std::fs::read_to_string(lock_path(dir.path())).expect("read"),
+            ""
+        );
         let again = OutputLock::acquire(dir.path()).expect("released");
         assert_eq!(again.took_over, None);
     }

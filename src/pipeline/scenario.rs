@@ -155,6 +155,9 @@ mod tests {
         let e = limits_after_check(&limit, &s).expect_err("no time left");
         assert!(e.contains("checking program `p` took 10.0 s"), "{e}");
         let unlimited = Options::default();
-        assert_eq!(limits_after_check(&unlimited, &s).expect("no limit"), unlimited);
+        assert_eq!(
+            limits_after_check(&unlimited, &s).expect("no limit"),
+            unlimited
+        );
     }
 }
