@@ -46,7 +46,15 @@ static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn assert_linear(name: &str, make: fn(usize) -> String, n: usize) -> (usize, usize) {
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let (ratio, d1, d2) = doubling_ratio(make, n);
+    // A linear check doubles (about 2), a quadratic one quadruples (about 4) every time; a
+    // measurement disturbed by other work on the machine is taken again, up to three times.
+    let (mut ratio, d1, d2) = doubling_ratio(make, n);
+    for _ in 0..2 {
+        if ratio < 3.0 {
+            break;
+        }
+        ratio = ratio.min(doubling_ratio(make, n).0);
+    }
     assert!(
         ratio < 3.0,
         "{name}: checking {} items took {ratio:.2} times as long as {n} (linear: about 2)",
