@@ -19,6 +19,7 @@ use criterion::Criterion;
 #[allow(dead_code, unused_imports)]
 #[path = "../src/pipeline"]
 mod pipeline {
+    pub mod lock;
     pub mod output;
     pub mod predictions;
     pub mod run;

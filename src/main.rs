@@ -39,7 +39,21 @@ enum Command {
     Import(cli::import::Args),
 }
 
+/// A file grown past `ulimit -f` raises SIGXFSZ, whose default action kills the process without
+/// a word; ignored, the write fails with EFBIG instead, and every writer reports that as an error
+/// naming its file (and publishes nothing half-written: outputs are renamed into place whole).
+#[cfg(unix)]
+fn report_oversized_writes() {
+    // SAFETY: setting a standard signal's disposition to "ignore" before any thread starts; no
+    // handler runs, so nothing async-signal-unsafe can happen.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    report_oversized_writes();
     let cli = Cli::parse();
     let code = match cli.command {
         Command::Catalog(a) => cli::catalog::run(a),

@@ -181,3 +181,32 @@ fn facts_relation_prints_count_and_json_tuples() {
         .expect("run scenalog");
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// `facts --relation` extracts within `mine`'s limits: a relation past `--max-tuples` or a
+/// `--timeout-ms` is an error naming it (exit 2), the same relation within them is counted.
+#[test]
+fn a_relation_is_extracted_within_the_limits() {
+    let dir = log_dir("3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let dir = dir.to_str().expect("utf8 path");
+    let ok = scenalog(&["facts", dir, "--relation", "near"]);
+    assert!(ok.status.success(), "{:?}", ok);
+    let count: usize = stdout(&ok)
+        .split(": near: ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("a count");
+    assert!(count > 100, "{count}");
+    let small = (count / 2).to_string();
+    let over = scenalog(&["facts", dir, "--relation", "near", "--max-tuples", &small]);
+    assert_eq!(over.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&over.stderr);
+    assert!(err.contains("near") && err.contains(&small), "{err}");
+    let late = scenalog(&["facts", dir, "--relation", "near", "--timeout-ms", "1"]);
+    assert_eq!(late.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&late.stderr);
+    assert!(
+        err.contains("near") && err.contains("time limit of 1 ms"),
+        "{err}"
+    );
+}

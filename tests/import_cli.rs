@@ -47,8 +47,19 @@ fn import_the_refav_programs_then_mine_them() {
         stdout.contains("accelerating truck.txt:12: broken in RefAV: accelerating: TypeError"),
         "{stdout}"
     );
-    let written = std::fs::read_dir(&out).expect("output dir").count();
+    let written = std::fs::read_dir(&out)
+        .expect("output dir")
+        .filter(|e| {
+            e.as_ref()
+                .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "dl"))
+        })
+        .count();
     assert_eq!(written, 234);
+    // The folder was held while it was written, and released (the lock names no holder).
+    assert_eq!(
+        std::fs::read_to_string(out.join(".lock")).expect("lock file"),
+        ""
+    );
     // mine two of them on one real log
     let rules: Vec<String> = ["stopped_car.dl", "vehicle_with_a_bicycle_to_its_right.dl"]
         .iter()
@@ -114,4 +125,84 @@ fn unreadable_input_exits_2_and_a_bad_program_names_its_line() {
         stdout.contains("bad.py:2: not imported: for loop"),
         "{stdout}"
     );
+}
+
+/// Programs nesting 10,000 deep (calls, brackets, signs, `not`, operator and attribute chains,
+/// conditionals, lambdas) are each an error for their file naming the line, never a stack
+/// overflow: the batch goes on, the good program beside them is imported, and the summary counts
+/// them.
+#[test]
+fn programs_nested_too_deep_fail_alone_and_the_batch_goes_on() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("programs");
+    std::fs::create_dir_all(&input).expect("mkdir");
+    let n = 10_000;
+    let head = "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n";
+    let tail = "\noutput_scenario(result, description, log_dir, output_dir)\n";
+    let deep = [
+        (
+            "calls",
+            format!("{}vehicles{}", "scenario_not(".repeat(n), ")".repeat(n)),
+        ),
+        (
+            "parentheses",
+            format!("{}vehicles{}", "(".repeat(n), ")".repeat(n)),
+        ),
+        ("lists", format!("{}{}", "[".repeat(n), "]".repeat(n))),
+        ("nots", format!("{}vehicles", "not ".repeat(n))),
+        ("signs", format!("{}vehicles", "-".repeat(n))),
+        ("sums", vec!["vehicles"; n].join(" + ")),
+        ("attributes", format!("vehicles{}", ".a".repeat(n))),
+        ("subscripts", format!("vehicles{}", "[0]".repeat(n))),
+        ("call_chain", format!("vehicles{}", "()".repeat(n))),
+        (
+            "conditionals",
+            format!("{}vehicles", "vehicles if is_gt else ".repeat(n)),
+        ),
+        ("lambdas", format!("{}vehicles", "lambda: ".repeat(n))),
+    ];
+    for (name, expr) in &deep {
+        std::fs::write(
+            input.join(format!("{name}.py")),
+            format!("{head}result = {expr}{tail}"),
+        )
+        .expect("write");
+    }
+    let good = root().join("import/tests/data/refav_programs/stopped car.txt");
+    std::fs::copy(&good, input.join("stopped car.txt")).expect("copy");
+    let out = dir.path().join("imported");
+    let o = scenalog(&[
+        "import",
+        "refav",
+        &input.to_string_lossy(),
+        "-o",
+        &out.to_string_lossy(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for (name, _) in &deep {
+        assert!(
+            stdout.contains(&format!(
+                "{name}.py:2: not imported: nesting: too deep to translate"
+            )),
+            "{name}: {stdout:.2000}"
+        );
+    }
+    assert!(
+        stdout.contains(&format!(
+            "{} programs: 1 imported and checked clean",
+            deep.len() + 1
+        )),
+        "{stdout:.3000}"
+    );
+    assert!(
+        stdout.contains(&format!("{} not imported", deep.len())),
+        "{stdout:.3000}"
+    );
+    assert!(out.join("stopped_car.dl").is_file());
 }

@@ -720,7 +720,13 @@ fn a_killed_run_never_leaves_a_mixed_set_of_outputs() {
     let current = fs::read_link(out.join(".current")).expect(".current");
     for e in fs::read_dir(&out).expect("out").flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let kept = !name.starts_with('.') || name == ".current" || Path::new(&name) == current;
+        // The folder's lock file stays, released (naming no holder).
+        let released_lock =
+            name == ".lock" && fs::read_to_string(e.path()).is_ok_and(|t| t.is_empty());
+        let kept = !name.starts_with('.')
+            || name == ".current"
+            || Path::new(&name) == current
+            || released_lock;
         assert!(kept, "left behind: {name}");
     }
 }

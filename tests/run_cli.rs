@@ -129,3 +129,21 @@ fn a_timeout_stops_with_the_relation_named() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("`n`") && err.contains("longer than"), "{err}");
 }
+
+/// A program that derives forever ends with an error naming the limit and the relation whatever
+/// limit stops it: the tuple budget here (the time limit in the test above; without flags both
+/// have `mine`'s defaults, `run::limits`).
+#[test]
+fn a_program_deriving_forever_ends_at_the_tuple_budget() {
+    let out = scenalog(
+        &["run", "-", "--max-tuples", "5000"],
+        "n(0).\nn(Y) :- n(X), Y = X + 1.\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`n`") && err.contains("5000"), "{err}");
+    assert!(
+        out.stdout.is_empty(),
+        "nothing printed from a failed evaluation"
+    );
+}

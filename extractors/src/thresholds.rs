@@ -43,6 +43,11 @@ pub const LANE_CHAIN_STRAIGHT_MAX_DEG: f64 = 30.0;
 /// Pairs never exceed 50 m, so a little more than that is enough.
 pub const LANE_CHAIN_REACH_M: f64 = 60.0;
 
+/// Most lane segments the lane chain holds beyond the lane itself in each direction: far more than
+/// [`LANE_CHAIN_REACH_M`] of real lanes (segments are metres long), a bound for maps of
+/// near-zero-length lanes, whose chains would otherwise grow with the map.
+pub const LANE_CHAIN_MAX_SEGMENTS: usize = 128;
+
 /// Map distances (`near_intersection`, `at_crosswalk`) are produced only up to this distance; a
 /// farther object has no tuple. RefAV's own defaults are 5 m and 1 m, well inside.
 pub const MAP_DISTANCE_MAX_M: f64 = 50.0;

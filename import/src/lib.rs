@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod nesting;
 pub mod signatures;
 mod translate;
 

@@ -103,6 +103,16 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         errors: Vec::new(),
         line: 0,
     };
+    // Parsing, translating and dropping the tree each recurse once per level: a program nesting
+    // past the limits is an error for its file, before any of them starts.
+    if let Some(deep) = crate::nesting::too_deep(source) {
+        return Err(vec![ImportError {
+            line: t.line_of(deep.offset),
+            construct: "nesting".into(),
+            message: format!("too deep to translate: {}", deep.what),
+            refav_broken: false,
+        }]);
+    }
     use rustpython_parser::Parse;
     let suite = match ast::Suite::parse(source, path) {
         Ok(s) => s,

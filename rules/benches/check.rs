@@ -21,6 +21,7 @@ fn program() -> String {
 }
 
 #[path = "../examples/support/chain.rs"]
+#[allow(dead_code)]
 mod chain;
 use chain::chain_program;
 

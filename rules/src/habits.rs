@@ -17,17 +17,38 @@ const MAX_NESTING: usize = 4;
 /// Every habit recognised in `source`, in source order.
 pub(crate) fn scan(source: &str) -> Vec<Diagnostic> {
     let (toks, _) = lex(source);
+    let closing = closing_parens(&toks);
     let mut out = Vec::new();
     let mut i = 0;
     while i < toks.len() && toks[i].tok != Tok::Eof {
         let end = if is_directive(source, &toks, i) {
             directive(source, &toks, i, &mut out)
         } else {
-            clause(source, &toks, i, &mut out)
+            clause(source, &toks, &closing, i, &mut out)
         };
         i = end.max(i + 1);
     }
     out
+}
+
+/// For each token, the index of the `)` closing it when it is a `(` closed before the next `.`,
+/// found in one pass with a stack (so nested calls cost no rescan per level).
+fn closing_parens(toks: &[Token<'_>]) -> Vec<Option<usize>> {
+    let mut closing = vec![None; toks.len()];
+    let mut open: Vec<usize> = Vec::new();
+    for (n, t) in toks.iter().enumerate() {
+        match t.tok {
+            Tok::LParen => open.push(n),
+            Tok::RParen => {
+                if let Some(o) = open.pop() {
+                    closing[o] = Some(n);
+                }
+            }
+            Tok::Dot | Tok::Eof => open.clear(),
+            _ => {}
+        }
+    }
+    closing
 }
 
 /// Whether token `i` is a `.` that starts a directive (`.decl`, `.output`, …): at the start of
@@ -40,9 +61,10 @@ fn is_directive(source: &str, toks: &[Token<'_>], i: usize) -> bool {
         && matches!(next.tok, Tok::Ident(_))
         && next.span.start == dot.span.end
         && source[..dot.span.start]
-            .rsplit('\n')
-            .next()
-            .is_some_and(|l| l.trim().is_empty())
+            .chars()
+            .rev()
+            .find(|&c| c == '\n' || !c.is_whitespace())
+            .is_none_or(|c| c == '\n')
 }
 
 /// The end of the line holding byte `at`, including its newline.
@@ -189,7 +211,13 @@ fn decl(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -
 }
 
 /// Handles the clause starting at token `i`; returns the index after its final `.`.
-fn clause(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>) -> usize {
+fn clause(
+    source: &str,
+    toks: &[Token<'_>],
+    closing: &[Option<usize>],
+    i: usize,
+    out: &mut Vec<Diagnostic>,
+) -> usize {
     let mut j = i;
     let mut depth = 0i32;
     let mut if_at = None;
@@ -210,7 +238,7 @@ fn clause(source: &str, toks: &[Token<'_>], i: usize, out: &mut Vec<Diagnostic>)
     let end = j.min(toks.len().saturating_sub(1));
     let ended = toks.get(end).is_some_and(|t| t.tok == Tok::Dot);
     for k in i..end {
-        token_habits(source, toks, k, out);
+        token_habits(source, toks, closing, k, out);
     }
     if let (Some(f), true) = (if_at, ended) {
         disjunction(source, toks, i, f, end, out);
@@ -305,7 +333,13 @@ fn atom_end(toks: &[Token<'_>], k: usize) -> usize {
 }
 
 /// Habits that one token shows: `\+`, single quotes, bad escapes, `count(C) :`, `ego` as a value.
-fn token_habits(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagnostic>) {
+fn token_habits(
+    source: &str,
+    toks: &[Token<'_>],
+    closing: &[Option<usize>],
+    k: usize,
+    out: &mut Vec<Diagnostic>,
+) {
     let t = &toks[k];
     if t.tok == Tok::Ident("ego") {
         ego_constant(source, toks, k, out);
@@ -373,23 +407,9 @@ fn token_habits(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagno
             let Some(open) = toks.get(k + 1).filter(|o| o.tok == Tok::LParen) else {
                 return;
             };
-            let mut depth = 0;
-            let mut close = None;
-            for (n, x) in toks.iter().enumerate().skip(k + 1) {
-                match x.tok {
-                    Tok::LParen => depth += 1,
-                    Tok::RParen => {
-                        depth -= 1;
-                        if depth == 0 {
-                            close = Some(n);
-                            break;
-                        }
-                    }
-                    Tok::Dot | Tok::Eof => break,
-                    _ => {}
-                }
-            }
-            let Some(c) = close else { return };
+            let Some(c) = closing.get(k + 1).copied().flatten() else {
+                return;
+            };
             if toks.get(c + 1).map(|x| &x.tok) != Some(&Tok::Colon) {
                 return; // `min(A, B)` the function, not an aggregate.
             }
@@ -421,15 +441,35 @@ fn token_habits(source: &str, toks: &[Token<'_>], k: usize, out: &mut Vec<Diagno
 }
 
 /// The line holding `span` with `span` replaced by `with`, trimmed.
+/// Most bytes of the line a hint quotes on each side of a correction: a long line is cut there
+/// (marked `…`), so many habits on one huge line do not each copy it whole.
+const LINE_CONTEXT: usize = 120;
+
+/// The line holding `span` with `span` replaced by `with` (at most [`LINE_CONTEXT`] bytes of it
+/// on each side).
 fn corrected_line(source: &str, span: Span, with: &str) -> String {
-    let start = source[..span.start].rfind('\n').map_or(0, |k| k + 1);
-    let end = source[span.end..]
-        .find('\n')
-        .map_or(source.len(), |k| span.end + k);
+    let mut from = span.start.saturating_sub(LINE_CONTEXT);
+    while !source.is_char_boundary(from) {
+        from -= 1;
+    }
+    let mut to = (span.end + LINE_CONTEXT).min(source.len());
+    while !source.is_char_boundary(to) {
+        to += 1;
+    }
+    let (start, cut_start) = match source[from..span.start].rfind('\n') {
+        Some(k) => (from + k + 1, false),
+        None => (from, from > 0 && source.as_bytes()[from - 1] != b'\n'),
+    };
+    let (end, cut_end) = match source[span.end..to].find('\n') {
+        Some(k) => (span.end + k, false),
+        None => (to, to < source.len() && source.as_bytes()[to] != b'\n'),
+    };
     format!(
-        "{}{with}{}",
+        "{}{}{with}{}{}",
+        if cut_start { "… " } else { "" },
         &source[start..span.start],
-        &source[span.end..end]
+        &source[span.end..end],
+        if cut_end { " …" } else { "" },
     )
     .trim()
     .to_string()

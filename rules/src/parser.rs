@@ -81,7 +81,8 @@ pub fn parse_detailed(source: &str) -> ParseOutput {
 type PResult<T> = Result<T, Box<Diagnostic>>;
 
 /// Nesting limit of the parser's own recursion (parentheses, unary minus, function calls,
-/// aggregates), so hostile input cannot overflow the stack.
+/// aggregates), so hostile input cannot overflow the stack: 64 levels parse, more than 64 is
+/// E0002. Each parenthesis, sign, call and aggregate around a part is one level.
 pub const MAX_DEPTH: usize = 64;
 
 /// Height limit of an expression tree, in nested operators. A chain `A + B + C + …` is a tree as tall as it is long,
@@ -482,7 +483,15 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
+    /// An expression that is not inside another one (a comparison's side, an atom's argument, an
+    /// aggregate's target): the nesting levels are those of the parentheses, signs, calls and
+    /// aggregates around its parts.
     fn expr(&mut self) -> PResult<Expr> {
+        self.additive()
+    }
+
+    /// An expression one level down: inside parentheses or a call's argument list.
+    fn nested_expr(&mut self) -> PResult<Expr> {
         self.enter()?;
         let r = self.additive();
         self.depth -= 1;
@@ -593,7 +602,7 @@ impl<'a> Parser<'a> {
             }
             Tok::LParen => {
                 self.bump();
-                let inner = self.expr()?;
+                let inner = self.nested_expr()?;
                 let end = self.expect(&Tok::RParen, "`)`")?;
                 return Ok(Expr {
                     kind: inner.kind,
@@ -609,7 +618,7 @@ impl<'a> Parser<'a> {
                 let mut args = Vec::new();
                 if !matches!(self.peek(), Tok::RParen) {
                     loop {
-                        args.push(self.expr()?);
+                        args.push(self.nested_expr()?);
                         if !self.eat(&Tok::Comma) {
                             break;
                         }

@@ -458,3 +458,52 @@ fn w0506_to_w0508_programs_that_check_but_mean_something_else() {
         assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
     }
 }
+
+/// The nesting limit is what the documentation says: 64 levels of parentheses, signs, calls or
+/// aggregates parse, 65 are E0002 ("more than 64"), whichever construct nests.
+#[test]
+fn e0002_nesting_limit_is_64_levels_for_every_construct() {
+    let parens = |k: usize| {
+        format!(
+            "referred(X, T) :- present(X, T), T > {}1{}.\n",
+            "(".repeat(k),
+            ")".repeat(k)
+        )
+    };
+    let signs = |k: usize| {
+        format!(
+            "referred(X, T) :- present(X, T), S = {}T, S > 0.\n",
+            "- ".repeat(k)
+        )
+    };
+    let calls = |k: usize| {
+        format!(
+            "referred(X, T) :- present(X, T), S = {}T{}, S > 0.\n",
+            "abs(".repeat(k),
+            ")".repeat(k)
+        )
+    };
+    let aggregates = |k: usize| {
+        let mut body = "present(Y, T)".to_string();
+        for i in 0..k {
+            body = format!("N{i} = count : {{ {body} }}");
+        }
+        format!("referred(X, T) :- present(X, T), {body}.\n")
+    };
+    let makers: [(&str, &dyn Fn(usize) -> String); 4] = [
+        ("parentheses", &parens),
+        ("signs", &signs),
+        ("calls", &calls),
+        ("aggregates", &aggregates),
+    ];
+    for (what, make) in makers {
+        let too_deep = |k: usize| {
+            check(&make(k), &CheckOptions::default())
+                .diagnostics
+                .iter()
+                .any(|d| d.code == "E0002")
+        };
+        assert!(!too_deep(64), "{what}: 64 levels must parse");
+        assert!(too_deep(65), "{what}: 65 levels must be E0002");
+    }
+}

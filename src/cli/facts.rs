@@ -1,4 +1,5 @@
-//! `scenalog facts LOG_DIR`: load one Argoverse 2 log and summarise it (text or `--json`).
+//! `scenalog facts LOG_DIR`: load one Argoverse 2 log and summarise it (text or `--json`), or
+//! extract one relation (`--relation`) within `mine`'s limits (`--max-tuples`, `--timeout-ms`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -20,6 +21,14 @@ pub struct Args {
     /// as frame indices, numbers as numbers).
     #[arg(long, value_name = "NAME")]
     pub relation: Option<String>,
+    /// Most tuples the extracted relation may hold, as `mine --max-tuples` [default: sized to
+    /// the machine, as `mine`'s].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_tuples: Option<u64>,
+    /// Longest the extraction may take, in milliseconds, as `mine --timeout-ms` [default:
+    /// 120000].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..))]
+    pub timeout_ms: Option<u64>,
 }
 
 /// Loads the log and prints its summary; exit 2 with a message on stderr if it cannot be read.
@@ -34,7 +43,8 @@ pub fn run(args: Args) -> ExitCode {
     };
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     if let Some(name) = &args.relation {
-        return print_relation(&scene, name, args.json);
+        let limits = crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1);
+        return print_relation(&scene, name, args.json, &limits);
     }
     let summary = SceneSummary::of(&scene);
     if args.json {
@@ -48,8 +58,14 @@ pub fn run(args: Args) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// Extracts one relation and prints its count (text) or its tuples (`--json`).
-fn print_relation(scene: &scenalog_facts::Scene, name: &str, json: bool) -> ExitCode {
+/// Extracts one relation within `limits` (its tuple budget and time limit, `mine`'s by default)
+/// and prints its count (text) or its tuples (`--json`).
+fn print_relation(
+    scene: &scenalog_facts::Scene,
+    name: &str,
+    json: bool,
+    limits: &scenalog_engine::Options,
+) -> ExitCode {
     if scenalog_facts::catalog::relation(name).is_none() {
         eprintln!(
             "scenalog facts: `{name}` is not a relation of the catalog (see `scenalog catalog`)"
@@ -58,7 +74,9 @@ fn print_relation(scene: &scenalog_facts::Scene, name: &str, json: bool) -> Exit
     }
     let start = Instant::now();
     let request = scenalog_facts::relation::Request::all(name);
-    let data = match scenalog_extractors::extract(scene, &request) {
+    let budget = scenalog_extractors::Budget::new(limits.max_tuples, start, limits.timeout);
+    let extractor = scenalog_extractors::cache::Extractor::new(scene);
+    let data = match extractor.extract_within(&request, &budget) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("scenalog facts: extracting {name}: {e}");

@@ -32,6 +32,14 @@ enum Source {
 /// Imports and prints the report.
 pub fn run(args: Args) -> ExitCode {
     let Source::Refav { input, out, json } = args.source;
+    // One import writes a folder at a time (held until the report is printed).
+    let _held = match crate::pipeline::lock::OutputLock::acquire(&out) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("scenalog import: {e}");
+            return ExitCode::from(2);
+        }
+    };
     let report = match scenalog_import::import_path(&input, &out) {
         Ok(r) => r,
         Err(e) => {

@@ -1,12 +1,11 @@
 //! `scenalog run FILE.dl [--print REL]… [--json] [--max-tuples N] [--timeout-ms N]`: evaluate a
-//! program on its own ground facts, with no log. Checker diagnostics come first; then each
+//! program on its own ground facts, with no log, within `mine`'s limits by default. Checker diagnostics come first; then each
 //! requested relation's tuples, one per line in the program's syntax, sorted (`--json`: one object
 //! of relation name -> array of tuples); without `--print`, the size of every derived relation.
 //! Exit 0 when it ran, 1 on check or evaluation errors, 2 when the input cannot be read.
 
 use std::io::IsTerminal;
 use std::process::ExitCode;
-use std::time::Duration;
 
 use scenalog_engine::{evaluate, Evaluation, Options};
 use scenalog_facts::relation::{RelationData, Request, Value};
@@ -24,10 +23,11 @@ pub struct Args {
     #[arg(long)]
     pub json: bool,
     /// Stop when the program's relations together (its facts and every derived relation) hold
-    /// more tuples than this.
+    /// more tuples than this (default: `mine`'s, sized to the machine's memory).
     #[arg(long, value_name = "N")]
-    pub max_tuples: Option<usize>,
-    /// Stop when evaluation runs longer than this many milliseconds.
+    pub max_tuples: Option<u64>,
+    /// Stop when evaluation runs longer than this many milliseconds (default: `mine`'s,
+    /// 120,000).
     #[arg(long, value_name = "N")]
     pub timeout_ms: Option<u64>,
 }
@@ -103,6 +103,12 @@ fn read_input(name: &str) -> Result<String, String> {
     crate::input::read_text(std::path::Path::new(name))
 }
 
+/// The evaluation's limits: `mine`'s defaults (a tuple budget sized to the machine, a time limit),
+/// so a program that derives forever ends with an error naming the limit.
+pub fn limits(args: &Args) -> Options {
+    crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1)
+}
+
 /// Checks and evaluates the program and prints what was asked.
 pub fn run(args: Args) -> ExitCode {
     let display = if args.file == "-" {
@@ -164,13 +170,7 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(1);
         }
     }
-    let mut options = Options::default();
-    if let Some(n) = args.max_tuples {
-        options.max_tuples = n;
-    }
-    if let Some(ms) = args.timeout_ms {
-        options.timeout = Some(Duration::from_millis(ms));
-    }
+    let options = limits(&args);
     let mut provider = |r: &Request| -> Result<RelationData, String> {
         Err(format!(
             "`{}` comes from a log, and `scenalog run` has none",
@@ -190,4 +190,38 @@ pub fn run(args: Args) -> ExitCode {
         out!("{}", render_text(&ev, &args.print));
     }
     ExitCode::SUCCESS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    /// Without flags, `run` has `mine`'s limits: a program deriving forever stops.
+    #[test]
+    fn run_has_mines_default_limits() {
+        let cli = Cli::parse_from(["run", "p.dl"]);
+        let defaults = limits(&cli.args);
+        assert_eq!(
+            defaults.timeout,
+            Some(crate::pipeline::budget::DEFAULT_TIMEOUT)
+        );
+        assert_eq!(
+            defaults.max_tuples,
+            crate::pipeline::budget::default_max_tuples(
+                crate::pipeline::budget::machine_memory(),
+                1
+            )
+        );
+        let cli = Cli::parse_from(["run", "p.dl", "--max-tuples", "7", "--timeout-ms", "9"]);
+        let given = limits(&cli.args);
+        assert_eq!(given.max_tuples, 7);
+        assert_eq!(given.timeout, Some(std::time::Duration::from_millis(9)));
+    }
 }

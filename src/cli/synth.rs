@@ -442,6 +442,11 @@ fn many(
         Ok(d) => d,
         Err(e) => return fail(e),
     };
+    // One batch writes a folder at a time (held until the report is printed).
+    let _held = match crate::pipeline::lock::OutputLock::acquire(out) {
+        Ok(l) => l,
+        Err(e) => return fail(e),
+    };
     let options = BatchOptions {
         out_dir: out.to_path_buf(),
         jobs,

@@ -273,11 +273,15 @@ pub struct Staging {
     out: PathBuf,
     dir: PathBuf,
     published: std::sync::atomic::AtomicBool,
+    /// `OUT/` held for this run from the generation's start until it is published or dropped.
+    lock: super::lock::OutputLock,
 }
 
 impl Staging {
-    /// Creates `out/.staging-<pid>-<n>/`.
+    /// Holds `out` ([`super::lock::OutputLock`]: a folder another run is writing is an error
+    /// naming it) and creates `out/.staging-<pid>-<n>/`.
     pub fn new(out: &Path) -> Result<Staging, String> {
+        let lock = super::lock::OutputLock::acquire(out)?;
         let n = STAGING_COUNTER.fetch_add(1, Ordering::Relaxed);
         let dir = out.join(format!("{STAGING_PREFIX}{}-{n}", std::process::id()));
         std::fs::create_dir_all(&dir)
@@ -286,7 +290,13 @@ impl Staging {
             out: out.to_path_buf(),
             dir,
             published: std::sync::atomic::AtomicBool::new(false),
+            lock,
         })
+    }
+
+    /// The holder named by a stale lock of `OUT/` (a run no longer running) this run took over.
+    pub fn took_over(&self) -> Option<&str> {
+        self.lock.took_over.as_deref()
     }
 
     /// A file in the staging directory.

@@ -30,7 +30,7 @@ use scenalog_facts::{Frame, Scene, TrackId};
 
 use super::output::{self, Match, PairRecord};
 use super::predictions::{to_frames, BoxScores};
-use super::scenario::{evaluate_on, Scenario};
+use super::scenario::{evaluate_on, limits_after_check, Scenario};
 use super::tracks::{eval_frames, label_frames};
 
 /// One log to mine: its directory, its id (the directory's name), where its objects come from
@@ -255,8 +255,15 @@ pub fn run_unpublished(
             options.out.display()
         )
     })?;
-    output::clean_orphans(&options.out);
+    // The folder is held before anything in it is touched: a second run into it stops here.
     let staging = output::Staging::new(&options.out)?;
+    if let Some(holder) = staging.took_over() {
+        eprintln!(
+            "scenalog: took over the lock of `{}` left by a run no longer running ({holder})",
+            options.out.display()
+        );
+    }
+    output::clean_orphans(&options.out);
     let total: u64 = logs
         .iter()
         .map(|l| l.program_indices(scenarios.len()).len() as u64)
@@ -700,7 +707,11 @@ fn mine_pair(
 ) -> PairResult {
     let (log, options) = (ctx.log, ctx.options);
     let t0 = Instant::now();
-    let evaluation = match evaluate_on(extractor, &scenario.program, &options.engine) {
+    let engine = match limits_after_check(&options.engine, scenario) {
+        Ok(o) => o,
+        Err(e) => return failed(log, index, format!("{e} (log {})", log.log_id)),
+    };
+    let evaluation = match evaluate_on(extractor, &scenario.program, &engine) {
         Ok(e) => e,
         Err(e) => {
             return failed(

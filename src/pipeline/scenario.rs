@@ -2,7 +2,7 @@
 //! the extractors as the engine's provider. Shared by `mine` and `explain`.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
@@ -24,6 +24,9 @@ pub struct Scenario {
     pub source: String,
     /// The checked program.
     pub program: CheckedProgram,
+    /// How long checking the program took: part of each of its pairs' time limit (see
+    /// [`limits_after_check`]).
+    pub check_time: Duration,
 }
 
 /// Reads and checks a scenario program. The error is printable as is: it names the file and,
@@ -35,7 +38,9 @@ pub fn load_scenario(path: &Path) -> Result<Scenario, String> {
 
 /// Checks a scenario program given as text (`path` names it in messages and tables).
 pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, String> {
+    let started = Instant::now();
     let outcome = check(&source, &CheckOptions::default());
+    let check_time = started.elapsed();
     let display = path.display().to_string();
     let Some(program) = outcome.program else {
         return Err(format!(
@@ -59,7 +64,29 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
         description,
         source,
         program,
+        check_time,
     })
+}
+
+/// The engine's limits for one pair of `scenario` once its check is counted: the pair's time
+/// limit less the time the check took, so checking and evaluating a program on a log together
+/// stay within `--timeout-ms`. An error when the check alone took the whole limit.
+pub fn limits_after_check(options: &Options, scenario: &Scenario) -> Result<Options, String> {
+    let Some(limit) = options.timeout else {
+        return Ok(options.clone());
+    };
+    match limit.checked_sub(scenario.check_time) {
+        Some(left) if !left.is_zero() => Ok(Options {
+            timeout: Some(left),
+            ..options.clone()
+        }),
+        _ => Err(format!(
+            "checking program `{}` took {:.1} s, the whole time limit of a pair ({:.1} s)",
+            scenario.name,
+            scenario.check_time.as_secs_f64(),
+            limit.as_secs_f64()
+        )),
+    }
 }
 
 /// Evaluates a checked program on one scene, asking the extractor (and its per-scene cache) for
@@ -102,4 +129,34 @@ fn evaluate_with(
         extracted.map(|d| (*d).clone()).map_err(|e| e.to_string())
     };
     evaluate(program, &mut provider, options)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_check_counts_against_the_pairs_time_limit() {
+        let mut s = scenario_from_source(
+            Path::new("p.dl"),
+            "referred(X, T) :- present(X, T).\n".to_string(),
+        )
+        .expect("checks");
+        let limit = Options {
+            timeout: Some(Duration::from_secs(10)),
+            ..Options::default()
+        };
+        s.check_time = Duration::from_secs(4);
+        let left = limits_after_check(&limit, &s).expect("time left");
+        assert_eq!(left.timeout, Some(Duration::from_secs(6)));
+        assert_eq!(left.max_tuples, limit.max_tuples);
+        s.check_time = Duration::from_secs(10);
+        let e = limits_after_check(&limit, &s).expect_err("no time left");
+        assert!(e.contains("checking program `p` took 10.0 s"), "{e}");
+        let unlimited = Options::default();
+        assert_eq!(
+            limits_after_check(&unlimited, &s).expect("no limit"),
+            unlimited
+        );
+    }
 }

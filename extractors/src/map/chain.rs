@@ -5,14 +5,15 @@
 //! only one, or when it is the straightest successor and both the angle at the joint and the
 //! successor's own heading change stay under [`LANE_CHAIN_STRAIGHT_MAX_DEG`] (so at an intersection
 //! the chain goes straight on, not into the turn lanes). Backwards likewise with predecessors.
-//! The chain reaches [`LANE_CHAIN_REACH_M`] of centreline beyond the segment each way and never
-//! loops.
+//! The chain reaches [`LANE_CHAIN_REACH_M`] of centreline beyond the segment each way (at most
+//! [`LANE_CHAIN_MAX_SEGMENTS`] segments, so a map of degenerate, near-zero-length lanes cannot
+//! make every chain as long as the map) and never loops.
 
 use scenalog_facts::LaneId;
 
 use super::index::LaneGeom;
 use crate::kinematics::wrap_angle;
-use crate::thresholds::{LANE_CHAIN_REACH_M, LANE_CHAIN_STRAIGHT_MAX_DEG};
+use crate::thresholds::{LANE_CHAIN_MAX_SEGMENTS, LANE_CHAIN_REACH_M, LANE_CHAIN_STRAIGHT_MAX_DEG};
 
 /// The chain of every lane, indexed like [`scenalog_facts::VectorMap::lanes`].
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -84,34 +85,75 @@ fn straight_predecessor(lanes: &[LaneGeom], c: usize) -> Option<usize> {
         .map(|(p, _, _)| p)
 }
 
-fn walk(
-    lanes: &[LaneGeom],
-    start: usize,
-    step: fn(&[LaneGeom], usize) -> Option<usize>,
-) -> Vec<usize> {
+/// Lanes marked as seen in the current walk: a stamp per lane, so starting a new walk costs
+/// nothing and a lookup is one comparison (no scan of the walk so far).
+struct Seen {
+    stamp: Vec<u32>,
+    round: u32,
+}
+
+impl Seen {
+    fn new(n: usize) -> Seen {
+        Seen {
+            stamp: vec![0; n],
+            round: 0,
+        }
+    }
+
+    /// Forgets every lane marked so far.
+    fn clear(&mut self) {
+        self.round += 1;
+    }
+
+    fn mark(&mut self, i: usize) {
+        self.stamp[i] = self.round;
+    }
+
+    fn has(&self, i: usize) -> bool {
+        self.stamp[i] == self.round
+    }
+}
+
+/// From `start`, the lanes that continue it one `next` after another, until the chain reaches
+/// [`LANE_CHAIN_REACH_M`] of centreline, [`LANE_CHAIN_MAX_SEGMENTS`] lanes, a dead end or a lane
+/// already in it.
+fn walk(next: &[Option<usize>], lanes: &[LaneGeom], start: usize, seen: &mut Seen) -> Vec<usize> {
     let mut out = Vec::new();
     let mut reach = 0.0;
     let mut cur = start;
-    while reach < LANE_CHAIN_REACH_M {
-        let Some(next) = step(lanes, cur) else { break };
-        if next == start || out.contains(&next) {
+    seen.clear();
+    seen.mark(start);
+    while reach < LANE_CHAIN_REACH_M && out.len() < LANE_CHAIN_MAX_SEGMENTS {
+        let Some(n) = next[cur] else { break };
+        if seen.has(n) {
             break;
         }
-        out.push(next);
-        reach += lanes[next].length;
-        cur = next;
+        seen.mark(n);
+        out.push(n);
+        reach += lanes[n].length;
+        cur = n;
     }
     out
 }
 
-/// Builds the chain of every lane.
+/// Builds the chain of every lane: each lane's straight successor and predecessor are chosen once
+/// (linear in the map's links, however many a lane has), then each chain is walked in time
+/// linear in its length.
 pub fn build(lanes: &[LaneGeom]) -> LaneChains {
+    let ahead: Vec<Option<usize>> = (0..lanes.len())
+        .map(|i| straight_successor(lanes, i))
+        .collect();
+    let behind: Vec<Option<usize>> = (0..lanes.len())
+        .map(|i| straight_predecessor(lanes, i))
+        .collect();
+    let mut seen = Seen::new(lanes.len());
     let mut chains = Vec::with_capacity(lanes.len());
     let mut position = Vec::with_capacity(lanes.len());
     for i in 0..lanes.len() {
-        let mut back = walk(lanes, i, straight_predecessor);
-        let fwd = walk(lanes, i, straight_successor);
-        back.retain(|b| !fwd.contains(b));
+        let mut back = walk(&behind, lanes, i, &mut seen);
+        let fwd = walk(&ahead, lanes, i, &mut seen);
+        // `seen` now holds the forward walk (and `i`): what the backward one shares with it goes.
+        back.retain(|&b| !seen.has(b));
         back.reverse();
         position.push(back.len());
         let chain: Vec<LaneId> = back

@@ -138,12 +138,13 @@ impl MapIndex {
                 }
             })
             .collect();
-        // AV2 map files usually leave `predecessors` empty: derive them from successors.
+        // AV2 map files usually leave `predecessors` empty: derive them from successors (the
+        // duplicates go with the sort below, so a lane with thousands of predecessors costs no
+        // scan of them per link).
         for i in 0..lanes.len() {
-            for s in lanes[i].successors.clone() {
-                if !lanes[s].predecessors.contains(&i) {
-                    lanes[s].predecessors.push(i);
-                }
+            for k in 0..lanes[i].successors.len() {
+                let s = lanes[i].successors[k];
+                lanes[s].predecessors.push(i);
             }
         }
         for l in &mut lanes {

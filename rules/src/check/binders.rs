@@ -4,7 +4,7 @@
 //! that pairs the two objects; a fact with variables becomes a rule over every object or frame;
 //! a `_` in a head becomes a variable the body binds.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use scenalog_facts::catalog::ColType;
 
@@ -24,11 +24,12 @@ fn head_types(pred: &str, types: &BTreeMap<String, Vec<ColType>>) -> Vec<ColType
 /// Variables bound by positive atoms of the body (outside aggregates), in order.
 fn body_vars(c: &Clause) -> Vec<&str> {
     let mut out = Vec::new();
+    let mut seen = HashSet::new();
     for l in &c.body {
         if let Literal::Pos(a) = l {
             for e in &a.args {
                 if let Some(v) = e.as_var() {
-                    if !out.contains(&v) {
+                    if seen.insert(v) {
                         out.push(v);
                     }
                 }
@@ -45,6 +46,22 @@ pub fn refine(
     types: &BTreeMap<String, Vec<ColType>>,
     diags: &mut [Diagnostic],
 ) {
+    // The E0201 diagnostics by where they start, so each clause finds its own by binary search
+    // instead of scanning them all.
+    let mut unsafe_at: Vec<(usize, usize)> = diags
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.code == crate::diagnostics::UNSAFE_VARIABLE)
+        .map(|(i, d)| (d.span.start, i))
+        .collect();
+    unsafe_at.sort_unstable();
+    let in_span = |at: Span| {
+        let from = unsafe_at.partition_point(|&(start, _)| start < at.start);
+        let to = unsafe_at.partition_point(|&(start, _)| start < at.end.max(at.start));
+        unsafe_at[from..to].iter().map(|&(_, i)| i)
+    };
+    // The program's helper pairing two objects at a time, looked up once.
+    let pair_helper = pair_helper(program, types);
     for c in &program.clauses {
         // The clause's final `.`, where a missing literal is inserted.
         let dot = c.span.end.saturating_sub(1);
@@ -52,7 +69,23 @@ pub fn refine(
             continue;
         }
         let cols = head_types(&c.head.pred, types);
-        let bound: BTreeSet<&str> = body_vars(c).into_iter().collect();
+        let in_body = body_vars(c);
+        let bound: BTreeSet<&str> = in_body.iter().copied().collect();
+        let in_head: HashSet<&str> = c.head.args.iter().filter_map(|e| e.as_var()).collect();
+        // The first E0201 inside the head for each text it covers (a variable's name).
+        let mut head_diags: HashMap<&str, usize> = HashMap::new();
+        let mut wildcard_diags: HashMap<Span, usize> = HashMap::new();
+        for i in in_span(c.head.span) {
+            let d = &diags[i];
+            if d.span.end <= c.head.span.end {
+                if let Some(text) = source.get(d.span.start..d.span.end) {
+                    let first = head_diags.entry(text).or_insert(i);
+                    *first = (*first).min(i);
+                }
+                let first = wildcard_diags.entry(d.span).or_insert(i);
+                *first = (*first).min(i);
+            }
+        }
         // The head's variables by type, bound or not.
         let mut track_bound = None;
         let mut time_bound = None;
@@ -66,23 +99,23 @@ pub fn refine(
                     _ => {}
                 },
                 (_, Some(v)) => unbound.push((v, ty, i)),
-                (ExprKind::Wildcard, _) => wildcard(source, c, e.span, &bound, diags),
+                (ExprKind::Wildcard, _) => {
+                    if let Some(&i) = wildcard_diags.get(&e.span) {
+                        wildcard(source, c, e.span, &in_body, &in_head, &bound, &mut diags[i]);
+                    }
+                }
                 _ => {}
             }
         }
         for (v, ty, i) in unbound {
-            let Some(d) = diags.iter_mut().find(|d| {
-                d.code == crate::diagnostics::UNSAFE_VARIABLE
-                    && d.span.start >= c.head.span.start
-                    && d.span.end <= c.head.span.end
-                    && source.get(d.span.start..d.span.end) == Some(v)
-            }) else {
+            let Some(&at) = head_diags.get(v) else {
                 continue;
             };
+            let d = &mut diags[at];
             let atom = if c.head.pred == "related" && i == 1 {
                 let x = c.head.args.first().and_then(|e| e.as_var()).unwrap_or("X");
                 let t = time_bound.unwrap_or("T");
-                Some(pairing(program, types, x, v, t))
+                Some(pairing(pair_helper.as_ref(), x, v, t))
             } else {
                 match ty {
                     Some(ColType::Track) => {
@@ -97,7 +130,7 @@ pub fn refine(
             };
             let Some(atom) = atom else { continue };
             let (edit, line) = if c.body.is_empty() {
-                let head = &source[c.head.span.start..c.head.span.end];
+                let head = excerpt(&source[c.head.span.start..c.head.span.end]);
                 (
                     format!(" :- {atom}"),
                     format!(
@@ -105,7 +138,7 @@ pub fn refine(
                     ),
                 )
             } else {
-                let text = source[c.span.start..dot].trim_end();
+                let text = excerpt(source[c.span.start..dot].trim_end());
                 (
                     format!(", {atom}"),
                     format!("bind `{v}` in the body: `{text}, {atom}.`"),
@@ -120,61 +153,62 @@ pub fn refine(
     }
 }
 
-/// The atom that binds `Y` as the object `X` is related to at `T`: the program's own helper
-/// with two track columns and one time column when there is one (the first defined), else
-/// `near`.
-fn pairing(
-    program: &Program,
-    types: &BTreeMap<String, Vec<ColType>>,
-    x: &str,
-    y: &str,
-    t: &str,
-) -> String {
-    for c in &program.clauses {
+/// The program's own helper with two track columns and one time column (the first defined), with
+/// its column types: what pairs the objects of `related`.
+fn pair_helper<'a>(
+    program: &'a Program,
+    types: &'a BTreeMap<String, Vec<ColType>>,
+) -> Option<(&'a str, &'a [ColType])> {
+    program.clauses.iter().find_map(|c| {
         let pred = c.head.pred.as_str();
         if output_arity(pred).is_some() {
-            continue;
+            return None;
         }
-        let Some(cols) = types.get(pred) else {
-            continue;
-        };
-        let tracks: Vec<usize> = (0..cols.len())
-            .filter(|&k| cols[k] == ColType::Track)
-            .collect();
-        let times: Vec<usize> = (0..cols.len())
-            .filter(|&k| cols[k] == ColType::Time)
-            .collect();
-        if tracks.len() == 2 && times.len() == 1 {
-            let parts: Vec<&str> = (0..cols.len())
-                .map(|k| {
-                    if k == tracks[0] {
-                        x
-                    } else if k == tracks[1] {
-                        y
-                    } else if k == times[0] {
-                        t
-                    } else {
-                        "_"
-                    }
-                })
-                .collect();
-            return format!("{pred}({})", parts.join(", "));
-        }
-    }
-    format!("near({x}, {y}, {t}, _)")
+        let cols = types.get(pred)?;
+        let count = |t: ColType| cols.iter().filter(|&&c| c == t).count();
+        (count(ColType::Track) == 2 && count(ColType::Time) == 1).then_some((pred, cols.as_slice()))
+    })
 }
 
-/// A `_` in a head: name it after a body variable the head does not use yet.
-fn wildcard(source: &str, c: &Clause, at: Span, bound: &BTreeSet<&str>, diags: &mut [Diagnostic]) {
-    let in_head: Vec<&str> = c.head.args.iter().filter_map(|e| e.as_var()).collect();
-    let Some(d) = diags
-        .iter_mut()
-        .find(|d| d.code == crate::diagnostics::UNSAFE_VARIABLE && d.span == at)
-    else {
-        return;
+/// The atom that binds `Y` as the object `X` is related to at `T`: the program's pairing helper
+/// ([`pair_helper`]) when there is one, else `near`.
+fn pairing(helper: Option<&(&str, &[ColType])>, x: &str, y: &str, t: &str) -> String {
+    let Some((pred, cols)) = helper else {
+        return format!("near({x}, {y}, {t}, _)");
     };
-    let Some(v) = body_vars(c)
-        .into_iter()
+    let tracks: Vec<usize> = (0..cols.len())
+        .filter(|&k| cols[k] == ColType::Track)
+        .collect();
+    let time = cols.iter().position(|&c| c == ColType::Time);
+    let parts: Vec<&str> = (0..cols.len())
+        .map(|k| {
+            if k == tracks[0] {
+                x
+            } else if k == tracks[1] {
+                y
+            } else if Some(k) == time {
+                t
+            } else {
+                "_"
+            }
+        })
+        .collect();
+    format!("{pred}({})", parts.join(", "))
+}
+
+/// A `_` in a head (`d` its E0201): name it after a body variable the head does not use yet.
+fn wildcard(
+    source: &str,
+    c: &Clause,
+    at: Span,
+    in_body: &[&str],
+    in_head: &HashSet<&str>,
+    bound: &BTreeSet<&str>,
+    d: &mut Diagnostic,
+) {
+    let Some(v) = in_body
+        .iter()
+        .copied()
         .find(|v| !in_head.contains(v) && bound.contains(v) && !v.starts_with('_'))
     else {
         return;
@@ -185,10 +219,32 @@ fn wildcard(source: &str, c: &Clause, at: Span, bound: &BTreeSet<&str>, diags: &
         &source[at.end..c.head.span.end]
     );
     d.hint = Some(format!(
-        "a head's columns are values the body binds: name it, e.g. `{head}`, or drop the column"
+        "a head's columns are values the body binds: name it, e.g. `{}`, or drop the column",
+        excerpt(&head)
     ));
     d.fix = vec![crate::Edit {
         span: at,
         text: v.to_string(),
     }];
+}
+
+/// Most bytes of program text a hint quotes: a longer clause or head is quoted by its start and
+/// end around `…`, so the hints of a huge clause do not each copy it whole.
+const QUOTE_MAX: usize = 240;
+
+/// `text` as a hint quotes it: whole up to [`QUOTE_MAX`] bytes, else its first and last
+/// `QUOTE_MAX / 2` bytes around `…`.
+pub(crate) fn excerpt(text: &str) -> String {
+    if text.len() <= QUOTE_MAX {
+        return text.to_string();
+    }
+    let mut head = QUOTE_MAX / 2;
+    while !text.is_char_boundary(head) {
+        head -= 1;
+    }
+    let mut tail = text.len() - QUOTE_MAX / 2;
+    while !text.is_char_boundary(tail) {
+        tail += 1;
+    }
+    format!("{} … {}", &text[..head], &text[tail..])
 }

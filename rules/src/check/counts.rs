@@ -2,6 +2,8 @@
 //! occurs outside the braces, so each one groups the count and the count is 0 or 1; usually a
 //! variable meant to be counted was reused from outside by mistake.
 
+use std::collections::{HashMap, HashSet};
+
 use crate::ast::{AggFunc, Clause, Expr, ExprKind, Literal};
 use crate::diagnostics::{self, warning};
 use crate::Diagnostic;
@@ -20,20 +22,39 @@ fn literal_vars<'a>(l: &'a Literal, out: &mut Vec<&'a str>) {
     out.extend(with_spans.into_iter().map(|(v, _)| v));
 }
 
-/// Reports W0505 for the `count`s of one clause's body.
+/// Reports W0505 for the `count`s of one clause's body. The clause's variables are counted once
+/// (head and every literal), so each `count` finds what occurs outside its braces by taking its
+/// own occurrences away: linear in the clause however many `count`s it holds.
 pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
-    for (i, l) in c.body.iter().enumerate() {
+    if !c
+        .body
+        .iter()
+        .any(|l| matches!(l, Literal::Agg(g) if g.func == AggFunc::Count))
+    {
+        return;
+    }
+    let mut all = Vec::new();
+    c.head.args.iter().for_each(|e| vars(e, &mut all));
+    for l in &c.body {
+        literal_vars(l, &mut all);
+    }
+    let mut total: HashMap<&str, usize> = HashMap::new();
+    for v in all {
+        *total.entry(v).or_default() += 1;
+    }
+    for l in &c.body {
         let Literal::Agg(g) = l else { continue };
         if g.func != AggFunc::Count {
             continue;
         }
-        let mut outer = Vec::new();
-        c.head.args.iter().for_each(|e| vars(e, &mut outer));
-        for (j, other) in c.body.iter().enumerate() {
-            if j != i {
-                literal_vars(other, &mut outer);
-            }
+        let mut own_vars = Vec::new();
+        literal_vars(l, &mut own_vars);
+        let mut own: HashMap<&str, usize> = HashMap::new();
+        for v in own_vars {
+            *own.entry(v).or_default() += 1;
         }
+        let outside =
+            |v: &str| total.get(v).copied().unwrap_or(0) > own.get(v).copied().unwrap_or(0);
         let mut inner = Vec::new();
         let mut has_atom = false;
         let mut wildcard = false;
@@ -44,19 +65,15 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
                 a.args.iter().for_each(|e| vars(e, &mut inner));
             }
         }
-        if !has_atom || wildcard || inner.iter().any(|v| !outer.contains(v)) {
+        if !has_atom || wildcard || inner.iter().any(|v| !outside(v)) {
             continue;
         }
-        let mut seen = Vec::new();
-        inner.retain(|v| {
-            !seen.contains(v) && {
-                seen.push(*v);
-                true
-            }
-        });
+        let mut seen = HashSet::new();
+        inner.retain(|v| seen.insert(*v));
         let mut head = Vec::new();
         c.head.args.iter().for_each(|e| vars(e, &mut head));
-        let counted = inner.iter().find(|v| !head.contains(v)).unwrap_or(&"Y");
+        let head: HashSet<&str> = head.into_iter().collect();
+        let counted = inner.iter().find(|v| !head.contains(*v)).unwrap_or(&"Y");
         diags.push(
             warning(
                 diagnostics::COUNT_OF_ONE,

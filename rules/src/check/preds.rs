@@ -2,7 +2,7 @@
 //! and their arity. Reports unknown predicates, wrong arity, redefined catalog relations, the
 //! `referred`/`related` shape by arity, a missing `referred`, and empty or unused helpers.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use scenalog_facts::catalog::{self, ColType};
 
@@ -193,6 +193,8 @@ pub fn collect(
     // Body atoms.
     let mut used: BTreeSet<&str> = BTreeSet::new();
     let program_names: Vec<String> = table.preds.keys().cloned().collect();
+    // The hint of each unknown name, computed once however often the name is used.
+    let mut hints: HashMap<String, String> = HashMap::new();
     for c in &program.clauses {
         for (a, _) in body_atoms(&c.body) {
             if a.pred != c.head.pred {
@@ -220,7 +222,15 @@ pub fn collect(
             if broken_heads.contains(&a.pred) {
                 continue;
             }
-            diags.push(unknown_predicate(a, &program_names));
+            let searched = if hints.len() < HINTED_AMONG_PROGRAM {
+                program_names.as_slice()
+            } else {
+                &[]
+            };
+            let hint = hints
+                .entry(a.pred.clone())
+                .or_insert_with(|| unknown_hint(&a.pred, searched));
+            diags.push(unknown_predicate(a, hint.clone()));
         }
     }
     // Output.
@@ -332,19 +342,26 @@ fn arity_error(
     d
 }
 
-fn unknown_predicate(a: &Atom, program_names: &[String]) -> Diagnostic {
+/// How many distinct unknown names are compared with the program's own names for a "did you
+/// mean" (every one is compared with the catalog's): past that, a program of thousands of unknown
+/// names would cost a comparison of each with each.
+const HINTED_AMONG_PROGRAM: usize = 64;
+
+/// The hint of an unknown predicate `name`: the closest catalog relations, prelude relations and
+/// `program_names`.
+fn unknown_hint(name: &str, program_names: &[String]) -> String {
     let candidates = catalog::catalog()
         .iter()
         .map(|r| r.name)
         .chain(crate::prelude::relations().iter().map(|r| r.name.as_str()))
         .chain(program_names.iter().map(String::as_str));
     let mut seen = std::collections::BTreeSet::new();
-    let near: Vec<&str> = closest(&a.pred, candidates, 4)
+    let near: Vec<&str> = closest(name, candidates, 4)
         .into_iter()
         .filter(|n| seen.insert(*n))
         .take(3)
         .collect();
-    let hint = if near.is_empty() {
+    if near.is_empty() {
         "it is neither a relation of the catalog or the prelude nor defined by a rule here: define it with a rule of its own (`name(X, T) :- …`) or use one of the relations the catalog and the prelude list".to_string()
     } else {
         let names: Vec<String> = near
@@ -358,7 +375,10 @@ fn unknown_predicate(a: &Atom, program_names: &[String]) -> Diagnostic {
             )
             .collect();
         format!("did you mean {}?", names.join(" or "))
-    };
+    }
+}
+
+fn unknown_predicate(a: &Atom, hint: String) -> Diagnostic {
     error(
         diagnostics::UNKNOWN_PREDICATE,
         a.pred_span,

@@ -1,7 +1,7 @@
 //! Safety (every variable bound by a positive atom or a binding: E0201) and variables used
 //! once (W0501).
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use crate::ast::{Clause, CmpOp, Expr, ExprKind, Literal, Span};
 use crate::diagnostics::{self, error, warning};
@@ -40,48 +40,89 @@ fn expr_vars(e: &Expr) -> Vec<(&str, Span)> {
     out
 }
 
-/// Binds what positive atoms and bindings of `body` bind, given `bound` from outside.
-fn bind(body: &[Literal], bound: &mut BTreeSet<String>) {
+/// The variables bound at a point of a clause: those of its own body (or an aggregate's braces)
+/// and, for braces, those of the bodies around them.
+struct Scope<'s> {
+    outer: Option<&'s Scope<'s>>,
+    own: HashSet<&'s str>,
+}
+
+impl Scope<'_> {
+    fn contains(&self, v: &str) -> bool {
+        self.own.contains(v) || self.outer.is_some_and(|o| o.contains(v))
+    }
+}
+
+/// What positive atoms, aggregates' results and bindings of `body` bind, given `outer`'s
+/// variables. A binding `X = E` binds `X` once every variable of `E` is bound, so the bindings
+/// are resolved by a worklist: each waits on a count of its unbound variables and is taken when
+/// the count reaches zero, in time linear in the body whatever order they are written in.
+fn bind<'s>(body: &'s [Literal], outer: Option<&'s Scope<'s>>) -> Scope<'s> {
+    let mut scope = Scope {
+        outer,
+        own: HashSet::new(),
+    };
     for l in body {
-        if let Literal::Pos(a) = l {
-            for arg in &a.args {
-                if let Some(v) = arg.as_var() {
-                    bound.insert(v.to_string());
+        match l {
+            Literal::Pos(a) => {
+                for v in a.args.iter().filter_map(|e| e.as_var()) {
+                    if !scope.contains(v) {
+                        scope.own.insert(v);
+                    }
                 }
+            }
+            Literal::Agg(g) => {
+                if let Some(v) = g.result.as_var() {
+                    if !scope.contains(v) {
+                        scope.own.insert(v);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    // Each binding: the variable it binds and how many of its expression's are still unbound.
+    let mut targets: Vec<(&str, usize)> = Vec::new();
+    let mut waiting: HashMap<&str, Vec<usize>> = HashMap::new();
+    let mut ready: Vec<usize> = Vec::new();
+    for l in body {
+        let Literal::Cmp(c) = l else { continue };
+        if c.op != CmpOp::Eq {
+            continue;
+        }
+        for (side, other) in [(&c.lhs, &c.rhs), (&c.rhs, &c.lhs)] {
+            let Some(v) = side.as_var() else { continue };
+            let mut unbound: Vec<&str> = expr_vars(other)
+                .into_iter()
+                .map(|(w, _)| w)
+                .filter(|w| !scope.contains(w))
+                .collect();
+            unbound.sort_unstable();
+            unbound.dedup();
+            let id = targets.len();
+            targets.push((v, unbound.len()));
+            if unbound.is_empty() {
+                ready.push(id);
+            }
+            for w in unbound {
+                waiting.entry(w).or_default().push(id);
             }
         }
     }
-    loop {
-        let mut changed = false;
-        for l in body {
-            match l {
-                Literal::Cmp(c) if c.op == CmpOp::Eq => {
-                    for (side, other) in [(&c.lhs, &c.rhs), (&c.rhs, &c.lhs)] {
-                        if let Some(v) = side.as_var() {
-                            if !bound.contains(v)
-                                && expr_vars(other).iter().all(|(w, _)| bound.contains(*w))
-                            {
-                                bound.insert(v.to_string());
-                                changed = true;
-                            }
-                        }
-                    }
-                }
-                Literal::Agg(g) => {
-                    if let Some(v) = g.result.as_var() {
-                        if !bound.contains(v) {
-                            bound.insert(v.to_string());
-                            changed = true;
-                        }
-                    }
-                }
-                _ => {}
+    while let Some(id) = ready.pop() {
+        let v = targets[id].0;
+        if scope.contains(v) {
+            continue;
+        }
+        scope.own.insert(v);
+        for &next in waiting.get(v).map_or(&[][..], Vec::as_slice) {
+            targets[next].1 -= 1;
+            if targets[next].1 == 0 {
+                ready.push(next);
             }
         }
-        if !changed {
-            return;
-        }
     }
+    scope
 }
 
 struct Safety {
@@ -120,7 +161,7 @@ impl Safety {
     fn check_exprs<'a>(
         &mut self,
         exprs: impl IntoIterator<Item = &'a Expr>,
-        bound: &BTreeSet<String>,
+        bound: &Scope<'_>,
         place: &dyn Fn() -> String,
         hint: &str,
     ) {
@@ -133,7 +174,7 @@ impl Safety {
         }
     }
 
-    fn body(&mut self, body: &[Literal], bound: &BTreeSet<String>) {
+    fn body(&mut self, body: &[Literal], bound: &Scope<'_>) {
         const HINT: &str = "bind `{V}` in a positive atom of the body (e.g. `speed(X, T, {V})`) or with `{V} = expression`";
         for l in body {
             match l {
@@ -157,8 +198,7 @@ impl Safety {
                     self.check_exprs([&c.lhs, &c.rhs], bound, &|| "a comparison".into(), HINT);
                 }
                 Literal::Agg(g) => {
-                    let mut inner = bound.clone();
-                    bind(&g.body, &mut inner);
+                    let inner = bind(&g.body, Some(bound));
                     if matches!(g.result.kind, ExprKind::Wildcard) {
                         self.wildcard(g.result.span, "an aggregate's result");
                     }
@@ -174,8 +214,7 @@ impl Safety {
 
 /// Reports unsafe variables (E0201) and variables used once (W0501) in one clause.
 pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
-    let mut bound = BTreeSet::new();
-    bind(&c.body, &mut bound);
+    let bound = bind(&c.body, None);
     let mut s = Safety {
         diags: Vec::new(),
         reported: BTreeSet::new(),
@@ -208,8 +247,9 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     // A variable only inside a `count` body is what is counted: not a slip.
     let mut counted = Vec::new();
     count_vars(&c.body, false, &mut counted);
+    let counted: HashSet<&str> = counted.into_iter().collect();
     for (v, (n, sp)) in count {
-        if n == 1 && !v.starts_with('_') && !s.reported.contains(v) && !counted.contains(&v) {
+        if n == 1 && !v.starts_with('_') && !s.reported.contains(v) && !counted.contains(v) {
             s.diags.push(
                 warning(
                     diagnostics::SINGLETON,
