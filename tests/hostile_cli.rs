@@ -131,7 +131,10 @@ fn programs_at_the_limits_run_through_mine() {
     // agree: the nested aggregates' braces hold more variables than the engine's 12.
     let (code, stdout, stderr) = scenalog(&["check", &deep], "");
     assert_eq!(code, 1, "{stdout}{stderr}");
-    assert!(stdout.contains("E0406") || stderr.contains("E0406"), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("E0406") || stderr.contains("E0406"),
+        "{stdout}{stderr}"
+    );
     let out = dir.path().join("out");
     let log = log_dir();
     let (code, stdout, stderr) = scenalog(
