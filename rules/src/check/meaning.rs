@@ -30,6 +30,17 @@ use crate::Diagnostic;
 /// keeps equal to this).
 pub const MAX_VARIABLES: usize = 12;
 
+/// Most W0506 warnings one body gets: past that, the rest are the same mistake again.
+const MAX_CROSS_PRODUCTS: usize = 64;
+
+/// Most E0201 diagnostics given a helper-rule fix in one program: each costs a pass over its
+/// clause.
+const MAX_NEGATION_FIXES: usize = 64;
+
+/// Most `related` rules compared with the `referred` rules for W0508: each comparison costs a
+/// pass over both bodies.
+const MAX_RELATED_CHECKED: usize = 64;
+
 /// Runs every check of this module over the program.
 pub fn check_program(
     program: &Program,
@@ -81,8 +92,9 @@ fn unsafe_name(d: &Diagnostic) -> Option<&str> {
 /// fix that move the negated atom, those comparisons and the atoms only about its own variables
 /// into a helper rule, and negate the helper.
 fn negation_helpers(program: &Program, diags: &mut [Diagnostic]) {
+    let mut fixed = 0;
     for d in diags.iter_mut() {
-        if d.code != diagnostics::UNSAFE_VARIABLE {
+        if d.code != diagnostics::UNSAFE_VARIABLE || fixed >= MAX_NEGATION_FIXES {
             continue;
         }
         let Some(var) = unsafe_name(d).map(str::to_string) else {
@@ -102,6 +114,7 @@ fn negation_helpers(program: &Program, diags: &mut [Diagnostic]) {
         }) else {
             continue;
         };
+        fixed += 1;
         let Some((helper, rewritten)) = negation_helper(c, n, &var) else {
             continue;
         };
@@ -355,10 +368,40 @@ fn cross_products_in(
     if atoms < 2 {
         return;
     }
+    // In how many literals each variable occurs, and the `_` columns of each atom by type: each
+    // atom's questions are then answered without another pass over the body (linear in it).
+    let mut occurs: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for l in body {
+        for v in distinct(literal_names(l)) {
+            *occurs.entry(v).or_default() += 1;
+        }
+    }
+    let outside: BTreeSet<&str> = outside.iter().copied().collect();
+    let wild_of: Vec<Vec<(Span, Option<ColType>)>> = body
+        .iter()
+        .map(|l| match l {
+            Literal::Pos(a) => wildcard_columns(a, types),
+            _ => Vec::new(),
+        })
+        .collect();
+    let mut by_type: std::collections::HashMap<ColType, Vec<(usize, Span)>> =
+        std::collections::HashMap::new();
+    for (j, w) in wild_of.iter().enumerate() {
+        for (s, t) in w {
+            if let Some(t) = t {
+                by_type.entry(*t).or_default().push((j, *s));
+            }
+        }
+    }
+    let mut fresh: Option<String> = None;
+    let mut reported = 0;
     for (i, l) in body.iter().enumerate() {
         let Literal::Pos(a) = l else { continue };
+        if reported >= MAX_CROSS_PRODUCTS {
+            break;
+        }
         let own: BTreeSet<&str> = a.args.iter().flat_map(expr_names).collect();
-        let wild = wildcard_columns(a, types);
+        let wild = &wild_of[i];
         if wild.is_empty() && own.is_empty() {
             continue;
         }
@@ -366,13 +409,9 @@ fn cross_products_in(
         if !in_aggregate && wild.is_empty() {
             continue;
         }
-        let shared = body
+        let shared = own
             .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .flat_map(|(_, o)| literal_names(o))
-            .chain(outside.iter().copied())
-            .any(|v| own.contains(v));
+            .any(|v| outside.contains(v) || occurs.get(v).copied().unwrap_or(0) > 1);
         // An atom about an unnamed object: a `_` in a track column and no named track, whatever
         // time it shares (`stopped(_, T)`: some object is stopped at T).
         let cols = types(&a.pred).unwrap_or_default();
@@ -386,21 +425,22 @@ fn cross_products_in(
             continue;
         }
         // A `_` of another atom of the same body in a column of the same type: the join meant.
-        let partners: Vec<(Span, Span)> = body
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .filter_map(|(_, o)| match o {
-                Literal::Pos(b) => Some(wildcard_columns(b, types)),
-                _ => None,
-            })
-            .flatten()
-            .flat_map(|(ps, pt)| {
-                wild.iter()
-                    .filter(move |(_, t)| t.is_some() && *t == pt)
-                    .map(move |(s, _)| (*s, ps))
-            })
-            .collect();
+        let mut partners: Vec<(Span, Span)> = Vec::new();
+        for (mine, t) in wild {
+            let Some(t) = t else { continue };
+            let others = by_type.get(t).map(Vec::as_slice).unwrap_or_default();
+            partners.extend(
+                others
+                    .iter()
+                    .filter(|(j, _)| *j != i)
+                    .take(2)
+                    .map(|(_, theirs)| (*mine, *theirs)),
+            );
+            if partners.len() > 1 {
+                break;
+            }
+        }
+        reported += 1;
         let mut d = warning(
             diagnostics::CROSS_PRODUCT,
             a.span,
@@ -411,7 +451,7 @@ fn cross_products_in(
             ),
         );
         if let [(mine, theirs)] = partners.as_slice() {
-            let name = fresh_name(c, "Y");
+            let name = fresh.get_or_insert_with(|| fresh_name(c, "Y")).clone();
             d = d
                 .with_hint(format!(
                     "`_` is a fresh variable at each use and joins nothing: name the column in both atoms (`{name}`) to say they are the same object"
@@ -631,6 +671,7 @@ fn related_not_referred(program: &Program, diags: &mut Vec<Diagnostic>) {
         .clauses
         .iter()
         .filter(|c| c.head.pred == "related" && c.head.args.len() == 3 && !c.body.is_empty())
+        .take(MAX_RELATED_CHECKED)
     {
         if tied(r, &referred) {
             continue;
