@@ -1,8 +1,8 @@
 //! Every threshold the extractors use, named and documented in one place.
 //!
-//! The values follow the reference behaviour of RefAV's atomic functions (DESIGN.md's catalog)
-//! unless a comment says otherwise. Distances are metres, speeds m/s, angles degrees, times frames
-//! or seconds as named.
+//! The values follow the reference behaviour of RefAV's atomic functions
+//! (`refAV/atomic_functions.py` in the RefAV repository) unless a comment says otherwise.
+//! Distances are metres, speeds m/s, angles degrees, times frames or seconds as named.
 //!
 //! Sections: kinematics, lanes and map, events, then the pairwise relations (appended by the pairs
 //! work at the end of the file; keep new constants inside their section).

@@ -630,7 +630,7 @@ mod tests {
 
     #[test]
     fn catalog_has_every_relation_of_the_design() {
-        // The 32 relations DESIGN.md's catalog names, crossing_detail (crossing with its
+        // The 32 relations of the original catalog, crossing_detail (crossing with its
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between.
         assert_eq!(catalog().len(), 36);

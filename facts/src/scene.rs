@@ -43,7 +43,8 @@ pub fn ego_box_in_ego_frame() -> Pose {
     Pose::translation(EGO_CENTRE_AHEAD_OF_AXLE_M, 0.0, 0.0)
 }
 
-/// The AV2 categories that make up the "VEHICLE" super-category (see DESIGN.md).
+/// The AV2 categories that make up the "VEHICLE" super-category (the catalog's `category` doc
+/// and the prompt's conventions use the same list).
 pub const VEHICLE_CATEGORIES: &[&str] = &[
     "EGO_VEHICLE",
     "ARTICULATED_BUS",
