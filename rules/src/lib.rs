@@ -59,6 +59,7 @@ pub mod prelude;
 pub mod printer;
 pub mod render;
 pub mod strata;
+pub mod walk;
 
 pub use parser::parse;
 pub use printer::print_program;

@@ -4,23 +4,10 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::ast::{AggFunc, Clause, Expr, ExprKind, Literal};
+use crate::ast::{AggFunc, Clause, ExprKind, Literal};
 use crate::diagnostics::{self, warning};
+use crate::walk::{expr_vars as vars, literal_vars};
 use crate::Diagnostic;
-
-/// Names of the variables of `e`, in order.
-fn vars<'a>(e: &'a Expr, out: &mut Vec<&'a str>) {
-    let mut with_spans = Vec::new();
-    super::safety::vars(e, &mut with_spans);
-    out.extend(with_spans.into_iter().map(|(v, _)| v));
-}
-
-/// Names of the variables of a literal (inside aggregates too), in order.
-fn literal_vars<'a>(l: &'a Literal, out: &mut Vec<&'a str>) {
-    let mut with_spans = Vec::new();
-    super::safety::lit_vars(std::slice::from_ref(l), &mut with_spans);
-    out.extend(with_spans.into_iter().map(|(v, _)| v));
-}
 
 /// Reports W0505 for the `count`s of one clause's body. The clause's variables are counted once
 /// (head and every literal), so each `count` finds what occurs outside its braces by taking its
@@ -36,7 +23,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     let mut all = Vec::new();
     c.head.args.iter().for_each(|e| vars(e, &mut all));
     for l in &c.body {
-        literal_vars(l, &mut all);
+        literal_vars(std::slice::from_ref(l), &mut all);
     }
     let mut total: HashMap<&str, usize> = HashMap::new();
     for v in all {
@@ -48,7 +35,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
             continue;
         }
         let mut own_vars = Vec::new();
-        literal_vars(l, &mut own_vars);
+        literal_vars(std::slice::from_ref(l), &mut own_vars);
         let mut own: HashMap<&str, usize> = HashMap::new();
         for v in own_vars {
             *own.entry(v).or_default() += 1;

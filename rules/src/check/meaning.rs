@@ -20,9 +20,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use scenalog_facts::catalog::{self, ColType};
 
 use super::preds::PredTable;
-use super::safety::{lit_vars, vars};
 use crate::ast::{Atom, Clause, Expr, ExprKind, Literal, Program, Span};
 use crate::diagnostics::{self, error, warning};
+use crate::walk::{self, expr_names};
 use crate::Diagnostic;
 
 /// Most variables one rule (or one aggregate's braces) may bind, and most columns a relation may
@@ -262,26 +262,17 @@ fn distinct<'a>(vs: impl IntoIterator<Item = &'a str>) -> BTreeSet<&'a str> {
     vs.into_iter().collect()
 }
 
-fn expr_names(e: &Expr) -> Vec<&str> {
-    let mut out = Vec::new();
-    vars(e, &mut out);
-    out.into_iter().map(|(v, _)| v).collect()
-}
-
 fn literal_names(l: &Literal) -> Vec<&str> {
     let mut out = Vec::new();
-    lit_vars(std::slice::from_ref(l), &mut out);
-    out.into_iter().map(|(v, _)| v).collect()
+    walk::literal_vars(std::slice::from_ref(l), &mut out);
+    out
 }
 
 /// E0406 for one clause: its variables outside aggregates, and each aggregate's own.
 fn too_many_variables(c: &Clause, diags: &mut Vec<Diagnostic>) {
     let mut outer: Vec<&str> = c.head.args.iter().flat_map(expr_names).collect();
     for l in &c.body {
-        match l {
-            Literal::Agg(g) => outer.extend(expr_names(&g.result)),
-            other => outer.extend(literal_names(other)),
-        }
+        walk::outer_vars(l, &mut outer);
     }
     let n = distinct(outer).len();
     if n > MAX_VARIABLES {
@@ -298,10 +289,7 @@ fn too_many_variables(c: &Clause, diags: &mut Vec<Diagnostic>) {
     }
     for l in &c.body {
         let Literal::Agg(g) = l else { continue };
-        let mut inner: Vec<&str> = g.body.iter().flat_map(literal_names).collect();
-        if let Some(t) = &g.target {
-            inner.extend(expr_names(t));
-        }
+        let inner = walk::aggregate_vars(g);
         let wild = g
             .body
             .iter()
@@ -314,7 +302,7 @@ fn too_many_variables(c: &Clause, diags: &mut Vec<Diagnostic>) {
                 _ => 0,
             })
             .sum::<usize>();
-        let n = distinct(inner).len() + wild;
+        let n = inner.len() + wild;
         if n > MAX_VARIABLES {
             diags.push(
                 error(

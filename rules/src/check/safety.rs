@@ -5,38 +5,12 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use crate::ast::{Clause, CmpOp, Expr, ExprKind, Literal, Span};
 use crate::diagnostics::{self, error, warning};
+use crate::walk;
 use crate::Diagnostic;
-
-/// Named variables of an expression, with their spans, in order.
-pub(super) fn vars<'a>(e: &'a Expr, out: &mut Vec<(&'a str, Span)>) {
-    match &e.kind {
-        ExprKind::Var(v) => out.push((v, e.span)),
-        ExprKind::Neg(x) => vars(x, out),
-        ExprKind::Binary(_, a, b) => {
-            vars(a, out);
-            vars(b, out);
-        }
-        ExprKind::Call(_, args) => args.iter().for_each(|a| vars(a, out)),
-        _ => {}
-    }
-}
-
-fn wildcards(e: &Expr, out: &mut Vec<Span>) {
-    match &e.kind {
-        ExprKind::Wildcard => out.push(e.span),
-        ExprKind::Neg(x) => wildcards(x, out),
-        ExprKind::Binary(_, a, b) => {
-            wildcards(a, out);
-            wildcards(b, out);
-        }
-        ExprKind::Call(_, args) => args.iter().for_each(|a| wildcards(a, out)),
-        _ => {}
-    }
-}
 
 fn expr_vars(e: &Expr) -> Vec<(&str, Span)> {
     let mut out = Vec::new();
-    vars(e, &mut out);
+    walk::expr_vars_spanned(e, &mut out);
     out
 }
 
@@ -190,8 +164,8 @@ impl Safety {
                 ),
                 Literal::Cmp(c) => {
                     let mut w = Vec::new();
-                    wildcards(&c.lhs, &mut w);
-                    wildcards(&c.rhs, &mut w);
+                    walk::wildcards(&c.lhs, &mut w);
+                    walk::wildcards(&c.rhs, &mut w);
                     for s in w {
                         self.wildcard(s, "a comparison");
                     }
@@ -221,7 +195,7 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     };
     for arg in &c.head.args {
         let mut w = Vec::new();
-        wildcards(arg, &mut w);
+        walk::wildcards(arg, &mut w);
         for sp in w {
             s.wildcard(sp, "the head");
         }
@@ -237,9 +211,9 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     let mut count: BTreeMap<&str, (usize, Span)> = BTreeMap::new();
     let mut all = Vec::new();
     for e in &c.head.args {
-        vars(e, &mut all);
+        walk::expr_vars_spanned(e, &mut all);
     }
-    lit_vars(&c.body, &mut all);
+    walk::literal_vars_spanned(&c.body, &mut all);
     for (v, sp) in all {
         let e = count.entry(v).or_insert((0, sp));
         e.0 += 1;
@@ -263,33 +237,12 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     diags.append(&mut s.diags);
 }
 
-pub(super) fn lit_vars<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
-    for l in body {
-        match l {
-            Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| vars(e, out)),
-            Literal::Cmp(c) => {
-                vars(&c.lhs, out);
-                vars(&c.rhs, out);
-            }
-            Literal::Agg(g) => {
-                vars(&g.result, out);
-                if let Some(t) = &g.target {
-                    vars(t, out);
-                }
-                lit_vars(&g.body, out);
-            }
-        }
-    }
-}
-
 /// Variables inside the bodies of `count` aggregates.
 fn count_vars<'a>(body: &'a [Literal], in_count: bool, out: &mut Vec<&'a str>) {
     for l in body {
         match l {
             Literal::Pos(a) | Literal::Neg(a, _) if in_count => {
-                let mut v = Vec::new();
-                a.args.iter().for_each(|e| vars(e, &mut v));
-                out.extend(v.into_iter().map(|(n, _)| n));
+                a.args.iter().for_each(|e| walk::expr_vars(e, out));
             }
             Literal::Agg(g) => count_vars(
                 &g.body,

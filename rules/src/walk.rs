@@ -1,0 +1,150 @@
+//! Which variables an expression, a literal or an aggregate holds: the AST walks that the
+//! checker, the engine's planner and its explanations all ask, written once.
+//!
+//! Every walk visits named variables only (never `_`) in source order, repeats included; the
+//! `*_spanned` forms keep each occurrence's span for diagnostics.
+
+use crate::ast::{Aggregate, Expr, ExprKind, Literal, Span};
+
+/// Calls `f` with each named variable of `e` and its span, in order.
+pub fn each_var<'a>(e: &'a Expr, f: &mut dyn FnMut(&'a str, Span)) {
+    match &e.kind {
+        ExprKind::Var(v) => f(v, e.span),
+        ExprKind::Neg(x) => each_var(x, f),
+        ExprKind::Binary(_, a, b) => {
+            each_var(a, f);
+            each_var(b, f);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| each_var(a, f)),
+        ExprKind::Wildcard | ExprKind::Str(_) | ExprKind::Int(_) | ExprKind::Float(_) => {}
+    }
+}
+
+/// Appends the named variables of `e` to `out`, in order.
+pub fn expr_vars<'a>(e: &'a Expr, out: &mut Vec<&'a str>) {
+    each_var(e, &mut |v, _| out.push(v));
+}
+
+/// Appends the named variables of `e` with their spans to `out`, in order.
+pub fn expr_vars_spanned<'a>(e: &'a Expr, out: &mut Vec<(&'a str, Span)>) {
+    each_var(e, &mut |v, s| out.push((v, s)));
+}
+
+/// The named variables of `e`, in order.
+pub fn expr_names(e: &Expr) -> Vec<&str> {
+    let mut out = Vec::new();
+    expr_vars(e, &mut out);
+    out
+}
+
+/// Appends the spans of the wildcards (`_`) of `e` to `out`, in order.
+pub fn wildcards(e: &Expr, out: &mut Vec<Span>) {
+    match &e.kind {
+        ExprKind::Wildcard => out.push(e.span),
+        ExprKind::Neg(x) => wildcards(x, out),
+        ExprKind::Binary(_, a, b) => {
+            wildcards(a, out);
+            wildcards(b, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| wildcards(a, out)),
+        ExprKind::Var(_) | ExprKind::Str(_) | ExprKind::Int(_) | ExprKind::Float(_) => {}
+    }
+}
+
+/// Calls `f` with each named variable of `l`, descending into an aggregate: its result, its
+/// target and its braces (nested aggregates too).
+pub fn each_literal_var<'a>(l: &'a Literal, f: &mut dyn FnMut(&'a str, Span)) {
+    match l {
+        Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| each_var(e, f)),
+        Literal::Cmp(c) => {
+            each_var(&c.lhs, f);
+            each_var(&c.rhs, f);
+        }
+        Literal::Agg(g) => {
+            each_var(&g.result, f);
+            if let Some(t) = &g.target {
+                each_var(t, f);
+            }
+            g.body.iter().for_each(|l| each_literal_var(l, f));
+        }
+    }
+}
+
+/// Appends the named variables of every literal of `body` (inside aggregates too) to `out`.
+pub fn literal_vars<'a>(body: &'a [Literal], out: &mut Vec<&'a str>) {
+    for l in body {
+        each_literal_var(l, &mut |v, _| out.push(v));
+    }
+}
+
+/// Appends the named variables of every literal of `body` (inside aggregates too) with their
+/// spans to `out`.
+pub fn literal_vars_spanned<'a>(body: &'a [Literal], out: &mut Vec<(&'a str, Span)>) {
+    for l in body {
+        each_literal_var(l, &mut |v, s| out.push((v, s)));
+    }
+}
+
+/// Appends the named variables `l` shows to the body around it: all of an atom's or a
+/// comparison's, and of an aggregate only its result (what is inside the braces is local).
+pub fn outer_vars<'a>(l: &'a Literal, out: &mut Vec<&'a str>) {
+    match l {
+        Literal::Agg(g) => expr_vars(&g.result, out),
+        other => each_literal_var(other, &mut |v, _| out.push(v)),
+    }
+}
+
+/// The distinct named variables of an aggregate's braces and target (nested aggregates' results,
+/// targets and braces included), in order of first occurrence; not its result.
+pub fn aggregate_vars(g: &Aggregate) -> Vec<&str> {
+    let mut vs = Vec::new();
+    literal_vars(&g.body, &mut vs);
+    if let Some(t) = &g.target {
+        expr_vars(t, &mut vs);
+    }
+    let mut seen = std::collections::HashSet::new();
+    vs.retain(|v| seen.insert(*v));
+    vs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::Clause;
+
+    fn clause(src: &str) -> Clause {
+        let (program, diags) = crate::parser::parse(src);
+        assert!(diags.is_empty(), "{diags:?}");
+        program.clauses.into_iter().next().expect("one clause")
+    }
+
+    #[test]
+    fn aggregate_vars_include_nested_targets_once_and_not_the_result() {
+        let c = clause("h(X, N) :- p(X), N = count : { q(X, Y), M = sum Z : { r(Y, Z) }, M > 1 }.");
+        let Literal::Agg(g) = &c.body[1] else {
+            panic!("aggregate expected")
+        };
+        assert_eq!(aggregate_vars(g), vec!["X", "Y", "M", "Z"]);
+        let mut outer = Vec::new();
+        c.body.iter().for_each(|l| outer_vars(l, &mut outer));
+        assert_eq!(outer, vec!["X", "N"]);
+    }
+
+    #[test]
+    fn walks_skip_wildcards_and_constants_and_keep_repeats() {
+        let c = clause("h(X) :- p(X, _, \"a\", 3), X + abs(_ - X) > 2.0.");
+        let mut names = Vec::new();
+        literal_vars(&c.body, &mut names);
+        assert_eq!(names, vec!["X", "X", "X"]);
+        let Literal::Cmp(cmp) = &c.body[1] else {
+            panic!("comparison expected")
+        };
+        let mut w = Vec::new();
+        wildcards(&cmp.lhs, &mut w);
+        assert_eq!(w.len(), 1);
+        let mut spanned = Vec::new();
+        expr_vars_spanned(&cmp.lhs, &mut spanned);
+        assert_eq!(spanned.len(), 2);
+        assert!(spanned[0].1.start < spanned[1].1.start);
+    }
+}
