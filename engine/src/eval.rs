@@ -155,12 +155,12 @@ pub fn evaluate(
         let (derived, origins) = if crate::ground::applies(&plans) {
             crate::ground::run(&plans, &defined, &types, options, start, held)?
         } else {
-            let budget = crate::frog::Budget {
+            let limits = crate::stratum::StratumLimits {
                 options,
                 start,
                 held,
             };
-            crate::frog::run_stratum(&plans, &variants, &defined, &types, &complete, &budget)?
+            crate::stratum::run_stratum(&plans, &variants, &defined, &types, &complete, &limits)?
         };
         held += derived.values().map(Rows::len).sum::<usize>();
         complete.extend(derived);

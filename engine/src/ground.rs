@@ -12,9 +12,9 @@ use scenalog_facts::catalog::ColType;
 use scenalog_rules::ast::Clause;
 
 use crate::eval::{Limits, Origins};
-use crate::frog::stored_width;
 use crate::plan::{apply, ground_head, Plan};
 use crate::rows::Rows;
+use crate::stratum::stored_width;
 use crate::value::{Row, Symbols, WIDTH};
 use crate::{EngineError, Options};
 

@@ -11,13 +11,13 @@
 mod agg_body;
 mod demand;
 mod eval;
-mod frog;
+mod explain;
 mod ground;
 mod plan;
 mod prove;
 mod rows;
+mod stratum;
 pub mod value;
-mod why_not;
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
@@ -28,12 +28,12 @@ use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
 pub use eval::evaluate;
-pub use prove::{Proof, Stamp};
-pub use why_not::{
+pub use explain::{
     explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,
     Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError, MAX_BINDINGS,
     MAX_DEPTH, MAX_EXAMPLES, MAX_NESTING,
 };
+pub use prove::{Proof, Stamp};
 
 /// Why an evaluation failed.
 #[derive(Debug, Clone, PartialEq)]
@@ -234,7 +234,7 @@ impl Evaluation {
         relation: &str,
         tuple: &[Value],
     ) -> Result<WhyNot, WhyNotError> {
-        why_not::why_not(program, self, relation, tuple)
+        explain::why_not(program, self, relation, tuple)
     }
 
     /// Sizes of every relation.

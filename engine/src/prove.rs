@@ -7,9 +7,9 @@ use std::collections::{HashMap, HashSet};
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
-use crate::frog::access::Access;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
+use crate::stratum::access::Access;
 use crate::value::{encode, Row, V, WIDTH};
 
 /// When and how a derived tuple was first derived.
@@ -295,7 +295,10 @@ impl Provenance {
             .unwrap_or_default();
         let mut accesses = Vec::new();
         for a in &plan.atoms {
-            let acc = Access::of(a, crate::frog::stored_width(&self.encoded.types, &a.pred));
+            let acc = Access::of(
+                a,
+                crate::stratum::stored_width(&self.encoded.types, &a.pred),
+            );
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {
                 let mut copy: Vec<(Row, u32)> = Vec::new();

@@ -409,7 +409,7 @@ mod tests {
     #[test]
     fn radix_sorts_order_tuples_as_comparisons_do() {
         let mut seed = 5u64;
-        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let mut next = || crate::stratum::join::tests::lcg(&mut seed);
         for case in 0..60 {
             // Words of every width: small numbers, encoded ints near zero (high bit set), full
             // 64-bit words (so some cases pass 128 varying bits and sort by comparison), and a
@@ -456,7 +456,7 @@ mod tests {
     #[test]
     fn searches_from_a_hint_find_what_a_fresh_search_finds() {
         let mut seed = 9u64;
-        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let mut next = || crate::stratum::join::tests::lcg(&mut seed);
         for _ in 0..100 {
             let n = (next() % 300) as usize;
             let mut r = Rows::new(2);

@@ -300,7 +300,7 @@ mod tests {
     #[test]
     fn forward_gallops_match_searches_in_any_lookup_order() {
         let mut seed = 11u64;
-        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let mut next = || crate::stratum::join::tests::lcg(&mut seed);
         for _ in 0..300 {
             let n = (next() % 200) as usize;
             let k = 1 + next() % 30;
@@ -329,7 +329,7 @@ mod tests {
     #[test]
     fn window_spans_from_the_previous_one_match_fresh_searches() {
         let mut seed = 23u64;
-        let mut next = || crate::frog::join::tests::lcg(&mut seed);
+        let mut next = || crate::stratum::join::tests::lcg(&mut seed);
         for _ in 0..300 {
             let n = (next() % 150) as usize;
             let spread = 1 + next() % 100;

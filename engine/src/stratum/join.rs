@@ -7,10 +7,10 @@
 use crate::eval::Limits;
 use std::cmp::Ordering;
 
-use crate::frog::access::{
+use crate::plan::{apply_mut, diff_holds, raw_holds, Arg, AtomStep, CExpr, Filter, Plan, Raw};
+use crate::stratum::access::{
     prefix_cmp, range_span, range_span_from, within_span, within_span_from, Access, Tup,
 };
-use crate::plan::{apply_mut, diff_holds, raw_holds, Arg, AtomStep, CExpr, Filter, Plan, Raw};
 use crate::value::{Row, WIDTH};
 use crate::EngineError;
 use scenalog_rules::ast::CmpOp;

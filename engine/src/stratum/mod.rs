@@ -68,7 +68,7 @@ use join::Join;
 
 /// What a stratum runs under: the options, when the evaluation started, and the tuples the
 /// completed relations already hold.
-pub(crate) struct Budget<'a> {
+pub(crate) struct StratumLimits<'a> {
     /// The evaluation's options.
     pub(crate) options: &'a Options,
     /// When the evaluation started.
@@ -86,7 +86,7 @@ pub(crate) fn run_stratum(
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     complete: &HashMap<String, Rows>,
-    budget: &Budget<'_>,
+    limits: &StratumLimits<'_>,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     let stored = |name: &str| stored_width(types, name);
     let mut width = 1;
@@ -105,7 +105,7 @@ pub(crate) fn run_stratum(
         defined,
         stored: &stored,
         complete,
-        budget,
+        limits,
     };
     with_width!(width, W => s.run::<W>())
 }
@@ -124,7 +124,7 @@ struct Stratum<'a> {
     defined: &'a HashSet<&'a str>,
     stored: &'a dyn Fn(&str) -> usize,
     complete: &'a HashMap<String, Rows>,
-    budget: &'a Budget<'a>,
+    limits: &'a StratumLimits<'a>,
 }
 
 /// Where an atom's copy lives.
@@ -150,11 +150,11 @@ impl<const W: usize> Parts<'_, W> {
 
 impl Stratum<'_> {
     fn run<const W: usize>(&self) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
-        let Budget {
+        let StratumLimits {
             options,
             start,
             held,
-        } = *self.budget;
+        } = *self.limits;
         let mut names: Vec<&str> = self.defined.iter().copied().collect();
         names.sort_unstable();
         let rel_of: HashMap<&str, usize> = names.iter().enumerate().map(|(i, n)| (*n, i)).collect();

@@ -1,0 +1,318 @@
+//! Aggregates in a plan: folding a body's tuples by group ([`fold`], integer `sum` overflow
+//! an error), correlated aggregates run per outer binding ([`Correlated`]), and the filter that
+//! looks an aggregate's result up.
+
+use super::*;
+
+pub(crate) fn var_expr(name: &str) -> Expr {
+    Expr {
+        kind: ExprKind::Var(name.to_string()),
+        span: Span::default(),
+    }
+}
+
+/// A `sum` of integers left the 64-bit range (the fold's error: never a saturated result).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SumOverflow;
+
+/// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group.
+pub(crate) fn fold(
+    func: AggFunc,
+    rows: &Rows,
+    g_len: usize,
+    last: usize,
+    target_ty: ColType,
+    out_ty: ColType,
+) -> Result<FastMap<Row, u64>, SumOverflow> {
+    let mut acc: FastMap<Row, V> = FastMap::default();
+    for r in rows.iter() {
+        let mut key = [0u64; WIDTH];
+        key[..g_len].copy_from_slice(&r[..g_len]);
+        let x = decode(r[last], target_ty);
+        let slot = acc.entry(key);
+        match func {
+            AggFunc::Count => {
+                let e = slot.or_insert(V::Int(0));
+                if let V::Int(n) = e {
+                    *n += 1;
+                }
+            }
+            AggFunc::Sum => {
+                let e = slot.or_insert(if out_ty == ColType::Float {
+                    V::Float(0.0)
+                } else {
+                    V::Int(0)
+                });
+                *e = match (*e, x) {
+                    (V::Int(a), V::Int(b)) => V::Int(a.checked_add(b).ok_or(SumOverflow)?),
+                    (V::Float(a), V::Float(b)) => V::Float(a + b),
+                    (V::Float(a), V::Int(b)) => V::Float(a + b as f64),
+                    (a, _) => a,
+                };
+            }
+            AggFunc::Min | AggFunc::Max => {
+                let want = if func == AggFunc::Min {
+                    std::cmp::Ordering::Less
+                } else {
+                    std::cmp::Ordering::Greater
+                };
+                slot.and_modify(|e| {
+                    if x.compare(*e) == Some(want) {
+                        *e = x;
+                    }
+                })
+                .or_insert(x);
+            }
+        }
+    }
+    let mut table = FastMap::default();
+    for (k, v) in acc {
+        if let Some(u) = encode(v, out_ty) {
+            table.insert(k, u);
+        }
+    }
+    Ok(table)
+}
+
+/// An aggregate whose body uses outer variables only in comparisons or expressions: its body
+/// is run for each outer binding, with the group variables bound first.
+#[derive(Debug)]
+pub struct Correlated {
+    pub(crate) plan: Plan,
+    /// Per inner atom: its selected tuples by join key.
+    pub(crate) indexes: Vec<FastMap<Row, Vec<Row>>>,
+    pub(crate) group: Vec<usize>,
+    pub(crate) func: AggFunc,
+    pub(crate) g_len: usize,
+    pub(crate) last: usize,
+    pub(crate) target_ty: ColType,
+    pub(crate) out_ty: ColType,
+    pub(crate) default: Option<u64>,
+    /// Set when a `sum` overflowed for some binding; the evaluation then fails (see
+    /// [`Plan::sum_overflowed`]) instead of using a wrong number.
+    pub(crate) overflowed: std::sync::atomic::AtomicBool,
+}
+
+impl Correlated {
+    pub(crate) fn run(&self, outer: &Row) -> Option<u64> {
+        let mut start = [0u64; WIDTH];
+        for (i, s) in self.group.iter().enumerate() {
+            start[i] = outer[*s];
+        }
+        let mut bindings: Vec<Row> = apply(&self.plan.start, start).into_iter().collect();
+        for (step, index) in self.plan.atoms.iter().zip(&self.indexes) {
+            let mut next = Vec::new();
+            for b in &bindings {
+                let Some(k) = step.binding_key(b) else {
+                    continue;
+                };
+                for t in index.get(&k).into_iter().flatten() {
+                    next.extend(apply(&step.after, step.extend(*b, t)));
+                }
+            }
+            bindings = next;
+        }
+        let mut rows = Rows::new(self.plan.head.len());
+        for b in &bindings {
+            if let Some(r) = self.plan.project(b) {
+                rows.push(&r);
+            }
+        }
+        rows.sort_dedup();
+        let table = match fold(
+            self.func,
+            &rows,
+            self.g_len,
+            self.last,
+            self.target_ty,
+            self.out_ty,
+        ) {
+            Ok(t) => t,
+            Err(SumOverflow) => {
+                self.overflowed
+                    .store(true, std::sync::atomic::Ordering::Relaxed);
+                return None;
+            }
+        };
+        match table.into_values().next() {
+            Some(v) => Some(v),
+            None => self.default,
+        }
+    }
+}
+
+/// Evaluates an aggregate's body over the completed relations and returns the filter that
+/// looks its result up by group, plus a comparison when the result is not a fresh variable.
+pub(crate) fn agg_filter(
+    g: &Aggregate,
+    group: &[&str],
+    scope: &mut Scope,
+    ctx: &mut Ctx<'_>,
+) -> Result<(Filter, Option<Filter>), EngineError> {
+    // The body's matching tuples, not its named bindings: `_` columns are fresh variables.
+    let named = crate::agg_body::name_wildcards(g);
+    let g = &named;
+    let lits = body_lits(&g.body);
+    let mut head: Vec<Expr> = group.iter().map(|v| var_expr(v)).collect();
+    let g_len = head.len();
+    if matches!(g.func, AggFunc::Count | AggFunc::Sum) {
+        for v in agg_vars(g) {
+            if !group.contains(&v) {
+                head.push(var_expr(v));
+            }
+        }
+    }
+    if g.func != AggFunc::Count {
+        match &g.target {
+            Some(t) => head.push(t.clone()),
+            None => {
+                return Err(EngineError::Unsupported(format!(
+                    "`{}` without a target expression",
+                    g.func.as_str()
+                )))
+            }
+        }
+    }
+    if head.len() > WIDTH {
+        return Err(EngineError::Unsupported(format!(
+            "an aggregate with more than {WIDTH} variables"
+        )));
+    }
+    let mut in_atoms = Vec::new();
+    for l in &lits {
+        if let BodyLit::Pos(a) = l {
+            a.args.iter().for_each(|e| expr_vars(e, &mut in_atoms));
+        }
+    }
+    if !group.iter().all(|v| in_atoms.contains(v)) {
+        return correlated(g, group, head, g_len, scope, ctx);
+    }
+    let inner = plan(&lits, &head, None, ctx)?;
+    let rows = crate::stratum::once::run_plan(&inner, ctx.complete, ctx.types, ctx.limits)?;
+    let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
+    let out_ty = match g.func {
+        AggFunc::Count => ColType::Int,
+        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
+        AggFunc::Sum => ColType::Int,
+        AggFunc::Min | AggFunc::Max => target_ty,
+    };
+    let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty)
+        .map_err(|SumOverflow| ctx.limits.sum_overflow())?;
+    let default = match g.func {
+        AggFunc::Count => encode(V::Int(0), ColType::Int),
+        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
+        AggFunc::Sum => encode(V::Int(0), ColType::Int),
+        AggFunc::Min | AggFunc::Max => None,
+    };
+    let group_slots = group
+        .iter()
+        .map(|v| scope.slots.get(*v).map(|s| s.0))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| EngineError::Unsupported("an aggregate's group is unbound".into()))?;
+    let fresh = match g.result.as_var() {
+        Some(v) if !scope.slots.contains_key(v) => Some(v),
+        _ => None,
+    };
+    let out = match fresh {
+        Some(v) => scope.new_slot(v, out_ty)?,
+        None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
+    };
+    let f = Filter::Agg {
+        group: group_slots,
+        table: Arc::new(table),
+        default,
+        out,
+    };
+    if fresh.is_some() {
+        return Ok((f, None));
+    }
+    let cmp = Filter::Cmp(
+        CmpOp::Eq,
+        compile_expr(&g.result, scope, ctx.symbols)?,
+        CExpr::Slot(out, out_ty),
+    );
+    Ok((f, Some(cmp)))
+}
+
+/// Plans a correlated aggregate (see [`Correlated`]).
+pub(crate) fn correlated(
+    g: &Aggregate,
+    group: &[&str],
+    head: Vec<Expr>,
+    g_len: usize,
+    scope: &mut Scope,
+    ctx: &mut Ctx<'_>,
+) -> Result<(Filter, Option<Filter>), EngineError> {
+    let lits = body_lits(&g.body);
+    let mut seed = Vec::new();
+    let mut group_slots = Vec::new();
+    for v in group {
+        let (s, ty) = *scope
+            .slots
+            .get(*v)
+            .ok_or_else(|| EngineError::Unsupported("an aggregate's group is unbound".into()))?;
+        seed.push((*v, ty));
+        group_slots.push(s);
+    }
+    let inner = plan_seeded(&lits, &head, None, ctx, &seed, None)?;
+    let empty = Rows::new(0);
+    let indexes = inner
+        .atoms
+        .iter()
+        .map(|step| {
+            let mut index: FastMap<Row, Vec<Row>> = FastMap::default();
+            for t in ctx.complete.get(&step.pred).unwrap_or(&empty).iter() {
+                if step.selects(t) {
+                    index
+                        .entry(step.tuple_key(t))
+                        .or_default()
+                        .push(Rows::row(t));
+                }
+            }
+            index
+        })
+        .collect();
+    let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
+    let out_ty = match g.func {
+        AggFunc::Count => ColType::Int,
+        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
+        AggFunc::Sum => ColType::Int,
+        AggFunc::Min | AggFunc::Max => target_ty,
+    };
+    let default = match g.func {
+        AggFunc::Count => encode(V::Int(0), ColType::Int),
+        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
+        AggFunc::Sum => encode(V::Int(0), ColType::Int),
+        AggFunc::Min | AggFunc::Max => None,
+    };
+    let c = Correlated {
+        plan: inner,
+        indexes,
+        group: group_slots,
+        func: g.func,
+        g_len,
+        last: head.len() - 1,
+        target_ty,
+        out_ty,
+        default,
+        overflowed: std::sync::atomic::AtomicBool::new(false),
+    };
+    let fresh = match g.result.as_var() {
+        Some(v) if !scope.slots.contains_key(v) => Some(v),
+        _ => None,
+    };
+    let out = match fresh {
+        Some(v) => scope.new_slot(v, out_ty)?,
+        None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
+    };
+    let f = Filter::AggRun(Arc::new(c), out);
+    if fresh.is_some() {
+        return Ok((f, None));
+    }
+    let cmp = Filter::Cmp(
+        CmpOp::Eq,
+        compile_expr(&g.result, scope, ctx.symbols)?,
+        CExpr::Slot(out, out_ty),
+    );
+    Ok((f, Some(cmp)))
+}

@@ -1,0 +1,511 @@
+//! Compiling rule bodies into join plans: each body's atoms joined in order of how many of
+//! their arguments are already bound, comparisons, bindings and negations placed right after the
+//! atom that binds their last variable. Expressions are in `expr`, the checks on a binding row
+//! in `filter`, one atom's step in `atom`, range narrowing and comparison order in `narrow`, and
+//! aggregates in `aggregate`.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use scenalog_facts::catalog::ColType;
+use scenalog_rules::ast::{
+    AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Span,
+};
+
+use crate::eval::Limits;
+use crate::rows::Rows;
+use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
+use crate::EngineError;
+use scenalog_rules::walk::{aggregate_vars as agg_vars, expr_vars};
+
+mod aggregate;
+mod atom;
+mod expr;
+mod filter;
+mod narrow;
+#[cfg(test)]
+mod tests;
+
+pub use aggregate::*;
+pub use atom::*;
+pub use expr::*;
+pub use filter::*;
+pub use narrow::*;
+
+/// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Filters before any atom (bodies without atoms, constant comparisons).
+    pub start: Vec<Filter>,
+    /// Atoms in join order, each with the filters that become ready after it.
+    pub atoms: Vec<AtomStep>,
+    /// The output row: one expression per column, with its type.
+    pub head: Vec<(CExpr, ColType)>,
+}
+
+impl Plan {
+    /// Whether a correlated `sum` of this plan (or of an aggregate nested in it) overflowed
+    /// the 64-bit integer range while it ran.
+    pub fn sum_overflowed(&self) -> bool {
+        let filters = self
+            .start
+            .iter()
+            .chain(self.atoms.iter().flat_map(|a| &a.after));
+        filters.into_iter().any(|f| match f {
+            Filter::AggRun(c, _) => {
+                c.overflowed.load(std::sync::atomic::Ordering::Relaxed) || c.plan.sum_overflowed()
+            }
+            _ => false,
+        })
+    }
+
+    /// The output row of a complete binding.
+    pub fn project(&self, b: &Row) -> Option<Row> {
+        let mut out = [0u64; WIDTH];
+        for (i, (e, ty)) in self.head.iter().enumerate() {
+            out[i] = e.word(b, *ty)??;
+        }
+        Some(out)
+    }
+}
+
+/// What the planner needs to know about the program's relations.
+pub struct Ctx<'a> {
+    /// Column types by predicate.
+    pub types: &'a HashMap<String, Vec<ColType>>,
+    /// Completed relations (for negation sets).
+    pub complete: &'a HashMap<String, Rows>,
+    /// Symbols.
+    pub symbols: &'a mut Symbols,
+    /// Limits for evaluating aggregate bodies.
+    pub limits: &'a Limits<'a>,
+}
+
+pub(crate) struct Scope {
+    pub(crate) slots: HashMap<String, (usize, ColType)>,
+}
+
+impl Scope {
+    pub(crate) fn bound(&self, e: &Expr) -> bool {
+        let mut vs = Vec::new();
+        expr_vars(e, &mut vs);
+        vs.iter().all(|v| self.slots.contains_key(*v))
+    }
+
+    pub(crate) fn new_slot(&mut self, name: &str, ty: ColType) -> Result<usize, EngineError> {
+        let s = self.slots.len();
+        if s >= WIDTH {
+            return Err(EngineError::Unsupported(format!(
+                "a rule has more than {WIDTH} variables"
+            )));
+        }
+        self.slots.insert(name.to_string(), (s, ty));
+        Ok(s)
+    }
+}
+
+/// A body literal the planner schedules (aggregates are rewritten to atoms beforehand).
+pub enum BodyLit<'a> {
+    /// A positive atom.
+    Pos(&'a Atom),
+    /// A negated atom.
+    Neg(&'a Atom),
+    /// A comparison or binding.
+    Cmp(CmpOp, &'a Expr, &'a Expr),
+    /// An aggregate over completed relations.
+    Agg(&'a Aggregate),
+}
+
+/// Collects the literals of a body.
+pub fn body_lits(body: &[Literal]) -> Vec<BodyLit<'_>> {
+    body.iter()
+        .map(|l| match l {
+            Literal::Pos(a) => BodyLit::Pos(a),
+            Literal::Neg(a, _) => BodyLit::Neg(a),
+            Literal::Cmp(c) => BodyLit::Cmp(c.op, &c.lhs, &c.rhs),
+            Literal::Agg(g) => BodyLit::Agg(g),
+        })
+        .collect()
+}
+
+/// Plans a body and a head (output expressions; `head_types` gives the output column types,
+/// `None` to infer them from the expressions).
+pub fn plan(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+) -> Result<Plan, EngineError> {
+    plan_seeded(lits, head, head_types, ctx, &[], None)
+}
+
+/// [`plan`] with the positive atom `lits[first]` joined first (the semi-naive variant that
+/// reads that atom's recent tuples scans them and looks the other atoms up).
+pub fn plan_first(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+    first: usize,
+) -> Result<Plan, EngineError> {
+    plan_seeded(lits, head, head_types, ctx, &[], Some(first))
+}
+
+/// The tuple a ground fact's head derives (`None` if a value cannot be stored in its column),
+/// computed as the plan of a body-less clause would ([`plan`] then [`Plan::project`]), without
+/// building the plan. `head_types` gives the column types, `None` to infer them.
+pub(crate) fn ground_head(
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    symbols: &mut Symbols,
+) -> Result<Option<Row>, EngineError> {
+    let scope = Scope {
+        slots: HashMap::new(),
+    };
+    let empty = [0u64; WIDTH];
+    let mut out = [0u64; WIDTH];
+    for (i, e) in head.iter().enumerate() {
+        // A literal (`3`, `-2`, `1.5`, `"BUS"`: nearly every argument of a fact) is its value;
+        // anything else is compiled and evaluated as a plan would.
+        let value = match literal(e, symbols) {
+            Some(v) => v,
+            None => {
+                let Some(v) = compile_expr(e, &scope, symbols)?.eval(&empty) else {
+                    return Ok(None);
+                };
+                v
+            }
+        };
+        let ty = match head_types {
+            Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+            None => expr_type(&CExpr::Const(value)),
+        };
+        let Some(word) = out.get_mut(i) else {
+            return Ok(None);
+        };
+        match encode(value, ty) {
+            Some(w) => *word = w,
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(out))
+}
+
+/// The value of a literal or a negated number literal, as [`compile_expr`] then
+/// [`CExpr::eval`] would compute it; `None` for any other expression (and for a negation that
+/// overflows, which the general path then reports the same way).
+pub(crate) fn literal(e: &Expr, symbols: &mut Symbols) -> Option<V> {
+    match &e.kind {
+        ExprKind::Int(i) => Some(V::Int(*i)),
+        ExprKind::Float(f) => Some(V::Float(*f)),
+        ExprKind::Str(s) => Some(V::Sym(symbols.intern(s))),
+        ExprKind::Neg(a) => match &a.kind {
+            ExprKind::Int(i) => i.checked_neg().map(V::Int),
+            ExprKind::Float(f) => Some(V::Float(-f)),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// [`plan`] with variables already bound, in slots `0..seed.len()`.
+pub(crate) fn plan_seeded(
+    lits: &[BodyLit<'_>],
+    head: &[Expr],
+    head_types: Option<&[ColType]>,
+    ctx: &mut Ctx<'_>,
+    seed: &[(&str, ColType)],
+    first: Option<usize>,
+) -> Result<Plan, EngineError> {
+    if lits.is_empty() && seed.is_empty() {
+        // A ground fact (or a head over no body): nothing to schedule.
+        let scope = Scope {
+            slots: HashMap::new(),
+        };
+        let mut out = Vec::new();
+        for (i, e) in head.iter().enumerate() {
+            let ce = compile_expr(e, &scope, ctx.symbols)?;
+            let ty = match head_types {
+                Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+                None => expr_type(&ce),
+            };
+            out.push((ce, ty));
+        }
+        return Ok(Plan {
+            start: Vec::new(),
+            atoms: Vec::new(),
+            head: out,
+        });
+    }
+    let mut scope = Scope {
+        slots: HashMap::new(),
+    };
+    for (v, ty) in seed {
+        scope.new_slot(v, *ty)?;
+    }
+    let mut done = vec![false; lits.len()];
+    let mut outer: HashSet<&str> = HashSet::new();
+    {
+        let mut vs = Vec::new();
+        for e in head {
+            expr_vars(e, &mut vs);
+        }
+        for l in lits {
+            match l {
+                BodyLit::Pos(a) | BodyLit::Neg(a) => {
+                    a.args.iter().for_each(|e| expr_vars(e, &mut vs))
+                }
+                BodyLit::Cmp(_, a, b) => {
+                    expr_vars(a, &mut vs);
+                    expr_vars(b, &mut vs);
+                }
+                BodyLit::Agg(g) => expr_vars(&g.result, &mut vs),
+            }
+        }
+        outer.extend(vs);
+    }
+    let mut start = Vec::new();
+    let mut atoms: Vec<AtomStep> = Vec::new();
+    // Per atom, per filter after it: its rank among comparisons (see `cmp_rank`); the body
+    // literals whose comparisons bound an atom's range.
+    let mut ranks: Vec<Vec<u8>> = Vec::new();
+    let mut windowed: HashSet<usize> = HashSet::new();
+    loop {
+        // Ready filters first (comparisons, bindings, negations).
+        let mut progress = true;
+        while progress {
+            progress = false;
+            for (i, l) in lits.iter().enumerate() {
+                if done[i] {
+                    continue;
+                }
+                let f = match l {
+                    BodyLit::Cmp(op, a, b) => {
+                        if scope.bound(a) && scope.bound(b) {
+                            Some(cmp_filter(
+                                *op,
+                                compile_expr(a, &scope, ctx.symbols)?,
+                                compile_expr(b, &scope, ctx.symbols)?,
+                            ))
+                        } else if *op == CmpOp::Eq {
+                            let (var, e) = match (a.as_var(), b.as_var()) {
+                                (Some(v), _) if !scope.slots.contains_key(v) && scope.bound(b) => {
+                                    (v, b)
+                                }
+                                (_, Some(v)) if !scope.slots.contains_key(v) && scope.bound(a) => {
+                                    (v, a)
+                                }
+                                _ => continue,
+                            };
+                            let ce = compile_expr(e, &scope, ctx.symbols)?;
+                            let ty = expr_type(&ce);
+                            let s = scope.new_slot(var, ty)?;
+                            Some(Filter::Bind(s, ce, ty))
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Neg(a) => {
+                        let ready = a
+                            .args
+                            .iter()
+                            .all(|e| matches!(e.kind, ExprKind::Wildcard) || scope.bound(e));
+                        if ready {
+                            Some(neg_filter(a, &scope, ctx)?)
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Agg(g) => {
+                        let group: Vec<&str> = agg_vars(g)
+                            .into_iter()
+                            .filter(|v| outer.contains(v))
+                            .collect();
+                        if group.iter().all(|v| scope.slots.contains_key(*v)) {
+                            let (f, extra) = agg_filter(g, &group, &mut scope, ctx)?;
+                            if let Some(x) = extra {
+                                place(f, 0, &mut atoms, &mut ranks, &mut start);
+                                Some(x)
+                            } else {
+                                Some(f)
+                            }
+                        } else {
+                            None
+                        }
+                    }
+                    BodyLit::Pos(_) => None,
+                };
+                if let Some(f) = f {
+                    done[i] = true;
+                    progress = true;
+                    let rank = match l {
+                        BodyLit::Cmp(op, ..) => cmp_rank(*op, windowed.contains(&i)),
+                        _ => 0,
+                    };
+                    place(f, rank, &mut atoms, &mut ranks, &mut start);
+                }
+            }
+        }
+        // Next atom: the one with most bound or constant arguments.
+        let mut best: Option<(usize, usize)> = None;
+        for (i, l) in lits.iter().enumerate() {
+            if let (false, BodyLit::Pos(a)) = (done[i], l) {
+                let score = a
+                    .args
+                    .iter()
+                    .filter(|e| !matches!(e.kind, ExprKind::Wildcard) && scope.bound(e))
+                    .count();
+                let forced = atoms.is_empty() && first == Some(i);
+                if forced || best.is_none_or(|(_, s)| score > s) {
+                    best = Some((i, if forced { usize::MAX } else { score }));
+                }
+            }
+        }
+        let Some((i, _)) = best else { break };
+        done[i] = true;
+        let BodyLit::Pos(a) = lits[i] else { break };
+        let types = ctx.types.get(&a.pred).cloned().unwrap_or_default();
+        if types.len() != a.args.len() {
+            return Err(EngineError::Unsupported(format!(
+                "`{}` used with {} arguments but has {} columns",
+                a.pred,
+                a.args.len(),
+                types.len()
+            )));
+        }
+        let from = scope.slots.len();
+        let mut args = Vec::new();
+        for (e, &ty) in a.args.iter().zip(&types) {
+            let arg = match &e.kind {
+                ExprKind::Wildcard => Arg::Wild,
+                ExprKind::Var(v) => match scope.slots.get(v) {
+                    Some(&(s, _)) if args.iter().any(|x| matches!(x, Arg::New(n) if *n == s)) => {
+                        Arg::Same(s)
+                    }
+                    Some(_) => Arg::Key(compile_expr(e, &scope, ctx.symbols)?, ty),
+                    None => Arg::New(scope.new_slot(v, ty)?),
+                },
+                _ if scope.bound(e) => {
+                    let ce = compile_expr(e, &scope, ctx.symbols)?;
+                    match ce {
+                        CExpr::Const(c) => match encode(c, ty) {
+                            Some(c) => Arg::Const(c),
+                            None => Arg::Const(u64::MAX),
+                        },
+                        ce => Arg::Key(ce, ty),
+                    }
+                }
+                _ => {
+                    return Err(EngineError::Unsupported(format!(
+                        "an expression argument of `{}` uses a variable bound nowhere before it",
+                        a.pred
+                    )))
+                }
+            };
+            args.push(arg);
+        }
+        let mut step = AtomStep::new(a.pred.clone(), args, Vec::new());
+        step.lit = i;
+        // The comparisons ready once this atom is joined may bound one of its new columns.
+        let mut ready = Vec::new();
+        let mut ready_lits = Vec::new();
+        for (j, l) in lits.iter().enumerate() {
+            if let (false, BodyLit::Cmp(op, x, y)) = (done[j], l) {
+                if scope.bound(x) && scope.bound(y) {
+                    ready.push((
+                        *op,
+                        compile_expr(x, &scope, ctx.symbols)?,
+                        compile_expr(y, &scope, ctx.symbols)?,
+                    ));
+                    ready_lits.push(j);
+                }
+            }
+        }
+        if let Some((n, used)) = narrowing(&step.news, &types, &ready, from) {
+            step.narrow = Some(n);
+            windowed.extend(used.iter().filter_map(|&u| ready_lits.get(u)));
+        }
+        atoms.push(step);
+        ranks.push(Vec::new());
+    }
+    for (a, r) in atoms.iter_mut().zip(&ranks) {
+        order_comparisons(&mut a.after, r);
+    }
+    if let Some(i) = done.iter().position(|d| !d) {
+        let _ = i;
+        return Err(EngineError::Unsupported(
+            "a rule body whose variables cannot all be bound".to_string(),
+        ));
+    }
+    let mut out = Vec::new();
+    for (i, e) in head.iter().enumerate() {
+        let ce = compile_expr(e, &scope, ctx.symbols)?;
+        let ty = match head_types {
+            Some(t) => t.get(i).copied().unwrap_or(ColType::Int),
+            None => expr_type(&ce),
+        };
+        out.push((ce, ty));
+    }
+    Ok(Plan {
+        start,
+        atoms,
+        head: out,
+    })
+}
+
+pub(crate) fn neg_filter(
+    a: &Atom,
+    scope: &Scope,
+    ctx: &mut Ctx<'_>,
+) -> Result<Filter, EngineError> {
+    let types = ctx.types.get(&a.pred).cloned().unwrap_or_default();
+    let mut args = Vec::new();
+    for (e, &ty) in a.args.iter().zip(&types) {
+        args.push(match e.kind {
+            ExprKind::Wildcard => KeyArg::Wild,
+            _ => KeyArg::Val(compile_expr(e, scope, ctx.symbols)?, ty),
+        });
+    }
+    let slots: Option<Vec<(usize, usize)>> = args
+        .iter()
+        .enumerate()
+        .filter_map(|(c, x)| match x {
+            KeyArg::Val(CExpr::Slot(s, t), ty) if t == ty => Some(Some((c, *s))),
+            KeyArg::Val(..) => Some(None),
+            KeyArg::Wild => None,
+        })
+        .collect();
+    let mut set = FastSet::default();
+    let mut one = FastSet::default();
+    // No wildcard (and not the one-column set): the sorted relation itself is searched.
+    let whole =
+        args.iter().all(|x| matches!(x, KeyArg::Val(..))) && !matches!(slots.as_deref(), Some([_]));
+    let mut kept = Rows::new(types.len());
+    match ctx.complete.get(&a.pred) {
+        Some(rows) if whole => kept = rows.clone(),
+        Some(rows) => {
+            for r in rows.iter() {
+                if let Some([(c, _)]) = slots.as_deref() {
+                    one.insert(r[*c]);
+                    continue;
+                }
+                let mut k = Rows::row(r);
+                for (i, x) in args.iter().enumerate() {
+                    if matches!(x, KeyArg::Wild) {
+                        k[i] = 0;
+                    }
+                }
+                set.insert(k);
+            }
+        }
+        None => {}
+    }
+    Ok(Filter::Neg(Arc::new(NegSet {
+        args,
+        slots,
+        one,
+        rows: kept,
+        set,
+        hint: std::sync::atomic::AtomicUsize::new(0),
+    })))
+}
