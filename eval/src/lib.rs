@@ -16,7 +16,7 @@ pub mod model;
 mod numpy_data;
 pub mod pickle;
 mod pickle_text;
-pub mod pickle_write;
+
 pub mod roi;
 pub mod sampling;
 
@@ -25,10 +25,10 @@ pub use classes::{ClassHota, Further};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
-pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
-pub use pickle_write::{
+pub use pickle::write::{
     encode_value, pickle_bytes, sequences_bytes, write_pickle, PyValue, SUBMISSION_HEAD,
     SUBMISSION_TAIL,
 };
+pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
 pub use roi::{RoiMaps, RoiRaster};
 pub use sampling::{parse_timestamps, read_timestamps, resample, Sampling};
