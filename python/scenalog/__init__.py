@@ -38,7 +38,12 @@ __version__: str = _native.__version__
 
 
 class ScenalogFileNotFoundError(ScenalogError, FileNotFoundError):
-    """A file a call names does not exist; ``filename`` is set when it is one path."""
+    """A file a call names does not exist: the command's message (naming it), and ``errno``
+    ``ENOENT`` and ``filename`` set when it is one path."""
+
+    def __str__(self) -> str:
+        # The command's message alone, not OSError's "[Errno 2] message: 'filename'".
+        return self.strerror if self.strerror is not None else super().__str__()
 
 
 _native._register_not_found(ScenalogFileNotFoundError)

@@ -50,6 +50,9 @@ fn _register_not_found(py: Python<'_>, cls: Bound<'_, PyType>) -> PyResult<()> {
     Ok(())
 }
 
+/// `ENOENT`, "no such file or directory" (2 on every platform Python runs on).
+const ENOENT: i32 = 2;
+
 /// An error message as a `ScenalogError`, flags named as keyword arguments.
 fn err(message: impl std::fmt::Display) -> PyErr {
     ScenalogError::new_err(Names::Keywords.reword(&message.to_string()))
@@ -66,15 +69,13 @@ fn api_err(e: Error, filename: Option<&str>) -> PyErr {
             let Some(cls) = NOT_FOUND.get(py) else {
                 return ScenalogError::new_err(message);
             };
-            match cls.bind(py).call1((message.clone(),)) {
-                Ok(instance) => {
-                    if let Some(f) = filename {
-                        if let Err(e) = instance.setattr("filename", f) {
-                            return e;
-                        }
-                    }
-                    PyErr::from_value(instance)
-                }
+            // OSError's (errno, strerror, filename) form sets `errno` and `filename`.
+            let made = match filename {
+                Some(f) => cls.bind(py).call1((ENOENT, message.clone(), f)),
+                None => cls.bind(py).call1((message.clone(),)),
+            };
+            match made {
+                Ok(instance) => PyErr::from_value(instance),
                 Err(e) => e,
             }
         }),

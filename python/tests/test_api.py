@@ -1,5 +1,6 @@
 """The package's functions on the sample logs, against the `scenalog` command's own output."""
 
+import errno
 import json
 import os
 import pickle
@@ -58,7 +59,7 @@ def test_check_a_mistyped_path_raises_file_not_found(tmp_path, monkeypatch):
     for typo in ["rules/library/stopped_cra.dl", "stopped_cra.dl", str(tmp_path / "no" / "program")]:
         with pytest.raises(FileNotFoundError) as e:
             scenalog.check(typo)
-        assert e.value.filename == typo
+        assert e.value.filename == typo and e.value.errno == errno.ENOENT
         assert typo in str(e.value)
         assert isinstance(e.value, scenalog.ScenalogError)
     with pytest.raises(FileNotFoundError):
