@@ -30,7 +30,8 @@ use scenalog::api::mine::{Limits, MineRequest};
 use scenalog::api::split::SplitRequest;
 use scenalog::api::{Error, ErrorKind, Names};
 use scenalog::pipeline::report::REPORT_DIR;
-use scenalog::pipeline::run::{pairs_json, PairStatus};
+use scenalog::pipeline::run::{pairs_json, PairStatus, RunReport};
+use scenalog::pipeline::scenario::Scenario;
 
 pyo3::create_exception!(
     scenalog,
@@ -234,7 +235,7 @@ fn mine_programs(request: &MineRequest) -> Result<String, Error> {
         "pickle": scenalog::pipeline::output::PREDICTIONS_PICKLE,
         "table": scenalog::pipeline::output::PREDICTIONS_TABLE,
         "matches": report.matches(),
-        "pairs": pairs_json(report, &plan.scenarios),
+        "pairs": pairs(report, &plan.scenarios),
         "failures": reworded(&failures),
         "score": score,
         "without_program": [],
@@ -297,13 +298,27 @@ fn split_pairs(request: &SplitRequest) -> Result<String, Error> {
         "pickle": scenalog::pipeline::output::SUBMISSION_PICKLE,
         "table": scenalog::pipeline::output::SUBMISSION_TABLE,
         "matches": report.matches(),
-        "pairs": pairs_json(&report, &plan.scenarios),
+        "pairs": pairs(&report, &plan.scenarios),
         "failures": reworded(&failures),
         "score": serde_json::Value::Null,
         "report": serde_json::Value::Null,
         "without_program": plan.without_program,
     })
     .to_string())
+}
+
+/// Each pair's record as `summary.json` holds it, a failed pair's error naming keyword
+/// arguments.
+fn pairs(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json::Value> {
+    let mut pairs = pairs_json(report, scenarios);
+    for p in &mut pairs {
+        if let Some(error) = p.get_mut("error") {
+            if let Some(text) = error.as_str() {
+                *error = serde_json::Value::String(Names::Keywords.reword(text));
+            }
+        }
+    }
+    pairs
 }
 
 /// Messages from below the API with their flags named as keyword arguments.

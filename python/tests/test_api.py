@@ -228,6 +228,8 @@ def test_errors_name_keywords_not_flags(tmp_path, cli):
     result = scenalog.mine(PROGRAMS[0], LOGS, max_tuples=1)
     assert result.failures == [f.replace("--max-tuples", "max_tuples=") for f in cli_failures]
     assert not any("--max-tuples" in f for f in result.failures)
+    errors = [p["error"] for p in result.pairs if p["status"] == "failed"]
+    assert sorted(errors) == sorted(result.failures)
 
 
 def test_mine_with_a_corrupt_log_mines_the_rest(tmp_path):
