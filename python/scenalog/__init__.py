@@ -9,7 +9,10 @@ other threads run meanwhile, and Ctrl-C interrupts a call):
 - ``explain(rules, log, track, at)`` -> the proof / why-not report as a dict
 - ``evaluate(predictions, ground_truth, dataset_dir=None)`` -> the official metrics as a dict
 
-Errors are raised as ``ScenalogError`` carrying the message the command prints.
+Errors are raised as ``ScenalogError`` carrying the message the command prints, naming this
+package's keyword arguments (``max_tuples``) where the command names its flags
+(``--max-tuples``); a missing file is a ``ScenalogFileNotFoundError`` (both a
+``ScenalogError`` and a ``FileNotFoundError``), a value out of range a ``ValueError``.
 ``scenalog.ray.mine`` shards a run across a Ray cluster (``pip install 'scenalog[ray]'``).
 """
 
@@ -30,8 +33,25 @@ import pyarrow.ipc
 from . import _native
 from ._native import ScenalogError
 
+__version__: str = _native.__version__
+"""The package's version (the Rust workspace's, which the ``scenalog`` command reports)."""
+
+
+class ScenalogFileNotFoundError(ScenalogError, FileNotFoundError):
+    """A file a call names does not exist: the command's message (naming it), and ``errno``
+    ``ENOENT`` and ``filename`` set when it is one path."""
+
+    def __str__(self) -> str:
+        # The command's message alone, not OSError's "[Errno 2] message: 'filename'".
+        return self.strerror if self.strerror is not None else super().__str__()
+
+
+_native._register_not_found(ScenalogFileNotFoundError)
+
 __all__ = [
+    "__version__",
     "ScenalogError",
+    "ScenalogFileNotFoundError",
     "MineResult",
     "check",
     "facts",
@@ -47,21 +67,52 @@ def _is_path_like(x: Any) -> bool:
     return isinstance(x, os.PathLike)
 
 
-def check(text_or_path: Union[str, "os.PathLike[str]"], require_referred: bool = True) -> List[dict]:
-    """Checks a rule program: its text, or the path of a ``.dl`` file.
+def _looks_like_path(text: str) -> bool:
+    """Whether a string given to ``check`` is meant as a path (see ``check``)."""
+    line = text.strip()
+    if not line or "\n" in line:
+        return False
+    if line.endswith(".dl"):
+        return True
+    separators = {"/", os.sep} | ({os.altsep} if os.altsep else set())
+    has_separator = any(sep in line for sep in separators)
+    return has_separator and "(" not in line and ":-" not in line
 
-    A ``pathlib.Path`` (or any ``os.PathLike``) is always read as a file; a string is read as a
-    file when it is one line naming an existing file, and checked as program text otherwise.
+
+def check(
+    text_or_path: Union[str, "os.PathLike[str]", None] = None,
+    require_referred: bool = True,
+    *,
+    path: Optional[PathLike] = None,
+) -> List[dict]:
+    """Checks a rule program: its text, or a ``.dl`` file.
+
+    Which one a string is, in this order:
+
+    - ``path=`` is always read as a file, and so is a ``pathlib.Path`` (any ``os.PathLike``);
+    - a one-line string naming an existing file is read as that file;
+    - a one-line string that looks like a path is read as a file, and raises
+      ``ScenalogFileNotFoundError`` (a ``FileNotFoundError``) naming it when there is none.
+      It looks like a path when it ends with ``.dl``, or when it holds a path separator and no
+      rule syntax (no ``(`` and no ``:-``): ``check("rules/library/stoped_car.dl")`` raises
+      rather than checking the path as program text;
+    - anything else is program text (``check('referred(X, T) :- ego(X), present(X, T).')``).
+
     Returns the diagnostics as ``scenalog check --json`` prints them for that file: dicts with
     ``code``, ``severity``, ``message``, ``line``, ``column``, ... (an empty list when clean).
     ``require_referred=False`` is ``--no-referred``.
     """
+    if path is not None:
+        if text_or_path is not None:
+            raise TypeError("check: give the program's text or path=, not both")
+        return json.loads(_native.check("", os.fspath(path), require_referred))
     if _is_path_like(text_or_path):
         return json.loads(_native.check("", os.fspath(text_or_path), require_referred))
     if not isinstance(text_or_path, str):
         raise TypeError(f"check: expected program text or a path, got {type(text_or_path).__name__}")
     text = text_or_path
-    if "\n" not in text and text.strip() and os.path.isfile(text):
+    one_line = "\n" not in text and text.strip()
+    if one_line and (os.path.isfile(text) or _looks_like_path(text)):
         return json.loads(_native.check("", text, require_referred))
     return json.loads(_native.check(text, None, require_referred))
 
@@ -115,54 +166,6 @@ def _paths(name: str, value: Union[PathLike, Iterable[PathLike], None]) -> List[
     return out
 
 
-def _mine_argv(
-    rules: Sequence[str],
-    logs: Sequence[str],
-    out: str,
-    *,
-    threads: Optional[int],
-    resume: bool,
-    gt: Optional[PathLike],
-    eval_timestamps: Optional[PathLike],
-    max_tuples: Optional[int],
-    timeout_ms: Optional[int],
-    log_prompts: Optional[PathLike],
-    dataset_dir: Optional[PathLike],
-    tracks: Optional[PathLike],
-    programs: Optional[PathLike],
-    confidence_filter: bool,
-    report: bool,
-    report_max_pictures: Optional[int],
-) -> List[str]:
-    argv: List[str] = []
-    if rules:
-        argv += ["--rules", *rules]
-    if logs:
-        argv += ["--logs", *logs]
-    argv += ["--out", out]
-    for flag, value in [
-        ("--threads", threads),
-        ("--gt", gt),
-        ("--eval-timestamps", eval_timestamps),
-        ("--max-tuples", max_tuples),
-        ("--timeout-ms", timeout_ms),
-        ("--log-prompts", log_prompts),
-        ("--dataset-dir", dataset_dir),
-        ("--tracks", tracks),
-        ("--programs", programs),
-        ("--report-max-pictures", report_max_pictures),
-    ]:
-        if value is not None:
-            argv += [flag, os.fspath(value) if _is_path_like(value) else str(value)]
-    if resume:
-        argv.append("--resume")
-    if not confidence_filter:
-        argv.append("--no-confidence-filter")
-    if report:
-        argv.append("--report")
-    return argv
-
-
 def mine(
     rules: Union[PathLike, Iterable[PathLike], None] = None,
     logs: Union[PathLike, Iterable[PathLike], None] = None,
@@ -190,12 +193,15 @@ def mine(
     results are read. ``threads`` (default one per core), ``resume``, ``gt`` (score the run),
     ``eval_timestamps``, ``max_tuples`` and ``timeout_ms`` are the command's flags.
     ``report=True`` also writes the browsable report, ``OUT/report/index.html`` (pictures of up
-    to ``report_max_pictures`` matches, default 40); it needs ``out``.
+    to ``report_max_pictures`` matches, default 40); it needs ``out``. The keywords are checked
+    as the command checks its flags: ``threads=0`` or ``max_tuples=-1`` raise ``ValueError``
+    naming the keyword.
 
     A split's pairs: ``mine(log_prompts="log_prompt_pairs.json", dataset_dir=SPLIT,
     tracks="tracker.pkl", programs=DIR)`` mines those (log, prompt) pairs only into
     ``submission.pkl`` / ``submission.feather`` (``confidence_filter=False`` is
-    ``--no-confidence-filter``).
+    ``--no-confidence-filter``); ``rules``, ``logs``, ``gt``, ``eval_timestamps`` and
+    ``report`` do not go with ``log_prompts``.
 
     Raises ``ScenalogError`` when the run cannot start (the command's exit 2: bad arguments,
     missing files, no program that checks); a failing pair or log does not raise, it is listed
@@ -203,8 +209,19 @@ def mine(
     """
     rule_list = _paths("rules", rules)
     log_list = _paths("logs", logs)
-    if log_prompts is None and (not rule_list or not log_list):
-        raise ScenalogError("mine: give rules (.dl files or directories) and logs (log directories)")
+    if log_prompts is not None:
+        _split_conflicts(rules, logs, gt, eval_timestamps, report, dataset_dir)
+    else:
+        for given, keyword in [
+            (dataset_dir is not None, "dataset_dir="),
+            (tracks is not None, "tracks="),
+            (programs is not None, "programs="),
+            (not confidence_filter, "confidence_filter=False"),
+        ]:
+            if given:
+                raise ScenalogError(f"{keyword} goes with log_prompts=")
+        if not rule_list or not log_list:
+            raise ScenalogError("mine: give rules (.dl files or directories) and logs (log directories)")
     if report and out is None:
         raise ScenalogError("mine: report=True needs out= (the report is a page in the output directory)")
     tmp = None
@@ -213,26 +230,35 @@ def mine(
         out_dir = tmp
     else:
         out_dir = os.fspath(out)
+    fspath = lambda p: None if p is None else os.fspath(p)  # noqa: E731
     try:
-        argv = _mine_argv(
-            rule_list,
-            log_list,
-            out_dir,
-            threads=threads,
-            resume=resume,
-            gt=gt,
-            eval_timestamps=eval_timestamps,
-            max_tuples=max_tuples,
-            timeout_ms=timeout_ms,
-            log_prompts=log_prompts,
-            dataset_dir=dataset_dir,
-            tracks=tracks,
-            programs=programs,
-            confidence_filter=confidence_filter,
-            report=report,
-            report_max_pictures=report_max_pictures,
-        )
-        result = json.loads(_native.mine(argv))
+        if log_prompts is not None:
+            raw = _native.mine_split(
+                os.fspath(log_prompts),
+                os.fspath(dataset_dir),
+                out_dir,
+                tracks=fspath(tracks),
+                programs=fspath(programs),
+                confidence_filter=confidence_filter,
+                threads=threads,
+                resume=resume,
+                max_tuples=max_tuples,
+                timeout_ms=timeout_ms,
+            )
+        else:
+            raw = _native.mine(
+                rule_list,
+                log_list,
+                out_dir,
+                threads=threads,
+                resume=resume,
+                gt=fspath(gt),
+                eval_timestamps=fspath(eval_timestamps),
+                max_tuples=max_tuples,
+                timeout_ms=timeout_ms,
+                report=(40 if report_max_pictures is None else report_max_pictures) if report else None,
+            )
+        result = json.loads(raw)
         table_path = os.path.join(out_dir, result["table"])
         with open(table_path, "rb") as f:
             predictions = pa.ipc.open_file(pa.BufferReader(f.read())).read_all()
@@ -252,6 +278,26 @@ def mine(
         out=None if tmp is not None else out_dir,
         report=result["report"],
     )
+
+
+def _split_conflicts(rules, logs, gt, eval_timestamps, report, dataset_dir) -> None:
+    """The keywords a split's run (``log_prompts=``) has no use for: an error, not ignored."""
+    if rules is not None or logs is not None:
+        raise ScenalogError(
+            "log_prompts= takes its programs from programs= and the library, and its logs from "
+            "dataset_dir=; leave out rules and logs"
+        )
+    for given, keyword, instead in [
+        (gt is not None, "gt=", "score the submission afterwards with evaluate(result.submission, gt)"),
+        (eval_timestamps is not None, "eval_timestamps=", "a split's logs are mined at their own timestamps"),
+        (report, "report=True", "picture matches with mine(rules, logs, out=..., report=True)"),
+    ]:
+        if given:
+            raise ScenalogError(f"{keyword} does not go with log_prompts=: {instead}")
+    if dataset_dir is None:
+        raise ScenalogError(
+            "log_prompts= needs dataset_dir= (the AV2 split with each log's ego poses and map)"
+        )
 
 
 def explain(

@@ -1,12 +1,14 @@
 //! `scenalog._native`: the Python extension module behind the `scenalog` package.
 //!
-//! Owns only the crossing into Python: every function here calls the same library functions
-//! as the `scenalog` command (`scenalog::cli::*`, `scenalog::pipeline::*` and the crates they
-//! use), hands back JSON text, Arrow IPC bytes or pickle bytes that the Python side
-//! (`python/scenalog/`) turns into dicts and `pyarrow` tables, and raises `ScenalogError` with
-//! the message the command would print after `scenalog <subcommand>: `. The work runs on its
-//! own thread with the GIL released ([`interruptible`]), so other Python threads run meanwhile
-//! and Ctrl-C interrupts the call.
+//! Owns only the crossing into Python: every function here builds a request of the library API
+//! (`scenalog::api`, which the `scenalog` command calls too) from its keyword arguments, with
+//! no argument parsing, and hands back JSON text, Arrow IPC bytes or pickle bytes that the
+//! Python side (`python/scenalog/`) turns into dicts and `pyarrow` tables. Errors are the
+//! command's messages with keyword arguments named instead of flags (`max_tuples`, not
+//! `--max-tuples`): `ValueError` for a value out of range, `ScenalogFileNotFoundError` for a
+//! missing file, `ScenalogError` otherwise. The work runs on its own thread with the GIL
+//! released ([`interruptible`]), so other Python threads run meanwhile and Ctrl-C interrupts
+//! the call.
 
 mod arrow_out;
 mod interrupt;
@@ -15,29 +17,82 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use clap::Parser;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::sync::GILOnceCell;
+use pyo3::types::{PyBytes, PyType};
 
 use interrupt::{interruptible, interruptible_with};
-use scenalog::cli::mine::{pair_failures, plan, run_options, Options};
-use scenalog::cli::mine_pairs;
-use scenalog::pipeline::report::{write_run_report, REPORT_DIR};
-use scenalog::pipeline::run::{
-    pairs_json, run as run_mining, run_unpublished, PairStatus, RunOptions,
-};
+use scenalog::api::check::{CheckRequest, ProgramSource};
+use scenalog::api::eval::{EvalRequest, Frames, SubmissionSource};
+use scenalog::api::explain::ExplainRequest;
+use scenalog::api::mine::{Limits, MineRequest};
+use scenalog::api::split::SplitRequest;
+use scenalog::api::{Error, ErrorKind, Names};
+use scenalog::pipeline::report::REPORT_DIR;
+use scenalog::pipeline::run::{pairs_json, PairStatus, RunReport};
+use scenalog::pipeline::scenario::Scenario;
 
 pyo3::create_exception!(
     scenalog,
     ScenalogError,
     PyException,
-    "An error of Scenalog, with the message the command prints."
+    "An error of Scenalog, with the message the command prints (naming keyword arguments)."
 );
 
-/// An error message as a `ScenalogError`.
+/// The package's `ScenalogFileNotFoundError` (a `ScenalogError` and a `FileNotFoundError`),
+/// defined in Python and registered here by `scenalog/__init__.py`.
+static NOT_FOUND: GILOnceCell<Py<PyType>> = GILOnceCell::new();
+
+/// Registers the class raised for a file that does not exist.
+#[pyfunction]
+fn _register_not_found(py: Python<'_>, cls: Bound<'_, PyType>) -> PyResult<()> {
+    let _ = NOT_FOUND.set(py, cls.unbind());
+    Ok(())
+}
+
+/// `ENOENT`, "no such file or directory" (2 on every platform Python runs on).
+const ENOENT: i32 = 2;
+
+/// An error message as a `ScenalogError`, flags named as keyword arguments.
 fn err(message: impl std::fmt::Display) -> PyErr {
-    ScenalogError::new_err(message.to_string())
+    ScenalogError::new_err(Names::Keywords.reword(&message.to_string()))
+}
+
+/// An API error as Python's: `ValueError` for a value out of range, the registered
+/// `ScenalogFileNotFoundError` (its `filename` set when given) for a missing file,
+/// `ScenalogError` otherwise; the message names keyword arguments.
+fn api_err(e: Error, filename: Option<&str>) -> PyErr {
+    let message = e.keywords();
+    match e.kind {
+        ErrorKind::Invalid => PyValueError::new_err(message),
+        ErrorKind::NotFound => Python::with_gil(|py| {
+            let Some(cls) = NOT_FOUND.get(py) else {
+                return ScenalogError::new_err(message);
+            };
+            // OSError's (errno, strerror, filename) form sets `errno` and `filename`.
+            let made = match filename {
+                Some(f) => cls.bind(py).call1((ENOENT, message.clone(), f)),
+                None => cls.bind(py).call1((message.clone(),)),
+            };
+            match made {
+                Ok(instance) => PyErr::from_value(instance),
+                Err(e) => e,
+            }
+        }),
+        ErrorKind::Failed => ScenalogError::new_err(message),
+    }
+}
+
+/// A count a keyword argument gives, refused (naming it) when negative.
+fn count(keyword: &str, value: Option<i64>) -> PyResult<Option<u64>> {
+    match value {
+        Some(v) if v < 0 => Err(PyValueError::new_err(format!(
+            "{keyword}: expected a number of at least 0, got {v}"
+        ))),
+        Some(v) => Ok(Some(v as u64)),
+        None => Ok(None),
+    }
 }
 
 /// Checks a program given as text (`path` None) or read from `path`; the diagnostics as the
@@ -50,16 +105,18 @@ fn check(
     path: Option<String>,
     require_referred: bool,
 ) -> PyResult<String> {
-    let work = move || -> Result<String, String> {
-        let source = match &path {
-            Some(p) => scenalog::input::read_text(std::path::Path::new(p))?,
-            None => text,
-        };
-        let options = scenalog_rules::CheckOptions { require_referred };
-        let outcome = scenalog_rules::check(&source, &options);
-        Ok(scenalog_rules::diagnostics_json(&outcome.diagnostics, &source).to_string())
+    let filename = path.clone();
+    let source = match path {
+        Some(p) => ProgramSource::File(PathBuf::from(p)),
+        None => ProgramSource::Text(text),
     };
-    interruptible(py, work)?.map_err(err)
+    let request = CheckRequest {
+        source,
+        require_referred,
+    };
+    let work =
+        move || scenalog::api::check::check(&request).map(|c| c.diagnostics_json().to_string());
+    interruptible(py, work)?.map_err(|e| api_err(e, filename.as_deref()))
 }
 
 /// A log's summary as `scenalog facts LOG --json` prints it (with `load_ms`).
@@ -98,111 +155,138 @@ fn facts_relation<'py>(
     Ok(PyBytes::new(py, &bytes))
 }
 
-/// `scenalog mine`'s options, parsed from an argument list as the command parses them.
-#[derive(Parser)]
-#[command(name = "scenalog mine", no_binary_name = true)]
-struct MineArgv {
-    #[command(flatten)]
-    options: Options,
-}
-
-/// Runs `scenalog mine` with these arguments (`--rules … --logs … --out …`, or the split's
-/// `--log-prompts … --dataset-dir … --out …`), without progress bars or printing; returns
-/// JSON: `out`, `pickle` and `table` (the file names written in `out`), `matches`, `pairs`,
-/// `failures` and `score` (as `scenalog mine --format json`, plus `pairs`).
+/// Mines `rules` (files or directories of `.dl` files) on `logs` (log directories or
+/// directories of logs) into `out`, as `scenalog mine --rules … --logs … --out …`, without
+/// progress bars or printing; `report` is the most matches the report pictures (no report
+/// when None). Returns JSON: `out`, `pickle` and `table` (the file names written in `out`),
+/// `matches`, `pairs`, `failures`, `score`, `report` and `without_program`.
 #[pyfunction]
-fn mine(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
-    let parsed =
-        MineArgv::try_parse_from(&argv).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let args = parsed.options;
-    if args.descriptions.is_some() || args.synthesize {
-        return Err(PyValueError::new_err(
-            "synthesis (--descriptions, --synthesize) is the command's: run `scenalog mine` for it, or `scenalog synth --descriptions` and mine its programs",
-        ));
-    }
+#[pyo3(signature = (rules, logs, out, threads=None, resume=false, gt=None, eval_timestamps=None, max_tuples=None, timeout_ms=None, report=None))]
+#[allow(clippy::too_many_arguments)]
+fn mine(
+    py: Python<'_>,
+    rules: Vec<PathBuf>,
+    logs: Vec<PathBuf>,
+    out: PathBuf,
+    threads: Option<i64>,
+    resume: bool,
+    gt: Option<PathBuf>,
+    eval_timestamps: Option<PathBuf>,
+    max_tuples: Option<i64>,
+    timeout_ms: Option<i64>,
+    report: Option<i64>,
+) -> PyResult<String> {
     let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    let work = move || -> Result<String, String> {
-        if args.log_prompts.is_some() {
-            mine_split(&args, flag)
-        } else {
-            mine_programs(&args, flag)
-        }
+    let request = MineRequest {
+        rules,
+        logs,
+        out: Some(out),
+        threads: count("threads", threads)?.map(|n| n as usize),
+        resume,
+        gt,
+        eval_timestamps,
+        limits: Limits {
+            max_tuples: count("max_tuples", max_tuples)?,
+            timeout_ms: count("timeout_ms", timeout_ms)?,
+        },
+        report: count("report_max_pictures", report)?.map(|n| n as usize),
+        cancel: Some(cancel.clone()),
+        ..MineRequest::default()
     };
-    interruptible_with(py, Some(cancel), work)?.map_err(err)
+    let work = move || mine_programs(&request);
+    interruptible_with(py, Some(cancel), work)?.map_err(|e| api_err(e, None))
 }
 
-/// `scenalog mine --rules … --logs …` as [`mine`] reports it.
-fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String> {
-    let plan = plan(args)?;
+/// A run of programs on logs as [`mine`] reports it.
+fn mine_programs(request: &MineRequest) -> Result<String, Error> {
+    let plan = scenalog::api::mine::plan(request)?;
     if plan.scenarios.is_empty() {
         return Err(with_causes("no program to mine", &plan.failures));
     }
     if plan.logs.is_empty() {
         return Err(with_causes("no log to mine", &plan.log_problems));
     }
-    let options = RunOptions {
-        cancel: Some(cancel),
-        ..run_options(args, &plan, false)
-    };
     // As the command: the outputs, the scored pickle and the report are one generation.
-    let (report, generation) = run_unpublished(&plan.scenarios, &plan.logs, &options)?;
+    let outcome = scenalog::api::mine::run(request, &plan)?;
+    if let Some(e) = outcome.score_errors.first() {
+        return Err(Error::plain(e));
+    }
+    let page = match &outcome.report_page {
+        Some(Ok(_)) => {
+            let page = plan.out.join(REPORT_DIR).join("index.html");
+            serde_json::Value::String(page.display().to_string())
+        }
+        Some(Err(e)) => return Err(Error::plain(format!("the report: {e}"))),
+        None => serde_json::Value::Null,
+    };
+    outcome.published.clone()?;
+    let report = &outcome.report;
     let mut failures = plan.failures.clone();
     failures.extend(plan.log_problems.iter().cloned());
     failures.extend(report.log_failures.iter().map(|(_, e)| e.clone()));
-    failures.extend(pair_failures(&report));
-    let score = match &plan.gt {
-        Some((_, g)) => match scenalog::pipeline::summary::score(&report.submission, g)? {
-            Some(s) => {
-                let path = generation.path(scenalog::pipeline::output::SCORED_PICKLE);
-                scenalog_eval::write_pickle(&s.predictions, &path).map_err(|e| e.to_string())?;
-                s.report.to_json()
-            }
-            None => serde_json::Value::Null,
-        },
+    failures.extend(outcome.pair_failures.iter().cloned());
+    let score = match &outcome.scored {
+        Some(s) => s.report.to_json(),
         None => serde_json::Value::Null,
     };
-    let page = if args.report {
-        write_run_report(
-            generation.dir(),
-            &plan.out,
-            &report,
-            &plan.scenarios,
-            &plan.logs,
-            args.report_max_pictures,
-        )
-        .map_err(|e| format!("the report: {e}"))?;
-        let page = plan.out.join(REPORT_DIR).join("index.html");
-        serde_json::Value::String(page.display().to_string())
-    } else {
-        serde_json::Value::Null
-    };
-    generation.publish()?;
     Ok(serde_json::json!({
         "report": page,
         "out": plan.out.display().to_string(),
         "pickle": scenalog::pipeline::output::PREDICTIONS_PICKLE,
         "table": scenalog::pipeline::output::PREDICTIONS_TABLE,
         "matches": report.matches(),
-        "pairs": pairs_json(&report, &plan.scenarios),
-        "failures": failures,
+        "pairs": pairs(report, &plan.scenarios),
+        "failures": reworded(&failures),
         "score": score,
         "without_program": [],
     })
     .to_string())
 }
 
-/// `scenalog mine --log-prompts …` as [`mine`] reports it.
-fn mine_split(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String> {
-    let plan = mine_pairs::prepare(args)?;
+/// Mines a split's pairs (`log_prompts`, a JSON file `{log_id: [prompt, …]}`) of the logs in
+/// `dataset_dir` into `out`, as `scenalog mine --log-prompts …`; returns [`mine`]'s JSON.
+#[pyfunction]
+#[pyo3(signature = (log_prompts, dataset_dir, out, tracks=None, programs=None, confidence_filter=true, threads=None, resume=false, max_tuples=None, timeout_ms=None))]
+#[allow(clippy::too_many_arguments)]
+fn mine_split(
+    py: Python<'_>,
+    log_prompts: PathBuf,
+    dataset_dir: PathBuf,
+    out: PathBuf,
+    tracks: Option<PathBuf>,
+    programs: Option<PathBuf>,
+    confidence_filter: bool,
+    threads: Option<i64>,
+    resume: bool,
+    max_tuples: Option<i64>,
+    timeout_ms: Option<i64>,
+) -> PyResult<String> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let request = SplitRequest {
+        out: Some(out),
+        tracks,
+        programs,
+        confidence_filter,
+        threads: count("threads", threads)?.map(|n| n as usize),
+        resume,
+        limits: Limits {
+            max_tuples: count("max_tuples", max_tuples)?,
+            timeout_ms: count("timeout_ms", timeout_ms)?,
+        },
+        cancel: Some(cancel.clone()),
+        ..SplitRequest::new(log_prompts, dataset_dir)
+    };
+    let work = move || split_pairs(&request);
+    interruptible_with(py, Some(cancel), work)?.map_err(|e| api_err(e, None))
+}
+
+/// A split's run as [`mine_split`] reports it.
+fn split_pairs(request: &SplitRequest) -> Result<String, Error> {
+    let plan = scenalog::api::split::prepare(request)?;
     if plan.logs.is_empty() {
         return Err(with_causes("no log to mine", &plan.log_problems));
     }
-    let options = RunOptions {
-        cancel: Some(cancel),
-        ..mine_pairs::run_options(args, &plan, false)
-    };
-    let report = run_mining(&plan.scenarios, &plan.logs, &options)?;
+    let report = scenalog::api::split::run(request, &plan)?;
     let mut failures = plan.problems.clone();
     failures.extend(plan.log_problems.iter().cloned());
     failures.extend(report.pairs.iter().filter_map(|p| match &p.status {
@@ -214,8 +298,8 @@ fn mine_split(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String>
         "pickle": scenalog::pipeline::output::SUBMISSION_PICKLE,
         "table": scenalog::pipeline::output::SUBMISSION_TABLE,
         "matches": report.matches(),
-        "pairs": pairs_json(&report, &plan.scenarios),
-        "failures": failures,
+        "pairs": pairs(&report, &plan.scenarios),
+        "failures": reworded(&failures),
         "score": serde_json::Value::Null,
         "report": serde_json::Value::Null,
         "without_program": plan.without_program,
@@ -223,14 +307,33 @@ fn mine_split(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, String>
     .to_string())
 }
 
+/// Each pair's record as `summary.json` holds it, a failed pair's error naming keyword
+/// arguments.
+fn pairs(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json::Value> {
+    let mut pairs = pairs_json(report, scenarios);
+    for p in &mut pairs {
+        if let Some(error) = p.get_mut("error") {
+            if let Some(text) = error.as_str() {
+                *error = serde_json::Value::String(Names::Keywords.reword(text));
+            }
+        }
+    }
+    pairs
+}
+
+/// Messages from below the API with their flags named as keyword arguments.
+fn reworded(messages: &[String]) -> Vec<String> {
+    messages.iter().map(|m| Names::Keywords.reword(m)).collect()
+}
+
 /// `message`, followed by the problems that caused it, one a line.
-fn with_causes(message: &str, causes: &[String]) -> String {
+fn with_causes(message: &str, causes: &[String]) -> Error {
     let mut out = message.to_string();
     for c in causes {
         out.push_str("\n  ");
         out.push_str(c);
     }
-    out
+    Error::plain(out)
 }
 
 /// Why `track` is (or is not) referred by the program `rules` on `log` at `at` seconds: the
@@ -245,62 +348,37 @@ fn explain(
     at: Option<f64>,
     why_not: bool,
 ) -> PyResult<String> {
-    if let Some(a) = at {
-        if !a.is_finite() || a < 0.0 {
-            return Err(PyValueError::new_err(format!(
-                "at: expected a finite number of seconds >= 0, got {a}"
-            )));
-        }
-    }
-    let work = move || -> Result<String, String> {
-        let x = scenalog::cli::explain::explain_track(
-            &rules,
-            &log,
-            &track,
-            at,
-            why_not,
-            &scenalog::pipeline::budget::pair_limits(None, None, 1),
-        )
-        .map_err(|(_, e)| e)?;
+    let request = ExplainRequest {
+        rules,
+        log,
+        track,
+        at,
+        why_not,
+        limits: Limits::default(),
+    };
+    let work = move || -> Result<String, Error> {
+        let x = scenalog::api::explain::explain_request(&request).map_err(|e| e.error)?;
         let renderer = scenalog::pipeline::explain::Renderer {
             scene: &x.scene,
             scenario: &x.scenario,
         };
         Ok(scenalog::pipeline::explain::explanation_json(&renderer, &x.explanation).to_string())
     };
-    interruptible(py, work)?.map_err(err)
+    interruptible(py, work)?.map_err(|e| api_err(e, None))
 }
 
-/// One side of an evaluation: a file (official pickle or Arrow table), or pickle or Arrow IPC
-/// file bytes made by the Python side.
-enum Source {
-    Path(PathBuf),
-    Pickle(Vec<u8>),
-    Arrow(Vec<u8>),
-}
-
-impl Source {
-    fn from_py(kind: &str, value: &Bound<'_, PyAny>) -> PyResult<Source> {
-        Ok(match kind {
-            "path" => Source::Path(value.extract()?),
-            "pickle" => Source::Pickle(value.extract()?),
-            "arrow" => Source::Arrow(value.extract()?),
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown source kind `{other}`"
-                )))
-            }
-        })
-    }
-
-    fn read(&self, what: &str) -> Result<scenalog_eval::Submission, String> {
-        match self {
-            Source::Path(p) => scenalog_eval::read_any(p),
-            Source::Pickle(b) => scenalog_eval::read_pickle_bytes(b, what),
-            Source::Arrow(b) => scenalog_eval::table_from_bytes(b, what),
+/// One side of an evaluation from its kind ("path", "pickle", "arrow") and value.
+fn submission_source(kind: &str, value: &Bound<'_, PyAny>) -> PyResult<SubmissionSource> {
+    Ok(match kind {
+        "path" => SubmissionSource::File(value.extract()?),
+        "pickle" => SubmissionSource::Pickle(value.extract()?),
+        "arrow" => SubmissionSource::Arrow(value.extract()?),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown source kind `{other}`"
+            )))
         }
-        .map_err(|e| e.to_string())
-    }
+    })
 }
 
 /// The official metrics of `pred` against `gt` (each a kind — "path", "pickle", "arrow" — and
@@ -320,46 +398,29 @@ fn evaluate(
     rate: Option<u32>,
     timestamps: Option<String>,
 ) -> PyResult<String> {
-    let sampling = match (rate, timestamps) {
+    let frames = match (rate, timestamps) {
         (Some(_), Some(_)) => {
             return Err(PyValueError::new_err(
                 "rate and timestamps: give one or the other",
             ))
         }
-        (Some(0), None) => return Err(PyValueError::new_err("rate: expected at least 1 (Hz)")),
-        (Some(hz), None) => Some(scenalog_eval::Sampling::Rate(hz)),
-        (None, Some(text)) => Some(scenalog_eval::Sampling::Timestamps(
-            scenalog_eval::parse_timestamps(&text, "timestamps").map_err(|e| err(e.to_string()))?,
-        )),
-        (None, None) => None,
-    };
-    if !(max_range_m.is_finite() && max_range_m > 0.0) {
-        return Err(PyValueError::new_err(format!(
-            "max_range_m: expected a finite number greater than 0, got {max_range_m}"
-        )));
-    }
-    let pred = Source::from_py(pred_kind, pred)?;
-    let gt = Source::from_py(gt_kind, gt)?;
-    let work = move || -> Result<String, String> {
-        let mut pred = pred.read("predictions")?;
-        let mut gt = gt.read("ground truth")?;
-        if let Some(s) = &sampling {
-            scenalog_eval::resample(&mut pred, &mut gt, s).map_err(|e| e.to_string())?;
+        (Some(hz), None) => Frames::Rate(hz),
+        (None, Some(text)) => {
+            Frames::Timestamps(scenalog_eval::parse_timestamps(&text, "timestamps").map_err(err)?)
         }
-        let roi = match &dataset_dir {
-            None => None,
-            Some(dir) => {
-                let ids = gt.sequences.keys().chain(pred.sequences.keys());
-                let maps = scenalog_eval::RoiMaps::load(dir, ids.map(|k| k.0.as_str()))
-                    .map_err(|e| format!("dataset_dir: {e}"))?;
-                Some(std::sync::Arc::new(maps))
-            }
-        };
-        let opts = scenalog_eval::EvalOptions { max_range_m, roi };
-        let report = scenalog_eval::evaluate(&pred, &gt, &opts).map_err(|e| e.to_string())?;
-        Ok(report.to_json().to_string())
+        (None, None) => Frames::All,
     };
-    interruptible(py, work)?.map_err(err)
+    let request = EvalRequest {
+        max_range_m,
+        dataset_dir,
+        frames,
+        ..EvalRequest::new(
+            submission_source(pred_kind, pred)?,
+            submission_source(gt_kind, gt)?,
+        )
+    };
+    let work = move || scenalog::api::eval::evaluate(&request).map(|r| r.to_json().to_string());
+    interruptible(py, work)?.map_err(|e| api_err(e, None))
 }
 
 /// One submission pickle from the pickles of disjoint runs (e.g. one a log): byte for byte
@@ -395,16 +456,16 @@ type FoundLogs = (Vec<(String, String)>, Vec<String>);
 /// directories' `.dl` files sorted by name).
 #[pyfunction]
 fn rule_files(rules: Vec<PathBuf>) -> PyResult<Vec<String>> {
-    scenalog::cli::mine::rule_files(&rules)
+    scenalog::api::mine::rule_files(&rules)
         .map(|v| v.iter().map(|p| p.display().to_string()).collect())
-        .map_err(err)
+        .map_err(|e| api_err(e, None))
 }
 
 /// The logs `logs` names, as `scenalog mine --logs` finds them (a log directory, or a directory
 /// of logs): `(directory, log id)` pairs, and the duplicates left out.
 #[pyfunction]
 fn log_dirs(logs: Vec<PathBuf>) -> PyResult<FoundLogs> {
-    let (found, problems) = scenalog::cli::mine::log_dirs(&logs).map_err(err)?;
+    let (found, problems) = scenalog::api::mine::log_dirs(&logs).map_err(|e| api_err(e, None))?;
     Ok((
         found
             .into_iter()
@@ -418,10 +479,13 @@ fn log_dirs(logs: Vec<PathBuf>) -> PyResult<FoundLogs> {
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ScenalogError", m.py().get_type::<ScenalogError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(_register_not_found, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(facts_summary, m)?)?;
     m.add_function(wrap_pyfunction!(facts_relation, m)?)?;
     m.add_function(wrap_pyfunction!(mine, m)?)?;
+    m.add_function(wrap_pyfunction!(mine_split, m)?)?;
     m.add_function(wrap_pyfunction!(explain, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(join_pickles, m)?)?;

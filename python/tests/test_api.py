@@ -1,5 +1,6 @@
 """The package's functions on the sample logs, against the `scenalog` command's own output."""
 
+import errno
 import json
 import os
 import pickle
@@ -41,6 +42,43 @@ def test_check_missing_file_raises_the_command_message(tmp_path, cli):
     with pytest.raises(scenalog.ScenalogError) as e:
         scenalog.check(missing)
     assert str(e.value) == cli_message(err, "check")
+    assert isinstance(e.value, FileNotFoundError) and e.value.filename == str(missing)
+    # A directory is there, but is no program: not a FileNotFoundError.
+    with pytest.raises(scenalog.ScenalogError) as e:
+        scenalog.check(tmp_path)
+    assert not isinstance(e.value, FileNotFoundError)
+
+
+def test_check_a_mistyped_path_raises_file_not_found(tmp_path, monkeypatch):
+    """A string that looks like a path is read as one: a typo is FileNotFoundError naming it,
+    not the typo checked as program text (which gave four syntax errors)."""
+    from conftest import REPO
+
+    monkeypatch.chdir(REPO)
+    assert scenalog.check("rules/library/stopped_car.dl") == []
+    for typo in ["rules/library/stopped_cra.dl", "stopped_cra.dl", str(tmp_path / "no" / "program")]:
+        with pytest.raises(FileNotFoundError) as e:
+            scenalog.check(typo)
+        assert e.value.filename == typo and e.value.errno == errno.ENOENT
+        assert typo in str(e.value)
+        assert isinstance(e.value, scenalog.ScenalogError)
+    with pytest.raises(FileNotFoundError):
+        scenalog.check(path="stopped_car")
+    assert scenalog.check(path=LIBRARY / "stopped_car.dl") == []
+    # Program text, one line with rule syntax (and a `/` in a comment), is still checked.
+    diags = scenalog.check('referred(X, T) :- categry(X, "BUS"), present(X, T). // a/b')
+    assert [d["code"] for d in diags] == ["E0101"]
+    assert scenalog.check("referred(X, T) :- ego(X), present(X, T).") == []
+    with pytest.raises(TypeError):
+        scenalog.check("referred(X, T) :- ego(X), present(X, T).", path="x.dl")
+
+
+def test_version_is_the_packages_and_the_commands(cli):
+    import importlib.metadata
+
+    assert scenalog.__version__ == importlib.metadata.version("scenalog")
+    code, out, _ = cli("--version")
+    assert code == 0 and out.split() == ["scenalog", scenalog.__version__]
 
 
 def test_facts_summary_and_relation(cli_json):
@@ -133,7 +171,7 @@ def test_mine_report_is_written_as_the_command_writes_it(tmp_path, cli):
     assert scenalog.mine(program, LOGS).report is None
     with pytest.raises(scenalog.ScenalogError, match="needs out="):
         scenalog.mine(program, LOGS, report=True)
-    with pytest.raises(scenalog.ScenalogError, match="does not go with --log-prompts"):
+    with pytest.raises(scenalog.ScenalogError, match="report=True does not go with log_prompts="):
         scenalog.mine(log_prompts=TRACKER / "log_prompt_pairs_sample.json", dataset_dir=LOGS, out=tmp_path / "s", report=True)
 
 
@@ -162,9 +200,36 @@ def test_mine_errors(tmp_path, cli):
     _, _, err = cli("mine", "--rules", PROGRAMS[0], "--logs", missing, "--out", tmp_path / "o")
     with pytest.raises(scenalog.ScenalogError) as e:
         scenalog.mine(PROGRAMS[0], missing)
-    assert str(e.value) == cli_message(err, "mine")
-    with pytest.raises(ValueError, match="--threads"):
-        scenalog.mine(PROGRAMS[0], LOGS, threads=0)
+    # The command's message, naming the keyword where the command names its flag.
+    assert cli_message(err, "mine").startswith("--logs: ")
+    assert str(e.value) == "logs: " + cli_message(err, "mine")[len("--logs: "):]
+    for keyword, value in [("threads", 0), ("max_tuples", 0), ("timeout_ms", -5)]:
+        with pytest.raises(ValueError) as e:
+            scenalog.mine(PROGRAMS[0], LOGS, **{keyword: value})
+        assert str(e.value).startswith(f"{keyword}: ") and "--" not in str(e.value)
+    with pytest.raises(scenalog.ScenalogError, match="dataset_dir= goes with log_prompts="):
+        scenalog.mine(PROGRAMS[0], LOGS, dataset_dir=LOGS)
+
+
+def test_errors_name_keywords_not_flags(tmp_path, cli):
+    """Every message that reaches Python names the keyword argument, where the command's names
+    its flag: a bad timestamps file, and a pair past its tuple budget."""
+    bad = tmp_path / "ts.json"
+    bad.write_text("[1, 2]")
+    _, _, err = cli("mine", "--rules", PROGRAMS[0], "--logs", LOGS, "--eval-timestamps", bad, "--out", tmp_path / "o")
+    with pytest.raises(scenalog.ScenalogError) as e:
+        scenalog.mine(PROGRAMS[0], LOGS, eval_timestamps=bad)
+    assert cli_message(err, "mine").startswith("--eval-timestamps: ")
+    assert str(e.value) == "eval_timestamps: " + cli_message(err, "mine")[len("--eval-timestamps: "):]
+    code, out, _ = cli("mine", "--rules", PROGRAMS[0], "--logs", LOGS, "--max-tuples", 1, "--out", tmp_path / "c", "--format", "json")
+    assert code == 1
+    cli_failures = json.loads(out)["failures"]
+    assert any("raise --max-tuples" in f for f in cli_failures)
+    result = scenalog.mine(PROGRAMS[0], LOGS, max_tuples=1)
+    assert result.failures == [f.replace("--max-tuples", "max_tuples=") for f in cli_failures]
+    assert not any("--max-tuples" in f for f in result.failures)
+    errors = [p["error"] for p in result.pairs if p["status"] == "failed"]
+    assert sorted(errors) == sorted(result.failures)
 
 
 def test_mine_with_a_corrupt_log_mines_the_rest(tmp_path):

@@ -3,9 +3,12 @@
 //! error, 2 when some input cannot be read.
 
 use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use scenalog_rules::{check, diagnostics_json, render_human, CheckOptions};
+use scenalog_rules::render_human;
+
+use crate::api::check::{check, CheckRequest, ProgramSource};
 
 /// Arguments of `scenalog check`.
 #[derive(clap::Args)]
@@ -21,15 +24,8 @@ pub struct Args {
     pub no_referred: bool,
 }
 
-fn read_input(name: &str) -> Result<String, String> {
-    crate::input::read_text(std::path::Path::new(name))
-}
-
 /// Checks every file and prints the diagnostics.
 pub fn run(args: Args) -> ExitCode {
-    let options = CheckOptions {
-        require_referred: !args.no_referred,
-    };
     let color = !args.json && std::io::stdout().is_terminal();
     let mut unreadable = false;
     let mut errors = false;
@@ -40,25 +36,29 @@ pub fn run(args: Args) -> ExitCode {
         } else {
             file.as_str()
         };
-        let source = match read_input(file) {
-            Ok(s) => s,
+        let request = CheckRequest {
+            source: ProgramSource::File(PathBuf::from(file)),
+            require_referred: !args.no_referred,
+        };
+        let checked = match check(&request) {
+            Ok(c) => c,
             Err(e) => {
-                eprintln!("scenalog check: {e}");
+                eprintln!("scenalog check: {}", e.flags());
                 unreadable = true;
                 continue;
             }
         };
-        let outcome = check(&source, &options);
+        let outcome = &checked.outcome;
         errors |= outcome.program.is_none();
         if args.json {
             json.push(serde_json::json!({
                 "file": display,
-                "diagnostics": diagnostics_json(&outcome.diagnostics, &source),
+                "diagnostics": checked.diagnostics_json(),
             }));
         } else {
             out!(
                 "{}",
-                render_human(&outcome.diagnostics, &source, display, color)
+                render_human(&outcome.diagnostics, &checked.text, display, color)
             );
             let n_err = outcome.diagnostics.iter().filter(|d| d.is_error()).count();
             let n_warn = outcome.diagnostics.len() - n_err;

@@ -2,11 +2,8 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
 
-use scenalog_eval::{
-    evaluate, read_any, read_timestamps, resample, EvalOptions, RoiMaps, Sampling,
-};
+use crate::api::eval::{evaluate, EvalRequest, Frames, SubmissionSource};
 
 /// Arguments of `scenalog eval`.
 #[derive(clap::Args)]
@@ -48,52 +45,22 @@ pub struct Args {
 
 /// Runs the subcommand: exit 0 on success, 2 on unreadable or inconsistent input.
 pub fn run(args: Args) -> ExitCode {
-    let loaded = read_any(&args.pred).and_then(|p| read_any(&args.gt).map(|g| (p, g)));
-    let (mut pred, mut gt) = match loaded {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("scenalog eval: {e}");
-            return ExitCode::from(2);
-        }
+    let frames = match (&args.rate, &args.timestamps) {
+        (Some(hz), _) => Frames::Rate(*hz),
+        (None, Some(path)) => Frames::TimestampsFile(path.clone()),
+        (None, None) => Frames::All,
     };
-    let sampling = match (&args.rate, &args.timestamps) {
-        (Some(hz), _) => Some(Sampling::Rate(*hz)),
-        (None, Some(path)) => match read_timestamps(path) {
-            Ok(t) => Some(Sampling::Timestamps(t)),
-            Err(e) => {
-                eprintln!("scenalog eval: --timestamps: {e}");
-                return ExitCode::from(2);
-            }
-        },
-        (None, None) => None,
-    };
-    if let Some(s) = &sampling {
-        if let Err(e) = resample(&mut pred, &mut gt, s) {
-            eprintln!("scenalog eval: {e}");
-            return ExitCode::from(2);
-        }
-    }
-    let roi = match &args.dataset_dir {
-        None => None,
-        Some(dir) => {
-            let ids = gt.sequences.keys().chain(pred.sequences.keys());
-            match RoiMaps::load(dir, ids.map(|k| k.0.as_str())) {
-                Ok(m) => Some(Arc::new(m)),
-                Err(e) => {
-                    eprintln!("scenalog eval: --dataset-dir: {e}");
-                    return ExitCode::from(2);
-                }
-            }
-        }
-    };
-    let opts = EvalOptions {
+    let request = EvalRequest {
+        pred: SubmissionSource::File(args.pred.clone()),
+        gt: SubmissionSource::File(args.gt.clone()),
         max_range_m: args.max_range_m,
-        roi,
+        dataset_dir: args.dataset_dir.clone(),
+        frames,
     };
-    let report = match evaluate(&pred, &gt, &opts) {
+    let report = match evaluate(&request) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("scenalog eval: {e}");
+            eprintln!("scenalog eval: {}", e.flags());
             return ExitCode::from(2);
         }
     };

@@ -21,21 +21,14 @@
 //! failed; 2 unreadable rules file or log, unknown track, bad `--at` or `--frames`, a frame
 //! outside the log, a track absent at the pictured frame, an unwritable picture path.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use scenalog_engine::{explain, why_not};
-use scenalog_extractors::cache::Extractor;
-use scenalog_facts::load_scene;
-use scenalog_facts::relation::Value;
-use scenalog_facts::scene::{Frame, Scene, Track, TrackId};
+use scenalog_facts::scene::Frame;
 
-use crate::pipeline::explain::{
-    evaluate_for_explain, explanation_json, explanation_text, frame_nearest, referred_frames,
-    Explanation, Renderer,
-};
-use crate::pipeline::picture::{explanation_picture, related_at};
-use crate::pipeline::scenario::{scenario_from_source, Scenario};
+use crate::api::explain::{explain_track, Explained};
+use crate::pipeline::explain::{explanation_json, explanation_text, Explanation, Renderer};
+use crate::pipeline::picture::explanation_picture;
 use scenalog_view::track_path::animation_frames;
 use scenalog_view::{
     path_svg, scene_svg, write_animation, write_picture, Format, PathPicture, Reference, ViewError,
@@ -171,145 +164,6 @@ fn draw(
 fn fail(code: u8, msg: &str) -> ExitCode {
     eprintln!("scenalog explain: {msg}");
     ExitCode::from(code)
-}
-
-/// The track with this uuid, or the only one whose uuid starts with it.
-fn find_track<'s>(scene: &'s Scene, uuid: &str) -> Result<&'s Track, String> {
-    if let Some(t) = scene.track_by_uuid(uuid) {
-        return Ok(t);
-    }
-    let matches: Vec<&Track> = if uuid.is_empty() {
-        Vec::new()
-    } else {
-        scene
-            .tracks
-            .iter()
-            .filter(|t| t.uuid.starts_with(uuid))
-            .collect()
-    };
-    match matches.as_slice() {
-        [t] => Ok(t),
-        [] => Err(format!(
-            "no track `{uuid}` in log {} ({} tracks; `scenalog facts {}` lists them by category)",
-            scene.log_id,
-            scene.tracks.len(),
-            scene.log_id
-        )),
-        many => Err(format!(
-            "`{uuid}` is the start of {} track uuids in log {} (e.g. {}, {}); give more of it",
-            many.len(),
-            scene.log_id,
-            many[0].uuid,
-            many[1].uuid
-        )),
-    }
-}
-
-/// A track explained at one frame: what `scenalog explain` prints and pictures.
-pub struct Explained {
-    /// The log's scene.
-    pub scene: Scene,
-    /// The checked program.
-    pub scenario: Scenario,
-    /// The proof of `referred(track, frame)` and/or the why-not report.
-    pub explanation: Explanation,
-    /// The objects related to the track at the frame.
-    pub related: Vec<TrackId>,
-}
-
-/// Explains why `track_uuid` (a uuid or an unambiguous prefix) is or is not referred by the
-/// program `rules` on `log` at the frame nearest `at` seconds (see the module's doc for the
-/// frame chosen without it); `why_not_wanted` adds the why-not report to a proof. The program is
-/// evaluated within `limits` (tuple budget, time limit). Errors are the exit code and the message
-/// `scenalog explain` prints.
-pub fn explain_track(
-    rules: &Path,
-    log: &Path,
-    track_uuid: &str,
-    at: Option<f64>,
-    why_not_wanted: bool,
-    limits: &scenalog_engine::Options,
-) -> Result<Explained, (u8, String)> {
-    let display = rules.display().to_string();
-    let source = match crate::input::read_text(rules) {
-        Ok(s) => s,
-        Err(e) => return Err((2, e)),
-    };
-    let scenario = match scenario_from_source(rules, source) {
-        Ok(s) => s,
-        Err(e) => return Err((1, e)),
-    };
-    let scene = match load_scene(log) {
-        Ok(s) => s,
-        Err(e) => return Err((2, e.to_string())),
-    };
-    let track = match find_track(&scene, track_uuid) {
-        Ok(t) => t,
-        Err(e) => return Err((2, e)),
-    };
-    let extractor = Extractor::new(&scene);
-    let ev = match evaluate_for_explain(&extractor, &scenario.program, false, limits) {
-        Ok(ev) => ev,
-        Err(e) => {
-            return Err((
-                1,
-                format!("evaluating {display} on log {}: {e}", scene.log_id),
-            ))
-        }
-    };
-    let frames = referred_frames(&ev, track.id);
-    let frame: Frame = match at {
-        Some(at) => match frame_nearest(&scene, at) {
-            Some(f) => f,
-            None => return Err((2, format!("log {} has no frames", scene.log_id))),
-        },
-        None => match frames.first() {
-            Some(f) => *f,
-            None => match track.frame_span() {
-                Some((a, b)) => a + (b - a) / 2,
-                None => 0,
-            },
-        },
-    };
-    let tuple = [Value::Track(track.id), Value::Time(frame)];
-    let proof = match explain(&scenario.program, &ev, "referred", &tuple) {
-        Ok(p) => p,
-        Err(e) => return Err((1, format!("{display}: {e}"))),
-    };
-    let want_why_not = why_not_wanted || proof.is_none();
-    let why = if want_why_not {
-        let whole = match evaluate_for_explain(&extractor, &scenario.program, true, limits) {
-            Ok(ev) => ev,
-            Err(e) => {
-                return Err((
-                    1,
-                    format!("evaluating {display} on log {}: {e}", scene.log_id),
-                ))
-            }
-        };
-        match why_not(&scenario.program, &whole, "referred", &tuple) {
-            Ok(w) => Some(w),
-            Err(e) => return Err((1, format!("{display}: {e}"))),
-        }
-    } else {
-        None
-    };
-    let explanation = Explanation {
-        track: track.id,
-        frame,
-        referred_frames: frames,
-        proof,
-        why_not: why,
-    };
-    let related = related_at(&ev, track.id, frame);
-    drop(ev);
-    drop(extractor);
-    Ok(Explained {
-        scene,
-        scenario,
-        explanation,
-        related,
-    })
 }
 
 /// Runs the subcommand.

@@ -13,6 +13,7 @@ pub mod facts;
 pub mod flags;
 pub mod import;
 pub mod mine;
+pub mod mine_options;
 pub mod mine_pairs;
 pub mod run;
 pub mod synth;

@@ -223,7 +223,7 @@ pub fn run(args: Args) -> ExitCode {
         let gt = args
             .gt
             .clone()
-            .or_else(|| crate::cli::mine::bundled(crate::cli::mine::SAMPLE_GT));
+            .or_else(|| crate::api::mine::bundled(crate::api::mine::SAMPLE_GT));
         let limits = crate::pipeline::budget::pair_limits(
             args.max_tuples,
             args.timeout_ms,

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use scenalog_synth::evaluation::{EvalReport, FixtureScore, PromptScore};
 
-use crate::cli::mine::log_dirs;
+use crate::api::mine::log_dirs;
 use crate::pipeline::run::{run as run_mining, PairStatus, RunOptions};
 use crate::pipeline::scenario::scenario_from_source;
 use crate::pipeline::summary::score;
@@ -65,7 +65,7 @@ pub fn fixture_score(
     if prompts.is_empty() {
         return Ok(None);
     }
-    let (log_inputs, problems) = log_dirs(&[logs.to_path_buf()])?;
+    let (log_inputs, problems) = log_dirs(&[logs.to_path_buf()]).map_err(|e| e.flags())?;
     if let Some(p) = problems.first() {
         return Err(p.clone());
     }

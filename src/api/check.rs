@@ -1,0 +1,68 @@
+//! Checking a program (`scenalog check`, `scenalog.check`): its text, or a file's, checked
+//! against the catalog; the diagnostics as `scenalog check --json` prints them.
+
+use std::path::{Path, PathBuf};
+
+use scenalog_rules::{diagnostics_json, CheckOptions, CheckOutcome};
+
+use crate::api::error::{Error, ErrorKind};
+
+/// Where a program comes from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ProgramSource {
+    /// The program's text.
+    Text(String),
+    /// A file holding it (`-`: standard input).
+    File(PathBuf),
+}
+
+/// A program to check.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CheckRequest {
+    /// The program.
+    pub source: ProgramSource,
+    /// Require a `referred` rule (off for programs run with `scenalog run`).
+    pub require_referred: bool,
+}
+
+/// A checked program: its text and the checker's outcome.
+pub struct Checked {
+    /// The text checked.
+    pub text: String,
+    /// The diagnostics, and the checked program when there is no error.
+    pub outcome: CheckOutcome,
+}
+
+impl Checked {
+    /// The diagnostics as the JSON array `scenalog check --json` prints for one file.
+    pub fn diagnostics_json(&self) -> serde_json::Value {
+        diagnostics_json(&self.outcome.diagnostics, &self.text)
+    }
+}
+
+/// Reads a program file through `scenalog-input`; a path where nothing is is an error of kind
+/// [`ErrorKind::NotFound`].
+pub fn read_program(path: &Path) -> Result<String, Error> {
+    crate::input::read_text(path).map_err(|e| {
+        let missing = path.as_os_str() != "-" && !path.exists();
+        let kind = if missing {
+            ErrorKind::NotFound
+        } else {
+            ErrorKind::Failed
+        };
+        Error::plain(e).of_kind(kind)
+    })
+}
+
+/// Checks the request's program; an error only when its file cannot be read.
+pub fn check(request: &CheckRequest) -> Result<Checked, Error> {
+    let text = match &request.source {
+        ProgramSource::Text(t) => t.clone(),
+        ProgramSource::File(p) => read_program(p)?,
+    };
+    let options = CheckOptions {
+        require_referred: request.require_referred,
+    };
+    let outcome = scenalog_rules::check(&text, &options);
+    Ok(Checked { text, outcome })
+}

@@ -1,0 +1,119 @@
+//! Scoring predictions against ground truth (`scenalog eval`, `scenalog.evaluate`) with the
+//! official scenario-mining metrics: each side a file or bytes, optionally resampled and
+//! filtered by range and drivable area.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use scenalog_eval::{EvalOptions, Report, RoiMaps, Sampling, Submission};
+
+use crate::api::error::{Arg, Error, ErrorKind};
+
+/// One side of an evaluation.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SubmissionSource {
+    /// An official pickle or a long Arrow table, by path.
+    File(PathBuf),
+    /// An official pickle's bytes.
+    Pickle(Vec<u8>),
+    /// An Arrow IPC file's bytes (the long table).
+    Arrow(Vec<u8>),
+}
+
+impl SubmissionSource {
+    /// The submission; `what` names bytes in errors ("predictions", "ground truth").
+    fn read(&self, what: &str) -> Result<Submission, Error> {
+        match self {
+            SubmissionSource::File(p) => scenalog_eval::read_any(p),
+            SubmissionSource::Pickle(b) => scenalog_eval::read_pickle_bytes(b, what),
+            SubmissionSource::Arrow(b) => scenalog_eval::table_from_bytes(b, what),
+        }
+        .map_err(Error::plain)
+    }
+}
+
+/// Which frames are evaluated.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Frames {
+    /// Every frame of the sequences as they are.
+    All,
+    /// Resampled at this rate (Hz, at least 1).
+    Rate(u32),
+    /// The timestamps of a JSON file `{log_id: [timestamp_ns, …]}`.
+    TimestampsFile(PathBuf),
+    /// These timestamps (ns) per log id.
+    Timestamps(BTreeMap<String, BTreeSet<i64>>),
+}
+
+/// An evaluation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EvalRequest {
+    /// The predictions.
+    pub pred: SubmissionSource,
+    /// The ground truth.
+    pub gt: SubmissionSource,
+    /// Objects farther than this from the ego (x-y, metres, finite, above 0) are not evaluated.
+    pub max_range_m: f64,
+    /// A dataset directory (`<log_id>/map/…`): objects outside the drivable area grown by 5 m
+    /// are not evaluated (the official `dataset_dir`).
+    pub dataset_dir: Option<PathBuf>,
+    /// Which frames.
+    pub frames: Frames,
+}
+
+impl EvalRequest {
+    /// `pred` against `gt` with the official defaults (50 m, no drivable-area filter, every
+    /// frame).
+    pub fn new(pred: SubmissionSource, gt: SubmissionSource) -> EvalRequest {
+        EvalRequest {
+            pred,
+            gt,
+            max_range_m: 50.0,
+            dataset_dir: None,
+            frames: Frames::All,
+        }
+    }
+}
+
+/// The metrics of the request's predictions against its ground truth.
+pub fn evaluate(request: &EvalRequest) -> Result<Report, Error> {
+    let m = request.max_range_m;
+    if !(m.is_finite() && m > 0.0) {
+        return Err(Error::about(
+            Arg::MaxRangeM,
+            format!("expected a finite number greater than 0, got {m}"),
+        )
+        .of_kind(ErrorKind::Invalid));
+    }
+    if request.frames == Frames::Rate(0) {
+        return Err(Error::about(Arg::Rate, "expected at least 1 (Hz)").of_kind(ErrorKind::Invalid));
+    }
+    let mut pred = request.pred.read("predictions")?;
+    let mut gt = request.gt.read("ground truth")?;
+    let sampling = match &request.frames {
+        Frames::All => None,
+        Frames::Rate(hz) => Some(Sampling::Rate(*hz)),
+        Frames::TimestampsFile(path) => Some(Sampling::Timestamps(
+            scenalog_eval::read_timestamps(path).map_err(|e| Error::about(Arg::Timestamps, e))?,
+        )),
+        Frames::Timestamps(t) => Some(Sampling::Timestamps(t.clone())),
+    };
+    if let Some(s) = &sampling {
+        scenalog_eval::resample(&mut pred, &mut gt, s).map_err(Error::plain)?;
+    }
+    let roi = match &request.dataset_dir {
+        None => None,
+        Some(dir) => {
+            let ids = gt.sequences.keys().chain(pred.sequences.keys());
+            let maps = RoiMaps::load(dir, ids.map(|k| k.0.as_str()))
+                .map_err(|e| Error::about(Arg::DatasetDir, e))?;
+            Some(Arc::new(maps))
+        }
+    };
+    let opts = EvalOptions {
+        max_range_m: request.max_range_m,
+        roi,
+    };
+    scenalog_eval::evaluate(&pred, &gt, &opts).map_err(Error::plain)
+}
