@@ -15,6 +15,9 @@ pub struct FileOutcome {
     pub notes: Vec<String>,
     /// Why it was not imported (empty on success).
     pub errors: Vec<ImportError>,
+    /// It imported as a program written against RefAV's first API
+    /// (`accelerating(..., thresh=...)`).
+    pub first_api: bool,
 }
 
 impl FileOutcome {
@@ -39,6 +42,10 @@ impl ImportReport {
     /// Programs that failed because RefAV itself fails on them.
     pub fn refav_broken(&self) -> usize {
         self.files.iter().filter(|f| f.refav_broken()).count()
+    }
+    /// Imported programs written against RefAV's first API.
+    pub fn first_api(&self) -> usize {
+        self.files.iter().filter(|f| f.first_api).count()
     }
     /// Programs that failed for a reason on Scenalog's side.
     pub fn failed_here(&self) -> usize {
@@ -154,6 +161,7 @@ pub fn import_path(input: &Path, out_dir: &Path) -> Result<ImportReport, String>
                     output: Some(path),
                     notes: imported.notes,
                     errors: Vec::new(),
+                    first_api: imported.first_api,
                 });
             }
             Err(errors) => report.files.push(FileOutcome {
@@ -161,6 +169,7 @@ pub fn import_path(input: &Path, out_dir: &Path) -> Result<ImportReport, String>
                 output: None,
                 notes: Vec::new(),
                 errors,
+                first_api: false,
             }),
         }
     }
@@ -178,6 +187,7 @@ fn failure(source: PathBuf, construct: &str, message: String) -> FileOutcome {
             message,
             refav_broken: false,
         }],
+        first_api: false,
     }
 }
 

@@ -34,6 +34,9 @@ pub struct Imported {
     /// Deliberate differences from RefAV this program hits (also written into the program as
     /// `// note:` comments).
     pub notes: Vec<String>,
+    /// The program is written against RefAV's first API (`accelerating(..., thresh=...)`) and
+    /// was imported under that API's meaning (the program's header says which API it used).
+    pub first_api: bool,
 }
 
 /// Why a program was not imported.

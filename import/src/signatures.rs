@@ -339,6 +339,15 @@ pub const SIGNATURES: &[Signature] = &[
     },
 ];
 
+/// The function whose keyword marks a program written against RefAV's first API:
+/// `accelerating(track_candidates, log_dir, thresh=0)` (its prompt of March 2025, e.g.
+/// CainanD/RefAV 05a681c), which the code the 262 programs came with (d61b714) still accepted as
+/// `min_accel=thresh, max_accel=inf`, and 5c5be64 rejects (`TypeError`).
+pub const FIRST_API_FUNCTION: &str = "accelerating";
+
+/// The first API's keyword of [`FIRST_API_FUNCTION`].
+pub const FIRST_API_KEYWORD: &str = "thresh";
+
 /// RefAV functions that exist but read data Scenalog does not have (camera images, colours).
 pub const UNSUPPORTED: &[(&str, &str)] = &[
     ("is_color", "needs camera images and a colour classifier"),

@@ -41,6 +41,8 @@ enum Val {
     Func(&'static Signature),
     /// `scenario_not(f)` or `reverse_relationship(f)`.
     Wrapped(&'static str, &'static Signature),
+    /// `scenario_not(reverse_relationship(f))`.
+    NotReversed(&'static Signature),
     /// The value of an assignment that failed to translate (already reported).
     Poison,
 }
@@ -57,7 +59,7 @@ impl Val {
             Val::None => "None",
             Val::List(_) => "a list",
             Val::Func(_) => "a function",
-            Val::Wrapped(..) => "a wrapped function",
+            Val::Wrapped(..) | Val::NotReversed(_) => "a wrapped function",
             Val::Poison => "an untranslated value",
         }
     }
@@ -81,6 +83,8 @@ struct Translator<'a> {
     errors: Vec<ImportError>,
     /// The line of the statement being translated.
     line: usize,
+    /// The program uses RefAV's first API (`accelerating(..., thresh=...)`).
+    first_api: bool,
 }
 
 type Res<T> = Result<T, ImportError>;
@@ -102,6 +106,7 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         outputs: Vec::new(),
         errors: Vec::new(),
         line: 0,
+        first_api: false,
     };
     // Parsing, translating and dropping the tree each recurse once per level: a program nesting
     // past the limits is an error for its file, before any of them starts.
@@ -180,6 +185,11 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         "// Imported from the RefAV program {} by `scenalog import refav`.\n",
         one_line(path)
     ));
+    text.push_str(if t.first_api {
+        "// RefAV API: first (accelerating(..., thresh=...), before CainanD/RefAV 5c5be64)\n"
+    } else {
+        "// RefAV API: current (CainanD/RefAV 5c5be64)\n"
+    });
     for n in &t.notes {
         text.push_str(&format!("// note: {}\n", one_line(n)));
     }
@@ -197,6 +207,7 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         description,
         program: text,
         notes: t.notes,
+        first_api: t.first_api,
     })
 }
 
@@ -510,6 +521,7 @@ impl Translator<'_> {
                 self.apply(sig, args, hint)
             }
             Val::Wrapped(wrapper, sig) => self.apply_wrapped(wrapper, sig, pos, kw, hint),
+            Val::NotReversed(sig) => self.apply_not_reversed(sig, pos, kw, hint),
             v => Err(self.broken(
                 "call",
                 format!("{} is not callable ({})", v.kind_name(), self.src(c)),
@@ -519,12 +531,32 @@ impl Translator<'_> {
 
     /// Binds arguments to parameters as Python does; what Python rejects is an error here.
     fn bind(
-        &self,
+        &mut self,
         sig: &'static Signature,
         pos: Vec<Val>,
-        kw: Vec<(String, Val)>,
+        mut kw: Vec<(String, Val)>,
     ) -> Res<BTreeMap<&'static str, Val>> {
         let mut out: BTreeMap<&'static str, Val> = BTreeMap::new();
+        // RefAV's first API: `accelerating(track_candidates, log_dir, thresh=0)`, which its
+        // later code mapped to `min_accel=thresh, max_accel=inf` (no stationary exclusion).
+        let legacy = if sig.name == signatures::FIRST_API_FUNCTION {
+            kw.iter()
+                .position(|(k, _)| k == signatures::FIRST_API_KEYWORD)
+                .map(|i| kw.remove(i).1)
+        } else {
+            None
+        };
+        if let Some(thresh) = legacy {
+            let x = self.num(sig.name, signatures::FIRST_API_KEYWORD, &thresh)?;
+            self.first_api = true;
+            self.notes.push(format!(
+                "line {}: accelerating(..., thresh={}) is RefAV's first API: forward acceleration >= {} m/s², no upper bound, stationary objects not excluded (the current API rejects the keyword)",
+                self.line,
+                fmt_num(x),
+                fmt_num(x)
+            ));
+            out.insert(signatures::FIRST_API_KEYWORD, Val::Num(x));
+        }
         if pos.len() > sig.params.len() {
             return Err(self.broken(
                 sig.name,
@@ -696,7 +728,8 @@ impl Translator<'_> {
             Kind::Relational => {
                 if f == "get_objects_in_relative_direction" {
                     let (sel, _) = self.relational(sig, &args, "objects_in_direction", false)?;
-                    return Ok(Val::Scen(self.reverse(&sel, hint.unwrap_or(f))));
+                    let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
+                    return Ok(Val::Scen(self.reverse(&sel, &tracks, hint.unwrap_or(f))));
                 }
                 let (_, scen) = self.relational(sig, &args, hint.unwrap_or(f), true)?;
                 Ok(Val::Scen(scen))
@@ -746,6 +779,9 @@ impl Translator<'_> {
                         ));
                     }
                     Ok(Val::Wrapped(sig.name, inner))
+                }
+                Val::Wrapped("reverse_relationship", inner) if f == "scenario_not" => {
+                    Ok(Val::NotReversed(inner))
                 }
                 other => Err(self.broken(
                     f,
@@ -822,6 +858,18 @@ impl Translator<'_> {
                     _ => "_".to_string(),
                 };
                 vec![format!("{rel}(X, T, {dir})")]
+            }
+            "accelerating" if args.contains_key(signatures::FIRST_API_KEYWORD) => {
+                // RefAV's first API (see `bind`): `min_accel = thresh`, no upper bound, and
+                // its accelerating did not yet exclude stationary objects.
+                let lo = self.num(
+                    f,
+                    signatures::FIRST_API_KEYWORD,
+                    &a(signatures::FIRST_API_KEYWORD),
+                )?;
+                let mut v = vec!["accel(X, T, V)".to_string()];
+                v.extend(range("V", lo, f64::INFINITY));
+                v
             }
             "has_lateral_acceleration" | "accelerating" | "has_velocity" => {
                 let (rel, lo, hi) = match f {
@@ -1107,30 +1155,34 @@ impl Translator<'_> {
             }
             _ => return Err(self.err(f, format!("{f}() is not a relational function"))),
         }
+        // Tracks with at least `min_count` related candidates at the frame; only the pairs at
+        // kept frames are the function's relationships (RefAV applies `min_number` before it
+        // creates any, so `get_objects_in_relative_direction` keeps it too).
+        let sel = if min_count > 1.0 {
+            self.emit(format!(
+                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
+                tracks.rel, min_count as i64
+            ));
+            let sel = format!("{out}_sel");
+            self.used_names.insert(sel.clone());
+            self.emit(format!("{sel}(X, Y, T) :- {out}(X, T), {pairs}(X, Y, T)."));
+            sel
+        } else {
+            if want_result {
+                self.emit(format!("{out}(X, T) :- {pairs}(X, _, T)."));
+            }
+            pairs
+        };
         if !want_result {
             return Ok((
-                pairs,
+                sel,
                 Scen {
                     rel: out,
                     rel_r: None,
                 },
             ));
         }
-        // The result: tracks with at least `min_count` related candidates at the frame.
-        if min_count > 1.0 {
-            self.emit(format!(
-                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
-                tracks.rel, min_count as i64
-            ));
-            // only the pairs at kept frames are the function's relationships
-            let sel = format!("{out}_sel");
-            self.used_names.insert(sel.clone());
-            self.emit(format!("{sel}(X, Y, T) :- {out}(X, T), {pairs}(X, Y, T)."));
-            self.finish_relational(&out, &sel, &tracks, &cands)
-        } else {
-            self.emit(format!("{out}(X, T) :- {pairs}(X, _, T)."));
-            self.finish_relational(&out, &pairs, &tracks, &cands)
-        }
+        self.finish_relational(&out, &sel, &tracks, &cands)
     }
 
     fn finish_relational(
@@ -1158,10 +1210,21 @@ impl Translator<'_> {
     }
 
     /// The candidates of a relational result become the tracks, and its tracks their related.
-    fn reverse(&mut self, pairs: &str, hint: &str) -> Scen {
+    /// As in RefAV, a track's own related objects at the frame come along under it (RefAV nests
+    /// them under the reversed relation), except those the function itself related it to; the
+    /// candidates' related objects do not.
+    fn reverse(&mut self, pairs: &str, tracks: &Scen, hint: &str) -> Scen {
         let out = self.fresh(hint);
         self.emit(format!("{out}(Y, T) :- {pairs}(_, Y, T)."));
         self.emit(format!("{out}_r(Y, X, T) :- {pairs}(X, Y, T)."));
+        if let Some(r) = &tracks.rel_r {
+            let new = format!("{out}_new");
+            self.used_names.insert(new.clone());
+            self.emit(format!("{new}(X, Y) :- {pairs}(X, Y, _)."));
+            self.emit(format!(
+                "{out}_r(Y, Z, T) :- {pairs}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
+            ));
+        }
         Scen {
             rel: out.clone(),
             rel_r: Some(format!("{out}_r")),
@@ -1218,7 +1281,9 @@ impl Translator<'_> {
                 return Ok(Val::Scen(scen));
             }
             let (sel, _) = self.relational(inner, &args, &format!("{}_fwd", inner.name), false)?;
-            return Ok(Val::Scen(self.reverse(&sel, hint)));
+            let p0 = inner.params[0].0;
+            let tracks = self.scen(inner.name, p0, args.get(p0).unwrap_or(&Val::None))?;
+            return Ok(Val::Scen(self.reverse(&sel, &tracks, hint)));
         }
         // scenario_not
         let args = self.bind(inner, pos, kw)?;
@@ -1255,6 +1320,53 @@ impl Translator<'_> {
         };
         let neg = format!("!{}(X, T)", positive.rel);
         Ok(Val::Scen(self.filter(&base, &[neg], hint)))
+    }
+
+    /// `scenario_not(reverse_relationship(f))(tracks, candidates, log_dir, …)`. RefAV's
+    /// `scenario_not` finds `log_dir` among the parameters of `reverse_relationship`'s wrapper
+    /// (`track_candidates, related_candidates, log_dir, …`), so the call must pass it third,
+    /// positionally; the result is the tracks' pairs where the track is not itself a top-level
+    /// object of the reversed relation (the reversal's top level is the candidates, so a track
+    /// drops out only at frames where it is also a candidate `f` relates to some track).
+    fn apply_not_reversed(
+        &mut self,
+        inner: &'static Signature,
+        pos: Vec<Val>,
+        kw: Vec<(String, Val)>,
+        hint: Option<&str>,
+    ) -> Res<Val> {
+        if pos.len() < 3 {
+            return Err(self.broken(
+                "scenario_not",
+                format!(
+                    "IndexError: scenario_not(reverse_relationship({}))(...) reads log_dir as its third positional argument, and the call has {}",
+                    inner.name,
+                    pos.len()
+                ),
+            ));
+        }
+        let tracks = self.scen(inner.name, inner.params[0].0, &pos[0])?;
+        let reversed = match self.apply_wrapped(
+            "reverse_relationship",
+            inner,
+            pos,
+            kw,
+            Some(&format!("{}_reversed", inner.name)),
+        )? {
+            Val::Scen(s) => s,
+            _ => {
+                return Err(self.err(
+                    "scenario_not",
+                    "the wrapped function gave no scenario".into(),
+                ))
+            }
+        };
+        let neg = format!("!{}(X, T)", reversed.rel);
+        Ok(Val::Scen(self.filter(
+            &tracks,
+            &[neg],
+            hint.unwrap_or("not"),
+        )))
     }
 }
 

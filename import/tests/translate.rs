@@ -217,14 +217,13 @@ fn errors_name_the_line_and_the_construct() {
         (e[0].line, e[0].construct.as_str(), e[0].refav_broken),
         (4, "for loop", false)
     );
-    let e = errors(&format!("{HEAD}x = accelerating(vehicles, log_dir, thresh=1.0)\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    let e = errors(&format!("{HEAD}x = accelerating(vehicles, log_dir, speed=1.0)\noutput_scenario(x, description, log_dir, output_dir)\n"));
     assert_eq!(
         (e[0].line, e[0].construct.as_str(), e[0].refav_broken),
         (4, "accelerating", true)
     );
     assert!(
-        e[0].message
-            .contains("unexpected keyword argument 'thresh'"),
+        e[0].message.contains("unexpected keyword argument 'speed'"),
         "{}",
         e[0].message
     );
@@ -301,4 +300,111 @@ fn at_pedestrian_crossing_at_the_default_distance_is_the_prelude_concept() {
         run("result = at_pedestrian_crossing(objects, log_dir, within_distance=1.0000001)");
     assert!(!by_prelude.is_empty());
     assert!(by_prelude.is_subset(&by_catalog));
+}
+
+/// `get_objects_in_relative_direction(..., min_number=N)` keeps only the frames where the track
+/// has at least N candidates in the direction: its referred objects are the related objects of
+/// `has_objects_in_relative_direction` with the same count.
+#[test]
+fn get_objects_in_relative_direction_keeps_min_number() {
+    let args = "vehicles, vehicles, log_dir, direction='forward', within_distance=30";
+    let (_, rel_one) = run(&format!(
+        "result = has_objects_in_relative_direction({args})"
+    ));
+    let (_, rel_two) = run(&format!(
+        "result = has_objects_in_relative_direction({args}, min_number=2)"
+    ));
+    let (got_any, _) = run(&format!(
+        "result = get_objects_in_relative_direction({args})"
+    ));
+    let (got_two, _) = run(&format!(
+        "result = get_objects_in_relative_direction({args}, min_number=2)"
+    ));
+    let expect: Pairs = rel_two.iter().map(|(_, y, t)| (*y, *t)).collect();
+    assert_eq!(got_two, expect);
+    assert_eq!(
+        got_any,
+        rel_one.iter().map(|(_, y, t)| (*y, *t)).collect::<Pairs>()
+    );
+    assert!(!got_two.is_empty() && got_two.len() < got_any.len());
+}
+
+/// A reversed relation carries the original tracks' related objects along, as RefAV nests them
+/// under the reversed relation: the vehicle behind a vehicle with a pedestrian on its right is
+/// related to both.
+#[test]
+fn reversal_carries_the_tracks_related_objects() {
+    let with_ped = "a = has_objects_in_relative_direction(vehicles, peds, log_dir, direction='right', within_distance=5, lateral_thresh=2)\n";
+    let (_, a_rel) = run(&format!("{with_ped}result = a"));
+    let (behind, behind_rel) = run(&format!(
+        "{with_ped}result = get_objects_in_relative_direction(a, vehicles, log_dir, direction='backward', max_number=1, within_distance=25)"
+    ));
+    assert!(!behind.is_empty());
+    // (behind, front, T) pairs; each also relates the front vehicle's pedestrians at T
+    let fronts: Triples = behind_rel
+        .iter()
+        .filter(|(_, x, t)| a_rel.iter().any(|(f, _, ft)| f == x && ft == t))
+        .copied()
+        .collect();
+    let mut expect = fronts.clone();
+    for (y, x, t) in &fronts {
+        for (f, p, ft) in &a_rel {
+            if f == x && ft == t {
+                expect.insert((*y, *p, *t));
+            }
+        }
+    }
+    assert_eq!(behind_rel, expect);
+    assert!(behind_rel.len() > fronts.len());
+}
+
+/// `scenario_not(reverse_relationship(f))(a, b, log_dir)`: RefAV's `scenario_not` takes the
+/// tracks of `a` and removes the frames where a track is a top-level object of the reversed
+/// relation, whose top level is `b`'s crossers.
+#[test]
+fn scenario_not_of_a_reversed_relation() {
+    let (all, _) = run("result = vehicles");
+    // the reversal's top level is pedestrians, so no vehicle is removed (RefAV's own outcome)
+    let (kept, _) = run(
+        "result = scenario_not(reverse_relationship(being_crossed_by))(vehicles, peds, log_dir)",
+    );
+    assert_eq!(kept, all);
+    // among vehicles, those crossing another vehicle at a frame are removed at that frame
+    let (crossers, _) =
+        run("result = reverse_relationship(being_crossed_by)(vehicles, vehicles, log_dir)");
+    let (rest, _) = run(
+        "result = scenario_not(reverse_relationship(being_crossed_by))(vehicles, vehicles, log_dir)",
+    );
+    assert!(!crossers.is_empty());
+    assert_eq!(rest, all.difference(&crossers).copied().collect::<Pairs>());
+    // log_dir by keyword: RefAV's wrapper reads it from the third positional argument
+    let e = errors(&format!("{HEAD}x = scenario_not(reverse_relationship(being_crossed_by))(vehicles, peds, log_dir=log_dir)\noutput_scenario(x, description, log_dir, output_dir)\n"));
+    assert!(e[0].refav_broken, "{e:?}");
+}
+
+/// `accelerating(..., thresh=X)` is RefAV's first API: forward acceleration >= X without an
+/// upper bound, and (as then) stationary objects not excluded; the program says which API.
+#[test]
+fn first_api_accelerating_thresh() {
+    let first = imported("result = accelerating(vehicles, log_dir, thresh=1.0)");
+    assert!(first.contains("// RefAV API: first"), "{first}");
+    assert!(first.contains("accel(X, T, V), V >= 1.0."), "{first}");
+    let current = imported("result = accelerating(vehicles, log_dir, min_accel=1.0)");
+    assert!(current.contains("// RefAV API: current"), "{current}");
+    let (old, _) = run("result = accelerating(objects, log_dir, thresh=-1.0)");
+    let (new, _) = run("result = accelerating(objects, log_dir, min_accel=-1.0)");
+    let (parked, _) = run("result = stationary(objects, log_dir)");
+    assert!(new.is_subset(&old) && new.len() < old.len());
+    let extra: Pairs = old.difference(&new).copied().collect();
+    assert!(
+        extra.is_subset(&parked),
+        "only stationary objects are added"
+    );
+    match import_checked(
+        &format!("{HEAD}x = accelerating(vehicles, log_dir, thresh=2)\noutput_scenario(x, description, log_dir, output_dir)\n"),
+        "t.txt",
+    ) {
+        Ok(p) => assert!(p.first_api && p.notes.iter().any(|n| n.contains("first API"))),
+        Err(e) => panic!("{e:?}"),
+    }
 }

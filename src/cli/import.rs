@@ -56,6 +56,7 @@ pub fn run(args: Args) -> ExitCode {
                     "source": f.source.display().to_string(),
                     "output": f.output.as_ref().map(|p| p.display().to_string()),
                     "refav_broken": f.refav_broken(),
+                    "refav_api": if f.first_api { "first" } else { "current" },
                     "notes": f.notes,
                     "errors": f.errors.iter().map(|e| serde_json::json!({
                         "line": e.line, "construct": e.construct, "message": e.message,
@@ -83,10 +84,11 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
         outln!(
-            "{} programs: {} imported and checked clean into {}, {} broken in RefAV itself, {} not imported",
+            "{} programs: {} imported and checked clean into {} ({} written against RefAV's first API), {} broken in RefAV itself, {} not imported",
             report.files.len(),
             report.imported(),
             out.display(),
+            report.first_api(),
             report.refav_broken(),
             report.failed_here()
         );
