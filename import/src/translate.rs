@@ -15,6 +15,8 @@ const AT_A_CROSSWALK_M: f64 = 1.0;
 
 use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
 
+use scenalog_facts::catalog;
+
 use crate::signatures::{self, Default, Kind, Signature};
 use crate::{ImportError, Imported};
 
@@ -896,13 +898,7 @@ impl Translator<'_> {
                 v
             }
             "on_lane_type" => {
-                let ty = self.word(
-                    f,
-                    "lane_type",
-                    &a("lane_type"),
-                    &["BUS", "VEHICLE", "BIKE"],
-                    false,
-                )?;
+                let ty = self.word(f, "lane_type", &a("lane_type"), catalog::LANE_TYPES, false)?;
                 vec![
                     format!("in_lane(X, T, L)"),
                     format!("lane_type(L, \"{}\")", ty.unwrap_or_default()),
@@ -967,13 +963,7 @@ impl Translator<'_> {
         match f {
             "has_objects_in_relative_direction" | "get_objects_in_relative_direction" => {
                 let dir = self
-                    .word(
-                        f,
-                        "direction",
-                        &a("direction"),
-                        &["forward", "backward", "left", "right"],
-                        false,
-                    )?
+                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
                     .unwrap_or_default();
                 let min = self.num(f, "min_number", &a("min_number"))?;
                 let max = self.num(f, "max_number", &a("max_number"))?;
@@ -1049,13 +1039,7 @@ impl Translator<'_> {
             }
             "being_crossed_by" => {
                 let dir = self
-                    .word(
-                        f,
-                        "direction",
-                        &a("direction"),
-                        &["forward", "backward", "left", "right"],
-                        false,
-                    )?
+                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
                     .unwrap_or_default();
                 let in_dir = self
                     .word(
@@ -1133,13 +1117,7 @@ impl Translator<'_> {
             "in_same_lane" => self.emit(format!("{pairs}(X, Y, T) :- {base}, same_lane(X, Y, T).")),
             "heading_in_relative_direction_to" => {
                 let d = self
-                    .word(
-                        f,
-                        "direction",
-                        &a("direction"),
-                        &["same", "opposite", "perpendicular"],
-                        false,
-                    )?
+                    .word(f, "direction", &a("direction"), catalog::HEADINGS, false)?
                     .unwrap_or_default();
                 self.emit(format!(
                     "{pairs}(X, Y, T) :- {base}, heading_relative(X, Y, T, \"{d}\")."
@@ -1147,7 +1125,7 @@ impl Translator<'_> {
             }
             "on_relative_side_of_road" => {
                 let s = self
-                    .word(f, "side", &a("side"), &["same", "opposite"], false)?
+                    .word(f, "side", &a("side"), catalog::ROAD_SIDES, false)?
                     .unwrap_or_default();
                 self.emit(format!(
                     "{pairs}(X, Y, T) :- {base}, road_side(X, Y, T, \"{s}\")."
