@@ -139,7 +139,8 @@ def _mine_argv(
         argv += ["--rules", *rules]
     if logs:
         argv += ["--logs", *logs]
-    argv += ["--out", out]
+    # The official pickle too: MineResult.submission holds its bytes.
+    argv += ["--out", out, "--pickle"]
     for flag, value in [
         ("--threads", threads),
         ("--gt", gt),

@@ -36,6 +36,12 @@ pub struct Args {
     /// this directory.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Score only the ground truth's sequences the predictions hold, as `scenalog mine --gt`
+    /// scores a run (its `OUT/scored.pkl` holds the sequences it mined); the number left out is
+    /// printed. Without it a ground-truth sequence missing from the predictions is an error, as
+    /// in the official evaluation.
+    #[arg(long)]
+    only_predicted: bool,
     /// Evaluate at this rate (Hz, e.g. 2 or 10): every k-th frame of each ground-truth sequence,
     /// k its own rate over this one; the predictions keep the frames at those timestamps.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "timestamps")]
@@ -56,6 +62,17 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if args.only_predicted {
+        let before = gt.sequences.len();
+        gt.sequences.retain(|k, _| pred.sequences.contains_key(k));
+        let left_out = before - gt.sequences.len();
+        if left_out > 0 {
+            eprintln!(
+                "scenalog eval: --only-predicted: {left_out} of the ground truth's {before} \
+                 sequences are not in the predictions and are not scored"
+            );
+        }
+    }
     let sampling = match (&args.rate, &args.timestamps) {
         (Some(hz), _) => Some(Sampling::Rate(*hz)),
         (None, Some(path)) => match read_timestamps(path) {
@@ -94,6 +111,12 @@ pub fn run(args: Args) -> ExitCode {
         Ok(r) => r,
         Err(e) => {
             eprintln!("scenalog eval: {e}");
+            if e.to_string().contains("not in the predictions") {
+                eprintln!(
+                    "  (to score only the sequences the predictions hold, as `scenalog mine --gt` \
+                     does, add --only-predicted)"
+                );
+            }
             return ExitCode::from(2);
         }
     };

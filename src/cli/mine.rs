@@ -1,8 +1,9 @@
 //! `scenalog mine`: run scenario programs over logs and write predictions.
 //!
 //! `scenalog mine --rules R.dl… --logs DIR… --out OUT` evaluates every program on every log and
-//! writes, under OUT: `predictions.pkl` (the official pickle, keyed `(log_id, description)`),
-//! `predictions.feather` (the long Arrow table), `matches.json` (one entry per referred track),
+//! writes, under OUT: `predictions.feather` (the long Arrow table, zstd-compressed),
+//! `predictions.pkl` with `--pickle` (the official pickle, keyed `(log_id, description)`),
+//! `matches.json` (one entry per referred track),
 //! `summary.json`, `scored.pkl` with `--gt` (the scored sequences' predictions), and one pickle and record per (log, program) pair under `pairs/` (what
 //! `--resume` skips). `--rules` takes files or directories of `.dl` files; `--logs` takes log
 //! directories or directories of logs.
@@ -95,6 +96,10 @@ pub struct Options {
     /// What to print on standard output.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub format: Format,
+    /// Also write OUT/predictions.pkl, the official pickle of the whole run (a submission; by
+    /// default only the compressed Arrow table; with --gt, OUT/scored.pkl is written anyway).
+    #[arg(long)]
+    pub pickle: bool,
     /// Ground truth (official pickle or Arrow table) to score the run against at the end.
     #[arg(long, value_name = "G")]
     pub gt: Option<PathBuf>,
@@ -292,10 +297,13 @@ pub fn run(args: Args) -> ExitCode {
                     }
                 }
             }
+            let pickle = if args.pickle {
+                format!("{PREDICTIONS_PICKLE} (official pickle), ")
+            } else {
+                String::new()
+            };
             outln!(
-                "\nwrote {} (official pickle), {} (Arrow table), {} (one entry per matched \
-                 track) in {}",
-                PREDICTIONS_PICKLE,
+                "\nwrote {pickle}{} (Arrow table), {} (one entry per matched track) in {}",
                 PREDICTIONS_TABLE,
                 MATCHES_JSON,
                 out.display()
@@ -307,6 +315,16 @@ pub fn run(args: Args) -> ExitCode {
                 (Some(s), Some(p)) => {
                     outln!("\nscore against {}:", p.display());
                     out!("{}", render_score(s));
+                    let only = if s.not_mined.is_empty() {
+                        ""
+                    } else {
+                        " --only-predicted"
+                    };
+                    outln!(
+                        "score it again: scenalog eval --pred {} --gt {}{only}",
+                        out.join(SCORED_PICKLE).display(),
+                        p.display()
+                    );
                 }
                 (None, Some(p)) if !score_failed => outln!(
                     "\nnot scored: no mined (log, description) pair is in {}",
@@ -454,7 +472,10 @@ pub fn run_options(args: &Options, plan: &MinePlan, progress: bool) -> RunOption
         threads: args.threads.map(|n| n as usize),
         engine: engine_options(args),
         progress,
-        names: Default::default(),
+        names: crate::pipeline::output::OutputNames {
+            write_pickle: args.pickle,
+            ..Default::default()
+        },
         keep_submission: plan.gt.is_some(),
         cancel: None,
     }

@@ -305,6 +305,7 @@ pub fn run_options(args: &Options, plan: &PairsPlan, progress: bool) -> RunOptio
         names: OutputNames {
             pickle: SUBMISSION_PICKLE,
             table: SUBMISSION_TABLE,
+            write_pickle: true,
         },
         keep_submission: false,
         cancel: None,
