@@ -478,3 +478,57 @@ fn a_proof_descends_into_the_prelude() {
     );
     assert!(out.contains("✓ V < 0.5"), "{out}");
 }
+
+/// `--at` past either end of the log is an error naming the log's time range (it used to
+/// explain the last frame in silence); a time inside the range still explains the nearest frame.
+#[test]
+fn at_outside_the_log_is_an_error_naming_its_range() {
+    let log = logs().into_iter().next().expect("a log");
+    let log = log.to_string_lossy();
+    let track = relation(Path::new(log.as_ref()), "category")
+        .into_iter()
+        .find_map(|row| row.first().and_then(|t| t.as_str().map(str::to_string)))
+        .expect("a track");
+    for at in ["999", "-0.5"] {
+        let (code, _, err) = scenalog(&[
+            "explain", "--rules", STOPPED, "--log", &log, "--track", &track, "--at", at,
+        ]);
+        assert_eq!(code, 2, "--at {at}: {err}");
+        if at == "999" {
+            assert!(
+                err.contains("--at 999") && err.contains("runs from 0.0 s to "),
+                "{err}"
+            );
+        }
+    }
+    let (code, out, err) = scenalog(&[
+        "explain", "--rules", STOPPED, "--log", &log, "--track", &track, "--at", "3.04",
+    ]);
+    assert!(code == 0 || code == 1, "{err}");
+    assert!(out.contains("at 3.0 s (frame 30)"), "{out}");
+}
+
+/// The hint of an unknown track points at a command that lists the log's track uuids, and it
+/// does list them.
+#[test]
+fn an_unknown_track_names_a_command_that_lists_the_tracks() {
+    let log = logs().into_iter().next().expect("a log");
+    let log_s = log.to_string_lossy();
+    let (code, _, err) = scenalog(&[
+        "explain", "--rules", STOPPED, "--log", &log_s, "--track", "zzzz",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("scenalog facts LOG_DIR --relation category --json"),
+        "{err}"
+    );
+    let rows = relation(&log, "category");
+    let uuids: BTreeSet<&str> = rows.iter().filter_map(|r| r[0].as_str()).collect();
+    let tracks: usize = err
+        .split(" tracks;")
+        .next()
+        .and_then(|h| h.rsplit('(').next())
+        .and_then(|n| n.trim().parse().ok())
+        .expect("the track count");
+    assert_eq!(uuids.len(), tracks, "every track listed: {err}");
+}

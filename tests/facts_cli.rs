@@ -210,3 +210,44 @@ fn a_relation_is_extracted_within_the_limits() {
         "{err}"
     );
 }
+
+/// `facts --relation R --json --columns` names the columns from the catalog (as the Python
+/// package's tables) around the same tuples the bare `--json` prints, which is unchanged.
+#[test]
+fn facts_relation_json_names_its_columns_from_the_catalog() {
+    let log = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
+    );
+    let run = |extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+            .args(["facts", log, "--relation", "near", "--json"])
+            .args(extra)
+            .output()
+            .expect("run scenalog");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).expect("JSON")
+    };
+    let bare = run(&[]);
+    let named = run(&["--columns"]);
+    assert_eq!(named["relation"], "near");
+    let names: Vec<&str> = named["columns"]
+        .as_array()
+        .expect("columns")
+        .iter()
+        .map(|c| c["name"].as_str().expect("name"))
+        .collect();
+    let spec = scenalog_facts::catalog::relation("near").expect("near");
+    assert_eq!(names, spec.column_names());
+    assert_eq!(names.len(), spec.columns.len());
+    assert_eq!(named["columns"][0]["type"], "track");
+    assert_eq!(named["tuples"], bare, "the same tuples");
+    assert!(
+        bare.as_array().is_some_and(|a| !a.is_empty()),
+        "bare array unchanged"
+    );
+}

@@ -223,7 +223,7 @@ fn a_closed_stdout_pipe_ends_every_command_quietly() {
         assert_eq!(out.status.code(), Some(0), "scenalog {args:?}: {err}");
     }
     // `mine` still wrote its outputs.
-    assert!(out_dir.path().join("predictions.pkl").is_file());
+    assert!(out_dir.path().join("predictions.feather").is_file());
 }
 
 /// How long one command on a special file may take: reading a FIFO would wait forever and

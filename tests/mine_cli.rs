@@ -30,6 +30,13 @@ fn gt() -> PathBuf {
     root().join("tests/data/av2/eval/combined_gt_dev.pkl")
 }
 
+fn gt_s() -> &'static str {
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/av2/eval/combined_gt_dev.pkl"
+    )
+}
+
 /// Runs the binary with `args` (after the subcommand) and no LLM settings from the environment.
 fn run(sub: &str, args: &[&Path]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
@@ -44,8 +51,10 @@ fn run(sub: &str, args: &[&Path]) -> Output {
     c.output().expect("run scenalog")
 }
 
+/// `scenalog mine ARGS --pickle` (the tests read the official pickle the run then writes).
 fn mine(args: &[&str]) -> Output {
-    let paths: Vec<&Path> = args.iter().map(Path::new).collect();
+    let mut paths: Vec<&Path> = args.iter().map(Path::new).collect();
+    paths.push(Path::new("--pickle"));
     run("mine", &paths)
 }
 
@@ -590,9 +599,14 @@ fn descriptions_are_synthesized_cached_and_mined() {
     assert!(stderr(&o).contains("1 already done"), "{}", stderr(&o));
 }
 
+/// The library over the sample logs, as with no arguments, into a temporary `--out` (never the
+/// user's own `target/scenalog-mine`): the Arrow table is zstd-compressed and dictionary-encoded,
+/// at most 15 MB a log, and no pickle of the whole run is written unless asked for.
 #[test]
 fn no_arguments_mines_the_library_over_the_sample_logs() {
-    let o = mine(&[]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = run("mine", &[Path::new("--out"), &out]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = stdout(&o);
     let header = text.lines().next().expect("header");
@@ -622,22 +636,41 @@ fn no_arguments_mines_the_library_over_the_sample_logs() {
     )));
     // Scored against the bundled ground truth: its two sequences.
     assert!(text.contains("scored 2 sequences"), "{text}");
-    let out = root().join("target/scenalog-mine");
     assert!(text.contains(&s(&out)), "{text}");
-    let pred = read_pickle(&out.join("predictions.pkl")).expect("pickle");
+    assert!(
+        !out.join("predictions.pkl").exists(),
+        "no pickle unless asked"
+    );
+    assert!(
+        out.join("scored.pkl").is_file(),
+        "the scored sequences' pickle"
+    );
+    let table = out.join("predictions.feather");
+    let pred = read_table(&table).expect("table");
     assert_eq!(pred.sequences.len(), programs.len() * 3);
+    let bytes = fs::read(&table).expect("table bytes");
+    assert!(
+        bytes.len() <= 3 * 15_000_000,
+        "{} bytes for 3 logs",
+        bytes.len()
+    );
+    let schema = scenalog_input::read_schema(&bytes).expect("schema");
+    for column in ["log_id", "prompt", "name"] {
+        let ty = schema.field_with_name(column).expect(column).data_type();
+        assert!(
+            matches!(ty, arrow_schema::DataType::Dictionary(..)),
+            "{column}: {ty:?}"
+        );
+    }
+    let batches = scenalog_input::read_batches(&bytes, Some(vec![0])).expect("batches");
+    assert_eq!(batches.len(), 3, "one record batch a log");
 }
 
 /// The programs a published `summary.json` lists, after checking that every output of the set
 /// is read from one generation directory (never a set mixed from two runs).
 #[cfg(unix)]
 fn published_programs(out: &Path) -> std::collections::BTreeSet<String> {
-    let names = [
-        "predictions.pkl",
-        "predictions.feather",
-        "matches.json",
-        "summary.json",
-    ];
+    let names = ["predictions.feather", "matches.json", "summary.json"];
     let dirs: std::collections::BTreeSet<PathBuf> = names
         .iter()
         .map(|n| {
@@ -652,7 +685,7 @@ fn published_programs(out: &Path) -> std::collections::BTreeSet<String> {
     let matches: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(out.join("matches.json")).expect("matches"))
             .expect("matches.json parses");
-    read_pickle(&out.join("predictions.pkl")).expect("predictions.pkl reads");
+    read_table(&out.join("predictions.feather")).expect("predictions.feather reads");
     let programs: std::collections::BTreeSet<String> = summary["pairs"]
         .as_array()
         .expect("pairs")
@@ -729,4 +762,69 @@ fn a_killed_run_never_leaves_a_mixed_set_of_outputs() {
             || released_lock;
         assert!(kept, "left behind: {name}");
     }
+}
+
+/// The README's example pair, in order: `mine --rules stopped_car.dl --gt G`, then `eval --pred
+/// OUT/scored.pkl --gt G`. The run mines one of G's two prompts, so G holds a sequence the
+/// scored pickle does not: plain `eval` refuses it (as the official evaluation) and says what to
+/// add; with `--only-predicted` it scores the same sequences as the run, to the same values.
+#[test]
+fn the_readme_mine_then_eval_pair_runs_and_agrees() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = run(
+        "mine",
+        &[
+            Path::new("--rules"),
+            &library("stopped_car"),
+            Path::new("--logs"),
+            &logs_dir(),
+            Path::new("--out"),
+            &out,
+            Path::new("--gt"),
+            &gt(),
+            Path::new("--format"),
+            Path::new("json"),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let mined: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("json");
+    let scored = out.join("scored.pkl");
+    let eval = |extra: &[&str]| {
+        let mut args: Vec<&Path> = vec![
+            Path::new("--pred"),
+            &scored,
+            Path::new("--gt"),
+            Path::new(gt_s()),
+            Path::new("--json"),
+        ];
+        args.extend(extra.iter().map(Path::new));
+        run("eval", &args)
+    };
+    let strict = eval(&[]);
+    assert_eq!(strict.status.code(), Some(2));
+    assert!(
+        stderr(&strict).contains("--only-predicted"),
+        "{}",
+        stderr(&strict)
+    );
+    let o = eval(&["--only-predicted"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("1 of the ground truth's 2 sequences"),
+        "{}",
+        stderr(&o)
+    );
+    let again: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("json");
+    for key in ["hota_temporal", "hota_track", "timestamp_ba", "log_ba"] {
+        assert_eq!(again[key], mined["score"][key], "{key}");
+        assert!(again[key].is_number(), "{key}: {}", again[key]);
+    }
+    // The README's own eval line, with the ROI filter, runs too.
+    let o = eval(&[
+        "--only-predicted",
+        "--dataset-dir",
+        logs_dir().to_str().expect("utf-8 path"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }

@@ -120,7 +120,7 @@ fn a_stale_lock_of_a_dead_process_is_taken_over() {
         all.contains("took over the lock") && all.contains("pid 4000000"),
         "{all}"
     );
-    assert!(out.join("predictions.pkl").is_file());
+    assert!(out.join("predictions.feather").is_file());
     assert_eq!(
         std::fs::read_to_string(out.join(".lock")).expect("lock"),
         "",
@@ -177,7 +177,7 @@ fn a_file_past_ulimit_f_is_an_error_naming_it_and_nothing_is_published() {
         std::fs::symlink_metadata(out.join(".current")).is_err(),
         "{all}"
     );
-    assert!(!out.join("predictions.pkl").exists());
+    assert!(!out.join("predictions.feather").exists());
     let left: Vec<PathBuf> = files_under(&out)
         .into_iter()
         .filter(|p| {

@@ -3,10 +3,14 @@
 
 use crate::error::EvalError;
 use crate::model::{FrameData, Submission};
+use arrow_array::cast::AsArray;
+use arrow_array::types::Int32Type;
 use arrow_array::{
-    Array, ArrayRef, Float32Array, Float64Array, Int32Array, Int64Array, RecordBatch, StringArray,
+    Array, ArrayRef, DictionaryArray, Float32Array, Float64Array, Int32Array, Int64Array,
+    RecordBatch, StringArray,
 };
-use arrow_ipc::writer::FileWriter;
+use arrow_ipc::writer::{FileWriter, IpcWriteOptions};
+use arrow_ipc::CompressionType;
 use arrow_schema::{DataType, Field, Schema};
 use std::io::Write;
 use std::path::Path;
@@ -25,7 +29,80 @@ fn col<'a, T: 'static>(b: &'a RecordBatch, name: &str, what: &str) -> Result<&'a
         })
 }
 
-/// Reads the long Arrow table (IPC file, optionally LZ4-compressed).
+/// A string column read either way it may be stored: plain `Utf8`, or dictionary-encoded
+/// (any integer keys, `Utf8` values), as our own tables store `log_id`, `prompt` and `name`.
+enum Strings<'a> {
+    /// Plain strings.
+    Plain(&'a StringArray),
+    /// Keys into a dictionary: a row is null when its key is.
+    Dict {
+        keys: &'a dyn Array,
+        index: Vec<usize>,
+        values: &'a StringArray,
+    },
+}
+
+impl<'a> Strings<'a> {
+    /// The column `name` of `b` as strings; an error naming the column when it is missing or of
+    /// another type.
+    fn of(b: &'a RecordBatch, name: &str, what: &str) -> Result<Strings<'a>, EvalError> {
+        let column = b
+            .column_by_name(name)
+            .ok_or_else(|| EvalError::Format(format!("{what}: column {name:?} missing")))?;
+        let wrong = || {
+            EvalError::Format(format!(
+                "{what}: column {name:?} has type {:?}",
+                column.data_type()
+            ))
+        };
+        if let Some(plain) = column.as_string_opt::<i32>() {
+            return Ok(Strings::Plain(plain));
+        }
+        let dict = column.as_any_dictionary_opt().ok_or_else(wrong)?;
+        let values = dict.values().as_string_opt::<i32>().ok_or_else(wrong)?;
+        // The decoder has checked every non-null key against the dictionary's length; an empty
+        // dictionary (no key to normalise) leaves every row null.
+        let index = if values.is_empty() {
+            vec![0; dict.keys().len()]
+        } else {
+            dict.normalized_keys()
+        };
+        Ok(Strings::Dict {
+            keys: dict.keys(),
+            index,
+            values,
+        })
+    }
+
+    /// Whether row `r` is null.
+    fn is_null(&self, r: usize) -> bool {
+        match self {
+            Strings::Plain(a) => a.is_null(r),
+            Strings::Dict {
+                keys,
+                index,
+                values,
+            } => keys.is_null(r) || values.is_empty() || values.is_null(index[r]),
+        }
+    }
+
+    /// Row `r`'s string (empty for a null row; check [`Strings::is_null`] first).
+    fn value(&self, r: usize) -> &'a str {
+        match self {
+            Strings::Plain(a) => a.value(r),
+            Strings::Dict { index, values, .. } => {
+                if values.is_empty() {
+                    ""
+                } else {
+                    values.value(index[r])
+                }
+            }
+        }
+    }
+}
+
+/// Reads the long Arrow table (IPC file, uncompressed or LZ4- or zstd-compressed; its string
+/// columns plain or dictionary-encoded).
 ///
 /// The path must be a regular file; the file's framing and declared sizes are checked
 /// ([`scenalog_input::arrow`]) before anything is decoded, so a corrupt table is an error naming
@@ -48,8 +125,8 @@ pub fn table_from_bytes(bytes: &[u8], what: &str) -> Result<Submission, EvalErro
     let mut last: Option<(String, String, i32)> = None;
     let mut row_no = 0usize;
     for b in batches {
-        let log = col::<StringArray>(&b, "log_id", &what)?;
-        let prompt = col::<StringArray>(&b, "prompt", &what)?;
+        let log = Strings::of(&b, "log_id", &what)?;
+        let prompt = Strings::of(&b, "prompt", &what)?;
         let fi = col::<Int32Array>(&b, "frame_index", &what)?;
         let ts = col::<Int64Array>(&b, "timestamp_ns", &what)?;
         let ego: Vec<&Float64Array> = ["ego_tx_m", "ego_ty_m", "ego_tz_m"]
@@ -59,7 +136,7 @@ pub fn table_from_bytes(bytes: &[u8], what: &str) -> Result<Submission, EvalErro
         let oi = col::<Int32Array>(&b, "object_index", &what)?;
         let tid = col::<Int32Array>(&b, "track_id", &what)?;
         let label = col::<Int32Array>(&b, "label", &what)?;
-        let name = col::<StringArray>(&b, "name", &what)?;
+        let name = Strings::of(&b, "name", &what)?;
         let t: Vec<&Float64Array> = ["tx_m", "ty_m", "tz_m"]
             .iter()
             .map(|n| col::<Float64Array>(&b, n, &what))
@@ -134,18 +211,96 @@ pub fn table_from_bytes(bytes: &[u8], what: &str) -> Result<Submission, EvalErro
     Ok(sub)
 }
 
-/// Writes the long Arrow table atomically (uncompressed IPC file; `score` only when every frame has scores).
-pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
+/// The compression of the long tables we write: zstd, per buffer, as the Arrow IPC format
+/// allows (pyarrow, polars and our readers decode it).
+pub const TABLE_COMPRESSION: CompressionType = CompressionType::ZSTD;
+
+/// The values of the long table's dictionary-encoded columns (`log_id`, `prompt`, `name`): each
+/// column's dictionary, one string a value, sorted. A table written in several record batches
+/// (one a log, [`table_bytes`]) uses the same dictionaries in every batch, as an Arrow IPC file
+/// must (a file cannot replace a dictionary between batches).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct TableDictionaries {
+    /// The `log_id` column's values.
+    pub log_ids: Vec<String>,
+    /// The `prompt` column's values.
+    pub prompts: Vec<String>,
+    /// The `name` column's values (object categories or labels).
+    pub names: Vec<String>,
+}
+
+impl TableDictionaries {
+    /// The dictionaries of one submission: every value it holds, sorted.
+    pub fn of(sub: &Submission) -> TableDictionaries {
+        let mut d = TableDictionaries::default();
+        let mut names = std::collections::BTreeSet::new();
+        for ((l, p), frames) in &sub.sequences {
+            d.log_ids.push(l.clone());
+            d.prompts.push(p.clone());
+            names.extend(
+                frames
+                    .iter()
+                    .flat_map(|f| f.name.iter().map(String::as_str)),
+            );
+        }
+        d.names = names.into_iter().map(str::to_string).collect();
+        d.normalise();
+        d
+    }
+
+    /// Sorts each dictionary and removes repeated values.
+    pub fn normalise(&mut self) {
+        for v in [&mut self.log_ids, &mut self.prompts, &mut self.names] {
+            v.sort_unstable();
+            v.dedup();
+        }
+    }
+}
+
+/// A dictionary-encoded string column: `values` (the dictionary) and one key a row.
+fn dictionary_column(
+    column: &str,
+    values: &[String],
+    rows: Vec<Option<&str>>,
+) -> Result<ArrayRef, EvalError> {
+    let keys: Int32Array = rows
+        .into_iter()
+        .map(|v| match v {
+            None => Ok(None),
+            Some(v) => values
+                .binary_search_by(|x| x.as_str().cmp(v))
+                .map(|i| Some(i as i32))
+                .map_err(|_| {
+                    EvalError::Format(format!(
+                        "column {column:?}: {v:?} is not in the table's dictionary"
+                    ))
+                }),
+        })
+        .collect::<Result<_, _>>()?;
+    let dictionary = Arc::new(StringArray::from_iter_values(values));
+    let array = DictionaryArray::<Int32Type>::try_new(keys, dictionary)
+        .map_err(|e| EvalError::Format(format!("column {column:?}: {e}")))?;
+    Ok(Arc::new(array))
+}
+
+/// The type of the dictionary-encoded string columns.
+fn dictionary_type() -> DataType {
+    DataType::Dictionary(Box::new(DataType::Int32), Box::new(DataType::Utf8))
+}
+
+/// The submission as one record batch of the long table, its string columns encoded with
+/// `dicts` (every value must be in them).
+pub fn table_batch(sub: &Submission, dicts: &TableDictionaries) -> Result<RecordBatch, EvalError> {
     let with_score = sub.sequences.values().flatten().all(|f| f.score.is_some());
-    let mut log = Vec::new();
-    let mut prompt = Vec::new();
+    let mut log: Vec<Option<&str>> = Vec::new();
+    let mut prompt: Vec<Option<&str>> = Vec::new();
     let mut fi = Vec::new();
     let mut ts = Vec::new();
     let mut ego: [Vec<f64>; 3] = Default::default();
     let mut oi: Vec<Option<i32>> = Vec::new();
     let mut tid = Vec::new();
     let mut label = Vec::new();
-    let mut name: Vec<Option<String>> = Vec::new();
+    let mut name: Vec<Option<&str>> = Vec::new();
     let mut t: [Vec<Option<f64>>; 3] = Default::default();
     let mut s: [Vec<Option<f32>>; 3] = Default::default();
     let mut yaw = Vec::new();
@@ -155,8 +310,8 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
         for (i, f) in frames.iter().enumerate() {
             let n = f.len().max(1);
             for j in 0..n {
-                log.push(l.clone());
-                prompt.push(p.clone());
+                log.push(Some(l));
+                prompt.push(Some(p));
                 fi.push(i as i32);
                 ts.push(f.timestamp_ns);
                 for (e, x) in ego.iter_mut().zip(f.ego_translation_m) {
@@ -166,7 +321,7 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
                 oi.push(has.then_some(j as i32));
                 tid.push(has.then(|| f.track_id[j]));
                 label.push(has.then(|| f.label[j]));
-                name.push(has.then(|| f.name[j].clone()));
+                name.push(has.then(|| f.name[j].as_str()));
                 for k in 0..3 {
                     t[k].push(has.then(|| f.translation_m[j][k]));
                     s[k].push(has.then(|| f.size[j][k]));
@@ -185,15 +340,15 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
     };
     add(
         "log_id",
-        DataType::Utf8,
+        dictionary_type(),
         false,
-        Arc::new(StringArray::from(log)),
+        dictionary_column("log_id", &dicts.log_ids, log)?,
     );
     add(
         "prompt",
-        DataType::Utf8,
+        dictionary_type(),
         false,
-        Arc::new(StringArray::from(prompt)),
+        dictionary_column("prompt", &dicts.prompts, prompt)?,
     );
     add(
         "frame_index",
@@ -235,9 +390,9 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
     );
     add(
         "name",
-        DataType::Utf8,
+        dictionary_type(),
         true,
-        Arc::new(StringArray::from(name)),
+        dictionary_column("name", &dicts.names, name)?,
     );
     for (k, n) in ["tx_m", "ty_m", "tz_m"].iter().enumerate() {
         add(
@@ -280,16 +435,65 @@ pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
             Arc::new(Float32Array::from(score)),
         );
     }
-    let what = path.display().to_string();
-    let ferr = |e: arrow_schema::ArrowError| EvalError::Format(format!("{what}: {e}"));
     let schema = Arc::new(Schema::new(fields));
-    let batch = RecordBatch::try_new(schema.clone(), cols).map_err(ferr)?;
+    RecordBatch::try_new(schema, cols).map_err(|e| EvalError::Format(e.to_string()))
+}
+
+/// The IPC write options of our tables: `codec` per buffer (`None`: uncompressed).
+pub fn table_write_options(codec: Option<CompressionType>) -> Result<IpcWriteOptions, EvalError> {
+    IpcWriteOptions::default()
+        .try_with_compression(codec)
+        .map_err(|e| EvalError::Format(format!("Arrow write options: {e}")))
+}
+
+/// The long Arrow table of `sub` as the bytes of an IPC file (one record batch), its `log_id`,
+/// `prompt` and `name` columns dictionary-encoded with `dicts`, every buffer compressed with
+/// `codec`.
+pub fn table_bytes(
+    sub: &Submission,
+    dicts: &TableDictionaries,
+    codec: Option<CompressionType>,
+) -> Result<Vec<u8>, EvalError> {
+    let batch = table_batch(sub, dicts)?;
+    let ferr = |e: arrow_schema::ArrowError| EvalError::Format(e.to_string());
     let mut buf = Vec::new();
     {
-        let mut w = FileWriter::try_new(&mut buf, &schema).map_err(ferr)?;
+        let mut w = FileWriter::try_new_with_options(
+            &mut buf,
+            &batch.schema(),
+            table_write_options(codec)?,
+        )
+        .map_err(ferr)?;
         w.write(&batch).map_err(ferr)?;
         w.finish().map_err(ferr)?;
     }
+    Ok(buf)
+}
+
+/// Writes the long Arrow table atomically (a temporary file, synced, then renamed): one record
+/// batch, `log_id`, `prompt` and `name` dictionary-encoded, zstd-compressed
+/// ([`TABLE_COMPRESSION`]); `score` only when every frame has scores.
+pub fn write_table(sub: &Submission, path: &Path) -> Result<(), EvalError> {
+    write_table_with(
+        sub,
+        path,
+        &TableDictionaries::of(sub),
+        Some(TABLE_COMPRESSION),
+    )
+}
+
+/// [`write_table`] with given dictionaries (which must hold every value of `sub`) and codec.
+pub fn write_table_with(
+    sub: &Submission,
+    path: &Path,
+    dicts: &TableDictionaries,
+    codec: Option<CompressionType>,
+) -> Result<(), EvalError> {
+    let what = path.display().to_string();
+    let buf = table_bytes(sub, dicts, codec).map_err(|e| match e {
+        EvalError::Format(m) => EvalError::Format(format!("{what}: {m}")),
+        e => e,
+    })?;
     let file_name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_string())

@@ -116,6 +116,23 @@ impl RelationSpec {
         self.columns.len()
     }
 
+    /// The column names: the columns' variable names (`X`, `T`, …), a repeated one made unique
+    /// with `_2`, `_3` (`near`: `X`, `Y`, `T`, `D`). `scenalog facts --relation --json
+    /// --columns` and the Python package's tables name the columns so.
+    pub fn column_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for c in self.columns {
+            let mut name = c.name.to_string();
+            let mut n = 1;
+            while names.contains(&name) {
+                n += 1;
+                name = format!("{}_{n}", c.name);
+            }
+            names.push(name);
+        }
+        names
+    }
+
     /// The column types, in order.
     pub fn types(&self) -> Vec<ColType> {
         self.columns.iter().map(|c| c.ty).collect()

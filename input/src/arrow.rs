@@ -1,9 +1,14 @@
-//! Arrow IPC files (feather v2, LZ4 or uncompressed) checked before they are decoded.
+//! Arrow IPC files (feather v2, uncompressed, LZ4- or zstd-compressed, dictionary-encoded or
+//! not) checked before they are decoded.
 //!
 //! [`read_schema`] and [`read_batches`] check the framing (the `ARROW1` magic at both ends and a
 //! footer that fits), then every size the file declares (blocks inside the file, buffers inside
-//! their block, row counts and uncompressed lengths no larger than the bytes could hold), and
-//! only then run the Arrow decoder, with a panic inside it turned into an error as a last resort.
+//! their block, row counts and uncompressed lengths no larger than the bytes could hold: an LZ4
+//! buffer at most [`MAX_EXPANSION`] times its size, a zstd buffer at most what its frame's block
+//! headers can produce, and all buffers together at most [`MAX_TOTAL_EXPANSION`] times the file
+//! plus 4 GiB),
+//! and only then run the Arrow decoder, with a panic inside it turned into an error as a last
+//! resort.
 
 use std::io::Cursor;
 
@@ -33,7 +38,21 @@ fn corrupt(reason: impl Into<String>) -> Corrupt {
 }
 
 /// LZ4 cannot expand data more than about 255-fold; a buffer declaring more is corrupt.
-const MAX_EXPANSION: u64 = 256;
+pub const MAX_EXPANSION: u64 = 256;
+
+/// Most uncompressed bytes all the compressed buffers of a file may declare together, as a
+/// multiple of the file's length (plus [`TOTAL_SLACK`]): zstd can legitimately expand a run of
+/// one value thousands of times (a 128 KiB block from 4 bytes), so single buffers may go past
+/// [`MAX_EXPANSION`], but a file never makes the decoder allocate more than this. (A run's
+/// predictions table repeats each log's boxes once per program: the library's 97 programs
+/// compress about 380-fold.)
+pub const MAX_TOTAL_EXPANSION: u64 = 1024;
+
+/// Uncompressed bytes every file may declare beyond [`MAX_TOTAL_EXPANSION`] times its length.
+const TOTAL_SLACK: u64 = 4 << 30;
+
+/// The largest block a zstd frame holds, uncompressed (RFC 8878, `Block_Maximum_Size`).
+const ZSTD_MAX_BLOCK: u64 = 128 << 10;
 
 /// The file's schema, read from its footer after the framing checks.
 pub fn read_schema(bytes: &[u8]) -> Result<SchemaRef, Corrupt> {
@@ -87,6 +106,10 @@ fn check_declared_sizes(bytes: &[u8]) -> Result<(), Corrupt> {
         .ok_or_else(|| corrupt("bad footer length"))?;
     let footer = arrow_ipc::root_as_footer(&bytes[footer_start..n - 10])
         .map_err(|e| corrupt(format!("bad footer: {e}")))?;
+    let total_limit = (n as u64)
+        .saturating_mul(MAX_TOTAL_EXPANSION)
+        .saturating_add(TOTAL_SLACK);
+    let mut total = 0u64;
     let blocks = footer.recordBatches().into_iter().flatten();
     let dictionaries = footer.dictionaries().into_iter().flatten();
     for (i, block) in blocks.chain(dictionaries).enumerate() {
@@ -133,10 +156,7 @@ fn check_declared_sizes(bytes: &[u8]) -> Result<(), Corrupt> {
                 )));
             }
         }
-        // ZSTD can expand further, but this build decodes LZ4 only (ZSTD files fail later).
-        let compressed = batch
-            .compression()
-            .is_some_and(|c| c.codec() == arrow_ipc::CompressionType::LZ4_FRAME);
+        let codec = batch.compression().map(|c| c.codec());
         for buf in batch.buffers().into_iter().flatten() {
             let start = usize::try_from(buf.offset())
                 .ok()
@@ -152,18 +172,123 @@ fn check_declared_sizes(bytes: &[u8]) -> Result<(), Corrupt> {
                     "block {i}: a buffer lies outside its body"
                 )));
             }
-            if compressed && len >= 8 {
-                let declared = read_i64(bytes, start).unwrap_or(-1);
-                let limit = (len as u64).saturating_mul(MAX_EXPANSION) + 1024;
-                if declared != -1 && u64::try_from(declared).map_or(true, |d| d > limit) {
-                    return Err(corrupt(format!(
-                        "block {i}: a compressed buffer of {len} bytes declares {declared} uncompressed bytes"
-                    )));
+            let Some(codec) = codec.filter(|_| len >= 8) else {
+                continue;
+            };
+            let declared = read_i64(bytes, start).unwrap_or(-1);
+            if declared == -1 {
+                continue; // stored uncompressed
+            }
+            let data = &bytes[start + 8..start + len];
+            let limit = match codec {
+                arrow_ipc::CompressionType::LZ4_FRAME => {
+                    (len as u64).saturating_mul(MAX_EXPANSION) + 1024
                 }
+                arrow_ipc::CompressionType::ZSTD => zstd_bound(data).map_err(|e| {
+                    corrupt(format!("block {i}: a zstd buffer of {len} bytes: {e}"))
+                })?,
+                _ => continue, // the decoder rejects other codecs itself
+            };
+            let declared_ok = u64::try_from(declared).ok().filter(|&d| d <= limit);
+            let Some(d) = declared_ok else {
+                return Err(corrupt(format!(
+                    "block {i}: a compressed buffer of {len} bytes declares {declared} uncompressed bytes"
+                )));
+            };
+            total = total.saturating_add(d);
+            if total > total_limit {
+                return Err(corrupt(format!(
+                    "the compressed buffers declare more than {total_limit} uncompressed bytes \
+                     in all, over {MAX_TOTAL_EXPANSION} times the file's {n} bytes"
+                )));
             }
         }
     }
     Ok(())
+}
+
+/// The most bytes the zstd frames of `data` can decompress to, read from their headers without
+/// decompressing (RFC 8878): a raw block gives its size, an RLE block its repeat count, a
+/// compressed block at most 128 KiB, a skippable frame nothing; a frame that declares its
+/// content size gives at most that. An error when the frames are cut short or malformed.
+pub fn zstd_bound(data: &[u8]) -> Result<u64, String> {
+    let mut at = 0usize;
+    let mut total = 0u64;
+    let cut = || "its zstd frame is cut short".to_string();
+    while at < data.len() {
+        let magic = data
+            .get(at..at + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .ok_or_else(cut)?;
+        at += 4;
+        if magic & 0xFFFF_FFF0 == 0x184D_2A50 {
+            let size = data
+                .get(at..at + 4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .ok_or_else(cut)?;
+            at = at.checked_add(4 + size as usize).ok_or_else(cut)?;
+            continue;
+        }
+        if magic != 0xFD2F_B528 {
+            return Err(format!("not a zstd frame (magic {magic:#010x})"));
+        }
+        let descriptor = *data.get(at).ok_or_else(cut)?;
+        at += 1;
+        let single_segment = descriptor & 0x20 != 0;
+        let checksum = descriptor & 0x04 != 0;
+        let dictionary_bytes = [0, 1, 2, 4][usize::from(descriptor & 0x03)];
+        let content_bytes = match descriptor >> 6 {
+            0 => usize::from(single_segment),
+            1 => 2,
+            2 => 4,
+            _ => 8,
+        };
+        at += usize::from(!single_segment) + dictionary_bytes;
+        let content = data.get(at..at + content_bytes).ok_or_else(cut)?;
+        at += content_bytes;
+        let declared_content = match content_bytes {
+            0 => None,
+            _ => {
+                let mut w = [0u8; 8];
+                w[..content_bytes].copy_from_slice(content);
+                let v = u64::from_le_bytes(w);
+                Some(if content_bytes == 2 { v + 256 } else { v })
+            }
+        };
+        let mut frame = 0u64;
+        loop {
+            let h = data.get(at..at + 3).ok_or_else(cut)?;
+            at += 3;
+            let header = u32::from(h[0]) | u32::from(h[1]) << 8 | u32::from(h[2]) << 16;
+            let last = header & 1 != 0;
+            let size = u64::from(header >> 3);
+            let (stored, produced) = match (header >> 1) & 3 {
+                0 => (size, size),
+                1 => (1, size),
+                2 => (size, ZSTD_MAX_BLOCK),
+                _ => return Err("a zstd block of the reserved type".to_string()),
+            };
+            if produced > ZSTD_MAX_BLOCK {
+                return Err(format!("a zstd block of {produced} bytes, over 128 KiB"));
+            }
+            at = at.checked_add(stored as usize).ok_or_else(cut)?;
+            if at > data.len() {
+                return Err(cut());
+            }
+            frame += produced;
+            if last {
+                break;
+            }
+        }
+        if checksum {
+            at += 4;
+        }
+        total = total.saturating_add(declared_content.map_or(frame, |c| c.min(frame)));
+    }
+    if at > data.len() {
+        return Err(cut());
+    }
+    Ok(total)
 }
 
 fn read_i32(bytes: &[u8], at: usize) -> Option<i32> {
@@ -192,8 +317,8 @@ mod tests {
     use arrow_ipc::writer::{FileWriter, IpcWriteOptions};
     use std::sync::Arc;
 
-    /// A two-column table of `rows` rows as an Arrow IPC file, LZ4-compressed or not.
-    fn table(rows: i64, lz4: bool) -> Vec<u8> {
+    /// A two-column table of `rows` rows as an Arrow IPC file, compressed with `codec` or not.
+    fn table_with(rows: i64, codec: Option<arrow_ipc::CompressionType>) -> Vec<u8> {
         let ts: Int64Array = (0..rows).map(|i| i * 100_000_000).collect();
         let x: Float64Array = (0..rows).map(|i| (i as f64).sin()).collect();
         let batch = RecordBatch::try_from_iter([
@@ -201,7 +326,6 @@ mod tests {
             ("x", Arc::new(x) as _),
         ])
         .expect("batch");
-        let codec = lz4.then_some(arrow_ipc::CompressionType::LZ4_FRAME);
         let options = IpcWriteOptions::default()
             .try_with_compression(codec)
             .expect("options");
@@ -212,6 +336,11 @@ mod tests {
         w.finish().expect("finish");
         drop(w);
         out
+    }
+
+    /// [`table_with`], LZ4-compressed or not.
+    fn table(rows: i64, lz4: bool) -> Vec<u8> {
+        table_with(rows, lz4.then_some(arrow_ipc::CompressionType::LZ4_FRAME))
     }
 
     #[test]
@@ -254,5 +383,56 @@ mod tests {
         assert!(rows > 0, "no row count blow-up caught");
         assert!(uncompressed > 0, "no uncompressed-length blow-up caught");
         assert!(outside > 0, "no offset or length blow-up caught");
+    }
+
+    #[test]
+    fn zstd_files_read() {
+        let bytes = table_with(5_000, Some(arrow_ipc::CompressionType::ZSTD));
+        assert!(bytes.len() < table(5_000, false).len(), "compressed");
+        let batches = read_batches(&bytes, None).expect("zstd batches");
+        let rows: usize = batches.iter().map(|b| b.num_rows()).sum();
+        assert_eq!(rows, 5_000);
+    }
+
+    #[test]
+    fn absurd_declared_sizes_are_errors_in_zstd_files_too() {
+        // As for LZ4: every aligned word set to 2^50 in turn, and also to a size just past what
+        // the buffer's zstd blocks can produce; each read ends, the checks name what they caught.
+        let bytes = table_with(4_000, Some(arrow_ipc::CompressionType::ZSTD));
+        let mut uncompressed = 0;
+        for at in (8..bytes.len() - 16).step_by(8) {
+            let mut bad = bytes.clone();
+            bad[at..at + 8].copy_from_slice(&(1i64 << 50).to_le_bytes());
+            if let Err(e) = read_batches(&bad, None) {
+                uncompressed += usize::from(e.reason.contains("uncompressed bytes"));
+            }
+        }
+        assert!(uncompressed > 0, "no uncompressed-length blow-up caught");
+    }
+
+    #[test]
+    fn a_zstd_bound_covers_the_data_and_cut_frames_are_errors() {
+        let bytes = table_with(4_000, Some(arrow_ipc::CompressionType::ZSTD));
+        // The first zstd frame of the file, after its 8-byte length prefix.
+        let magic = [0x28, 0xB5, 0x2F, 0xFD];
+        let at = bytes
+            .windows(4)
+            .position(|w| w == magic)
+            .expect("a zstd frame");
+        let declared = read_i64(&bytes, at - 8).expect("length");
+        let frame_end = (at..bytes.len())
+            .rev()
+            .find(|&end| zstd_bound(&bytes[at..end]).is_ok())
+            .expect("a whole frame");
+        let bound = zstd_bound(&bytes[at..frame_end]).expect("bound");
+        assert!(bound >= declared as u64, "{bound} < {declared}");
+        assert!(zstd_bound(&bytes[at..at + 6]).is_err(), "cut short");
+        assert!(zstd_bound(b"not zstd").is_err());
+        // One RLE block of 1000 bytes, last: header (1000 << 3) | (1 << 1) | 1, then the byte.
+        let header = (1000u32 << 3) | 0b11;
+        let mut rle = vec![0x28, 0xB5, 0x2F, 0xFD, 0x00, 0x00];
+        rle.extend_from_slice(&header.to_le_bytes()[..3]);
+        rle.push(7);
+        assert_eq!(zstd_bound(&rle), Ok(1000));
     }
 }

@@ -179,14 +179,17 @@ def _gather(programs: List[tuple], results: Dict[str, dict], failures: List[str]
     tables = [results[l]["predictions"] for l in order]
     if not tables:
         raise scenalog.ScenalogError("\n  ".join(["no log was mined", *failures]))
-    predictions = pa.concat_tables(tables)
+    # Each log's table has its own dictionaries (its log id): one dictionary per column, as an
+    # Arrow IPC file needs.
+    predictions = pa.concat_tables(tables).unify_dictionaries()
     matches = [m for l in order for m in results[l]["matches"]]
     if out is not None:
         out_dir = os.fspath(out)
         os.makedirs(out_dir, exist_ok=True)
         _write_atomic(os.path.join(out_dir, "predictions.pkl"), submission)
         sink = pa.BufferOutputStream()
-        with pa.ipc.new_file(sink, predictions.schema) as w:
+        options = pa.ipc.IpcWriteOptions(compression="zstd")
+        with pa.ipc.new_file(sink, predictions.schema, options=options) as w:
             w.write_table(predictions)
         _write_atomic(os.path.join(out_dir, "predictions.feather"), sink.getvalue().to_pybytes())
         _write_atomic(os.path.join(out_dir, "matches.json"), json.dumps(matches, indent=2).encode())

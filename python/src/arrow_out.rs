@@ -8,21 +8,6 @@ use scenalog_facts::catalog::RelationSpec;
 use scenalog_facts::relation::{RelationData, Value};
 use scenalog_facts::Scene;
 
-/// Column names from the catalog's variable names (`X`, `T`, …), made unique with `_2`, `_3`.
-fn column_names(spec: &RelationSpec) -> Vec<String> {
-    let mut names: Vec<String> = Vec::new();
-    for c in spec.columns {
-        let mut name = c.name.to_string();
-        let mut n = 1;
-        while names.contains(&name) {
-            n += 1;
-            name = format!("{}_{n}", c.name);
-        }
-        names.push(name);
-    }
-    names
-}
-
 /// The tuples as one record batch in an Arrow IPC stream, written as `scenalog facts --relation
 /// --json` writes them: tracks as uuid strings, times as frame indices (uint32), lanes as map
 /// ids (int64), strings, floats (float64; a non-finite one null) and integers (int64).
@@ -31,7 +16,7 @@ pub fn relation_ipc(
     spec: &RelationSpec,
     data: &RelationData,
 ) -> Result<Vec<u8>, String> {
-    let names = column_names(spec);
+    let names = spec.column_names();
     let mut fields = Vec::new();
     let mut arrays: Vec<ArrayRef> = Vec::new();
     for (i, column) in data.columns.iter().enumerate() {

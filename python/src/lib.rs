@@ -183,6 +183,8 @@ fn mine(
         out: Some(out),
         threads: count("threads", threads)?.map(|n| n as usize),
         resume,
+        // The official pickle too: MineResult.submission holds its bytes.
+        pickle: true,
         gt,
         eval_timestamps,
         limits: Limits {

@@ -122,7 +122,7 @@ def test_facts_corrupt_file(tmp_path, cli):
 
 def test_mine_equals_the_command(tmp_path, cli_json):
     out = tmp_path / "cli"
-    expected = cli_json("mine", "--rules", *PROGRAMS, "--logs", LOGS, "--out", out, "--format", "json")
+    expected = cli_json("mine", "--rules", *PROGRAMS, "--logs", LOGS, "--out", out, "--pickle", "--format", "json")
     result = scenalog.mine(PROGRAMS, LOGS, threads=2)
     assert result.out is None
     assert result.failures == [] == expected["failures"]

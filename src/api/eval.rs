@@ -60,6 +60,22 @@ pub struct EvalRequest {
     pub dataset_dir: Option<PathBuf>,
     /// Which frames.
     pub frames: Frames,
+    /// Score only the ground truth's sequences the predictions hold (as `mine --gt` scores a
+    /// run); without it a ground-truth sequence missing from the predictions is an error, as in
+    /// the official evaluation.
+    pub only_predicted: bool,
+}
+
+/// An evaluation's report, and how many ground-truth sequences `only_predicted` left out.
+#[derive(Clone, Debug)]
+pub struct Evaluated {
+    /// The metrics.
+    pub report: Report,
+    /// Ground-truth sequences not scored because the predictions do not hold them (0 unless
+    /// [`EvalRequest::only_predicted`]).
+    pub left_out: usize,
+    /// Ground-truth sequences before any was left out.
+    pub gt_sequences: usize,
 }
 
 impl EvalRequest {
@@ -72,12 +88,18 @@ impl EvalRequest {
             max_range_m: 50.0,
             dataset_dir: None,
             frames: Frames::All,
+            only_predicted: false,
         }
     }
 }
 
 /// The metrics of the request's predictions against its ground truth.
 pub fn evaluate(request: &EvalRequest) -> Result<Report, Error> {
+    evaluate_counted(request).map(|e| e.report)
+}
+
+/// [`evaluate`], saying how many ground-truth sequences were left out.
+pub fn evaluate_counted(request: &EvalRequest) -> Result<Evaluated, Error> {
     let m = request.max_range_m;
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::about(
@@ -91,6 +113,11 @@ pub fn evaluate(request: &EvalRequest) -> Result<Report, Error> {
     }
     let mut pred = request.pred.read("predictions")?;
     let mut gt = request.gt.read("ground truth")?;
+    let gt_sequences = gt.sequences.len();
+    if request.only_predicted {
+        gt.sequences.retain(|k, _| pred.sequences.contains_key(k));
+    }
+    let left_out = gt_sequences - gt.sequences.len();
     let sampling = match &request.frames {
         Frames::All => None,
         Frames::Rate(hz) => Some(Sampling::Rate(*hz)),
@@ -115,5 +142,10 @@ pub fn evaluate(request: &EvalRequest) -> Result<Report, Error> {
         max_range_m: request.max_range_m,
         roi,
     };
-    scenalog_eval::evaluate(&pred, &gt, &opts).map_err(Error::plain)
+    let report = scenalog_eval::evaluate(&pred, &gt, &opts).map_err(Error::plain)?;
+    Ok(Evaluated {
+        report,
+        left_out,
+        gt_sequences,
+    })
 }

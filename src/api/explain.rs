@@ -18,7 +18,7 @@ use scenalog_facts::scene::{Frame, Scene, Track, TrackId};
 
 use crate::api::error::{Arg, Error, ErrorKind};
 use crate::api::mine::Limits;
-use crate::pipeline::explain::{evaluate_for_explain, frame_nearest, referred_frames, Explanation};
+use crate::pipeline::explain::{evaluate_for_explain, referred_frames, Explanation};
 use crate::pipeline::picture::related_at;
 use crate::pipeline::scenario::{scenario_from_source, Scenario};
 
@@ -100,10 +100,10 @@ fn find_track<'s>(scene: &'s Scene, uuid: &str) -> Result<&'s Track, String> {
     match matches.as_slice() {
         [t] => Ok(t),
         [] => Err(format!(
-            "no track `{uuid}` in log {} ({} tracks; `scenalog facts {}` lists them by category)",
+            "no track `{uuid}` in log {} ({} tracks; `scenalog facts LOG_DIR --relation category \
+             --json` lists each track's uuid with its categories)",
             scene.log_id,
-            scene.tracks.len(),
-            scene.log_id
+            scene.tracks.len()
         )),
         many => Err(format!(
             "`{uuid}` is the start of {} track uuids in log {} (e.g. {}, {}); give more of it",
@@ -169,9 +169,9 @@ pub fn explain_track(
     };
     let frames = referred_frames(&ev, track.id);
     let frame: Frame = match at {
-        Some(at) => match frame_nearest(&scene, at) {
-            Some(f) => f,
-            None => return Err((2, format!("log {} has no frames", scene.log_id))),
+        Some(at) => match crate::pipeline::explain::frame_at(&scene, at) {
+            Ok(f) => f,
+            Err(e) => return Err((2, e)),
         },
         None => match frames.first() {
             Some(f) => *f,

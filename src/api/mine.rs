@@ -13,7 +13,7 @@ use scenalog_synth::SynthConfig;
 
 use crate::api::error::{Arg, Error, ErrorKind};
 use crate::pipeline::budget::pair_limits;
-use crate::pipeline::output::SCORED_PICKLE;
+use crate::pipeline::output::{OutputNames, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{run_unpublished, LogInput, PairStatus, RunOptions, RunReport};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
@@ -90,6 +90,9 @@ pub struct MineRequest {
     pub resume: bool,
     /// Worker threads, 1 to 1024 (`None`: one per core).
     pub threads: Option<usize>,
+    /// Also write `OUT/predictions.pkl`, the official pickle of the whole run (a submission); by
+    /// default only the compressed Arrow table (with `gt`, `OUT/scored.pkl` is written anyway).
+    pub pickle: bool,
     /// Ground truth to score the run against (`None`, with no rules, logs or descriptions:
     /// the sample logs' ground truth).
     pub gt: Option<PathBuf>,
@@ -115,6 +118,7 @@ impl Default for MineRequest {
             descriptions: None,
             resume: false,
             threads: None,
+            pickle: false,
             gt: None,
             eval_timestamps: None,
             limits: Limits::default(),
@@ -308,7 +312,10 @@ pub fn run_options(request: &MineRequest, plan: &MinePlan) -> RunOptions {
         threads: request.threads,
         engine: engine_options(request.threads, &request.limits),
         progress: request.progress,
-        names: Default::default(),
+        names: OutputNames {
+            write_pickle: request.pickle,
+            ..Default::default()
+        },
         keep_submission: plan.gt.is_some(),
         cancel: request.cancel.clone(),
     }

@@ -324,6 +324,7 @@ pub fn run_options(request: &SplitRequest, plan: &SplitPlan) -> RunOptions {
         names: OutputNames {
             pickle: SUBMISSION_PICKLE,
             table: SUBMISSION_TABLE,
+            write_pickle: true,
         },
         keep_submission: false,
         cancel: request.cancel.clone(),

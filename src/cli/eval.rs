@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::api::eval::{evaluate, EvalRequest, Frames, SubmissionSource};
+use crate::api::eval::{evaluate_counted, EvalRequest, Frames, SubmissionSource};
 
 /// Arguments of `scenalog eval`.
 #[derive(clap::Args)]
@@ -33,6 +33,12 @@ pub struct Args {
     /// this directory.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Score only the ground truth's sequences the predictions hold, as `scenalog mine --gt`
+    /// scores a run (its `OUT/scored.pkl` holds the sequences it mined); the number left out is
+    /// printed. Without it a ground-truth sequence missing from the predictions is an error, as
+    /// in the official evaluation.
+    #[arg(long)]
+    only_predicted: bool,
     /// Evaluate at this rate (Hz, e.g. 2 or 10): every k-th frame of each ground-truth sequence,
     /// k its own rate over this one; the predictions keep the frames at those timestamps.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "timestamps")]
@@ -56,11 +62,27 @@ pub fn run(args: Args) -> ExitCode {
         max_range_m: args.max_range_m,
         dataset_dir: args.dataset_dir.clone(),
         frames,
+        only_predicted: args.only_predicted,
     };
-    let report = match evaluate(&request) {
-        Ok(r) => r,
+    let report = match evaluate_counted(&request) {
+        Ok(done) => {
+            if done.left_out > 0 {
+                eprintln!(
+                    "scenalog eval: --only-predicted: {} of the ground truth's {} sequences are \
+                     not in the predictions and are not scored",
+                    done.left_out, done.gt_sequences
+                );
+            }
+            done.report
+        }
         Err(e) => {
             eprintln!("scenalog eval: {}", e.flags());
+            if e.flags().contains("not in the predictions") {
+                eprintln!(
+                    "  (to score only the sequences the predictions hold, as `scenalog mine --gt` \
+                     does, add --only-predicted)"
+                );
+            }
             return ExitCode::from(2);
         }
     };

@@ -21,6 +21,11 @@ pub struct Args {
     /// as frame indices, numbers as numbers).
     #[arg(long, value_name = "NAME")]
     pub relation: Option<String>,
+    /// With `--relation --json`: print one object naming the columns, `{"relation": NAME,
+    /// "columns": [{"name": "X", "type": "track"}, …], "tuples": [[…], …]}` (names from the
+    /// catalog, as the Python package's tables), instead of the bare array of tuples.
+    #[arg(long, requires = "relation")]
+    pub columns: bool,
     /// Most tuples the extracted relation may hold, as `mine --max-tuples` [default: sized to
     /// the machine, as `mine`'s].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
@@ -44,7 +49,7 @@ pub fn run(args: Args) -> ExitCode {
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     if let Some(name) = &args.relation {
         let limits = crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1);
-        return print_relation(&scene, name, args.json, &limits);
+        return print_relation(&scene, name, (args.json, args.columns), &limits);
     }
     let summary = SceneSummary::of(&scene);
     if args.json {
@@ -59,19 +64,19 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// Extracts one relation within `limits` (its tuple budget and time limit, `mine`'s by default)
-/// and prints its count (text) or its tuples (`--json`).
+/// and prints its count (text) or its tuples (`--json`; with `--columns` named, see [`Args`]).
 fn print_relation(
     scene: &scenalog_facts::Scene,
     name: &str,
-    json: bool,
+    (json, columns): (bool, bool),
     limits: &scenalog_engine::Options,
 ) -> ExitCode {
-    if scenalog_facts::catalog::relation(name).is_none() {
+    let Some(spec) = scenalog_facts::catalog::relation(name) else {
         eprintln!(
             "scenalog facts: `{name}` is not a relation of the catalog (see `scenalog catalog`)"
         );
         return ExitCode::from(2);
-    }
+    };
     let start = Instant::now();
     let request = scenalog_facts::relation::Request::all(name);
     let budget = scenalog_extractors::Budget::new(limits.max_tuples, start, limits.timeout);
@@ -85,7 +90,16 @@ fn print_relation(
     };
     let ms = start.elapsed().as_secs_f64() * 1e3;
     if json {
-        let json = scenalog_extractors::relation_json(scene, &data);
+        let mut json = scenalog_extractors::relation_json(scene, &data);
+        if columns {
+            let named: Vec<serde_json::Value> = spec
+                .column_names()
+                .into_iter()
+                .zip(spec.types())
+                .map(|(n, t)| serde_json::json!({"name": n, "type": t.to_string()}))
+                .collect();
+            json = serde_json::json!({"relation": name, "columns": named, "tuples": json});
+        }
         crate::cli::stdout::write_with(|out| {
             serde_json::to_writer(&mut *out, &json)?;
             std::io::Write::write_all(out, b"\n")

@@ -1,8 +1,9 @@
 //! `scenalog mine`: run scenario programs over logs and write predictions.
 //!
 //! `scenalog mine --rules R.dl… --logs DIR… --out OUT` evaluates every program on every log and
-//! writes, under OUT: `predictions.pkl` (the official pickle, keyed `(log_id, description)`),
-//! `predictions.feather` (the long Arrow table), `matches.json` (one entry per referred track),
+//! writes, under OUT: `predictions.feather` (the long Arrow table, zstd-compressed),
+//! `predictions.pkl` with `--pickle` (the official pickle, keyed `(log_id, description)`),
+//! `matches.json` (one entry per referred track),
 //! `summary.json`, `scored.pkl` with `--gt` (the scored sequences' predictions), and one pickle and record per (log, program) pair under `pairs/` (what
 //! `--resume` skips). `--rules` takes files or directories of `.dl` files; `--logs` takes log
 //! directories or directories of logs.
@@ -36,7 +37,7 @@ use std::process::ExitCode;
 use crate::api::mine::{Descriptions, MineOutcome, MinePlan, MineRequest};
 use crate::cli::mine_options::{fail, limits, synthesis};
 pub use crate::cli::mine_options::{Format, Options};
-use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE};
+use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
 use crate::pipeline::run::{LogInput, RunReport};
 use crate::pipeline::scenario::Scenario;
 use crate::pipeline::summary::{render_score, render_table};
@@ -77,6 +78,7 @@ fn request(args: &Options) -> Result<MineRequest, String> {
         descriptions,
         resume: args.resume,
         threads: args.threads.map(|n| n as usize),
+        pickle: args.pickle,
         gt: args.gt.clone(),
         eval_timestamps: args.eval_timestamps.clone(),
         limits: limits(args),
@@ -191,10 +193,13 @@ pub fn run(args: Args) -> ExitCode {
                     }
                 }
             }
+            let pickle = if args.pickle {
+                format!("{PREDICTIONS_PICKLE} (official pickle), ")
+            } else {
+                String::new()
+            };
             outln!(
-                "\nwrote {} (official pickle), {} (Arrow table), {} (one entry per matched \
-                 track) in {}",
-                PREDICTIONS_PICKLE,
+                "\nwrote {pickle}{} (Arrow table), {} (one entry per matched track) in {}",
                 PREDICTIONS_TABLE,
                 MATCHES_JSON,
                 out.display()
@@ -206,6 +211,16 @@ pub fn run(args: Args) -> ExitCode {
                 (Some(s), Some(p)) => {
                     outln!("\nscore against {}:", p.display());
                     out!("{}", render_score(s));
+                    let only = if s.not_mined.is_empty() {
+                        ""
+                    } else {
+                        " --only-predicted"
+                    };
+                    outln!(
+                        "score it again: scenalog eval --pred {} --gt {}{only}",
+                        out.join(SCORED_PICKLE).display(),
+                        p.display()
+                    );
                 }
                 (None, Some(p)) if !score_failed => outln!(
                     "\nnot scored: no mined (log, description) pair is in {}",

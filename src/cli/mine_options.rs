@@ -44,6 +44,10 @@ pub struct Options {
     /// What to print on standard output.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub format: Format,
+    /// Also write OUT/predictions.pkl, the official pickle of the whole run (a submission; by
+    /// default only the compressed Arrow table; with --gt, OUT/scored.pkl is written anyway).
+    #[arg(long)]
+    pub pickle: bool,
     /// Ground truth (official pickle or Arrow table) to score the run against at the end.
     #[arg(long, value_name = "G")]
     pub gt: Option<PathBuf>,

@@ -106,6 +106,28 @@ pub fn frame_nearest(scene: &Scene, seconds: f64) -> Option<Frame> {
         .map(|(f, _)| f)
 }
 
+/// The log's frame nearest `seconds` from its start, when `seconds` lies within the log's time
+/// range (to half a 0.1 s step past either end); otherwise an error naming the range, so `--at
+/// 999` on a 15 s log is refused rather than explaining the last frame.
+pub fn frame_at(scene: &Scene, seconds: f64) -> Result<Frame, String> {
+    let frames = scene.timeline.frames();
+    let span = frames
+        .first()
+        .zip(frames.last())
+        .and_then(|(a, b)| Some((scene.timeline.seconds(*a)?, scene.timeline.seconds(*b)?)));
+    let Some((first, last)) = span else {
+        return Err(format!("log {} has no frames", scene.log_id));
+    };
+    const HALF_STEP: f64 = 0.05;
+    if seconds < first - HALF_STEP || seconds > last + HALF_STEP {
+        return Err(format!(
+            "--at {seconds}: outside log {}, which runs from {first:.1} s to {last:.1} s",
+            scene.log_id
+        ));
+    }
+    frame_nearest(scene, seconds).ok_or_else(|| format!("log {} has no frames", scene.log_id))
+}
+
 /// Renders values for a person, with the scene for names and times.
 pub struct Renderer<'a> {
     /// The scene.

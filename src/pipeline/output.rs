@@ -3,8 +3,11 @@
 //! the new one, never half of one.
 //!
 //! Layout of `OUT/`:
-//! - `predictions.pkl`: the official pickle for the whole run, keyed `(log_id, description)`;
-//! - `predictions.feather`: the same predictions as the long Arrow table;
+//! - `predictions.feather`: the run's predictions as the long Arrow table, every buffer
+//!   zstd-compressed and the `log_id`, `prompt` and `name` columns dictionary-encoded (one
+//!   record batch a log, the same dictionaries in each: every log id and description of the run);
+//! - `predictions.pkl` (only when asked for, `mine --pickle`): the official pickle for the whole
+//!   run, keyed `(log_id, description)`;
 //! - `scored.pkl` (with ground truth): the predictions of the sequences it holds;
 //! - `matches.json`: one entry per referred track of every (log, program) pair;
 //! - `summary.json`: every pair's status, match count and times, and the stage totals;
@@ -37,7 +40,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
 
-/// The run's official pickle.
+/// The run's official pickle (written when [`OutputNames::write_pickle`]).
 pub const PREDICTIONS_PICKLE: &str = "predictions.pkl";
 /// The run's long Arrow table.
 pub const PREDICTIONS_TABLE: &str = "predictions.feather";
@@ -173,13 +176,17 @@ pub fn read_record(path: &Path) -> Option<PairRecord> {
     serde_json::from_str(&text).ok()
 }
 
-/// The file names of a run's pickle and Arrow table.
+/// The file names of a run's pickle and Arrow table, and whether the pickle is written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OutputNames {
     /// The official pickle.
     pub pickle: &'static str,
     /// The long Arrow table.
     pub table: &'static str,
+    /// Whether the run writes the official pickle: where a submission is asked for (`mine
+    /// --pickle`, a split's pairs); by default only the table (the pickle of a run is about six
+    /// times its compressed table).
+    pub write_pickle: bool,
 }
 
 impl Default for OutputNames {
@@ -187,9 +194,13 @@ impl Default for OutputNames {
         OutputNames {
             pickle: PREDICTIONS_PICKLE,
             table: PREDICTIONS_TABLE,
+            write_pickle: false,
         }
     }
 }
+
+/// The codec of the per-log parts of the table (temporary: fast to write and read back).
+const PART_CODEC: Option<arrow_ipc::CompressionType> = Some(arrow_ipc::CompressionType::LZ4_FRAME);
 
 /// The submission pickle of `--log-prompts`.
 pub const SUBMISSION_PICKLE: &str = "submission.pkl";
@@ -275,6 +286,10 @@ pub struct Staging {
     published: std::sync::atomic::AtomicBool,
     /// `OUT/` held for this run from the generation's start until it is published or dropped.
     lock: super::lock::OutputLock,
+    /// The dictionaries of the table's string columns, the same for every log's part.
+    dictionaries: scenalog_eval::arrow_table::TableDictionaries,
+    /// Whether the per-log pickle parts are written (and joined).
+    pickle: bool,
 }
 
 impl Staging {
@@ -291,7 +306,22 @@ impl Staging {
             dir,
             published: std::sync::atomic::AtomicBool::new(false),
             lock,
+            dictionaries: Default::default(),
+            pickle: true,
         })
+    }
+
+    /// Sets what the parts hold: the table's dictionaries (every log id, description and object
+    /// name of the run, so every log's record batch shares them) and whether the pickle is
+    /// written too.
+    pub fn set_contents(
+        &mut self,
+        dictionaries: scenalog_eval::arrow_table::TableDictionaries,
+        pickle: bool,
+    ) {
+        self.dictionaries = dictionaries;
+        self.dictionaries.normalise();
+        self.pickle = pickle;
     }
 
     /// The holder named by a stale lock of `OUT/` (a run no longer running) this run took over.
@@ -308,22 +338,29 @@ impl Staging {
         self.dir.join(format!("part-{index}.{ext}"))
     }
 
-    /// Writes log number `index`'s predictions: its pickle body and its Arrow table.
+    /// Writes log number `index`'s predictions: its Arrow table (LZ4, the run's dictionaries)
+    /// and, when the pickle is written, its pickle body.
     pub fn write_part(&self, index: usize, part: &scenalog_eval::Submission) -> Result<(), String> {
-        write_atomic(
-            &self.part(index, "pkl"),
-            &scenalog_eval::sequences_bytes(part),
-            false,
-        )?;
-        scenalog_eval::write_table(part, &self.part(index, "feather")).map_err(|e| e.to_string())
+        if self.pickle {
+            write_atomic(
+                &self.part(index, "pkl"),
+                &scenalog_eval::sequences_bytes(part),
+                false,
+            )?;
+        }
+        let path = self.part(index, "feather");
+        let bytes = scenalog_eval::arrow_table::table_bytes(part, &self.dictionaries, PART_CODEC)
+            .map_err(|e| format!("`{}`: {e}", path.display()))?;
+        write_atomic(&path, &bytes, false)
     }
 
-    /// Joins the parts, in `order`, into the run's pickle (byte for byte the pickle of the whole
-    /// submission when `order` sorts the logs by id) and Arrow table (one record batch a log).
+    /// Joins the parts, in `order`, into the run's Arrow table (one record batch a log,
+    /// zstd-compressed) and, when asked for, its pickle (byte for byte the pickle of the whole
+    /// submission when `order` sorts the logs by id).
     pub fn join_parts(&self, order: &[usize], names: &OutputNames) -> Result<(), String> {
         let pickle = self.path(names.pickle);
         let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
-        {
+        if self.pickle {
             let mut f = std::io::BufWriter::new(
                 std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?,
             );
@@ -349,10 +386,15 @@ impl Staging {
             let reader = arrow_ipc::reader::FileReader::try_new(file, None).map_err(arrow)?;
             if writer.is_none() {
                 let f = std::fs::File::create(&table).map_err(|e| io(&table, e))?;
+                let options = scenalog_eval::arrow_table::table_write_options(Some(
+                    scenalog_eval::arrow_table::TABLE_COMPRESSION,
+                ))
+                .map_err(|e| e.to_string())?;
                 writer = Some(
-                    arrow_ipc::writer::FileWriter::try_new(
+                    arrow_ipc::writer::FileWriter::try_new_with_options(
                         std::io::BufWriter::new(f),
                         &reader.schema(),
+                        options,
                     )
                     .map_err(arrow)?,
                 );
@@ -370,8 +412,13 @@ impl Staging {
                 let f = f.into_inner().map_err(|e| io(&table, e.into_error()))?;
                 f.sync_all().map_err(|e| io(&table, e))?;
             }
-            None => scenalog_eval::write_table(&scenalog_eval::Submission::default(), &table)
-                .map_err(|e| e.to_string())?,
+            None => scenalog_eval::arrow_table::write_table_with(
+                &scenalog_eval::Submission::default(),
+                &table,
+                &self.dictionaries,
+                Some(scenalog_eval::arrow_table::TABLE_COMPRESSION),
+            )
+            .map_err(|e| e.to_string())?,
         }
         Ok(())
     }

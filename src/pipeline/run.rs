@@ -12,7 +12,8 @@
 //! ([`LogInput::tracker`]) with the directory giving ego poses and map. Outputs are streamed: as
 //! soon as a log is done its predictions are written to a part file in a staging directory and
 //! dropped, so memory holds the logs in flight, not the run; at the end the parts are joined into
-//! the run's pickle and Arrow table and every output file is moved into place together.
+//! the run's Arrow table (and its pickle, when asked for) and every output file is moved into
+//! place together.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
@@ -256,7 +257,11 @@ pub fn run_unpublished(
         )
     })?;
     // The folder is held before anything in it is touched: a second run into it stops here.
-    let staging = output::Staging::new(&options.out)?;
+    let mut staging = output::Staging::new(&options.out)?;
+    staging.set_contents(
+        table_dictionaries(scenarios, logs),
+        options.names.write_pickle,
+    );
     if let Some(holder) = staging.took_over() {
         eprintln!(
             "scenalog: took over the lock of `{}` left by a run no longer running ({holder})",
@@ -339,8 +344,16 @@ pub fn run_unpublished(
         true,
     )?;
     if options.keep_submission {
-        let path = staging.path(options.names.pickle);
-        report.submission = scenalog_eval::read_pickle(&path).map_err(|e| e.to_string())?;
+        // Read back from the table; a pair with no frame (no row in the table) is an empty
+        // sequence, as in the pickle.
+        let path = staging.path(options.names.table);
+        report.submission = scenalog_eval::read_table(&path).map_err(|e| e.to_string())?;
+        for p in &report.pairs {
+            if !matches!(p.status, PairStatus::Failed(_)) {
+                let key = (p.log_id.clone(), scenarios[p.scenario].description.clone());
+                report.submission.sequences.entry(key).or_default();
+            }
+        }
     }
     Ok((report, staging))
 }
@@ -502,6 +515,23 @@ fn load_log(log: &LogInput) -> Result<LoadedLog, String> {
 }
 
 /// The log's predictions (its finished pairs' frames, moved out of `pairs`).
+/// The dictionaries of the run's table: every log id and description of the run, and the
+/// three label names.
+fn table_dictionaries(
+    scenarios: &[Scenario],
+    logs: &[LogInput],
+) -> scenalog_eval::arrow_table::TableDictionaries {
+    use super::tracks::Label;
+    scenalog_eval::arrow_table::TableDictionaries {
+        log_ids: logs.iter().map(|l| l.log_id.clone()).collect(),
+        prompts: scenarios.iter().map(|s| s.description.clone()).collect(),
+        names: [Label::Referred, Label::Related, Label::Other]
+            .into_iter()
+            .map(|l| super::predictions::label_name(l).to_string())
+            .collect(),
+    }
+}
+
 fn log_part(log: &LogInput, scenarios: &[Scenario], pairs: &mut [PairResult]) -> Submission {
     let mut part = Submission::default();
     for p in pairs {
