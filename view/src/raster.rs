@@ -22,14 +22,20 @@ fn fonts() -> Arc<usvg::fontdb::Database> {
         .clone()
 }
 
-/// Rasterises SVG text into a pixmap (premultiplied RGBA) of the SVG's own size.
-pub fn render_pixmap(svg: &str) -> Result<Pixmap, ViewError> {
+/// Parses SVG text into the tree the rasteriser draws, text laid out in the embedded font (its
+/// nodes' bounding boxes are where things are drawn: for tools and tests).
+pub fn parse(svg: &str) -> Result<usvg::Tree, ViewError> {
     let options = usvg::Options {
         fontdb: fonts(),
         font_family: crate::style::FONT.to_string(),
         ..usvg::Options::default()
     };
-    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| ViewError::Render(e.to_string()))?;
+    usvg::Tree::from_str(svg, &options).map_err(|e| ViewError::Render(e.to_string()))
+}
+
+/// Rasterises SVG text into a pixmap (premultiplied RGBA) of the SVG's own size.
+pub fn render_pixmap(svg: &str) -> Result<Pixmap, ViewError> {
+    let tree = parse(svg)?;
     let size = tree.size().to_int_size();
     let mut pixmap = Pixmap::new(size.width(), size.height())
         .ok_or_else(|| ViewError::Render(format!("empty picture size {size:?}")))?;
