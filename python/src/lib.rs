@@ -170,6 +170,7 @@ fn mine_programs(args: &Options, cancel: Arc<AtomicBool>) -> Result<String, Stri
             &plan.scenarios,
             &plan.logs,
             args.report_max_pictures,
+            &scenalog::pipeline::report::scored_prompts(plan.gt.as_ref().map(|(_, g)| g)),
         )
         .map_err(|e| format!("the report: {e}"))?;
         let page = plan.out.join(REPORT_DIR).join("index.html");

@@ -60,7 +60,11 @@ pub fn palette(frames: &[Rgba]) -> Vec<[u8; 3]> {
 
 /// The index of the palette colour nearest to `k`.
 fn nearest(palette: &[[u8; 3]], k: u32) -> u8 {
-    let c = [(k >> 16) as i32, ((k >> 8) & 0xff) as i32, (k & 0xff) as i32];
+    let c = [
+        (k >> 16) as i32,
+        ((k >> 8) & 0xff) as i32,
+        (k & 0xff) as i32,
+    ];
     let mut best = (i32::MAX, 0usize);
     for (i, p) in palette.iter().enumerate() {
         let d = [c[0] - p[0] as i32, c[1] - p[1] as i32, c[2] - p[2] as i32];
@@ -152,7 +156,13 @@ fn delta(prev: &[u8], next: &[u8], width: usize, height: usize) -> gif::Frame<'s
             continue;
         }
         let first = a.iter().zip(b).position(|(p, q)| p != q).unwrap_or(0);
-        let last = width - 1 - a.iter().rev().zip(b.iter().rev()).position(|(p, q)| p != q).unwrap_or(0);
+        let last = width
+            - 1
+            - a.iter()
+                .rev()
+                .zip(b.iter().rev())
+                .position(|(p, q)| p != q)
+                .unwrap_or(0);
         x0 = x0.min(first);
         x1 = x1.max(last);
         y0 = y0.min(y);

@@ -189,4 +189,3 @@ pub fn draw_annotations(svg: &mut Svg, view: &View, p: &Picture<'_>, layer: Laye
     }
     labels
 }
-

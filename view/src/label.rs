@@ -35,7 +35,14 @@ pub fn bounds(points: &[[f64; 2]]) -> Rect {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         ],
-        |r, p| [r[0].min(p[0]), r[1].min(p[1]), r[2].max(p[0]), r[3].max(p[1])],
+        |r, p| {
+            [
+                r[0].min(p[0]),
+                r[1].min(p[1]),
+                r[2].max(p[0]),
+                r[3].max(p[1]),
+            ]
+        },
     )
 }
 
@@ -103,7 +110,9 @@ fn candidates(t: &Rect, w: f64, h: f64, keep: bool) -> Vec<[f64; 2]> {
     ];
     if keep {
         let (hw, hh) = ((t[2] - t[0]) / 2.0, (t[3] - t[1]) / 2.0);
-        for ring in [8.0, 18.0, 30.0, 45.0, 65.0, 90.0, 120.0, 160.0, 210.0, 280.0, 380.0] {
+        for ring in [
+            8.0, 18.0, 30.0, 45.0, 65.0, 90.0, 120.0, 160.0, 210.0, 280.0, 380.0,
+        ] {
             for k in 0..24 {
                 let a = std::f64::consts::TAU * k as f64 / 24.0 - std::f64::consts::FRAC_PI_2;
                 let (s, c) = a.sin_cos();
@@ -132,9 +141,8 @@ pub fn place(
     let mut placed: Vec<(Label, Placed)> = Vec::new();
     for l in labels {
         let [w, h] = label_size(&l);
-        let inside = |r: &Rect| {
-            r[0] >= area[0] && r[1] >= area[1] && r[2] <= area[2] && r[3] <= area[3]
-        };
+        let inside =
+            |r: &Rect| r[0] >= area[0] && r[1] >= area[1] && r[2] <= area[2] && r[3] <= area[3];
         let rect_at = |p: [f64; 2]| [p[0], p[1], p[0] + w, p[1] + h];
         let free_of_labels = |r: &Rect| {
             placed.iter().all(|(_, q)| !overlaps(r, &q.rect))
@@ -187,13 +195,19 @@ pub fn draw(svg: &mut Svg, placed: &[(Label, Placed)]) {
             (l.target[1] - r[3]).max(r[1] - l.target[3]).max(0.0),
         ];
         if gap[0] > GAP + 1.0 || gap[1] > GAP + 1.0 {
-            let centre = [(l.target[0] + l.target[2]) / 2.0, (l.target[1] + l.target[3]) / 2.0];
+            let centre = [
+                (l.target[0] + l.target[2]) / 2.0,
+                (l.target[1] + l.target[3]) / 2.0,
+            ];
             let from = nearest_in(r, centre);
             let to = nearest_in(&l.target, from);
             svg.line(
                 from,
                 to,
-                &format!(r##"stroke="{}" stroke-width="1" stroke-opacity="0.8""##, l.fill),
+                &format!(
+                    r##"stroke="{}" stroke-width="1" stroke-opacity="0.8""##,
+                    l.fill
+                ),
             );
         }
         // The baseline: the ascent below the rectangle's top.

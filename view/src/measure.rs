@@ -19,7 +19,10 @@ impl Advances {
         let mut widths = HashMap::new();
         let mut fallback = 0.7;
         if let Ok(font) = FontRef::new(data) {
-            let upem = f64::from(font.metrics(Size::unscaled(), LocationRef::default()).units_per_em);
+            let upem = f64::from(
+                font.metrics(Size::unscaled(), LocationRef::default())
+                    .units_per_em,
+            );
             let metrics = font.glyph_metrics(Size::unscaled(), LocationRef::default());
             if upem > 0.0 {
                 for (code, glyph) in font.charmap().mappings() {

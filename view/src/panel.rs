@@ -275,7 +275,10 @@ pub fn draw_panel(svg: &mut Svg, view: &View, p: &Picture<'_>, area: Rect, kinds
     }
     let label = format!("{len} m");
     svg.text(
-        [bx + bar / 2.0 - text_width(&label, 11.0, false) / 2.0, by - 8.0],
+        [
+            bx + bar / 2.0 - text_width(&label, 11.0, false) / 2.0,
+            by - 8.0,
+        ],
         11.0,
         &label,
         r##"fill="#111111""##,

@@ -228,9 +228,15 @@ pub fn animation_frames(p: &PathPicture<'_>) -> Result<Vec<String>, ViewError> {
 /// Writes SVG pictures (all of one size) as an animated GIF, `delay_cs` hundredths of a second
 /// per picture, looping, one palette for all of them (see [`crate::animation`]).
 pub fn write_animation(path: &Path, frames: &[String], delay_cs: u16) -> Result<(), ViewError> {
+    // Shapes without anti-aliasing: an object whose box moves by less than a pixel (the
+    // annotations of parked cars jitter by centimetres) then leaves its pixels as they were,
+    // so frames differ only where something really moved, and compress.
     let rasters = frames
         .par_iter()
-        .map(|svg| crate::raster::render_rgba(svg))
+        .map(|svg| {
+            let crisp = svg.replacen("<svg ", "<svg shape-rendering=\"crispEdges\" ", 1);
+            crate::raster::render_rgba(&crisp)
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let bytes = crate::animation::encode(&rasters, delay_cs)?;
     write_file(path, &bytes)

@@ -20,7 +20,10 @@ fn log(id: &str) -> Scene {
     let dir = std::fs::read_dir(&dir)
         .expect("the sample logs")
         .map(|e| e.expect("entry").path())
-        .find(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(id)))
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with(id))
+        })
         .expect("the log");
     load_scene(&dir).expect("loads")
 }
@@ -142,7 +145,11 @@ fn the_proof_is_beside_the_map_and_changes_none_of_its_pixels() {
     let panel = texts(&tree, "panel", "", 0.0);
     assert!(panel.len() > 20, "{panel:?}");
     for (_, r) in &panel {
-        assert!(inside(r, &l.panel, 0.0), "{r:?} outside the panel {:?}", l.panel);
+        assert!(
+            inside(r, &l.panel, 0.0),
+            "{r:?} outside the panel {:?}",
+            l.panel
+        );
     }
     // And the panel says so when the proof does not fit.
     assert!(b.svg.contains("more lines of the proof"));
@@ -154,10 +161,15 @@ fn check_labels(p: &Picture<'_>, related: &[&str]) -> usize {
     let map = d.layout.map;
     let referred = d.referred.expect("the referred object is drawn");
     let ids: Vec<&str> = d.labels.iter().map(|l| l.id.as_str()).collect();
-    assert!(ids.contains(&"label-referred"), "frame {}: {ids:?}", p.frame);
+    assert!(
+        ids.contains(&"label-referred"),
+        "frame {}: {ids:?}",
+        p.frame
+    );
     for r in related {
         assert!(
-            ids.iter().any(|i| i.starts_with(&format!("label-related-{r}"))),
+            ids.iter()
+                .any(|i| i.starts_with(&format!("label-related-{r}"))),
             "frame {}: no label for related {r}: {ids:?}",
             p.frame
         );
@@ -214,7 +226,11 @@ fn a_group_keeps_its_referred_and_related_labels_and_no_label_collides() {
             let present: Vec<&str> = group
                 .iter()
                 .copied()
-                .filter(|g| scene.tracks[track(&scene, g).index()].box_at(frame).is_some())
+                .filter(|g| {
+                    scene.tracks[track(&scene, g).index()]
+                        .box_at(frame)
+                        .is_some()
+                })
                 .collect();
             p.width = 640;
             p.height = 640;
