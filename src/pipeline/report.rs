@@ -198,7 +198,7 @@ pub fn write_run_report(
     let img = dir.join("img");
     std::fs::create_dir_all(&img).map_err(|e| format!("cannot create `{}`: {e}", img.display()))?;
     // The programs in report order: the scored ones first, each group in the run's order.
-    let is_scored = |s: &Scenario| scored.iter().any(|p| *p == s.description);
+    let is_scored = |s: &Scenario| scored.contains(&s.description);
     let mut order: Vec<usize> = (0..scenarios.len()).collect();
     order.sort_by_key(|&s| !is_scored(&scenarios[s]));
     let mut rank = vec![0usize; scenarios.len()];

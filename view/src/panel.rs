@@ -162,7 +162,7 @@ pub fn draw_panel(svg: &mut Svg, view: &View, p: &Picture<'_>, area: Rect, kinds
         &format!(r#"stroke="{}" stroke-width="1""#, style::PANEL_EDGE),
     );
     let entries = legend(p, kinds);
-    let legend_height = ((entries.len() + 1) / 2) as f64 * ROW + 8.0;
+    let legend_height = entries.len().div_ceil(2) as f64 * ROW + 8.0;
     let bottom = y1 - SCALE_ROW - legend_height;
     // The text: the head always, the facts as many as fit, then how many did not.
     let (head, notes) = text_lines(p, width);
