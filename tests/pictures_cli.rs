@@ -5,7 +5,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use scenalog_view::decode_png;
+use scenalog::pipeline::explain::Renderer;
+use scenalog::pipeline::picture::frame_pictures;
+use scenalog::pipeline::scenario::scenario_from_source;
+use scenalog_view::track_path::animation_frames;
+use scenalog_view::{decode_png, PathPicture, Picture, Reference};
 
 const LOG: &str = "tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 const RULES: &str = "rules/library/vehicle_with_bicycle_to_its_right.dl";
@@ -50,7 +54,8 @@ fn explain_draws_the_match_as_png_svg_and_gif() {
     // The proof is still printed.
     assert!(String::from_utf8_lossy(&o.stdout).contains("Proof:"));
     let (w, h, rgba) = decode_png(&std::fs::read(&png).expect("png")).expect("decodes");
-    assert_eq!((w, h), (800, 800));
+    // An 800 px map, the panel on its right.
+    assert_eq!((w, h), (800 + scenalog_view::panel::panel_width(800), 800));
     // The referred object is at the centre of the map area in its own frame: the highlight
     // colour is found near the middle of the picture.
     let magenta = rgba
@@ -67,15 +72,6 @@ fn explain_draws_the_match_as_png_svg_and_gif() {
     assert!(text.contains("vehicle with a bicycle to its right"));
     // The `direction` fact of the proof is drawn and labelled.
     assert!(text.contains("right of 2f09a161"), "no direction label");
-
-    let gif = dir.path().join("m.gif");
-    let o = explain_picture(&gif, &["--frames", "80..84"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let bytes = std::fs::read(&gif).expect("gif");
-    assert!(bytes.starts_with(b"GIF89a"));
-    // One image descriptor (0x2C after a graphic control extension) per frame.
-    let frames = bytes.windows(2).filter(|w| w == &[0x00, 0x2C]).count();
-    assert!(frames >= 5, "{frames} frames");
 
     let strip = dir.path().join("path.png");
     let o = explain_picture(&strip, &["--frames", "referred"]);
@@ -201,6 +197,15 @@ fn mine_report_opens_from_disk_and_its_scrubber_changes_the_frame() {
         dom.contains(&format!("src=\"img/m0-f{last}.png\"")),
         "the scrubber did not change the picture"
     );
+    // The proof shown is the frame's own: only the last frame's is not hidden.
+    assert!(
+        dom.contains(&format!("<pre class=\"proof\" data-k=\"{last}\">")),
+        "the last frame's proof is not shown"
+    );
+    assert!(
+        dom.contains("<pre class=\"proof\" data-k=\"0\" hidden"),
+        "the first frame's proof is still shown"
+    );
     let shot = |fragment: &str, file: &str| -> Vec<u8> {
         let path = dir.path().join(file);
         let o = headless(
@@ -251,4 +256,258 @@ fn mine_report_opens_from_disk_and_its_scrubber_changes_the_frame() {
         .filter(|p| p[0] < 60 && p[1] < 60 && p[2] < 60)
         .count();
     assert!(dark > 500, "only {dark} text pixels at the top of the page");
+}
+
+/// The frames of a GIF: the global palette (none: empty), and per frame whether it has its own
+/// palette and its composited pixels as palette indices.
+fn gif_frames(bytes: &[u8]) -> (Vec<u8>, Vec<(bool, Vec<u8>)>) {
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut d = options.read_info(bytes).expect("a GIF");
+    let global = d.global_palette().map(<[u8]>::to_vec).unwrap_or_default();
+    let (w, h) = (d.width() as usize, d.height() as usize);
+    let mut canvas = vec![0u8; w * h];
+    let mut out = Vec::new();
+    while let Some(f) = d.read_next_frame().expect("a frame") {
+        let fw = f.width as usize;
+        for (k, i) in f.buffer.iter().enumerate() {
+            if Some(*i) != f.transparent {
+                let (x, y) = (f.left as usize + k % fw, f.top as usize + k / fw);
+                canvas[y * w + x] = *i;
+            }
+        }
+        out.push((f.palette.is_some(), canvas.clone()));
+    }
+    (global, out)
+}
+
+#[test]
+fn the_readme_animation_is_small_with_one_palette() {
+    // The README's example: the track's frames 70 to 140 at the default 800 px.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let gif = dir.path().join("path.gif");
+    let o = explain_picture(&gif, &["--frames", "70..140"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&gif).expect("gif");
+    assert!(bytes.starts_with(b"GIF89a"));
+    assert!(bytes.len() < 1_000_000, "{} bytes", bytes.len());
+    let (global, frames) = gif_frames(&bytes);
+    assert_eq!(frames.len(), 71);
+    assert_eq!(global.len(), 256 * 3, "one global palette");
+    assert!(
+        frames.iter().all(|(own, _)| !own),
+        "a frame has its own palette"
+    );
+    // The frames differ (the objects move, the time and the proof change) ...
+    let distinct: std::collections::BTreeSet<&Vec<u8>> = frames.iter().map(|(_, f)| f).collect();
+    assert!(
+        distinct.len() > 60,
+        "{} distinct frames of 71",
+        distinct.len()
+    );
+    // ... and the panel's background, the map's off-road colour and the referred object's
+    // highlight are each one palette colour, the same in every frame.
+    let rgb = |hex: &str| {
+        let v = u32::from_str_radix(hex.trim_start_matches('#'), 16).expect("a colour");
+        [(v >> 16) as u8, (v >> 8) as u8, v as u8]
+    };
+    for colour in [
+        scenalog_view::style::PANEL,
+        scenalog_view::style::BACKGROUND,
+        scenalog_view::style::REFERRED,
+    ] {
+        let c = rgb(colour);
+        let n = global.chunks(3).filter(|p| *p == c).count();
+        assert_eq!(n, 1, "{colour} is {n} palette entries");
+    }
+}
+
+#[test]
+fn each_animation_frame_carries_its_own_proof() {
+    let root = root();
+    let rules = root.join(RULES);
+    let source = std::fs::read_to_string(&rules).expect("rules");
+    let scenario = scenario_from_source(&rules, source).expect("checks");
+    let scene = scenalog_facts::load_scene(&root.join(LOG)).expect("log");
+    let car = scene
+        .tracks
+        .iter()
+        .find(|t| t.uuid.starts_with(TRACK))
+        .expect("the track")
+        .id;
+    let renderer = Renderer {
+        scene: &scene,
+        scenario: &scenario,
+    };
+    let mut like = Picture::new(&scene, 80);
+    like.referred = Some(car);
+    like.reference = Reference::Referred;
+    let limits = scenalog::pipeline::budget::pair_limits(None, None, 1);
+    let pictures = frame_pictures(&renderer, &like, 78, 84, &limits).expect("frames");
+    assert_eq!(pictures.len(), 7);
+    let path = PathPicture {
+        picture: like.clone(),
+        track: car,
+        first: 78,
+        last: 84,
+        referred_frames: (73..=137).collect(),
+        frames: pictures.clone(),
+    };
+    let svgs = animation_frames(&path).expect("frames");
+    assert_eq!(svgs.len(), 7);
+    // The panel's text of a frame, whitespace dropped (lines are wrapped).
+    let panel_text = |svg: &str| -> String {
+        let panel = &svg[svg.find("<g id=\"panel\">").expect("a panel")..];
+        panel
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| Some(t.split_once('>')?.1.split_once("</text>")?.0))
+            .collect::<String>()
+            .replace("&quot;", "\"")
+            .split_whitespace()
+            .collect()
+    };
+    for (k, (svg, pic)) in svgs.iter().zip(&pictures).enumerate() {
+        let f = 78 + k as u32;
+        assert_eq!(pic.frame, f);
+        let seconds = scene.timeline.seconds(f).expect("a time");
+        assert!(
+            svg.contains(&format!("t = {seconds:.1} s (frame {f})")),
+            "frame {f}"
+        );
+        // The frame's own proof: its facts name its own time, and are the ones drawn.
+        assert!(!pic.notes.is_empty(), "frame {f}: no proof");
+        let direction = pic
+            .notes
+            .iter()
+            .find(|(n, _)| n.starts_with("direction("))
+            .expect("the direction fact");
+        assert!(
+            direction.0.contains(&format!(", {seconds:.1} s,")),
+            "{direction:?}"
+        );
+        let text = panel_text(svg);
+        let squashed: String = direction.0.split_whitespace().collect();
+        assert!(
+            text.contains(&squashed),
+            "frame {f}: {squashed} not in {text}"
+        );
+        for other in pictures.iter().filter(|p| p.frame != f) {
+            let s = other.scene.timeline.seconds(other.frame).expect("a time");
+            assert!(
+                !text.contains(&format!(",{s:.1}s,")),
+                "frame {f} shows frame {}'s proof",
+                other.frame
+            );
+        }
+    }
+}
+
+/// The description line of each library program, by program name.
+fn library_descriptions() -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(root().join("rules/library")).expect("the library") {
+        let p = e.expect("entry").path();
+        if p.extension().is_some_and(|x| x == "dl") {
+            let text = std::fs::read_to_string(&p).expect("a program");
+            let name = p
+                .file_stem()
+                .expect("a name")
+                .to_string_lossy()
+                .into_owned();
+            let description = text
+                .lines()
+                .find_map(|l| l.strip_prefix("// description:"))
+                .map(|d| d.trim().to_string())
+                .unwrap_or_else(|| name.replace('_', " "));
+            out.push((name, description));
+        }
+    }
+    out
+}
+
+#[test]
+fn the_report_pictures_every_matched_program_the_scored_ones_first() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let gt = "tests/data/av2/eval/combined_gt_dev.pkl";
+    let o = scenalog(&[
+        "mine",
+        "--rules",
+        "rules/library",
+        "--logs",
+        "tests/data/av2/logs",
+        "--gt",
+        gt,
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--report",
+        "--report-max-pictures",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let matches: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("matches.json")).expect("matches"))
+            .expect("JSON");
+    let matched: std::collections::BTreeSet<String> = matches
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|m| m["program"].as_str().expect("a program").to_string())
+        .collect();
+    assert!(matched.len() > 40, "{} programs matched", matched.len());
+    let html = std::fs::read_to_string(out.join("report/index.html")).expect("the page");
+    // The pictured sections' programs, in page order.
+    let sections: Vec<&str> = html
+        .split("<section class=\"match\"")
+        .skip(1)
+        .map(|s| {
+            let b = s
+                .split_once("<div class=\"text\"><b>")
+                .expect("a program")
+                .1;
+            b.split_once("</b>").expect("its end").0
+        })
+        .collect();
+    let pictured: std::collections::BTreeSet<String> =
+        sections.iter().map(|s| s.to_string()).collect();
+    assert_eq!(pictured, matched, "every matched program has a picture");
+    // Every pictured section's images exist.
+    for img in html.split("src=\"img/").skip(1) {
+        let name = img.split_once('"').expect("quoted").0;
+        assert!(out.join("report/img").join(name).is_file(), "{name}");
+    }
+    // The scored programs: those whose description is a prompt of the ground truth.
+    let truth = scenalog_eval::read_any(&root().join(gt)).expect("the ground truth");
+    let prompts: std::collections::BTreeSet<&String> =
+        truth.sequences.keys().map(|(_, p)| p).collect();
+    let scored: Vec<String> = library_descriptions()
+        .into_iter()
+        .filter(|(n, d)| prompts.contains(d) && matched.contains(n))
+        .map(|(n, _)| n)
+        .collect();
+    assert!(scored.contains(&"stopped_car".to_string()), "{scored:?}");
+    assert!(
+        scored.contains(&"vehicle_with_bicycle_to_its_right".to_string()),
+        "{scored:?}"
+    );
+    let first: std::collections::BTreeSet<&str> = sections
+        .iter()
+        .take_while(|s| scored.iter().any(|x| x == *s))
+        .copied()
+        .collect();
+    assert_eq!(
+        first.len(),
+        scored.len(),
+        "the scored programs come first: {sections:?}"
+    );
+    // Each section shows one proof per frame, the scrubber's.
+    let one = html
+        .split("<section class=\"match\"")
+        .nth(1)
+        .expect("a section");
+    let one = one.split("</section>").next().expect("its end");
+    let positions = one.matches("<pre class=\"proof\"").count();
+    assert!(positions >= 2, "{positions} proofs");
+    assert_eq!(one.matches(" hidden>").count(), positions - 1);
 }

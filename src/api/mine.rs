@@ -371,6 +371,7 @@ pub fn run(request: &MineRequest, plan: &MinePlan) -> Result<MineOutcome, Error>
             &plan.scenarios,
             &plan.logs,
             max_pictures,
+            &crate::pipeline::report::scored_prompts(plan.gt.as_ref().map(|(_, g)| g)),
         )
     });
     let published = generation.publish();

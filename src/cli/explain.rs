@@ -28,7 +28,7 @@ use scenalog_facts::scene::Frame;
 
 use crate::api::explain::{explain_track, Explained};
 use crate::pipeline::explain::{explanation_json, explanation_text, Explanation, Renderer};
-use crate::pipeline::picture::explanation_picture;
+use crate::pipeline::picture::{explanation_picture, frame_pictures};
 use scenalog_view::track_path::animation_frames;
 use scenalog_view::{
     path_svg, scene_svg, write_animation, write_picture, Format, PathPicture, Reference, ViewError,
@@ -117,6 +117,7 @@ fn draw(
     renderer: &Renderer<'_>,
     explanation: &Explanation,
     related: Vec<scenalog_facts::scene::TrackId>,
+    limits: &scenalog_engine::Options,
 ) -> Result<(), (u8, String)> {
     let reference = match args.view {
         ViewFrom::Ego => Reference::Ego,
@@ -142,15 +143,19 @@ fn draw(
         return write_picture(out, &svg).map_err(view_err);
     };
     let (first, last) = parse_frames(frames, &explanation.referred_frames).map_err(|e| (2, e))?;
-    let path = PathPicture {
+    let mut path = PathPicture {
         picture,
         track: explanation.track,
         first,
         last,
         referred_frames: explanation.referred_frames.clone(),
+        frames: Vec::new(),
     };
     match Format::of(out).map_err(view_err)? {
         Format::Gif => {
+            // Each frame with its own proof and related objects.
+            path.frames =
+                frame_pictures(renderer, &path.picture, first, last, limits).map_err(|e| (1, e))?;
             let frames = animation_frames(&path).map_err(view_err)?;
             write_animation(out, &frames, 10).map_err(view_err)
         }
@@ -191,7 +196,7 @@ pub fn run(args: Args) -> ExitCode {
         scenario: &scenario,
     };
     if let Some(out) = &args.picture {
-        if let Err((code, e)) = draw(&args, out, &renderer, &explanation, related) {
+        if let Err((code, e)) = draw(&args, out, &renderer, &explanation, related, &limits) {
             return fail(code, &e);
         }
     }

@@ -70,8 +70,8 @@ pub struct Options {
     /// pictures of the matches; opens from disk, works offline).
     #[arg(long)]
     pub report: bool,
-    /// Most matches the report pictures (the rest are listed with the command that pictures
-    /// them).
+    /// Most matches the report pictures, never fewer than the first match of every program
+    /// that matched (the rest are listed with the command that pictures them).
     #[arg(long, default_value_t = 40, value_name = "N")]
     pub report_max_pictures: usize,
     /// The LLM server, the cache and the prompt (for `--descriptions`).

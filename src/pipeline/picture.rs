@@ -2,15 +2,19 @@
 //! `near`, the sector of a `direction`, the lane of `in_lane`, the half-plane of a `crossing`…)
 //! as [`scenalog_view::Annotation`]s, the proof's lines as the picture's notes, the objects
 //! related to the track at the frame; for a why-not report, the literals that held and the one
-//! that failed, drawn in the failure colour. The drawing itself is `scenalog-view`'s.
+//! that failed, drawn in the failure colour; for an animation, each frame's own picture. The
+//! drawing itself is `scenalog-view`'s.
 
-use scenalog_engine::{BodyFact, Derivation, Evaluation, Outcome, Reason, Step, WhyNot};
+use scenalog_engine::{
+    explain, why_not, BodyFact, Derivation, Evaluation, Options, Outcome, Reason, Step, WhyNot,
+};
+use scenalog_extractors::cache::Extractor;
 use scenalog_facts::relation::Value;
 use scenalog_facts::scene::{Frame, TrackId};
 use scenalog_rules::ast::{ExprKind, Literal};
 use scenalog_view::{Annotation, Mark, Picture, Reference, Side};
 
-use super::explain::{Explanation, Renderer};
+use super::explain::{evaluate_for_explain, referred_frames, Explanation, Renderer};
 
 /// Most proof lines a picture lists.
 const MAX_NOTES: usize = 9;
@@ -301,4 +305,69 @@ pub fn explanation_picture<'a>(
         }
     }
     p
+}
+
+/// The picture of each frame from `first` to `last` (inclusive) of `like.referred`'s track,
+/// each with its own proof (or, where the track is not referred, its own why-not report) and
+/// related objects, drawn as `like` is (point of view, size, extent): an animation's frames.
+/// The program is evaluated again within `limits`.
+pub fn frame_pictures<'a>(
+    r: &Renderer<'a>,
+    like: &Picture<'a>,
+    first: Frame,
+    last: Frame,
+    limits: &Options,
+) -> Result<Vec<Picture<'a>>, String> {
+    let Some(track) = like.referred else {
+        return Ok(Vec::new());
+    };
+    let failed = |e: scenalog_engine::EngineError| {
+        format!(
+            "evaluating {} on log {}: {e}",
+            r.scenario.path.display(),
+            r.scene.log_id
+        )
+    };
+    let extractor = Extractor::new(r.scene);
+    let ev =
+        evaluate_for_explain(&extractor, &r.scenario.program, false, limits).map_err(failed)?;
+    let referred = referred_frames(&ev, track);
+    let present = |f: Frame| {
+        r.scene
+            .tracks
+            .get(track.index())
+            .is_some_and(|t| t.box_at(f).is_some())
+    };
+    // The whole evaluation (for why-not reports) only when some frame needs one.
+    let needs_why_not = (first..=last).any(|f| present(f) && referred.binary_search(&f).is_err());
+    let whole = if needs_why_not {
+        Some(evaluate_for_explain(&extractor, &r.scenario.program, true, limits).map_err(failed)?)
+    } else {
+        None
+    };
+    let mut out = Vec::new();
+    for frame in first..=last {
+        let tuple = [Value::Track(track), Value::Time(frame)];
+        let proof =
+            explain(&r.scenario.program, &ev, "referred", &tuple).map_err(|e| e.to_string())?;
+        let why_not = match (&proof, &whole) {
+            (None, Some(w)) if present(frame) => Some(
+                why_not(&r.scenario.program, w, "referred", &tuple).map_err(|e| e.to_string())?,
+            ),
+            _ => None,
+        };
+        let e = Explanation {
+            track,
+            frame,
+            referred_frames: referred.clone(),
+            proof,
+            why_not,
+        };
+        let mut p = explanation_picture(r, &e, related_at(&ev, track, frame), like.reference);
+        p.width = like.width;
+        p.height = like.height;
+        p.half_extent = like.half_extent;
+        out.push(p);
+    }
+    Ok(out)
 }

@@ -1,11 +1,13 @@
 //! `scenalog mine --report`: the run's browsable report, `OUT/report/index.html`, made from the
-//! run's results after the run. Per pictured match, the (log, program) pair is evaluated again
-//! with provenance, the proof is rendered as `scenalog explain` prints it, and pictures are
-//! drawn at up to [`FRAMES_PER_MATCH`] frames spread over the referred span (the scrubber's
-//! frames). Matches past `max_pictures` are listed with the command that pictures them. The
-//! page itself is `scenalog-view`'s.
+//! run's results after the run. Every program that matched has its first match pictured (the
+//! programs the ground truth scores first, in the table too), then one match per (program, log)
+//! pair and more, up to `max_pictures` in all. Per pictured match, its (log, program) pair is
+//! evaluated again with provenance (the pairs in parallel), and pictures are drawn (in
+//! parallel) at up to [`FRAMES_PER_MATCH`] frames spread over the referred span, each with its
+//! own proof, which the page shows as the scrubber moves. The other matches are listed with the
+//! command that pictures them. The page itself is `scenalog-view`'s.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
@@ -30,8 +32,18 @@ use super::scenario::Scenario;
 pub const REPORT_DIR: &str = crate::pipeline::output::REPORT_DIR;
 /// How many frames of a match are pictured (the scrubber's positions).
 pub const FRAMES_PER_MATCH: usize = 6;
-/// The pictures' size in pixels (shown at 480 px).
+/// The pictures' map size in pixels (the panel beside it adds half; shown at 480 px high).
 const PICTURE_PX: u32 = 640;
+
+/// The prompts a ground truth scores (its sequences' descriptions), for the report to put
+/// first.
+pub fn scored_prompts(gt: Option<&scenalog_eval::Submission>) -> Vec<String> {
+    let Some(gt) = gt else {
+        return Vec::new();
+    };
+    let prompts: BTreeSet<&String> = gt.sequences.keys().map(|(_, p)| p).collect();
+    prompts.into_iter().cloned().collect()
+}
 
 /// Up to `n` frames spread evenly from the first to the last of `frames` (sorted), both ends
 /// included.
@@ -53,8 +65,10 @@ fn spread(frames: &[Frame], n: usize) -> Vec<Frame> {
     out
 }
 
-/// The matches to picture: one from each pair in turn (table order), then a second from each,
-/// and so on, up to `max`; as indices into `all`.
+/// The matches to picture, as indices into `all` (grouped by program, programs in report
+/// order): the first match of every program, then one from each (program, log) pair in turn,
+/// then a second from each, and so on, until `max` are chosen (never fewer than one per
+/// program); in `all`'s order.
 fn choose(all: &[(usize, usize, &Match)], max: usize) -> Vec<usize> {
     let mut per_pair: Vec<Vec<usize>> = Vec::new();
     let mut last: Option<(usize, usize)> = None;
@@ -67,24 +81,32 @@ fn choose(all: &[(usize, usize, &Match)], max: usize) -> Vec<usize> {
             v.push(i);
         }
     }
-    let mut chosen = Vec::new();
+    let mut chosen: BTreeSet<usize> = BTreeSet::new();
+    let mut program: Option<usize> = None;
+    for v in &per_pair {
+        let Some(&first) = v.first() else { continue };
+        if program != Some(all[first].0) {
+            program = Some(all[first].0);
+            chosen.insert(first);
+        }
+    }
     let mut round = 0;
     while chosen.len() < max {
-        let before = chosen.len();
+        let mut any = false;
         for v in &per_pair {
             if let Some(i) = v.get(round) {
+                any = true;
                 if chosen.len() < max {
-                    chosen.push(*i);
+                    chosen.insert(*i);
                 }
             }
         }
-        if chosen.len() == before {
+        if !any {
             break;
         }
         round += 1;
     }
-    chosen.sort_unstable();
-    chosen
+    chosen.into_iter().collect()
 }
 
 /// One picture to draw: the file and what to draw.
@@ -93,10 +115,76 @@ struct Job<'a> {
     picture: Picture<'a>,
 }
 
+/// What one (program, log) pair gives its pictured matches: per match its frames (with their
+/// proofs) and pictures to draw, or a note saying why it has none.
+type PairOut<'a> = Result<Vec<(usize, Vec<ReportFrame>, Vec<Job<'a>>)>, String>;
+
+/// Evaluates one pair again with provenance and makes its matches' frames and pictures.
+fn pair_pictures<'a>(
+    scene: &'a Scene,
+    scenario: &'a Scenario,
+    log_id: &str,
+    members: &[usize],
+    all: &[(usize, usize, &Match)],
+    img: &Path,
+    limits: &scenalog_engine::Options,
+) -> PairOut<'a> {
+    let extractor = Extractor::new(scene);
+    let ev = evaluate_for_explain(&extractor, &scenario.program, false, limits).map_err(|e| {
+        format!(
+            "{} on log {log_id}: evaluating again for the proofs failed: {e}",
+            scenario.name
+        )
+    })?;
+    let renderer = Renderer { scene, scenario };
+    let mut out = Vec::new();
+    for &i in members {
+        let Some(track) = scene.track_by_uuid(&all[i].2.track_uuid) else {
+            continue;
+        };
+        let referred = referred_frames(&ev, track.id);
+        let mut frames = Vec::new();
+        let mut jobs = Vec::new();
+        for (j, &frame) in spread(&referred, FRAMES_PER_MATCH).iter().enumerate() {
+            let tuple = [Value::Track(track.id), Value::Time(frame)];
+            let proof = explain(&scenario.program, &ev, "referred", &tuple)
+                .ok()
+                .flatten();
+            let explanation = Explanation {
+                track: track.id,
+                frame,
+                referred_frames: referred.clone(),
+                proof,
+                why_not: None,
+            };
+            let related = related_at(&ev, track.id, frame);
+            let mut picture =
+                explanation_picture(&renderer, &explanation, related, Reference::Referred);
+            picture.width = PICTURE_PX;
+            picture.height = PICTURE_PX;
+            let name = format!("m{i}-f{j}.png");
+            frames.push(ReportFrame {
+                image: format!("img/{name}"),
+                frame,
+                seconds: scene.timeline.seconds(frame).unwrap_or(0.0),
+                referred: explanation.referred(),
+                proof: explanation_text(&renderer, &explanation),
+            });
+            jobs.push(Job {
+                file: img.join(name),
+                picture,
+            });
+        }
+        out.push((i, frames, jobs));
+    }
+    Ok(out)
+}
+
 /// Writes `into/report/index.html` and its pictures (`into`: the run's generation directory,
-/// published as `out/report/`); returns the page's path in `out`. Errors name the
-/// file that could not be written; a log or program that fails here leaves its matches
-/// without pictures (said on the page) rather than failing the report.
+/// published as `out/report/`); returns the page's path in `out`. `scored` are the prompts the
+/// run is scored on (their programs come first). Errors name the file that could not be
+/// written; a log or program that fails here leaves its matches without pictures (said on the
+/// page) rather than failing the report.
 pub fn write_run_report(
     into: &Path,
     out: &Path,
@@ -104,10 +192,19 @@ pub fn write_run_report(
     scenarios: &[Scenario],
     logs: &[LogInput],
     max_pictures: usize,
+    scored: &[String],
 ) -> Result<PathBuf, String> {
     let dir = into.join(REPORT_DIR);
     let img = dir.join("img");
     std::fs::create_dir_all(&img).map_err(|e| format!("cannot create `{}`: {e}", img.display()))?;
+    // The programs in report order: the scored ones first, each group in the run's order.
+    let is_scored = |s: &Scenario| scored.contains(&s.description);
+    let mut order: Vec<usize> = (0..scenarios.len()).collect();
+    order.sort_by_key(|&s| !is_scored(&scenarios[s]));
+    let mut rank = vec![0usize; scenarios.len()];
+    for (r, &s) in order.iter().enumerate() {
+        rank[s] = r;
+    }
     let log_index = |id: &str| logs.iter().position(|l| l.log_id == id);
     let mut counts = vec![vec![Some(0usize); logs.len()]; scenarios.len()];
     let mut all: Vec<(usize, usize, &Match)> = Vec::new();
@@ -123,16 +220,24 @@ pub fn write_run_report(
         }
         all.extend(p.matches.iter().map(|m| (p.scenario, li, m)));
     }
-    all.sort_by_key(|a| (a.0, a.1));
+    all.sort_by_key(|a| (rank[a.0], a.1));
     let chosen = choose(&all, max_pictures);
+    let programs_matched: BTreeSet<usize> = all.iter().map(|a| a.0).collect();
     let mut notes = vec![format!(
-        "{} programs × {} logs, {} matched tracks; {} pictured (at most {max_pictures}, \
-         `--report-max-pictures`), each at up to {FRAMES_PER_MATCH} frames over its referred \
-         span. Outputs in {}.",
+        "{} programs × {} logs, {} matched tracks of {} programs; {} pictured: the first match \
+         of every program that matched, then one per (program, log) pair and more up to \
+         `--report-max-pictures` ({max_pictures}), each at up to {FRAMES_PER_MATCH} frames over \
+         its referred span. {}Outputs in {}.",
         scenarios.len(),
         logs.len(),
         all.len(),
+        programs_matched.len(),
         chosen.len(),
+        if scored.is_empty() {
+            String::new()
+        } else {
+            "The programs the ground truth scores come first. ".to_string()
+        },
         out.display()
     )];
     let mut matches: Vec<ReportMatch> = all
@@ -147,7 +252,6 @@ pub fn write_run_report(
                 category: m.category.clone(),
                 span: (m.first_s, m.last_s),
                 referred_frames: m.frames,
-                proof: String::new(),
                 frames: Vec::new(),
                 command: format!(
                     "scenalog explain --rules {} --log {} --track {} --at {}",
@@ -161,19 +265,20 @@ pub fn write_run_report(
         .collect();
 
     // Scenes are loaded once per log; a log that cannot be read leaves its matches unpictured.
+    let needed: BTreeSet<usize> = chosen.iter().map(|&i| all[i].1).collect();
+    let loaded: Vec<(usize, Result<Scene, String>)> = needed
+        .into_par_iter()
+        .map(|li| (li, load_scene(&logs[li].dir).map_err(|e| e.to_string())))
+        .collect();
     let mut scenes: HashMap<usize, Scene> = HashMap::new();
-    for &i in &chosen {
-        let li = all[i].1;
-        if let std::collections::hash_map::Entry::Vacant(e) = scenes.entry(li) {
-            match load_scene(&logs[li].dir) {
-                Ok(s) => {
-                    e.insert(s);
-                }
-                Err(err) => notes.push(format!("log {}: {err}", logs[li].log_id)),
+    for (li, s) in loaded {
+        match s {
+            Ok(s) => {
+                scenes.insert(li, s);
             }
+            Err(err) => notes.push(format!("log {}: {err}", logs[li].log_id)),
         }
     }
-    let mut jobs: Vec<Job<'_>> = Vec::new();
     let mut by_pair: Vec<((usize, usize), Vec<usize>)> = Vec::new();
     for &i in &chosen {
         let key = (all[i].0, all[i].1);
@@ -185,61 +290,31 @@ pub fn write_run_report(
     // `mine`'s default limits for one pair, read once (the default budget reads the machine's
     // memory).
     let limits = super::budget::pair_limits(None, None, 1);
-    for ((si, li), members) in by_pair {
-        let Some(scene) = scenes.get(&li) else {
-            continue;
-        };
-        let scenario = &scenarios[si];
-        let extractor = Extractor::new(scene);
-        let ev = match evaluate_for_explain(&extractor, &scenario.program, false, &limits) {
-            Ok(ev) => ev,
-            Err(e) => {
-                notes.push(format!(
-                    "{} on log {}: evaluating again for the proofs failed: {e}",
-                    scenario.name, logs[li].log_id
-                ));
-                continue;
-            }
-        };
-        let renderer = Renderer { scene, scenario };
-        for i in members {
-            let Some(track) = scene.track_by_uuid(&all[i].2.track_uuid) else {
-                continue;
-            };
-            let referred = referred_frames(&ev, track.id);
-            let shown = spread(&referred, FRAMES_PER_MATCH);
-            for (j, &frame) in shown.iter().enumerate() {
-                let tuple = [Value::Track(track.id), Value::Time(frame)];
-                let proof = explain(&scenario.program, &ev, "referred", &tuple)
-                    .ok()
-                    .flatten();
-                let explanation = Explanation {
-                    track: track.id,
-                    frame,
-                    referred_frames: referred.clone(),
-                    proof,
-                    why_not: None,
-                };
-                if j == 0 {
-                    matches[i].proof = explanation_text(&renderer, &explanation);
+    let made: Vec<PairOut<'_>> = by_pair
+        .par_iter()
+        .filter_map(|((si, li), members)| {
+            let scene = scenes.get(li)?;
+            Some(pair_pictures(
+                scene,
+                &scenarios[*si],
+                &logs[*li].log_id,
+                members,
+                &all,
+                &img,
+                &limits,
+            ))
+        })
+        .collect();
+    let mut jobs: Vec<Job<'_>> = Vec::new();
+    for pair in made {
+        match pair {
+            Ok(pictured) => {
+                for (i, frames, js) in pictured {
+                    matches[i].frames = frames;
+                    jobs.extend(js);
                 }
-                let related = related_at(&ev, track.id, frame);
-                let mut picture =
-                    explanation_picture(&renderer, &explanation, related, Reference::Referred);
-                picture.width = PICTURE_PX;
-                picture.height = PICTURE_PX;
-                let name = format!("m{i}-f{j}.png");
-                matches[i].frames.push(ReportFrame {
-                    image: format!("img/{name}"),
-                    frame,
-                    seconds: scene.timeline.seconds(frame).unwrap_or(0.0),
-                    referred: explanation.referred(),
-                });
-                jobs.push(Job {
-                    file: img.join(name),
-                    picture,
-                });
             }
+            Err(note) => notes.push(note),
         }
     }
     let failures: Vec<String> = jobs
@@ -261,10 +336,15 @@ pub fn write_run_report(
     let report = Report {
         title: "Scenalog mining report".to_string(),
         notes,
-        programs: scenarios.iter().map(|s| s.name.clone()).collect(),
+        programs: order.iter().map(|&s| scenarios[s].name.clone()).collect(),
+        scored: order.iter().map(|&s| is_scored(&scenarios[s])).collect(),
         logs: logs.iter().map(|l| l.log_id.clone()).collect(),
-        counts,
+        counts: order.iter().map(|&s| counts[s].clone()).collect(),
         matches,
+        image_size: (
+            PICTURE_PX + scenalog_view::panel::panel_width(PICTURE_PX),
+            PICTURE_PX,
+        ),
     };
     scenalog_view::write_report(&dir, &report).map_err(|e| e.to_string())?;
     Ok(out.join(REPORT_DIR).join("index.html"))
@@ -280,5 +360,41 @@ mod tests {
         assert_eq!(spread(&[7], 6), vec![7]);
         assert_eq!(spread(&[], 6), Vec::<Frame>::new());
         assert_eq!(spread(&[1, 2], 6), vec![1, 2]);
+    }
+
+    fn m(track: &str) -> Match {
+        Match {
+            log_id: "log".into(),
+            description: "d".into(),
+            program: "p".into(),
+            track_uuid: track.into(),
+            category: "REGULAR_VEHICLE".into(),
+            first_s: 0.0,
+            last_s: 1.0,
+            frames: 10,
+            related: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn every_program_gets_its_first_match_whatever_the_cap() {
+        let ms: Vec<Match> = (0..8).map(|i| m(&format!("t{i}"))).collect();
+        // Program 0: 3 matches on log 0, 1 on log 1; program 1: 2 on log 1; program 2: 2 on log 0.
+        let all: Vec<(usize, usize, &Match)> = vec![
+            (0, 0, &ms[0]),
+            (0, 0, &ms[1]),
+            (0, 0, &ms[2]),
+            (0, 1, &ms[3]),
+            (1, 1, &ms[4]),
+            (1, 1, &ms[5]),
+            (2, 0, &ms[6]),
+            (2, 0, &ms[7]),
+        ];
+        assert_eq!(choose(&all, 0), vec![0, 4, 6]);
+        assert_eq!(choose(&all, 1), vec![0, 4, 6]);
+        // Then the first of each pair (program 0 on log 1), then seconds.
+        assert_eq!(choose(&all, 4), vec![0, 3, 4, 6]);
+        assert_eq!(choose(&all, 6), vec![0, 1, 3, 4, 5, 6]);
+        assert_eq!(choose(&all, 100), (0..8).collect::<Vec<_>>());
     }
 }

@@ -8,9 +8,15 @@
 //! rasterised by `resvg` ([`raster`]) with the DejaVu Sans font that ships inside the `dejavu`
 //! crate, so a clean clone renders text without system fonts. [`report`] writes the HTML page.
 
+pub mod animation;
+pub mod annotate;
 pub mod error;
+pub mod label;
+pub mod map;
 pub mod mark;
+pub mod measure;
 pub mod output;
+pub mod panel;
 pub mod picture;
 pub mod raster;
 pub mod report;
@@ -22,9 +28,11 @@ pub mod view;
 pub use error::ViewError;
 pub use mark::{Annotation, Mark, Side};
 pub use output::{write_picture, Format};
-pub use picture::{scene_svg, Picture, Reference};
+pub use picture::{draw_scene, layout, scene_svg, Drawn, Layout, Picture, Reference};
 pub use raster::{decode_png, render_png, render_rgba};
 pub use report::{write_report, Report, ReportFrame, ReportMatch};
 /// The rasteriser's pixel buffer type, for callers that inspect pixels.
 pub use resvg::tiny_skia;
+/// The parsed SVG tree ([`raster::parse`]), for callers that inspect where things are drawn.
+pub use resvg::usvg;
 pub use track_path::{path_svg, write_animation, PathPicture};

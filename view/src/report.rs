@@ -1,7 +1,7 @@
 //! The static HTML report of a mining run: one self-contained page (inline style and script,
 //! pictures as files beside it, no server and no network) with the table of programs × logs
 //! and, per pictured match, its pictures over the referred span with a frame scrubber, its time
-//! span and its proof text.
+//! span and the proof of the frame the scrubber shows.
 
 use std::fmt::Write;
 use std::path::Path;
@@ -21,6 +21,8 @@ pub struct ReportFrame {
     pub seconds: f64,
     /// Whether the track is referred at this frame.
     pub referred: bool,
+    /// The proof at this frame (as `scenalog explain` prints it).
+    pub proof: String,
 }
 
 /// One matched track of one (log, program) pair.
@@ -40,9 +42,7 @@ pub struct ReportMatch {
     pub span: (f64, f64),
     /// How many frames it is referred at.
     pub referred_frames: usize,
-    /// The proof (as `scenalog explain` prints it); empty when not made.
-    pub proof: String,
-    /// Its pictures, in time order (empty past the picture cap).
+    /// Its pictures with their proofs, in time order (empty past the picture cap).
     pub frames: Vec<ReportFrame>,
     /// The `scenalog explain` command that explains it.
     pub command: String,
@@ -57,12 +57,16 @@ pub struct Report {
     pub notes: Vec<String>,
     /// The table's rows: program names.
     pub programs: Vec<String>,
+    /// Per row, whether the run is scored on that program's prompt (marked in the table).
+    pub scored: Vec<bool>,
     /// The table's columns: log ids.
     pub logs: Vec<String>,
     /// Matched tracks per program (row) and log (column); `None` where the pair failed.
     pub counts: Vec<Vec<Option<usize>>>,
     /// The matches, in table order.
     pub matches: Vec<ReportMatch>,
+    /// The pictures' size in pixels, width and height (shown 480 px high); `(0, 0)`: square.
+    pub image_size: (u32, u32),
 }
 
 const STYLE: &str = r#"
@@ -74,11 +78,12 @@ table.counts td:first-child,table.counts th:first-child{text-align:left}
 table.counts td.zero{color:#bbb}
 table.counts td.failed{color:#d50000}
 section.match{background:#fff;border:1px solid #ddd;border-radius:6px;padding:.8em;margin:1em 0;display:flex;gap:1em;flex-wrap:wrap}
-section.match .pic{width:480px}
-section.match img{width:480px;height:480px;display:block;background:#eee}
+section.match .pic{max-width:100%}
+section.match img{height:480px;width:auto;max-width:100%;display:block;background:#eee}
 section.match .text{flex:1;min-width:320px}
 pre{font-size:.78em;background:#f4f4f4;padding:.6em;overflow:auto;max-height:28em}
-input.scrub{width:480px}
+input.scrub{width:100%}
+.scored{font-size:.75em;background:#1565c0;color:#fff;border-radius:3px;padding:0 4px;margin-left:4px}
 .label{font-size:.9em}
 details.rest summary h2{display:inline}
 .referred{color:#e6007e;font-weight:bold}
@@ -95,6 +100,7 @@ function show(sec, k) {
   var l = sec.querySelector('.label');
   l.textContent = 't = ' + f[2].toFixed(1) + ' s (frame ' + f[1] + ')' + (f[3] ? ' · referred' : ' · not referred');
   l.className = 'label' + (f[3] ? ' referred' : '');
+  sec.querySelectorAll('pre.proof').forEach(function (p) { p.hidden = p.getAttribute('data-k') != k; });
 }
 document.addEventListener('input', function (e) {
   if (e.target.classList.contains('scrub')) show(e.target.closest('section'), e.target.value);
@@ -149,7 +155,12 @@ pub fn report_html(r: &Report) -> String {
     }
     h.push_str("<th>total</th></tr>\n");
     for (i, p) in r.programs.iter().enumerate() {
-        let _ = write!(h, "<tr><td>{}</td>", escape(p));
+        let tag = if r.scored.get(i).copied().unwrap_or(false) {
+            "<span class=\"scored\" title=\"the run is scored on this program's prompt\">scored</span>"
+        } else {
+            ""
+        };
+        let _ = write!(h, "<tr><td>{}{tag}</td>", escape(p));
         let mut total = 0;
         for (j, l) in r.logs.iter().enumerate() {
             match r
@@ -188,18 +199,22 @@ pub fn report_html(r: &Report) -> String {
         .filter(|(_, m)| !m.frames.is_empty())
         .collect();
     let _ = writeln!(h, "<h2>Matches with pictures ({})</h2>", pictured.len());
+    let (iw, ih) = match r.image_size {
+        (w, h) if w > 0 && h > 0 => (480 * w / h, 480),
+        _ => (480, 480),
+    };
     for (k, m) in &pictured {
         let referred_at = m.frames.iter().position(|f| f.referred).unwrap_or_default();
         let f0 = &m.frames[referred_at];
         let _ = write!(
             h,
             "<section class=\"match\" id=\"m-{k}\" data-frames='{}'>\
-             <div class=\"pic\"><img loading=\"lazy\" alt=\"{} at {:.1} s\" src=\"{}\" width=\"480\" height=\"480\">\
+             <div class=\"pic\"><img loading=\"lazy\" alt=\"{} at {:.1} s\" src=\"{}\" width=\"{iw}\" height=\"{ih}\">\
              <input class=\"scrub\" type=\"range\" min=\"0\" max=\"{}\" value=\"{referred_at}\" aria-label=\"frame\">\
              <div class=\"label{}\">t = {:.1} s (frame {}){}</div></div>\
              <div class=\"text\"><b>{}</b> · {} <br>log {} · track {} ({})<br>\
              referred in {} frames, from {:.1} s to {:.1} s\
-             <pre class=\"cmd\">{}</pre><details open><summary>proof</summary><pre>{}</pre></details></div></section>",
+             <pre class=\"cmd\">{}</pre><details open><summary>proof at the frame shown</summary>",
             frames_json(&m.frames),
             escape(&m.track_uuid),
             f0.seconds,
@@ -218,9 +233,16 @@ pub fn report_html(r: &Report) -> String {
             m.span.0,
             m.span.1,
             escape(&m.command),
-            escape(&m.proof),
         );
-        h.push('\n');
+        for (j, f) in m.frames.iter().enumerate() {
+            let _ = write!(
+                h,
+                "<pre class=\"proof\" data-k=\"{j}\"{}>{}</pre>",
+                if j == referred_at { "" } else { " hidden" },
+                escape(&f.proof)
+            );
+        }
+        h.push_str("</details></div></section>\n");
     }
     let rest: Vec<&ReportMatch> = r.matches.iter().filter(|m| m.frames.is_empty()).collect();
     if !rest.is_empty() {

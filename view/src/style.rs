@@ -28,6 +28,12 @@ pub const FACT: &str = "#1565c0";
 pub const FAILED: &str = "#d50000";
 /// Text.
 pub const TEXT: &str = "#111111";
+/// Secondary text (the point of view, a count of lines left out).
+pub const MUTED: &str = "#555555";
+/// The side panel's background.
+pub const PANEL: &str = "#ffffff";
+/// The line between the map and the side panel.
+pub const PANEL_EDGE: &str = "#9e9e9e";
 /// Font family (the embedded DejaVu Sans).
 pub const FONT: &str = "DejaVu Sans";
 

@@ -1,16 +1,17 @@
 //! A track over time: the object's path over a span of frames drawn over the scene, the
 //! frames where it is referred marked, as one picture or as an animated GIF (one picture per
-//! frame, the view held still).
+//! frame, the view held still, each frame with its own proof, one palette for all).
 
 use std::path::Path;
 
 use scenalog_facts::scene::{Frame, TrackId};
 
+use rayon::prelude::*;
+
 use crate::error::ViewError;
+use crate::label::Label;
 use crate::output::write_file;
-use crate::picture::{
-    box_at, check_frame, draw_map, draw_objects, draw_overlays, Picture, Reference,
-};
+use crate::picture::{box_at, check_frame, draw_with, priority, Picture, Reference};
 use crate::style;
 use crate::svg::{path_data, Svg};
 use crate::view::View;
@@ -29,6 +30,9 @@ pub struct PathPicture<'a> {
     pub last: Frame,
     /// Frames where the track is referred (sorted), marked on the path.
     pub referred_frames: Vec<Frame>,
+    /// For an animation, each frame's own picture (its frame, related objects, proof), by
+    /// frame; a frame of the span without one is drawn with no proof, saying so.
+    pub frames: Vec<Picture<'a>>,
 }
 
 /// A track's centre (city frame) at each frame where it has a box.
@@ -92,13 +96,13 @@ fn path_view(p: &PathPicture<'_>) -> Result<(PathPoints, View), ViewError> {
         half,
         p.picture.width as f64,
         p.picture.height as f64,
-        crate::picture::header_height(&p.picture),
+        0.0,
     );
     Ok((points, view))
 }
 
 /// Draws the path: a line through every centre, a dot per frame (filled where referred,
-/// hollow elsewhere), up to `upto` (inclusive), and the start and end times.
+/// hollow elsewhere), up to `upto` (inclusive).
 fn draw_path(
     svg: &mut Svg,
     view: &View,
@@ -128,46 +132,50 @@ fn draw_path(
             );
         }
     }
+}
+
+/// The path's start and end times, as labels by its ends.
+fn path_labels(view: &View, p: &PathPicture<'_>, points: &[(Frame, [f64; 2])]) -> Vec<Label> {
     let scene = p.picture.scene;
-    for (f, px) in [points.first(), points.last()]
+    [points.first(), points.last()]
         .into_iter()
         .flatten()
-        .map(|(f, q)| (*f, view.px(*q)))
-    {
-        let s = scene.timeline.seconds(f).unwrap_or(0.0);
-        svg.text(
-            [px[0] + 7.0, px[1] + 4.0],
-            11.0,
-            &format!("{s:.1} s"),
-            r##"fill="#111111" stroke="#ffffff" stroke-width="2.5" paint-order="stroke""##,
-        );
-    }
+        .enumerate()
+        .map(|(k, (f, q))| {
+            let px = view.px(*q);
+            let s = scene.timeline.seconds(*f).unwrap_or(0.0);
+            Label {
+                target: [px[0] - 3.0, px[1] - 3.0, px[0] + 3.0, px[1] + 3.0],
+                text: format!("{s:.1} s"),
+                size: 11.0,
+                bold: false,
+                fill: style::TEXT,
+                priority: priority::PATH,
+                keep: false,
+                id: format!("label-path-{}", if k == 0 { "start" } else { "end" }),
+            }
+        })
+        .collect()
 }
 
 /// One picture of the path over the scene at `p.picture.frame`.
 pub fn path_svg(p: &PathPicture<'_>) -> Result<String, ViewError> {
     let (points, view) = path_view(p)?;
     check_frame(p.picture.scene, p.picture.frame)?;
-    Ok(frame_svg(p, &points, &view, p.picture.frame, p.last))
+    Ok(frame_svg(p, &p.picture, &points, &view, p.last))
 }
 
+/// The picture of the path with `pic`'s frame, objects and proof, the dots up to `upto`.
 fn frame_svg(
     p: &PathPicture<'_>,
+    pic: &Picture<'_>,
     points: &[(Frame, [f64; 2])],
     view: &View,
-    frame: Frame,
     upto: Frame,
 ) -> String {
-    let pic = &p.picture;
-    let mut svg = Svg::new(pic.width, pic.height);
-    draw_map(&mut svg, view, pic.scene);
-    draw_path(&mut svg, view, p, points, upto);
-    let labels = draw_objects(&mut svg, view, pic.scene, frame, pic.referred, &pic.related);
-    crate::picture::draw_labels(&mut svg, labels);
     let mut shown = pic.clone();
-    shown.frame = frame;
-    let referred = p.referred_frames.binary_search(&frame).is_ok();
-    shown.status = format!(
+    let referred = p.referred_frames.binary_search(&pic.frame).is_ok();
+    let path_line = format!(
         "path from frame {} to {}: {} referred frames (filled dots){}",
         p.first,
         p.last,
@@ -177,43 +185,59 @@ fn frame_svg(
             .count(),
         if referred { " · referred now" } else { "" }
     );
-    draw_overlays(&mut svg, view, &shown);
-    svg.finish()
+    shown.status = if pic.status.is_empty() {
+        path_line
+    } else {
+        format!("{}\n{path_line}", pic.status)
+    };
+    let labels = path_labels(view, p, points);
+    draw_with(
+        &shown,
+        view,
+        |svg, view| draw_path(svg, view, p, points, upto),
+        labels,
+    )
+    .svg
 }
 
-/// One SVG per frame of the span, the view held still and the path drawn up to that frame.
+/// The picture of frame `f` of an animation: the caller's picture of that frame, or the still
+/// picture moved to `f` with its proof left out (it is another frame's).
+fn picture_at<'a>(p: &PathPicture<'a>, f: Frame) -> Picture<'a> {
+    if let Some(pic) = p.frames.iter().find(|q| q.frame == f) {
+        return pic.clone();
+    }
+    let mut pic = p.picture.clone();
+    pic.frame = f;
+    pic.annotations.clear();
+    pic.notes.clear();
+    pic.related.clear();
+    pic.status = "no proof drawn for this frame".to_string();
+    pic
+}
+
+/// One SVG per frame of the span, the view held still, the path drawn up to that frame, and
+/// each frame's own objects and proof.
 pub fn animation_frames(p: &PathPicture<'_>) -> Result<Vec<String>, ViewError> {
     let (points, view) = path_view(p)?;
     Ok((p.first..=p.last)
-        .map(|f| frame_svg(p, &points, &view, f, f))
+        .into_par_iter()
+        .map(|f| frame_svg(p, &picture_at(p, f), &points, &view, f))
         .collect())
 }
 
 /// Writes SVG pictures (all of one size) as an animated GIF, `delay_cs` hundredths of a second
-/// per picture, looping.
+/// per picture, looping, one palette for all of them (see [`crate::animation`]).
 pub fn write_animation(path: &Path, frames: &[String], delay_cs: u16) -> Result<(), ViewError> {
-    let render = |e: gif::EncodingError| ViewError::Render(e.to_string());
-    let mut rasters = Vec::with_capacity(frames.len());
-    for svg in frames {
-        rasters.push(crate::raster::render_rgba(svg)?);
-    }
-    let Some((w, h, _)) = rasters.first() else {
-        return Err(ViewError::Render(
-            "an animation needs at least one frame".into(),
-        ));
-    };
-    let too_large = || ViewError::Render(format!("GIF size {w} x {h} is too large"));
-    let w16 = u16::try_from(*w).map_err(|_| too_large())?;
-    let h16 = u16::try_from(*h).map_err(|_| too_large())?;
-    let mut bytes = Vec::new();
-    {
-        let mut encoder = gif::Encoder::new(&mut bytes, w16, h16, &[]).map_err(render)?;
-        encoder.set_repeat(gif::Repeat::Infinite).map_err(render)?;
-        for (_, _, mut rgba) in rasters {
-            let mut frame = gif::Frame::from_rgba_speed(w16, h16, &mut rgba, 20);
-            frame.delay = delay_cs;
-            encoder.write_frame(&frame).map_err(render)?;
-        }
-    }
+    // Shapes without anti-aliasing: an object whose box moves by less than a pixel (the
+    // annotations of parked cars jitter by centimetres) then leaves its pixels as they were,
+    // so frames differ only where something really moved, and compress.
+    let rasters = frames
+        .par_iter()
+        .map(|svg| {
+            let crisp = svg.replacen("<svg ", "<svg shape-rendering=\"crispEdges\" ", 1);
+            crate::raster::render_rgba(&crisp)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let bytes = crate::animation::encode(&rasters, delay_cs)?;
     write_file(path, &bytes)
 }

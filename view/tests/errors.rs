@@ -94,6 +94,7 @@ fn path_ranges_are_checked() {
         first: 5,
         last: 12,
         referred_frames: vec![6, 7],
+        frames: Vec::new(),
     };
     let e = path_svg(&path).expect_err("frame 12 of 10");
     assert!(e.to_string().contains("frame 12 is outside log"), "{e}");

@@ -5,7 +5,7 @@ use scenalog_extractors::synthetic::{straight, SceneBuilder};
 use scenalog_facts::scene::{Scene, TrackId, EGO_SIZE};
 use scenalog_facts::LaneType;
 use scenalog_view::picture::picture_view;
-use scenalog_view::{render_png, render_rgba, scene_svg, style, Picture};
+use scenalog_view::{layout, render_png, render_rgba, scene_svg, style, Picture};
 
 /// The ego at the origin heading +x, a car 5 m to its left (+y), a pedestrian and a bus ahead, a bike lane
 /// on the ego's right, all still for 10 frames.
@@ -64,7 +64,9 @@ fn the_referred_car_left_of_the_ego_is_drawn_left_in_the_highlight_colour() {
     p.height = 400;
     let view = picture_view(&p).expect("a view");
     let (w, h, rgba) = render_rgba(&scene_svg(&p).expect("svg")).expect("raster");
-    assert_eq!((w, h), (400, 400));
+    // The map is 400 px square; the panel beside it adds its width.
+    assert_eq!((w, h), (layout(&p).width, 400));
+    assert!(w > 400);
     // The ego heads up, so its left is the picture's left: the car's centre is left of the ego's.
     let car = view.px([0.0, 5.0]);
     let ego = view.px([0.0, 0.0]);
@@ -130,16 +132,17 @@ fn the_picture_is_identical_across_runs() {
 
 #[test]
 fn text_renders_with_the_embedded_font() {
-    // With no system fonts, text would draw nothing: the title band's text pixels would all be
-    // the band's own colour.
+    // With no system fonts, text would draw nothing: the title's pixels in the panel would all
+    // be the panel's own colour.
     let scene = scene();
     let mut p = Picture::new(&scene, 2);
     p.title = "WWWWWWWWWWWWWWWWWWWW".into();
     p.width = 400;
     p.height = 400;
     let (w, _, rgba) = render_rgba(&scene_svg(&p).expect("svg")).expect("raster");
+    let left = layout(&p).panel[0] as usize;
     let dark = (10..30)
-        .flat_map(|y| (10..200).map(move |x| [x as f64, y as f64]))
+        .flat_map(|y| (left + 10..left + 200).map(move |x| [x as f64, y as f64]))
         .filter(|at| pixel(&rgba, w, *at).iter().all(|c| *c < 80))
         .count();
     assert!(dark > 100, "only {dark} dark pixels where the title is");
