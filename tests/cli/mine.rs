@@ -1,12 +1,11 @@
 //! `scenalog mine` end to end: the built binary on the three real AV2 logs and the official
 //! evaluation fixture; synthesis against a scripted OpenAI-compatible server on 127.0.0.1.
 
-#[path = "../synth/tests/support/server.rs"]
-mod server;
+use crate::server;
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use scenalog_eval::{read_pickle, read_table};
 
@@ -39,7 +38,7 @@ fn gt_s() -> &'static str {
 
 /// Runs the binary with `args` (after the subcommand) and no LLM settings from the environment.
 fn run(sub: &str, args: &[&Path]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    let mut c = crate::util::scenalog();
     c.arg(sub).args(args);
     for v in [
         "SCENALOG_LLM_BASE_URL",
@@ -712,7 +711,7 @@ fn a_killed_run_never_leaves_a_mixed_set_of_outputs() {
         library("vehicle_following_too_closely"),
     );
     let run_with = |program: &Path| {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+        let mut c = crate::util::scenalog();
         c.arg("mine")
             .arg("--rules")
             .arg(program)

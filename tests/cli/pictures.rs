@@ -21,7 +21,7 @@ fn root() -> PathBuf {
 }
 
 fn scenalog(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    crate::util::scenalog()
         .current_dir(root())
         .args(args)
         .output()
@@ -342,7 +342,7 @@ fn each_animation_frame_carries_its_own_proof() {
     let mut like = Picture::new(&scene, 80);
     like.referred = Some(car);
     like.reference = Reference::Referred;
-    let limits = scenalog::pipeline::budget::pair_limits(None, None, 1);
+    let limits = scenalog::pipeline::limits::pair_limits(None, None, 1);
     let pictures = frame_pictures(&renderer, &like, 78, 84, &limits).expect("frames");
     assert_eq!(pictures.len(), 7);
     let path = PathPicture {

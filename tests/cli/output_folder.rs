@@ -24,7 +24,7 @@ fn s(p: &Path) -> String {
 }
 
 fn mine_command(rules: &Path, out: &Path, extra: &[&str]) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    let mut c = crate::util::scenalog();
     c.args([
         "mine",
         "--rules",

@@ -1,11 +1,10 @@
 //! `scenalog synth` end to end: the built binary against a scripted OpenAI-compatible server on
 //! 127.0.0.1 (the same test server as the synth crate's tests).
 
-#[path = "../synth/tests/support/server.rs"]
-mod server;
+use crate::server;
 
 use std::fs;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use server::{program, with_usage, Reply, Server};
 
@@ -14,7 +13,7 @@ const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning_left(
 
 /// Runs the binary with no LLM settings from the environment but `env`.
 fn scenalog(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    let mut c = crate::util::scenalog();
     c.arg("synth").args(args);
     for v in [
         "SCENALOG_LLM_BASE_URL",
@@ -376,8 +375,8 @@ fn eval_scores_the_fixture_prompts_as_mine_does() {
     // The model answers the two fixture prompts with the library's programs, and a third
     // description that is no prompt of the fixture: the fixture score is the main job's
     // (README.md: `scenalog mine` scores 0.5708605517786205 with the same two programs).
-    let stopped = include_str!("../rules/library/stopped_car.dl");
-    let bike = include_str!("../rules/library/vehicle_with_bicycle_to_its_right.dl");
+    let stopped = include_str!("../../rules/library/stopped_car.dl");
+    let bike = include_str!("../../rules/library/vehicle_with_bicycle_to_its_right.dl");
     const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
     let report = eval_json(
         "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
@@ -468,8 +467,8 @@ fn eval_stops_a_runaway_program_at_the_time_limit_and_scores_it_as_predicting_no
 fn eval_text_report_shows_the_fixture_score() {
     // README.md's held-out synthesis report, exactly: three descriptions, two of them the
     // fixture's prompts answered with the library's programs, one repaired once.
-    let stopped = include_str!("../rules/library/stopped_car.dl");
-    let bike = include_str!("../rules/library/vehicle_with_bicycle_to_its_right.dl");
+    let stopped = include_str!("../../rules/library/stopped_car.dl");
+    let bike = include_str!("../../rules/library/vehicle_with_bicycle_to_its_right.dl");
     const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
     let o = run_eval(
         "stopped car\ntram crossing\nvehicle with a bicycle to its right\n",
@@ -482,7 +481,7 @@ fn eval_text_report_shows_the_fixture_score() {
         &["--price", "2,0.5,8"],
     );
     let text = stdout(&o);
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let start = readme
         .find("~~~\ndescriptions                      3\n")
         .expect("README.md shows the report");

@@ -23,7 +23,7 @@ fn log_dir(id: &str) -> PathBuf {
 
 /// Runs the command with `stdout` as its standard output, killing it after [`DEADLINE`].
 fn run_with(args: &[&str], stdout: Stdio) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let mut child = crate::util::scenalog()
         .args(args)
         .stdin(Stdio::null())
         .stdout(stdout)

@@ -3,10 +3,10 @@
 //! itself raises), then `scenalog mine` on some of the imported programs over a real log.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn scenalog(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    crate::util::scenalog()
         .args(args)
         .output()
         .expect("run scenalog")

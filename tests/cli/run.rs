@@ -1,10 +1,10 @@
 //! `scenalog run` end to end: tuples as facts, JSON, sizes, limits, catalog use, exit codes.
 
 use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 fn scenalog(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let mut child = crate::util::scenalog()
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

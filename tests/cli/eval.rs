@@ -10,7 +10,7 @@ fn data(name: &str) -> PathBuf {
 }
 
 fn scenalog() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    crate::util::scenalog()
 }
 
 #[test]

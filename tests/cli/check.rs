@@ -1,10 +1,10 @@
 //! `scenalog check` end to end: exit codes, human and JSON output, stdin, `--no-referred`.
 
 use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 fn scenalog(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let mut child = crate::util::scenalog()
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -1,11 +1,11 @@
 //! `scenalog catalog` end to end: the built binary prints the catalog as text and JSON.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use scenalog_facts::catalog;
 
 fn scenalog(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    crate::util::scenalog()
         .args(args)
         .output()
         .expect("run scenalog")

@@ -5,7 +5,6 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::Value as Json;
 
@@ -28,7 +27,7 @@ fn logs() -> Vec<PathBuf> {
 
 /// Runs the binary: (exit code, stdout, stderr).
 fn scenalog(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let out = crate::util::scenalog()
         .args(args)
         .current_dir(root())
         .output()

@@ -7,7 +7,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 
@@ -21,7 +21,7 @@ fn log_dir() -> PathBuf {
 
 /// Runs the binary with `args` and `stdin`; the exit code must be a code, not a signal.
 fn scenalog(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let mut child = crate::util::scenalog()
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -3,7 +3,7 @@
 //! Expected figures were computed independently with pyarrow (see `facts/tests/verify_figures.py`).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn log_dir(id: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -12,7 +12,7 @@ fn log_dir(id: &str) -> PathBuf {
 }
 
 fn scenalog(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    crate::util::scenalog()
         .args(args)
         .output()
         .expect("run scenalog")
@@ -154,7 +154,7 @@ fn facts_relation_prints_count_and_json_tuples() {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
     );
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let out = crate::util::scenalog()
         .args(["facts", log, "--relation", "in_lane", "--json"])
         .output()
         .expect("run scenalog");
@@ -169,13 +169,13 @@ fn facts_relation_prints_count_and_json_tuples() {
         assert!(row[1].as_u64().is_some_and(|f| f < 157), "frame index");
         assert!(row[2].as_i64().is_some(), "lane map id");
     }
-    let text = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let text = crate::util::scenalog()
         .args(["facts", log, "--relation", "in_lane"])
         .output()
         .expect("run scenalog");
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.contains(&format!("{} tuples", rows.len())), "{text}");
-    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let bad = crate::util::scenalog()
         .args(["facts", log, "--relation", "no_such_relation"])
         .output()
         .expect("run scenalog");
@@ -220,7 +220,7 @@ fn facts_relation_json_names_its_columns_from_the_catalog() {
         "/tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
     );
     let run = |extra: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_scenalog"))
+        let out = crate::util::scenalog()
             .args(["facts", log, "--relation", "near", "--json"])
             .args(extra)
             .output()

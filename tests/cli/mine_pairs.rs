@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use scenalog_eval::{evaluate, read_pickle, EvalOptions, PyValue as P, Submission};
 
@@ -18,7 +18,7 @@ const LOG_B: &str = "3bffdcff-c3a7-38b6-a0f2-64196d130958";
 
 /// `scenalog mine --log-prompts PAIRS --dataset-dir logs --out OUT [--tracks T] [extra…]`.
 fn mine(pairs: &Path, tracks: Option<&Path>, out: &Path, extra: &[&str]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+    let mut c = crate::util::scenalog();
     c.arg("mine")
         .arg("--log-prompts")
         .arg(pairs)
@@ -364,7 +364,7 @@ fn resume_redoes_pairs_whose_log_files_changed() {
     let pairs = data("tracker/log_prompt_pairs_fixture.json");
     let out = dir.path().join("o");
     let run = |resume: bool| {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_scenalog"));
+        let mut c = crate::util::scenalog();
         c.arg("mine")
             .arg("--log-prompts")
             .arg(&pairs)
@@ -472,7 +472,7 @@ fn refav_per_log_feather_with_scores_is_read_and_its_scores_carried() {
     let pairs = dir.path().join("pairs.json");
     std::fs::write(&pairs, format!("{{\"{LOG_B}\": [\"stopped car\"]}}")).expect("pairs");
     let out = dir.path().join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let o = crate::util::scenalog()
         .arg("mine")
         .arg("--log-prompts")
         .arg(&pairs)

@@ -7,7 +7,6 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use scenalog_eval::{read_pickle, PyValue as P};
 use scenalog_tracker::TrackerPickle;
@@ -52,7 +51,7 @@ fn every_nth_frame(stride: usize, out: &Path) {
 /// `scenalog mine --log-prompts` on the fixture's pairs with `tracks`, then `scenalog eval
 /// --json` of its submission: (the submission's timestamps by sequence, the report).
 fn mine_and_score(tracks: &Path, out: &Path) -> (BTreeMap<String, Vec<i64>>, serde_json::Value) {
-    let o = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let o = crate::util::scenalog()
         .arg("mine")
         .arg("--log-prompts")
         .arg(data("tracker/log_prompt_pairs_fixture.json"))
@@ -82,7 +81,7 @@ fn mine_and_score(tracks: &Path, out: &Path) -> (BTreeMap<String, Vec<i64>>, ser
             )
         })
         .collect();
-    let e = Command::new(env!("CARGO_BIN_EXE_scenalog"))
+    let e = crate::util::scenalog()
         .arg("eval")
         .arg("--pred")
         .arg(out.join("submission.pkl"))

@@ -1,0 +1,24 @@
+//! The `scenalog` command's tests, one binary: each module tests one subcommand or concern
+//! through the built binary (`util::scenalog`), on the real sample logs and fixture.
+//!
+//! Run one module with `cargo test --test cli mine::`, one test by its name.
+
+#[path = "../../synth/tests/support/server.rs"]
+mod server;
+mod util;
+
+mod catalog;
+mod check;
+mod eval;
+mod explain;
+mod facts;
+mod hostile;
+mod hostile_input;
+mod import;
+mod mine;
+mod mine_pairs;
+mod output_folder;
+mod pictures;
+mod run;
+mod synth;
+mod tracker_rates;
