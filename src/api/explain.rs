@@ -64,7 +64,7 @@ pub fn explain_request(request: &ExplainRequest) -> Result<Explained, ExplainErr
         }
     }
     request.limits.check().map_err(unusable)?;
-    let limits = crate::pipeline::budget::pair_limits(
+    let limits = crate::pipeline::limits::pair_limits(
         request.limits.max_tuples,
         request.limits.timeout_ms,
         1,

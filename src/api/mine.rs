@@ -12,7 +12,7 @@ use std::sync::Arc;
 use scenalog_synth::SynthConfig;
 
 use crate::api::error::{Arg, Error, ErrorKind};
-use crate::pipeline::budget::pair_limits;
+use crate::pipeline::limits::pair_limits;
 use crate::pipeline::output::{OutputNames, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{run_unpublished, LogInput, PairStatus, RunOptions, RunReport};
@@ -29,7 +29,7 @@ const SAMPLE_LOGS: &str = "tests/data/av2/logs";
 pub const SAMPLE_GT: &str = "tests/data/av2/eval/combined_gt_dev.pkl";
 
 /// One pair's limits: its tuple budget and its time limit (`None`: the defaults of
-/// [`crate::pipeline::budget`]).
+/// [`crate::pipeline::limits`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Limits {
     /// Most tuples one (log, program) pair may hold, across all its relations (at least 1).
@@ -642,7 +642,7 @@ pub fn synthesize(
 
 /// The engine's limits for one pair: the tuple budget (default sized to the machine's memory
 /// and the worker threads) and the time limit (default
-/// [`crate::pipeline::budget::DEFAULT_TIMEOUT`]).
+/// [`crate::pipeline::limits::DEFAULT_TIMEOUT`]).
 pub fn engine_options(threads: Option<usize>, limits: &Limits) -> scenalog_engine::Options {
     let threads = threads.unwrap_or_else(rayon::current_num_threads);
     pair_limits(limits.max_tuples, limits.timeout_ms, threads)

@@ -173,7 +173,7 @@ fn fail(code: u8, msg: &str) -> ExitCode {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
-    let limits = crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1);
+    let limits = crate::pipeline::limits::pair_limits(args.max_tuples, args.timeout_ms, 1);
     let explained = match explain_track(
         &args.rules,
         &args.log,

@@ -48,7 +48,7 @@ pub fn run(args: Args) -> ExitCode {
     };
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     if let Some(name) = &args.relation {
-        let limits = crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1);
+        let limits = crate::pipeline::limits::pair_limits(args.max_tuples, args.timeout_ms, 1);
         return print_relation(&scene, name, (args.json, args.columns), &limits);
     }
     let summary = SceneSummary::of(&scene);

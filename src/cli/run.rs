@@ -106,7 +106,7 @@ fn read_input(name: &str) -> Result<String, String> {
 /// The evaluation's limits: `mine`'s defaults (a tuple budget sized to the machine, a time limit),
 /// so a program that derives forever ends with an error naming the limit.
 pub fn limits(args: &Args) -> Options {
-    crate::pipeline::budget::pair_limits(args.max_tuples, args.timeout_ms, 1)
+    crate::pipeline::limits::pair_limits(args.max_tuples, args.timeout_ms, 1)
 }
 
 /// Checks and evaluates the program and prints what was asked.
@@ -210,12 +210,12 @@ mod tests {
         let defaults = limits(&cli.args);
         assert_eq!(
             defaults.timeout,
-            Some(crate::pipeline::budget::DEFAULT_TIMEOUT)
+            Some(crate::pipeline::limits::DEFAULT_TIMEOUT)
         );
         assert_eq!(
             defaults.max_tuples,
-            crate::pipeline::budget::default_max_tuples(
-                crate::pipeline::budget::machine_memory(),
+            crate::pipeline::limits::default_max_tuples(
+                crate::pipeline::limits::machine_memory(),
                 1
             )
         );

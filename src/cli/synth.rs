@@ -224,7 +224,7 @@ pub fn run(args: Args) -> ExitCode {
             .gt
             .clone()
             .or_else(|| crate::api::mine::bundled(crate::api::mine::SAMPLE_GT));
-        let limits = crate::pipeline::budget::pair_limits(
+        let limits = crate::pipeline::limits::pair_limits(
             args.max_tuples,
             args.timeout_ms,
             rayon::current_num_threads(),

@@ -5,11 +5,11 @@
 //! frames, the related-object range); [`predictions`] turns those into the evaluation's data model;
 //! [`run`] mines every (log, program) pair of a run in parallel and writes what [`output`]
 //! describes; [`summary`] renders a run for a person and scores it against ground truth;
-//! [`budget`] sizes a pair's default tuple budget and time limit; [`lock`] keeps one writer per
+//! [`limits`] sizes a pair's default tuple budget and time limit; [`lock`] keeps one writer per
 //! output folder.
 
-pub mod budget;
 pub mod explain;
+pub mod limits;
 pub mod lock;
 pub mod output;
 pub mod picture;

@@ -289,7 +289,7 @@ pub fn write_run_report(
     }
     // `mine`'s default limits for one pair, read once (the default budget reads the machine's
     // memory).
-    let limits = super::budget::pair_limits(None, None, 1);
+    let limits = super::limits::pair_limits(None, None, 1);
     let made: Vec<PairOut<'_>> = by_pair
         .par_iter()
         .filter_map(|((si, li), members)| {

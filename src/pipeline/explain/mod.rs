@@ -54,7 +54,6 @@ mod json;
 mod text;
 mod values;
 
-
 /// How many characters of a track's uuid the text shows.
 pub const UUID_PREFIX: usize = 8;
 

@@ -226,7 +226,13 @@ impl Renderer<'_> {
         lines
     }
 
-    pub(crate) fn attempt_text(&self, a: &ClauseAttempt, indent: usize, out: &mut String, depth: usize) {
+    pub(crate) fn attempt_text(
+        &self,
+        a: &ClauseAttempt,
+        indent: usize,
+        out: &mut String,
+        depth: usize,
+    ) {
         let pad = " ".repeat(indent);
         if let Some((line, text)) = self.clause_source(a.clause) {
             out.push_str(&format!(

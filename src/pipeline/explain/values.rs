@@ -152,7 +152,12 @@ impl Renderer<'_> {
 
     /// A side of a comparison: `speed = 0.21 m/s` when it is a variable bound by the only float
     /// column of a catalog relation, `Dist = 2.10 m` for another variable, the value otherwise.
-    pub(crate) fn side(&self, clause: Option<usize>, e: &scenalog_rules::ast::Expr, v: &Value) -> String {
+    pub(crate) fn side(
+        &self,
+        clause: Option<usize>,
+        e: &scenalog_rules::ast::Expr,
+        v: &Value,
+    ) -> String {
         let Some(var) = e.as_var() else {
             return self.value(v, None);
         };

@@ -37,8 +37,8 @@ use super::tracks::{eval_frames, label_frames};
 mod pair;
 mod resume;
 
-use pair::*;
 pub use pair::short_id;
+use pair::*;
 use resume::*;
 
 /// One log to mine: its directory, its id (the directory's name), where its objects come from

@@ -86,7 +86,6 @@ pub(crate) fn log_fingerprint(log: &LogInput) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
-
 /// Rebuilds a finished pair from its record; `None` when the record's tuples do not fit the
 /// scene (the log changed), so the pair is mined again.
 pub(crate) fn resume_pair(
