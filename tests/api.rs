@@ -47,6 +47,7 @@ fn a_mine_request_gives_the_commands_files_matches_and_score() {
         out: Some(tmp.path().join("api")),
         gt: Some(gt.clone()),
         threads: Some(2),
+        pickle: true,
         ..MineRequest::default()
     };
     let plan = scenalog::api::mine::plan(&request).expect("plan");
@@ -72,6 +73,7 @@ fn a_mine_request_gives_the_commands_files_matches_and_score() {
         threads.as_ref(),
         "--format".as_ref(),
         "json".as_ref(),
+        "--pickle".as_ref(),
     ]);
     let o = scenalog(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
