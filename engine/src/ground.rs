@@ -11,7 +11,7 @@ use scenalog_facts::catalog::ColType;
 
 use scenalog_rules::ast::Clause;
 
-use crate::eval::{Limits, Origins};
+use crate::evaluate::{Limits, Origins};
 use crate::plan::{apply, ground_head, Plan};
 use crate::rows::Rows;
 use crate::stratum::stored_width;

@@ -10,7 +10,7 @@
 
 mod agg_body;
 mod demand;
-mod eval;
+mod evaluate;
 mod explain;
 mod ground;
 mod plan;
@@ -27,7 +27,7 @@ use std::time::Duration;
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::Value;
 
-pub use eval::evaluate;
+pub use evaluate::evaluate;
 pub use explain::{
     explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,
     Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError, MAX_BINDINGS,
@@ -190,7 +190,7 @@ impl Evaluation {
     /// floats by total order), decoded on the first call for that relation.
     pub fn tuples(&self, name: &str) -> Option<&[Vec<Value>]> {
         let cell = self.decoded.get(name)?;
-        Some(cell.get_or_init(|| eval::decode_relation(&self.encoded, name)))
+        Some(cell.get_or_init(|| evaluate::decode_relation(&self.encoded, name)))
     }
 
     /// The names of the relations the program uses or defines, in order.

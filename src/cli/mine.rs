@@ -92,7 +92,7 @@ fn request(args: &Options) -> Result<MineRequest, String> {
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
     if args.log_prompts.is_some() {
-        return crate::cli::mine_pairs::run(&args);
+        return crate::cli::split::run(&args);
     }
     let request = match request(&args) {
         Ok(r) => r,

@@ -1,6 +1,6 @@
 //! The flags of `scenalog mine` ([`Options`]) and what both of its runs make of them: one
 //! pair's limits, the synthesis settings, the error exit. [`crate::cli::mine`] (programs on
-//! logs) and [`crate::cli::mine_pairs`] (`--log-prompts`) both read them; neither calls the
+//! logs) and [`crate::cli::split`] (`--log-prompts`) both read them; neither calls the
 //! other's functions.
 
 use std::path::PathBuf;

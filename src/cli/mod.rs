@@ -14,7 +14,7 @@ pub mod flags;
 pub mod import;
 pub mod mine;
 pub mod mine_options;
-pub mod mine_pairs;
 pub mod run;
+pub mod split;
 pub mod synth;
 pub mod synth_fixture;

@@ -58,7 +58,7 @@ use std::time::Instant;
 use datafrog::{Iteration, Relation, Variable};
 use scenalog_facts::catalog::ColType;
 
-use crate::eval::{Limits, Origins};
+use crate::evaluate::{Limits, Origins};
 use crate::plan::Plan;
 use crate::rows::Rows;
 use crate::value::WIDTH;

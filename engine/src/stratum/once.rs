@@ -10,7 +10,7 @@ use scenalog_facts::catalog::ColType;
 use super::access::{Access, Tup};
 use super::join::Join;
 use super::stored_width;
-use crate::eval::Limits;
+use crate::evaluate::Limits;
 use crate::plan::Plan;
 use crate::rows::Rows;
 use crate::value::WIDTH;
