@@ -83,6 +83,9 @@ pub enum Group {
     Map,
     /// Relations between two objects.
     Pairs,
+    /// RefAV's definitions where they differ from Scenalog's, for programs imported with
+    /// `scenalog import refav --semantics refav`.
+    Refav,
 }
 
 impl Group {
@@ -93,6 +96,7 @@ impl Group {
             Group::Kinematics => "Kinematics",
             Group::Map => "Map",
             Group::Pairs => "Pairs (Y within 50 m of X)",
+            Group::Refav => "RefAV's definitions (what `scenalog import refav --semantics refav` targets; prefer the relations above)",
         }
     }
 }
@@ -180,6 +184,15 @@ const fn enum_col(name: &'static str, values: &'static [&'static str]) -> Column
 const X: ColumnSpec = col("X", ColType::Track);
 const Y: ColumnSpec = col("Y", ColType::Track);
 const T: ColumnSpec = col("T", ColType::Time);
+/// The columns of `direction` and `refav_direction`.
+const DIRECTION_COLUMNS: &[ColumnSpec] = &[
+    X,
+    Y,
+    T,
+    enum_col("Dir", DIRECTIONS),
+    col("Dist", ColType::Float),
+    col("Lat", ColType::Float),
+];
 const L: ColumnSpec = col("L", ColType::Lane);
 
 /// Directions relative to an object's own frame.
@@ -449,14 +462,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "direction",
-        columns: &[
-            X,
-            Y,
-            T,
-            enum_col("Dir", DIRECTIONS),
-            col("Dist", ColType::Float),
-            col("Lat", ColType::Float),
-        ],
+        columns: DIRECTION_COLUMNS,
         doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame (a diagonal Y holds in two directions, e.g. forward and left); Dist box-to-box distance, Lat >= 0 how far Y's centre is outside X's sides (forward/backward) or ends (left/right), 0 when within",
         group: Group::Pairs,
     },
@@ -527,6 +533,18 @@ const CATALOG: &[RelationSpec] = &[
         columns: &[X, Y, T, enum_col("Side", ROAD_SIDES)],
         doc: "Y is on the \"same\" or \"opposite\" side of the road as X at T",
         group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "refav_turning",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "RefAV's definition of `turning`: X is turning \"left\" or \"right\" at T by RefAV's rule (runs of same-sign unfiltered yaw rate, each including the sample that ends it, turning more than 45° in all), so a one-frame sign flip splits a turn",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_direction",
+        columns: DIRECTION_COLUMNS,
+        doc: "RefAV's definition of `direction` (its has_objects_in_relative_direction): as `direction`, but the ego is where RefAV places it: its position and box at the rear axle (1.44 m behind its body's centre), and as X a fixed box from 3.86 m to 1.02 m ahead of the axle (RefAV's back-edge sign slip) and 1 m either side",
+        group: Group::Refav,
     },
 ];
 
@@ -632,15 +650,23 @@ mod tests {
     fn catalog_has_every_relation_of_the_design() {
         // The 32 relations of the original catalog, crossing_detail (crossing with its
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
-        // concepts of issue #14: lane_direction, towing, in_between.
-        assert_eq!(catalog().len(), 36);
-        for name in ["crossing_detail", "lane_direction", "towing", "in_between"] {
+        // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
+        // imported programs (issue #30).
+        assert_eq!(catalog().len(), 38);
+        for name in [
+            "crossing_detail",
+            "lane_direction",
+            "towing",
+            "in_between",
+            "refav_turning",
+            "refav_direction",
+        ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(36));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(38));
         let text = render_text();
-        assert!(text.starts_with("36 relations."));
+        assert!(text.starts_with("38 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),
