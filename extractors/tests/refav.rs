@@ -157,3 +157,49 @@ fn refav_direction_places_the_ego_at_its_rear_axle() {
     assert_eq!(without_ego(&ours), without_ego(&theirs));
     assert!(!without_ego(&ours).is_empty());
 }
+
+/// (X, Y) pairs of a crossing relation in direction "forward", any frame.
+fn crossers(scene: &Scene, name: &str) -> Vec<String> {
+    let mut ys: Vec<String> = rows(scene, name)
+        .iter()
+        .filter(|r| r[0] == "car" && r[3] == "forward")
+        .map(|r| r[1].as_str().unwrap_or("").to_string())
+        .collect();
+    ys.dedup();
+    ys
+}
+
+#[test]
+fn refav_crossing_counts_a_side_line_and_scenalog_the_midplane() {
+    // A parked car at the origin heading +x (4.5 m by 1.8 m: side lines at y = ±0.9, front at
+    // x = 2.25). "grazer" walks in at x = 4 from y = 3 to y = 0.5 and back out: it passes the
+    // left side line but never the midplane. "diagonal" walks from (0.27, 3) to (2.98, -0.5):
+    // it passes the left side line at x = 1.9 (beside the car, not in front) and the midplane at
+    // x = 2.6 (in front), and never reaches the right side line.
+    const PED: [f64; 3] = [0.6, 0.6, 1.7];
+    let grazer: Vec<Waypoint> = (0..60u32)
+        .map(|f| {
+            let t = f64::from(f) * 0.1;
+            let y = if t < 2.5 { 3.0 - t } else { 0.5 + (t - 2.5) };
+            (f, 4.0, y, -std::f64::consts::FRAC_PI_2)
+        })
+        .collect();
+    let diagonal: Vec<Waypoint> = (0..60u32)
+        .map(|f| {
+            let y = (3.0 - f64::from(f.min(35)) * 0.1).max(-0.5);
+            (f, 0.267 + 0.778 * (3.0 - y), y, -1.0)
+        })
+        .collect();
+    let scene = SceneBuilder::new(60)
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 60, 0.0, 0.0, 0.0, 0.0),
+        )
+        .track("grazer", "PEDESTRIAN", PED, grazer)
+        .track("diagonal", "PEDESTRIAN", PED, diagonal)
+        .build();
+    assert_eq!(crossers(&scene, "crossing"), ["diagonal"]);
+    assert_eq!(crossers(&scene, "refav_crossing"), ["grazer"]);
+}

@@ -546,6 +546,20 @@ const CATALOG: &[RelationSpec] = &[
         doc: "RefAV's definition of `direction` (its has_objects_in_relative_direction): as `direction`, but the ego is where RefAV places it: its position and box at the rear axle (1.44 m behind its body's centre), and as X a fixed box from 3.86 m to 1.02 m ahead of the axle (RefAV's back-edge sign slip) and 1 m either side",
         group: Group::Refav,
     },
+    RelationSpec {
+        name: "refav_crossing",
+        columns: &[
+            X,
+            Y,
+            T,
+            enum_col("Dir", DIRECTIONS),
+            enum_col("Sense", SENSES),
+            col("Reach", ColType::Float),
+            col("Off", ColType::Float),
+        ],
+        doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is not reproduced",
+        group: Group::Refav,
+    },
 ];
 
 /// Every relation of the catalog, grouped and in documentation order.
@@ -652,7 +666,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs (issue #30).
-        assert_eq!(catalog().len(), 38);
+        assert_eq!(catalog().len(), 39);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -660,13 +674,14 @@ mod tests {
             "in_between",
             "refav_turning",
             "refav_direction",
+            "refav_crossing",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(38));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(39));
         let text = render_text();
-        assert!(text.starts_with("38 relations."));
+        assert!(text.starts_with("39 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -1087,7 +1087,17 @@ impl Translator<'_> {
                     .unwrap_or_default();
                 let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
                 let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
-                if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
+                if self.semantics == Semantics::Refav {
+                    let sense = match in_dir.as_str() {
+                        "either" => "_".to_string(),
+                        s => format!("\"{s}\""),
+                    };
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
+                    ));
+                } else if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
                     ));
