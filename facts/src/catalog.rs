@@ -184,6 +184,16 @@ const fn enum_col(name: &'static str, values: &'static [&'static str]) -> Column
 const X: ColumnSpec = col("X", ColType::Track);
 const Y: ColumnSpec = col("Y", ColType::Track);
 const T: ColumnSpec = col("T", ColType::Time);
+/// The columns of `crossing_detail` and `refav_crossing`.
+const CROSSING_DETAIL_COLUMNS: &[ColumnSpec] = &[
+    X,
+    Y,
+    T,
+    enum_col("Dir", DIRECTIONS),
+    enum_col("Sense", SENSES),
+    col("Reach", ColType::Float),
+    col("Off", ColType::Float),
+];
 /// The columns of `direction` and `refav_direction`.
 const DIRECTION_COLUMNS: &[ColumnSpec] = &[
     X,
@@ -492,15 +502,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "crossing_detail",
-        columns: &[
-            X,
-            Y,
-            T,
-            enum_col("Dir", DIRECTIONS),
-            enum_col("Sense", SENSES),
-            col("Reach", ColType::Float),
-            col("Off", ColType::Float),
-        ],
+        columns: CROSSING_DETAIL_COLUMNS,
         doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front: overtaking X), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
         group: Group::Pairs,
     },
@@ -548,15 +550,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_crossing",
-        columns: &[
-            X,
-            Y,
-            T,
-            enum_col("Dir", DIRECTIONS),
-            enum_col("Sense", SENSES),
-            col("Reach", ColType::Float),
-            col("Off", ColType::Float),
-        ],
+        columns: CROSSING_DETAIL_COLUMNS,
         doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is not reproduced",
         group: Group::Refav,
     },

@@ -1087,11 +1087,11 @@ impl Translator<'_> {
                     .unwrap_or_default();
                 let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
                 let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
+                let sense = match in_dir.as_str() {
+                    "either" => "_".to_string(),
+                    s => format!("\"{s}\""),
+                };
                 if self.semantics == Semantics::Refav {
-                    let sense = match in_dir.as_str() {
-                        "either" => "_".to_string(),
-                        s => format!("\"{s}\""),
-                    };
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
                         fmt_num(fwd),
@@ -1116,10 +1116,6 @@ impl Translator<'_> {
                             ),
                         ));
                     }
-                    let sense = match in_dir.as_str() {
-                        "either" => "_".to_string(),
-                        s => format!("\"{s}\""),
-                    };
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
                         fmt_num(fwd),
