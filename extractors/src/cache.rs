@@ -26,6 +26,7 @@ pub struct Extractor<'s> {
     lane_indices: OnceLock<Vec<Vec<Option<usize>>>>,
     lanes: OnceLock<LaneAssignment>,
     turning: OnceLock<Vec<Vec<(Frame, Side)>>>,
+    refav_turning: OnceLock<Vec<Vec<(Frame, Side)>>>,
     lane_changes: OnceLock<Vec<Vec<(Frame, Side)>>>,
     stop_signs: OnceLock<Vec<StopSign>>,
     extra: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
@@ -50,6 +51,7 @@ impl<'s> Extractor<'s> {
             lane_indices: OnceLock::new(),
             lanes: OnceLock::new(),
             turning: OnceLock::new(),
+            refav_turning: OnceLock::new(),
             lane_changes: OnceLock::new(),
             stop_signs: OnceLock::new(),
             extra: Mutex::new(HashMap::new()),
@@ -106,6 +108,17 @@ impl<'s> Extractor<'s> {
                 .tracks
                 .iter()
                 .map(events::turning)
+                .collect()
+        })
+    }
+
+    /// Per track: its turning frames as RefAV's `turning` finds them ([`crate::refav`]).
+    pub fn refav_turning(&self) -> &[Vec<(Frame, Side)>] {
+        self.refav_turning.get_or_init(|| {
+            self.kinematics()
+                .tracks
+                .iter()
+                .map(crate::refav::turning)
                 .collect()
         })
     }

@@ -23,6 +23,8 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "yaw_rate" => motion::per_box(ex, q, |k| &k.yaw_rate),
         "stationary" => motion::stationary(ex, q),
         "turning" => motion::events(ex, q, ex.turning()),
+        "refav_turning" => motion::events(ex, q, ex.refav_turning()),
+        "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
         "lane_change" => motion::events(ex, q, ex.lane_changes()),
         "in_lane" => map::in_lane(ex, q),
         "lane_type" => map::lane_type(ex, q),

@@ -1,7 +1,8 @@
 //! Scenalog's extractors: computing the catalog's relations (the EDB) from a [`Scene`].
 //!
 //! Owns: kinematics ([`kinematics`]), the map prepared for queries and lane assignment ([`map`],
-//! [`lanes`]), events ([`events`]: turning, lane change), the pairwise relations ([`pairs`]), the
+//! [`lanes`]), events ([`events`]: turning, lane change), RefAV's definitions where they differ
+//! ([`refav`], for imported programs), the pairwise relations ([`pairs`]), the
 //! per-scene context that computes each thing once ([`Extractor`]), constraint pushdown
 //! ([`Query`]), and every threshold in one place ([`thresholds`]).
 //!
@@ -33,6 +34,7 @@ pub mod lanes;
 pub mod map;
 pub mod pairs;
 pub mod query;
+pub mod refav;
 pub mod relations;
 pub mod synthetic;
 pub mod thresholds;

@@ -38,6 +38,7 @@ fn run(scene: &Scene, req: &Request) -> Vec<Row> {
         "same_lane" => pairs::same_lane,
         "following" => pairs::following,
         "road_side" => pairs::road_side,
+        "refav_direction" => pairs::refav_direction,
         other => panic!("not a pair relation: {other}"),
     };
     let data = f(&ctx, req).unwrap_or_else(|e| panic!("{e}"));

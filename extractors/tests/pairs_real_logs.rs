@@ -59,6 +59,7 @@ fn answer(ex: &Extractor, req: &Request) -> RelationData {
         "same_lane" => pairs::same_lane,
         "following" => pairs::following,
         "road_side" => pairs::road_side,
+        "refav_direction" => pairs::refav_direction,
         other => panic!("not a pair relation: {other}"),
     };
     f(&ctx, req).unwrap_or_else(|e| panic!("{e}"))

@@ -83,6 +83,9 @@ pub enum Group {
     Map,
     /// Relations between two objects.
     Pairs,
+    /// RefAV's definitions where they differ from Scenalog's, for programs imported with
+    /// `scenalog import refav --semantics refav`.
+    Refav,
 }
 
 impl Group {
@@ -93,6 +96,7 @@ impl Group {
             Group::Kinematics => "Kinematics",
             Group::Map => "Map",
             Group::Pairs => "Pairs (Y within 50 m of X)",
+            Group::Refav => "RefAV's definitions (what `scenalog import refav --semantics refav` targets; prefer the relations above)",
         }
     }
 }
@@ -197,6 +201,25 @@ const fn enum_col(name: &'static str, values: &'static [&'static str]) -> Column
 const X: ColumnSpec = col("X", ColType::Track);
 const Y: ColumnSpec = col("Y", ColType::Track);
 const T: ColumnSpec = col("T", ColType::Time);
+/// The columns of `crossing_detail` and `refav_crossing`.
+const CROSSING_DETAIL_COLUMNS: &[ColumnSpec] = &[
+    X,
+    Y,
+    T,
+    enum_col("Dir", DIRECTIONS),
+    enum_col("Sense", SENSES),
+    col("Reach", ColType::Float),
+    col("Off", ColType::Float),
+];
+/// The columns of `direction` and `refav_direction`.
+const DIRECTION_COLUMNS: &[ColumnSpec] = &[
+    X,
+    Y,
+    T,
+    enum_col("Dir", DIRECTIONS),
+    col("Dist", ColType::Float),
+    col("Lat", ColType::Float),
+];
 const L: ColumnSpec = col("L", ColType::Lane);
 
 /// Directions relative to an object's own frame.
@@ -466,14 +489,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "direction",
-        columns: &[
-            X,
-            Y,
-            T,
-            enum_col("Dir", DIRECTIONS),
-            col("Dist", ColType::Float),
-            col("Lat", ColType::Float),
-        ],
+        columns: DIRECTION_COLUMNS,
         doc: "Y's centre lies \"forward\", \"backward\", \"left\" or \"right\" of X's box in X's frame (a diagonal Y holds in two directions, e.g. forward and left); Dist box-to-box distance, Lat >= 0 how far Y's centre is outside X's sides (forward/backward) or ends (left/right), 0 when within",
         group: Group::Pairs,
     },
@@ -503,15 +519,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "crossing_detail",
-        columns: &[
-            X,
-            Y,
-            T,
-            enum_col("Dir", DIRECTIONS),
-            enum_col("Sense", SENSES),
-            col("Reach", ColType::Float),
-            col("Off", ColType::Float),
-        ],
+        columns: CROSSING_DETAIL_COLUMNS,
         doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front: overtaking X), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
         group: Group::Pairs,
     },
@@ -544,6 +552,24 @@ const CATALOG: &[RelationSpec] = &[
         columns: &[X, Y, T, enum_col("Side", ROAD_SIDES)],
         doc: "Y is on the \"same\" or \"opposite\" side of the road as X at T",
         group: Group::Pairs,
+    },
+    RelationSpec {
+        name: "refav_turning",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "RefAV's definition of `turning`: X is turning \"left\" or \"right\" at T by RefAV's rule (runs of same-sign unfiltered yaw rate, each including the sample that ends it, turning more than 45° in all), so a one-frame sign flip splits a turn",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_direction",
+        columns: DIRECTION_COLUMNS,
+        doc: "RefAV's definition of `direction` (its has_objects_in_relative_direction): as `direction`, but the ego is where RefAV places it: its position and box at the rear axle (1.44 m behind its body's centre), and as X a fixed box from 3.86 m to 1.02 m ahead of the axle (RefAV's back-edge sign slip) and 1 m either side",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_crossing",
+        columns: CROSSING_DETAIL_COLUMNS,
+        doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is not reproduced",
+        group: Group::Refav,
     },
 ];
 
@@ -649,15 +675,24 @@ mod tests {
     fn catalog_has_every_relation_of_the_design() {
         // The 32 relations of the original catalog, crossing_detail (crossing with its
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
-        // concepts of issue #14: lane_direction, towing, in_between.
-        assert_eq!(catalog().len(), 36);
-        for name in ["crossing_detail", "lane_direction", "towing", "in_between"] {
+        // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
+        // imported programs (issue #30).
+        assert_eq!(catalog().len(), 39);
+        for name in [
+            "crossing_detail",
+            "lane_direction",
+            "towing",
+            "in_between",
+            "refav_turning",
+            "refav_direction",
+            "refav_crossing",
+        ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(36));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(39));
         let text = render_text();
-        assert!(text.starts_with("36 relations."));
+        assert!(text.starts_with("39 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

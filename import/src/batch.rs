@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::{import_checked, ImportError};
+use crate::{import_checked_with, ImportError, Semantics};
 
 /// What became of one RefAV program.
 #[derive(Debug, Clone)]
@@ -120,6 +120,18 @@ pub fn output_name(source: &Path) -> String {
 /// # Errors
 /// The input cannot be listed or the output directory cannot be created or written.
 pub fn import_path(input: &Path, out_dir: &Path) -> Result<ImportReport, String> {
+    import_path_with(input, out_dir, Semantics::Scenalog)
+}
+
+/// [`import_path`] targeting the given definitions.
+///
+/// # Errors
+/// As [`import_path`].
+pub fn import_path_with(
+    input: &Path,
+    out_dir: &Path,
+    semantics: Semantics,
+) -> Result<ImportReport, String> {
     let files = programs_in(input)?;
     std::fs::create_dir_all(out_dir)
         .map_err(|e| format!("{}: cannot create the directory: {e}", out_dir.display()))?;
@@ -145,7 +157,7 @@ pub fn import_path(input: &Path, out_dir: &Path) -> Result<ImportReport, String>
             .file_name()
             .map(|n| n.to_string_lossy().to_string())
             .unwrap_or_default();
-        match import_checked(&text, &label) {
+        match import_checked_with(&text, &label, semantics) {
             Ok(imported) => {
                 let mut name = output_name(&source);
                 let mut k = 2;

@@ -22,7 +22,29 @@ pub mod nesting;
 pub mod signatures;
 mod translate;
 
-pub use batch::{import_path, FileOutcome, ImportReport};
+pub use batch::{import_path, import_path_with, FileOutcome, ImportReport};
+
+/// Which definitions an imported program targets where RefAV's and Scenalog's differ (see
+/// import/README.md, "RefAV semantics").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Semantics {
+    /// Scenalog's definitions (the catalog's relations): the default.
+    #[default]
+    Scenalog,
+    /// RefAV's definitions where the catalog has them (the `refav_*` relations), so the program
+    /// finds what RefAV's own code finds; elsewhere Scenalog's.
+    Refav,
+}
+
+impl Semantics {
+    /// The name the command line and the program header use: "scenalog" or "refav".
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Semantics::Scenalog => "scenalog",
+            Semantics::Refav => "refav",
+        }
+    }
+}
 
 /// A translated program.
 #[derive(Debug, Clone, PartialEq)]
@@ -68,7 +90,19 @@ impl std::fmt::Display for ImportError {
 /// # Errors
 /// Every statement that cannot be translated, each naming its line and construct.
 pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>> {
-    translate::translate(source, path)
+    translate::translate(source, path, Semantics::Scenalog)
+}
+
+/// [`translate`] targeting the given definitions.
+///
+/// # Errors
+/// As [`translate`].
+pub fn translate_with(
+    source: &str,
+    path: &str,
+    semantics: Semantics,
+) -> Result<Imported, Vec<ImportError>> {
+    translate::translate(source, path, semantics)
 }
 
 /// [`translate`], then checks the emitted program with the rule checker; a checker error
@@ -78,7 +112,19 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
 /// # Errors
 /// As [`translate`], plus the checker's errors.
 pub fn import_checked(source: &str, path: &str) -> Result<Imported, Vec<ImportError>> {
-    let imported = translate(source, path)?;
+    import_checked_with(source, path, Semantics::Scenalog)
+}
+
+/// [`import_checked`] targeting the given definitions.
+///
+/// # Errors
+/// As [`import_checked`].
+pub fn import_checked_with(
+    source: &str,
+    path: &str,
+    semantics: Semantics,
+) -> Result<Imported, Vec<ImportError>> {
+    let imported = translate_with(source, path, semantics)?;
     let outcome =
         scenalog_rules::check(&imported.program, &scenalog_rules::CheckOptions::default());
     let errors: Vec<ImportError> = outcome

@@ -18,7 +18,7 @@ use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
 use scenalog_facts::catalog;
 
 use crate::signatures::{self, Default, Kind, Signature};
-use crate::{ImportError, Imported};
+use crate::{ImportError, Imported, Semantics};
 
 /// A scenario value: the relation holding its (track, frame) pairs and, if it can have related
 /// objects, the relation holding (track, related, frame).
@@ -87,6 +87,8 @@ struct Translator<'a> {
     line: usize,
     /// The program uses RefAV's first API (`accelerating(..., thresh=...)`).
     first_api: bool,
+    /// The definitions targeted.
+    semantics: Semantics,
 }
 
 type Res<T> = Result<T, ImportError>;
@@ -95,7 +97,11 @@ type Res<T> = Result<T, ImportError>;
 const POISON: &str = "\0poison";
 
 /// Translates one RefAV program; see [`crate::translate`].
-pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>> {
+pub fn translate(
+    source: &str,
+    path: &str,
+    semantics: Semantics,
+) -> Result<Imported, Vec<ImportError>> {
     let mut t = Translator {
         source,
         line_starts: std::iter::once(0)
@@ -109,6 +115,7 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         errors: Vec::new(),
         line: 0,
         first_api: false,
+        semantics,
     };
     // Parsing, translating and dropping the tree each recurse once per level: a program nesting
     // past the limits is an error for its file, before any of them starts.
@@ -191,6 +198,12 @@ pub fn translate(source: &str, path: &str) -> Result<Imported, Vec<ImportError>>
         "// RefAV API: first (accelerating(..., thresh=...), before CainanD/RefAV 5c5be64)\n"
     } else {
         "// RefAV API: current (CainanD/RefAV 5c5be64)\n"
+    });
+    text.push_str(match t.semantics {
+        Semantics::Scenalog => "// Semantics: scenalog (Scenalog's definitions)\n",
+        Semantics::Refav => {
+            "// Semantics: refav (RefAV's definitions where the catalog has them: refav_*)\n"
+        }
     });
     for n in &t.notes {
         text.push_str(&format!("// note: {}\n", one_line(n)));
@@ -849,7 +862,9 @@ impl Translator<'_> {
                 self.category(f, &a("category"))?
             )],
             "turning" | "changing_lanes" => {
-                let rel = if f == "turning" {
+                let rel = if f == "turning" && self.semantics == Semantics::Refav {
+                    "refav_turning"
+                } else if f == "turning" {
                     "turning"
                 } else {
                     "lane_change"
@@ -991,7 +1006,11 @@ impl Translator<'_> {
                 }
                 let cand = format!("{out}_cand");
                 self.used_names.insert(cand.clone());
-                let mut conds = vec![format!("direction(X, Y, T, \"{dir}\", D, Lat)")];
+                let rel = match self.semantics {
+                    Semantics::Scenalog => "direction",
+                    Semantics::Refav => "refav_direction",
+                };
+                let mut conds = vec![format!("{rel}(X, Y, T, \"{dir}\", D, Lat)")];
                 if within.is_finite() {
                     conds.push(format!("D <= {}", fmt_num(within)));
                 }
@@ -1052,7 +1071,17 @@ impl Translator<'_> {
                     .unwrap_or_default();
                 let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
                 let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
-                if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
+                let sense = match in_dir.as_str() {
+                    "either" => "_".to_string(),
+                    s => format!("\"{s}\""),
+                };
+                if self.semantics == Semantics::Refav {
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
+                    ));
+                } else if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
                     ));
@@ -1071,10 +1100,6 @@ impl Translator<'_> {
                             ),
                         ));
                     }
-                    let sense = match in_dir.as_str() {
-                        "either" => "_".to_string(),
-                        s => format!("\"{s}\""),
-                    };
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
                         fmt_num(fwd),

@@ -82,3 +82,43 @@ fn every_refav_program_imports_unless_refav_itself_rejects_it() {
         assert!(text.contains("// RefAV API: first"), "{}", out.display());
     }
 }
+
+#[test]
+fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
+    // `--semantics refav`: the same 255 import and check clean, and none of them uses the
+    // Scenalog relations refav mode replaces (turning, direction, crossing, crossing_detail).
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/refav_programs");
+    let out = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let report =
+        scenalog_import::import_path_with(&input, out.path(), scenalog_import::Semantics::Refav)
+            .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.imported(), 255);
+    assert_eq!(report.refav_broken(), 7);
+    let replaced = [
+        " turning(",
+        " direction(",
+        " crossing(",
+        " crossing_detail(",
+    ];
+    let mut uses = BTreeMap::new();
+    for f in report.files.iter().filter_map(|f| f.output.as_ref()) {
+        let text = std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        assert!(text.contains("// Semantics: refav"), "{}", f.display());
+        // Clauses only: the comments quote the RefAV source.
+        let clauses: String = text
+            .lines()
+            .filter(|l| !l.starts_with("//"))
+            .map(|l| format!(" {l}\n"))
+            .collect();
+        for r in replaced {
+            assert!(!clauses.contains(r), "{}: uses{r}", f.display());
+        }
+        for r in ["refav_turning(", "refav_direction(", "refav_crossing("] {
+            if text.contains(r) {
+                *uses.entry(r).or_insert(0) += 1;
+            }
+        }
+    }
+    // Each RefAV relation is used by some program.
+    assert_eq!(uses.len(), 3, "{uses:?}");
+}

@@ -26,12 +26,35 @@ enum Source {
         /// Print one JSON object per program instead of text.
         #[arg(long)]
         json: bool,
+        /// Whose definitions the programs target where RefAV's and Scenalog's differ:
+        /// Scenalog's catalog relations, or RefAV's (`refav_*` relations, to reproduce RefAV's
+        /// output; see import/README.md, "RefAV semantics").
+        #[arg(long, value_enum, default_value_t = SemanticsArg::Scenalog)]
+        semantics: SemanticsArg,
     },
+}
+
+/// `--semantics`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SemanticsArg {
+    /// Scenalog's definitions (the default).
+    Scenalog,
+    /// RefAV's definitions where the catalog has them.
+    Refav,
 }
 
 /// Imports and prints the report.
 pub fn run(args: Args) -> ExitCode {
-    let Source::Refav { input, out, json } = args.source;
+    let Source::Refav {
+        input,
+        out,
+        json,
+        semantics,
+    } = args.source;
+    let semantics = match semantics {
+        SemanticsArg::Scenalog => scenalog_import::Semantics::Scenalog,
+        SemanticsArg::Refav => scenalog_import::Semantics::Refav,
+    };
     // One import writes a folder at a time (held until the report is printed).
     let _held = match crate::pipeline::lock::OutputLock::acquire(&out) {
         Ok(l) => l,
@@ -40,7 +63,7 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let report = match scenalog_import::import_path(&input, &out) {
+    let report = match scenalog_import::import_path_with(&input, &out, semantics) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("scenalog import: {e}");

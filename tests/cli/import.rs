@@ -210,3 +210,72 @@ fn programs_nested_too_deep_fail_alone_and_the_batch_goes_on() {
     );
     assert!(out.join("stopped_car.dl").is_file());
 }
+
+#[test]
+fn semantics_refav_targets_refav_definitions_and_mines_what_refav_finds() {
+    // "car turning right" on the sample log: RefAV's own output is 258 (track, timestamp)
+    // pairs (import/tests/data/refav_outputs); with --semantics refav the imported program uses
+    // RefAV's turning and finds exactly as many, with the default Scenalog's turning and 274.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = root().join("import/tests/data/refav_programs/car turning right.txt");
+    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let mut found = Vec::new();
+    for semantics in [None, Some("scenalog"), Some("refav")] {
+        let out = dir.path().join(format!("imported_{semantics:?}"));
+        let mut args = vec![
+            "import".to_string(),
+            "refav".into(),
+            input.to_string_lossy().into(),
+            "-o".into(),
+            out.to_string_lossy().into(),
+        ];
+        if let Some(s) = semantics {
+            args.extend(["--semantics".into(), s.into()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = scenalog(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let program = out.join("car_turning_right.dl");
+        let text = std::fs::read_to_string(&program).expect("imported program");
+        let refav = semantics == Some("refav");
+        assert_eq!(
+            text.contains("refav_turning(X, T, \"right\")"),
+            refav,
+            "{text}"
+        );
+        assert_eq!(text.contains(" turning(X, T, \"right\")"), !refav, "{text}");
+        let header = format!("// Semantics: {}", semantics.unwrap_or("scenalog"));
+        assert!(text.contains(&header), "{text}");
+        let mined = dir.path().join(format!("mined_{semantics:?}"));
+        let o = scenalog(&[
+            "mine",
+            "--rules",
+            &program.to_string_lossy(),
+            "--logs",
+            &log.to_string_lossy(),
+            "--out",
+            &mined.to_string_lossy(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let matches = std::fs::read_to_string(mined.join("matches.json")).expect("matches.json");
+        let matches: serde_json::Value = serde_json::from_str(&matches).expect("json");
+        let frames: u64 = matches
+            .as_array()
+            .expect("an array")
+            .iter()
+            .map(|m| m["frames"].as_u64().expect("frames"))
+            .sum();
+        found.push(frames);
+    }
+    assert_eq!(found, [274, 274, 258]);
+    let o = scenalog(&[
+        "import",
+        "refav",
+        &input.to_string_lossy(),
+        "-o",
+        &dir.path().join("x").to_string_lossy(),
+        "--semantics",
+        "python",
+    ]);
+    assert!(!o.status.success());
+}

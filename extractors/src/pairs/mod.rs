@@ -1,6 +1,7 @@
 //! Pairwise relations between objects: `near`, `direction`, `facing` ([`spatial`]),
 //! `heading_relative`, `heading_toward`, `crossing` ([`motion`]), `same_lane`, `following`,
-//! `road_side` ([`lanes`]).
+//! `road_side` ([`lanes`]); RefAV's definitions where they differ: `refav_direction`
+//! ([`refav`]).
 //!
 //! Every pair relation holds only for two different objects present at the same frame whose
 //! ground rectangles are at most [`PAIR_MAX_DISTANCE_M`] apart (`near`'s distance). Candidates come
@@ -26,6 +27,7 @@
 pub mod index;
 pub mod lanes;
 pub mod motion;
+pub mod refav;
 pub mod spatial;
 
 use std::ops::Range;
@@ -55,6 +57,7 @@ pub const PAIR_RELATIONS: &[&str] = &[
     "same_lane",
     "following",
     "road_side",
+    "refav_direction",
 ];
 
 /// Everything the pair relations read: the scene, its kinematics, lane assignment, prepared map
@@ -145,6 +148,7 @@ pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
         "same_lane" => lanes::same_lane(ctx, q),
         "following" => lanes::following(ctx, q),
         "road_side" => lanes::road_side(ctx, q),
+        "refav_direction" => refav::refav_direction(ctx, q),
         _ => return None,
     })
 }
@@ -200,6 +204,10 @@ relation_fn!(following, "`following(X, Y, T)`: see [`lanes::following`].");
 relation_fn!(
     road_side,
     "`road_side(X, Y, T, Side)`: see [`lanes::road_side`]."
+);
+relation_fn!(
+    refav_direction,
+    "`refav_direction(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction`]."
 );
 
 /// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to

@@ -3,7 +3,10 @@
 use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::{Frame, TrackId};
 
-use super::{for_each_pair, radius, str_values, text_ranks, wanted, ObjBox, PairContext, RowKey};
+use super::{
+    for_each_pair, radius, str_values, text_ranks, wanted, ObjBox, PairContext, PairDistance,
+    RowKey,
+};
 use crate::query::Query;
 use crate::thresholds::FACING_MAX_ANGLE_DEG;
 
@@ -78,14 +81,20 @@ pub fn near(ctx: &PairContext, q: &Query) -> RelationData {
 /// Lat: for forward/backward, how far the centre lies beyond X's sides; for left/right, beyond its
 /// front or rear; 0 when within.
 pub fn regions(x: &ObjBox, local: [f64; 2]) -> [Option<f64>; 4] {
+    regions_within([x.half_len, -x.half_len, x.half_wid], local)
+}
+
+/// [`regions`] of a box whose front and back lie at `front` and `back` along its axis and whose
+/// sides lie `half_wid` either side of it, in the frame `local` is given in.
+pub fn regions_within([front, back, half_wid]: [f64; 3], local: [f64; 2]) -> [Option<f64>; 4] {
     let [fx, ly] = local;
-    let lat_fb = (ly.abs() - x.half_wid).max(0.0);
-    let lat_lr = (fx.abs() - x.half_len).max(0.0);
+    let lat_fb = (ly.abs() - half_wid).max(0.0);
+    let lat_lr = (fx - front).max(back - fx).max(0.0);
     [
-        (fx > x.half_len).then_some(lat_fb),
-        (fx < -x.half_len).then_some(lat_fb),
-        (ly > x.half_wid).then_some(lat_lr),
-        (ly < -x.half_wid).then_some(lat_lr),
+        (fx > front).then_some(lat_fb),
+        (fx < back).then_some(lat_fb),
+        (ly > half_wid).then_some(lat_lr),
+        (ly < -half_wid).then_some(lat_lr),
     ]
 }
 
@@ -94,6 +103,26 @@ pub fn regions(x: &ObjBox, local: [f64; 2]) -> [Option<f64>; 4] {
 /// `get_objects_in_relative_direction` with its default unlimited lateral threshold (bound Lat in
 /// the rule to narrow it).
 pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
+    let bound = radius(q, Some(4));
+    direction_by(
+        ctx,
+        q,
+        bound,
+        |x, y| regions(x, x.to_local(y.center)),
+        |_, _, d| d.value(),
+    )
+}
+
+/// The body of `direction` and its variants: `place(x, y)` gives X's four regions holding Y (as
+/// [`regions`]), `dist(x, y, d)` the distance, asked only when Y is in a wanted region; pairs are
+/// searched within `search` and kept within the request's bound on Dist.
+pub(crate) fn direction_by(
+    ctx: &PairContext,
+    q: &Query,
+    search: f64,
+    place: impl Fn(&ObjBox, &ObjBox) -> [Option<f64>; 4] + Sync,
+    dist: impl Fn(&ObjBox, &ObjBox, &PairDistance) -> f64 + Sync,
+) -> RelationData {
     let ranks = text_ranks(&DIRECTIONS);
     let mut want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
         .iter()
@@ -106,14 +135,14 @@ pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
     let rows = for_each_pair(
         ctx,
         q,
-        bound,
+        search,
         |r: &(TrackId, TrackId, Frame, usize, f64, f64)| (r.0, r.1, r.2, ranks[r.3]),
         |f, x, y, d, out| {
-            let r = regions(x, x.to_local(y.center));
+            let r = place(x, y);
             if want.iter().all(|&w| r[w].is_none()) {
                 return;
             }
-            let d = d.value();
+            let d = dist(x, y, d);
             if d > bound {
                 return;
             }

@@ -1,0 +1,205 @@
+//! RefAV's definitions (`refav_*`, for `scenalog import refav --semantics refav`) against
+//! Scenalog's on synthetic scenes where the two differ, each way.
+
+use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
+use scenalog_extractors::{extract, relation_json};
+use scenalog_facts::relation::Request;
+use scenalog_facts::Scene;
+use serde_json::Value as J;
+
+const CAR: [f64; 3] = [4.5, 1.8, 1.5];
+
+fn rows(scene: &Scene, name: &str) -> Vec<J> {
+    let data = extract(scene, &Request::all(name)).expect("extract");
+    match relation_json(scene, &data) {
+        J::Array(v) => v,
+        other => panic!("not an array: {other}"),
+    }
+}
+
+/// The frames and directions of `track` in a (track, time, dir) relation.
+fn turns(scene: &Scene, name: &str, track: &str) -> Vec<(u64, String)> {
+    rows(scene, name)
+        .iter()
+        .filter(|r| r[0] == track)
+        .map(|r| {
+            (
+                r[1].as_u64().unwrap_or(0),
+                r[2].as_str().unwrap_or("").into(),
+            )
+        })
+        .collect()
+}
+
+/// A car at 10 m/s turning left at `rate` deg/s for `frames` frames after 10 straight ones, then
+/// 10 more straight; `blip` lowers the heading of one frame by that many degrees.
+fn turner(rate: f64, frames: u32, blip: Option<(u32, f64)>) -> Scene {
+    let mut way: Vec<Waypoint> = Vec::new();
+    let (mut x, mut y, mut h) = (0.0, 0.0, 0.0_f64);
+    let total = frames + 20;
+    for f in 0..total {
+        let shown = match blip {
+            Some((b, d)) if b == f => h - d.to_radians(),
+            _ => h,
+        };
+        way.push((f, x, y, shown));
+        x += h.cos();
+        y += h.sin();
+        if (10..10 + frames).contains(&f) {
+            h += (rate * 0.1).to_radians();
+        }
+    }
+    SceneBuilder::new(total as usize)
+        .track("turner", "REGULAR_VEHICLE", CAR, way)
+        .build()
+}
+
+#[test]
+fn a_one_frame_heading_blip_splits_a_turn_only_in_refav_turning() {
+    // 60° at 30 deg/s; the heading of frame 20 (mid-turn) 8° low: the yaw rate's central
+    // difference flips sign at frame 19.
+    let scene = turner(30.0, 20, Some((20, 8.0)));
+    let ours = turns(&scene, "turning", "turner");
+    assert!(ours.iter().any(|(f, _)| *f == 19), "{ours:?}");
+    assert!(ours.iter().all(|(_, d)| d == "left"));
+    // RefAV: two runs of about 30° each, neither a turn.
+    assert!(turns(&scene, "refav_turning", "turner").is_empty());
+    // Without the blip both find the turn, over about the same frames.
+    let clean = turner(30.0, 20, None);
+    let (ours, theirs) = (
+        turns(&clean, "turning", "turner"),
+        turns(&clean, "refav_turning", "turner"),
+    );
+    assert!(
+        ours.len() >= 15 && theirs.len() >= 15,
+        "{ours:?} {theirs:?}"
+    );
+    assert!(theirs.iter().all(|(_, d)| d == "left"));
+}
+
+#[test]
+fn a_slow_drift_is_a_turn_only_in_refav_turning() {
+    // 0.9 deg/s for 60 s: 54° in all, under Scenalog's 1 deg/s dead band at every frame.
+    let scene = turner(0.9, 600, None);
+    assert!(turns(&scene, "turning", "turner").is_empty());
+    let theirs = turns(&scene, "refav_turning", "turner");
+    assert!(theirs.len() >= 600, "{}", theirs.len());
+    assert!(theirs.iter().all(|(_, d)| d == "left"));
+    // 0.7 deg/s (42°): no turn in either.
+    assert!(turns(&turner(0.7, 600, None), "refav_turning", "turner").is_empty());
+}
+
+/// (X, Y, Dir, Dist) of a direction relation at frame 0.
+fn directions(scene: &Scene, name: &str) -> Vec<(String, String, String, f64)> {
+    rows(scene, name)
+        .iter()
+        .filter(|r| r[2] == 0)
+        .map(|r| {
+            (
+                r[0].as_str().unwrap_or("").into(),
+                r[1].as_str().unwrap_or("").into(),
+                r[3].as_str().unwrap_or("").into(),
+                r[4].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect()
+}
+
+fn has(rows: &[(String, String, String, f64)], x: &str, y: &str, dir: &str) -> Option<f64> {
+    rows.iter()
+        .find(|r| r.0 == x && r.1 == y && r.2 == dir)
+        .map(|r| r.3)
+}
+
+#[test]
+fn refav_direction_places_the_ego_at_its_rear_axle() {
+    // The ego's rear axle at the origin heading +x: its body spans x -1.0..3.877. "level" is
+    // level with the axle in the lane to the right; "ahead" 29.5 m ahead of the body's front.
+    let ahead_x = 3.877 + 29.5 + 2.25;
+    let scene = SceneBuilder::new(5)
+        .ego_at_rear_axle(straight(0, 5, 0.0, 0.0, 0.0, 0.0))
+        .track(
+            "level",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 5, 0.0, -3.5, 0.0, 0.0),
+        )
+        .track(
+            "ahead",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 5, ahead_x, 0.0, 0.0, 0.0),
+        )
+        .build();
+    let ours = directions(&scene, "direction");
+    let theirs = directions(&scene, "refav_direction");
+    // RefAV's back edge of the ego is 1.02 m *ahead* of the axle: a car level with the axle is
+    // "behind" it there, only "to the right" in Scenalog.
+    assert!(has(&ours, "ego", "level", "right").is_some());
+    assert!(has(&ours, "ego", "level", "backward").is_none());
+    assert!(has(&theirs, "ego", "level", "right").is_some());
+    assert!(has(&theirs, "ego", "level", "backward").is_some());
+    // Distances to the ego are from its box at the axle, 1.44 m further from a car ahead:
+    // within 30 m in Scenalog, not in RefAV (as the track and as the candidate).
+    for (x, y, dir) in [("ego", "ahead", "forward"), ("ahead", "ego", "backward")] {
+        let d = has(&ours, x, y, dir).unwrap_or(f64::NAN);
+        assert!((d - 29.5).abs() < 1e-3, "{x} {y}: {d}");
+        let d = has(&theirs, x, y, dir).unwrap_or(f64::NAN);
+        assert!((d - (29.5 + 1.4385)).abs() < 1e-3, "{x} {y}: {d}");
+    }
+    // Pairs without the ego are the same in both.
+    let without_ego = |r: &Vec<(String, String, String, f64)>| -> Vec<(String, String, String)> {
+        r.iter()
+            .filter(|r| r.0 != "ego" && r.1 != "ego")
+            .map(|r| (r.0.clone(), r.1.clone(), r.2.clone()))
+            .collect()
+    };
+    assert_eq!(without_ego(&ours), without_ego(&theirs));
+    assert!(!without_ego(&ours).is_empty());
+}
+
+/// (X, Y) pairs of a crossing relation in direction "forward", any frame.
+fn crossers(scene: &Scene, name: &str) -> Vec<String> {
+    let mut ys: Vec<String> = rows(scene, name)
+        .iter()
+        .filter(|r| r[0] == "car" && r[3] == "forward")
+        .map(|r| r[1].as_str().unwrap_or("").to_string())
+        .collect();
+    ys.dedup();
+    ys
+}
+
+#[test]
+fn refav_crossing_counts_a_side_line_and_scenalog_the_midplane() {
+    // A parked car at the origin heading +x (4.5 m by 1.8 m: side lines at y = ±0.9, front at
+    // x = 2.25). "grazer" walks in at x = 4 from y = 3 to y = 0.5 and back out: it passes the
+    // left side line but never the midplane. "diagonal" walks from (0.27, 3) to (2.98, -0.5):
+    // it passes the left side line at x = 1.9 (beside the car, not in front) and the midplane at
+    // x = 2.6 (in front), and never reaches the right side line.
+    const PED: [f64; 3] = [0.6, 0.6, 1.7];
+    let grazer: Vec<Waypoint> = (0..60u32)
+        .map(|f| {
+            let t = f64::from(f) * 0.1;
+            let y = if t < 2.5 { 3.0 - t } else { 0.5 + (t - 2.5) };
+            (f, 4.0, y, -std::f64::consts::FRAC_PI_2)
+        })
+        .collect();
+    let diagonal: Vec<Waypoint> = (0..60u32)
+        .map(|f| {
+            let y = (3.0 - f64::from(f.min(35)) * 0.1).max(-0.5);
+            (f, 0.267 + 0.778 * (3.0 - y), y, -1.0)
+        })
+        .collect();
+    let scene = SceneBuilder::new(60)
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 60, 0.0, 0.0, 0.0, 0.0),
+        )
+        .track("grazer", "PEDESTRIAN", PED, grazer)
+        .track("diagonal", "PEDESTRIAN", PED, diagonal)
+        .build();
+    assert_eq!(crossers(&scene, "crossing"), ["diagonal"]);
+    assert_eq!(crossers(&scene, "refav_crossing"), ["grazer"]);
+}
