@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 /// The distance of the prelude's `at_a_crosswalk` (`rules/prelude.dl`): RefAV's
 /// `at_pedestrian_crossing` at this distance means the same and is written with it; a test
 /// checks the prelude still says so.
-const AT_A_CROSSWALK_M: f64 = 1.0;
+pub(crate) const AT_A_CROSSWALK_M: f64 = 1.0;
 
 use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
 
@@ -20,17 +20,21 @@ use scenalog_facts::catalog;
 use crate::signatures::{self, Default, Kind, Signature};
 use crate::{ImportError, Imported, Semantics};
 
+mod combine;
+mod filters;
+mod relational;
+
 /// A scenario value: the relation holding its (track, frame) pairs and, if it can have related
 /// objects, the relation holding (track, related, frame).
 #[derive(Debug, Clone)]
-struct Scen {
+pub(crate) struct Scen {
     rel: String,
     rel_r: Option<String>,
 }
 
 /// A Python value the importer can follow.
 #[derive(Debug, Clone)]
-enum Val {
+pub(crate) enum Val {
     Scen(Scen),
     LogDir,
     OutputDir,
@@ -68,13 +72,13 @@ impl Val {
 }
 
 /// The largest `forward_thresh` / `lateral_thresh` the catalog's `crossing_detail` covers.
-const CROSSING_MAX_REACH: f64 = 30.0;
-const CROSSING_MAX_OFF: f64 = 15.0;
+pub(crate) const CROSSING_MAX_REACH: f64 = 30.0;
+pub(crate) const CROSSING_MAX_OFF: f64 = 15.0;
 
 /// Names the catalog and the output use, which helpers must not take.
-const RESERVED: &[&str] = &["referred", "related"];
+pub(crate) const RESERVED: &[&str] = &["referred", "related"];
 
-struct Translator<'a> {
+pub(crate) struct Translator<'a> {
     source: &'a str,
     line_starts: Vec<usize>,
     vars: BTreeMap<String, Val>,
@@ -91,10 +95,10 @@ struct Translator<'a> {
     semantics: Semantics,
 }
 
-type Res<T> = Result<T, ImportError>;
+pub(crate) type Res<T> = Result<T, ImportError>;
 
 /// The construct of the error raised by a use of [`Val::Poison`], never reported.
-const POISON: &str = "\0poison";
+pub(crate) const POISON: &str = "\0poison";
 
 /// Translates one RefAV program; see [`crate::translate`].
 pub fn translate(
@@ -226,11 +230,11 @@ pub fn translate(
     })
 }
 
-fn one_line(s: &str) -> String {
+pub(crate) fn one_line(s: &str) -> String {
     s.replace(['\n', '\r'], " ")
 }
 
-fn fmt_num(x: f64) -> String {
+pub(crate) fn fmt_num(x: f64) -> String {
     if x.fract() == 0.0 && x.abs() < 1e15 {
         format!("{x:.1}")
     } else {
@@ -239,14 +243,14 @@ fn fmt_num(x: f64) -> String {
 }
 
 impl Translator<'_> {
-    fn line_of(&self, offset: usize) -> usize {
+    pub(crate) fn line_of(&self, offset: usize) -> usize {
         match self.line_starts.binary_search(&offset) {
             Ok(i) => i + 1,
             Err(i) => i,
         }
     }
 
-    fn err(&self, construct: &str, message: String) -> ImportError {
+    pub(crate) fn err(&self, construct: &str, message: String) -> ImportError {
         ImportError {
             line: self.line,
             construct: construct.into(),
@@ -256,7 +260,7 @@ impl Translator<'_> {
     }
 
     /// An error RefAV itself raises on this program (Python's `TypeError`, `NameError`, …).
-    fn broken(&self, construct: &str, message: String) -> ImportError {
+    pub(crate) fn broken(&self, construct: &str, message: String) -> ImportError {
         ImportError {
             line: self.line,
             construct: construct.into(),
@@ -265,7 +269,7 @@ impl Translator<'_> {
         }
     }
 
-    fn src(&self, e: &impl Ranged) -> String {
+    pub(crate) fn src(&self, e: &impl Ranged) -> String {
         let r = e.range();
         self.source
             .get(usize::from(r.start())..usize::from(r.end()))
@@ -275,7 +279,7 @@ impl Translator<'_> {
             .join(" ")
     }
 
-    fn fresh(&mut self, hint: &str) -> String {
+    pub(crate) fn fresh(&mut self, hint: &str) -> String {
         let mut base: String = hint
             .chars()
             .map(|c| {
@@ -306,11 +310,11 @@ impl Translator<'_> {
         name
     }
 
-    fn emit(&mut self, clause: String) {
+    pub(crate) fn emit(&mut self, clause: String) {
         self.clauses.push(clause);
     }
 
-    fn stmt(&mut self, stmt: &Stmt) -> Res<()> {
+    pub(crate) fn stmt(&mut self, stmt: &Stmt) -> Res<()> {
         match stmt {
             Stmt::Assign(a) => {
                 let [target] = a.targets.as_slice() else {
@@ -372,7 +376,7 @@ impl Translator<'_> {
         }
     }
 
-    fn expr(&mut self, e: &Expr, hint: Option<&str>) -> Res<Val> {
+    pub(crate) fn expr(&mut self, e: &Expr, hint: Option<&str>) -> Res<Val> {
         match e {
             Expr::Name(n) => {
                 let id = n.id.as_str();
@@ -459,7 +463,7 @@ impl Translator<'_> {
         }
     }
 
-    fn call(&mut self, c: &ast::ExprCall, hint: Option<&str>) -> Res<Val> {
+    pub(crate) fn call(&mut self, c: &ast::ExprCall, hint: Option<&str>) -> Res<Val> {
         // `float('inf')`
         if let Expr::Name(n) = c.func.as_ref() {
             if n.id.as_str() == "float" {
@@ -545,7 +549,7 @@ impl Translator<'_> {
     }
 
     /// Binds arguments to parameters as Python does; what Python rejects is an error here.
-    fn bind(
+    pub(crate) fn bind(
         &mut self,
         sig: &'static Signature,
         pos: Vec<Val>,
@@ -635,7 +639,7 @@ impl Translator<'_> {
         Ok(out)
     }
 
-    fn scen(&self, f: &str, param: &str, v: &Val) -> Res<Scen> {
+    pub(crate) fn scen(&self, f: &str, param: &str, v: &Val) -> Res<Scen> {
         match v {
             Val::Scen(s) => Ok(s.clone()),
             other => Err(self.broken(
@@ -648,7 +652,7 @@ impl Translator<'_> {
         }
     }
 
-    fn num(&self, f: &str, param: &str, v: &Val) -> Res<f64> {
+    pub(crate) fn num(&self, f: &str, param: &str, v: &Val) -> Res<f64> {
         match v {
             Val::Num(x) if !x.is_nan() => Ok(*x),
             Val::Bool(b) => Ok(if *b { 1.0 } else { 0.0 }),
@@ -663,7 +667,7 @@ impl Translator<'_> {
     }
 
     /// A string argument that must be one of `allowed` (None allowed when `none_ok`).
-    fn word(
+    pub(crate) fn word(
         &self,
         f: &str,
         param: &str,
@@ -701,7 +705,7 @@ impl Translator<'_> {
         }
     }
 
-    fn log_dir(&self, f: &str, args: &BTreeMap<&'static str, Val>) -> Res<()> {
+    pub(crate) fn log_dir(&self, f: &str, args: &BTreeMap<&'static str, Val>) -> Res<()> {
         match args.get("log_dir") {
             Some(Val::LogDir) | None => Ok(()),
             Some(v) => Err(self.broken(
@@ -714,7 +718,7 @@ impl Translator<'_> {
         }
     }
 
-    fn apply(
+    pub(crate) fn apply(
         &mut self,
         sig: &'static Signature,
         args: BTreeMap<&'static str, Val>,
@@ -817,563 +821,9 @@ impl Translator<'_> {
             }
         }
     }
-
-    fn category(&self, f: &str, v: &Val) -> Res<String> {
-        match v {
-            Val::Str(s)
-                if scenalog_facts::scene::ALL_CATEGORIES.contains(&s.as_str())
-                    || scenalog_facts::scene::SUPER_CATEGORIES.contains(&s.as_str()) =>
-            {
-                Ok(s.clone())
-            }
-            other => Err(self.err(
-                f,
-                format!(
-                    "{f}(): category must be an AV2 category such as 'REGULAR_VEHICLE' (or 'VEHICLE', 'ANY'), got {} (RefAV would silently find nothing)",
-                    match other {
-                        Val::Str(s) => format!("'{s}'"),
-                        o => o.kind_name().into(),
-                    }
-                ),
-            )),
-        }
-    }
-
-    /// Body literals over `X` and `T` for a filter function (RefAV's `@composable`).
-    fn filter_body(&self, f: &str, args: &BTreeMap<&'static str, Val>) -> Res<Vec<String>> {
-        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
-        let range = |col: &str, lo: f64, hi: f64| {
-            let mut v = Vec::new();
-            if lo.is_finite() {
-                v.push(format!("{col} >= {}", fmt_num(lo)));
-            } else if lo == f64::INFINITY {
-                v.push(format!("{col} > {col}"));
-            }
-            if hi.is_finite() {
-                v.push(format!("{col} <= {}", fmt_num(hi)));
-            } else if hi == f64::NEG_INFINITY {
-                v.push(format!("{col} < {col}"));
-            }
-            v
-        };
-        Ok(match f {
-            "is_category" => vec![format!(
-                "category(X, \"{}\")",
-                self.category(f, &a("category"))?
-            )],
-            "turning" | "changing_lanes" => {
-                let rel = if f == "turning" && self.semantics == Semantics::Refav {
-                    "refav_turning"
-                } else if f == "turning" {
-                    "turning"
-                } else {
-                    "lane_change"
-                };
-                // RefAV: any other direction prints a warning and means None.
-                let dir = match a("direction") {
-                    Val::Str(s) if s == "left" || s == "right" => format!("\"{s}\""),
-                    _ => "_".to_string(),
-                };
-                vec![format!("{rel}(X, T, {dir})")]
-            }
-            "accelerating" if args.contains_key(signatures::FIRST_API_KEYWORD) => {
-                // RefAV's first API (see `bind`): `min_accel = thresh`, no upper bound, and
-                // its accelerating did not yet exclude stationary objects.
-                let lo = self.num(
-                    f,
-                    signatures::FIRST_API_KEYWORD,
-                    &a(signatures::FIRST_API_KEYWORD),
-                )?;
-                let mut v = vec!["accel(X, T, V)".to_string()];
-                v.extend(range("V", lo, f64::INFINITY));
-                v
-            }
-            "has_lateral_acceleration" | "accelerating" | "has_velocity" => {
-                let (rel, lo, hi) = match f {
-                    "has_lateral_acceleration" => ("lat_accel", "min_accel", "max_accel"),
-                    "accelerating" => ("accel", "min_accel", "max_accel"),
-                    _ => ("speed", "min_velocity", "max_velocity"),
-                };
-                let lo = self.num(f, lo, &a(lo))?;
-                let hi = self.num(f, hi, &a(hi))?;
-                let mut v = vec![format!("{rel}(X, T, V)")];
-                v.extend(range("V", lo, hi));
-                // RefAV returns nothing for a stationary (parked) object in these three.
-                v.push("!stationary(X)".into());
-                v
-            }
-            "at_pedestrian_crossing" => {
-                let d = self.num(f, "within_distance", &a("within_distance"))?;
-                // RefAV's default distance is the prelude's meaning of "at a crosswalk".
-                if d == AT_A_CROSSWALK_M {
-                    return Ok(vec!["at_a_crosswalk(X, T)".to_string()]);
-                }
-                let mut v = vec!["at_crosswalk(X, T, D)".to_string()];
-                v.extend(range("D", f64::NEG_INFINITY, d));
-                v
-            }
-            "on_lane_type" => {
-                let ty = self.word(f, "lane_type", &a("lane_type"), catalog::LANE_TYPES, false)?;
-                vec![
-                    format!("in_lane(X, T, L)"),
-                    format!("lane_type(L, \"{}\")", ty.unwrap_or_default()),
-                ]
-            }
-            "near_intersection" => {
-                let d = self.num(f, "threshold", &a("threshold"))?;
-                let mut v = vec!["near_intersection(X, T, D)".to_string()];
-                v.extend(range("D", f64::NEG_INFINITY, d));
-                v
-            }
-            "on_intersection" => vec!["on_intersection(X, T)".into()],
-            "stationary" => vec!["stationary(X)".into()],
-            "in_drivable_area" => vec!["in_drivable_area(X, T)".into()],
-            "on_road" => vec!["on_road(X, T)".into()],
-            "at_stop_sign" => {
-                let d = self.num(f, "forward_thresh", &a("forward_thresh"))?;
-                if d != 10.0 {
-                    return Err(self.err(
-                        f,
-                        format!("at_stop_sign(forward_thresh={}) : the catalog's at_stop_sign fixes 10 m", fmt_num(d)),
-                    ));
-                }
-                vec!["at_stop_sign(X, _, T)".into()]
-            }
-            _ => return Err(self.err(f, format!("{f}() is not a filter"))),
-        })
-    }
-
-    fn filter(&mut self, input: &Scen, body: &[String], hint: &str) -> Scen {
-        let out = self.fresh(hint);
-        self.emit(format!(
-            "{out}(X, T) :- {}(X, T), {}.",
-            input.rel,
-            body.join(", ")
-        ));
-        let rel_r = input.rel_r.as_ref().map(|r| {
-            let out_r = format!("{out}_r");
-            self.emit(format!("{out_r}(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
-            out_r
-        });
-        Scen { rel: out, rel_r }
-    }
-
-    /// A relational function: its selected (track, candidate, frame) pairs, and its result.
-    fn relational(
-        &mut self,
-        sig: &'static Signature,
-        args: &BTreeMap<&'static str, Val>,
-        hint: &str,
-        want_result: bool,
-    ) -> Res<(String, Scen)> {
-        let f = sig.name;
-        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
-        let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
-        let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
-        let base = format!("{}(X, T), {}(Y, T), X != Y", tracks.rel, cands.rel);
-        let out = self.fresh(hint);
-        let pairs = format!("{out}_pairs");
-        self.used_names.insert(pairs.clone());
-        let mut min_count = 1.0;
-        match f {
-            "has_objects_in_relative_direction" | "get_objects_in_relative_direction" => {
-                let dir = self
-                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
-                    .unwrap_or_default();
-                let min = self.num(f, "min_number", &a("min_number"))?;
-                let max = self.num(f, "max_number", &a("max_number"))?;
-                let within = self.num(f, "within_distance", &a("within_distance"))?;
-                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
-                if within > 50.0 {
-                    self.notes.push(format!(
-                        "line {}: within_distance={} is capped at 50 m, the range of the catalog's pair relations",
-                        self.line,
-                        fmt_num(within)
-                    ));
-                }
-                // RefAV counts the closest candidates within the distance, up to max_number;
-                // a timestamp with no candidate is never kept, so min_number 0 means 1.
-                min_count = min.max(1.0).ceil();
-                if max < min_count {
-                    return Err(self.err(
-                        f,
-                        format!(
-                            "{f}(min_number={}, max_number={}) can never hold",
-                            fmt_num(min),
-                            fmt_num(max)
-                        ),
-                    ));
-                }
-                let cand = format!("{out}_cand");
-                self.used_names.insert(cand.clone());
-                let rel = match self.semantics {
-                    Semantics::Scenalog => "direction",
-                    Semantics::Refav => "refav_direction",
-                };
-                let mut conds = vec![format!("{rel}(X, Y, T, \"{dir}\", D, Lat)")];
-                if within.is_finite() {
-                    conds.push(format!("D <= {}", fmt_num(within)));
-                }
-                if lat.is_finite() {
-                    conds.push(format!("Lat < {}", fmt_num(lat)));
-                }
-                self.emit(format!(
-                    "{cand}(X, Y, T, D) :- {base}, {}.",
-                    conds.join(", ")
-                ));
-                if max.is_finite() {
-                    // the max_number closest (ties: RefAV's stable sort keeps the earlier one;
-                    // here every tied candidate is kept)
-                    self.emit(format!(
-                        "{pairs}(X, Y, T) :- {cand}(X, Y, T, D), R = count : {{ {cand}(X, Y2, T, D2), D2 < D }}, R < {}.",
-                        max as i64
-                    ));
-                } else {
-                    self.emit(format!("{pairs}(X, Y, T) :- {cand}(X, Y, T, _)."));
-                }
-            }
-            "near_objects" => {
-                let d = self.num(f, "distance_thresh", &a("distance_thresh"))?;
-                let min = match a("min_objects") {
-                    Val::None => 0.0,
-                    v => self.num(f, "min_objects", &v)?,
-                };
-                if min <= 0.0 {
-                    return Err(self.err(
-                        f,
-                        "near_objects(min_objects=0) means \"all candidates\", a count Scenalog does not translate".into(),
-                    ));
-                }
-                min_count = min.ceil();
-                let include_self = matches!(a("include_self"), Val::Bool(true));
-                let base = if include_self {
-                    format!("{}(X, T), {}(Y, T)", tracks.rel, cands.rel)
-                } else {
-                    base.clone()
-                };
-                self.emit(format!(
-                    "{pairs}(X, Y, T) :- {base}, near(X, Y, T, D), D <= {}.",
-                    fmt_num(d)
-                ));
-            }
-            "being_crossed_by" => {
-                let dir = self
-                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
-                    .unwrap_or_default();
-                let in_dir = self
-                    .word(
-                        f,
-                        "in_direction",
-                        &a("in_direction"),
-                        &["clockwise", "counterclockwise", "either"],
-                        false,
-                    )?
-                    .unwrap_or_default();
-                let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
-                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
-                let sense = match in_dir.as_str() {
-                    "either" => "_".to_string(),
-                    s => format!("\"{s}\""),
-                };
-                if self.semantics == Semantics::Refav {
-                    self.emit(format!(
-                        "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
-                        fmt_num(fwd),
-                        fmt_num(lat)
-                    ));
-                } else if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
-                    self.emit(format!(
-                        "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
-                    ));
-                } else {
-                    if !(0.0..=CROSSING_MAX_REACH).contains(&fwd)
-                        || !(0.0..=CROSSING_MAX_OFF).contains(&lat)
-                    {
-                        return Err(self.err(
-                            f,
-                            format!(
-                                "being_crossed_by(forward_thresh={}, lateral_thresh={}): crossing_detail covers 0-{} m and 0-{} m",
-                                fmt_num(fwd),
-                                fmt_num(lat),
-                                fmt_num(CROSSING_MAX_REACH),
-                                fmt_num(CROSSING_MAX_OFF)
-                            ),
-                        ));
-                    }
-                    self.emit(format!(
-                        "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
-                        fmt_num(fwd),
-                        fmt_num(lat)
-                    ));
-                }
-            }
-            "facing_toward" => {
-                let ang = self.num(f, "within_angle", &a("within_angle"))?;
-                let d = self.num(f, "max_distance", &a("max_distance"))?;
-                if ang != 22.5 {
-                    return Err(self.err(
-                        f,
-                        format!(
-                            "facing_toward(within_angle={}): the catalog's facing fixes 22.5°",
-                            fmt_num(ang)
-                        ),
-                    ));
-                }
-                let mut c = format!("{pairs}(X, Y, T) :- {base}, facing(X, Y, T)");
-                if d.is_finite() {
-                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
-                }
-                self.emit(c + ".");
-            }
-            "heading_toward" => {
-                let ang = self.num(f, "angle_threshold", &a("angle_threshold"))?;
-                let sp = self.num(f, "minimum_speed", &a("minimum_speed"))?;
-                let d = self.num(f, "max_distance", &a("max_distance"))?;
-                if ang != 22.5 || sp != 0.5 {
-                    return Err(self.err(f, format!("heading_toward(angle_threshold={}, minimum_speed={}): the catalog's heading_toward fixes 22.5° and 0.5 m/s", fmt_num(ang), fmt_num(sp))));
-                }
-                let mut c = format!("{pairs}(X, Y, T) :- {base}, heading_toward(X, Y, T)");
-                if d.is_finite() {
-                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
-                }
-                self.emit(c + ".");
-            }
-            "following" => self.emit(format!("{pairs}(X, Y, T) :- {base}, following(X, Y, T).")),
-            "in_same_lane" => self.emit(format!("{pairs}(X, Y, T) :- {base}, same_lane(X, Y, T).")),
-            "heading_in_relative_direction_to" => {
-                let d = self
-                    .word(f, "direction", &a("direction"), catalog::HEADINGS, false)?
-                    .unwrap_or_default();
-                self.emit(format!(
-                    "{pairs}(X, Y, T) :- {base}, heading_relative(X, Y, T, \"{d}\")."
-                ));
-            }
-            "on_relative_side_of_road" => {
-                let s = self
-                    .word(f, "side", &a("side"), catalog::ROAD_SIDES, false)?
-                    .unwrap_or_default();
-                self.emit(format!(
-                    "{pairs}(X, Y, T) :- {base}, road_side(X, Y, T, \"{s}\")."
-                ));
-            }
-            _ => return Err(self.err(f, format!("{f}() is not a relational function"))),
-        }
-        // Tracks with at least `min_count` related candidates at the frame; only the pairs at
-        // kept frames are the function's relationships (RefAV applies `min_number` before it
-        // creates any, so `get_objects_in_relative_direction` keeps it too).
-        let sel = if min_count > 1.0 {
-            self.emit(format!(
-                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
-                tracks.rel, min_count as i64
-            ));
-            let sel = format!("{out}_sel");
-            self.used_names.insert(sel.clone());
-            self.emit(format!("{sel}(X, Y, T) :- {out}(X, T), {pairs}(X, Y, T)."));
-            sel
-        } else {
-            if want_result {
-                self.emit(format!("{out}(X, T) :- {pairs}(X, _, T)."));
-            }
-            pairs
-        };
-        if !want_result {
-            return Ok((
-                sel,
-                Scen {
-                    rel: out,
-                    rel_r: None,
-                },
-            ));
-        }
-        self.finish_relational(&out, &sel, &tracks, &cands)
-    }
-
-    fn finish_relational(
-        &mut self,
-        out: &str,
-        sel: &str,
-        tracks: &Scen,
-        cands: &Scen,
-    ) -> Res<(String, Scen)> {
-        let out_r = format!("{out}_r");
-        self.emit(format!("{out_r}(X, Y, T) :- {sel}(X, Y, T)."));
-        if let Some(r) = &tracks.rel_r {
-            self.emit(format!("{out_r}(X, Z, T) :- {out}(X, T), {r}(X, Z, T)."));
-        }
-        if let Some(r) = &cands.rel_r {
-            self.emit(format!("{out_r}(X, Z, T) :- {sel}(X, Y, T), {r}(Y, Z, T)."));
-        }
-        Ok((
-            sel.to_string(),
-            Scen {
-                rel: out.to_string(),
-                rel_r: Some(out_r),
-            },
-        ))
-    }
-
-    /// The candidates of a relational result become the tracks, and its tracks their related.
-    /// As in RefAV, a track's own related objects at the frame come along under it (RefAV nests
-    /// them under the reversed relation), except those the function itself related it to; the
-    /// candidates' related objects do not.
-    fn reverse(&mut self, pairs: &str, tracks: &Scen, hint: &str) -> Scen {
-        let out = self.fresh(hint);
-        self.emit(format!("{out}(Y, T) :- {pairs}(_, Y, T)."));
-        self.emit(format!("{out}_r(Y, X, T) :- {pairs}(X, Y, T)."));
-        if let Some(r) = &tracks.rel_r {
-            let new = format!("{out}_new");
-            self.used_names.insert(new.clone());
-            self.emit(format!("{new}(X, Y) :- {pairs}(X, Y, _)."));
-            self.emit(format!(
-                "{out}_r(Y, Z, T) :- {pairs}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
-            ));
-        }
-        Scen {
-            rel: out.clone(),
-            rel_r: Some(format!("{out}_r")),
-        }
-    }
-
-    fn combine(&mut self, and: bool, scens: &[Scen], hint: &str) -> Scen {
-        let out = self.fresh(hint);
-        if and {
-            let body: Vec<String> = scens.iter().map(|s| format!("{}(X, T)", s.rel)).collect();
-            self.emit(format!("{out}(X, T) :- {}.", body.join(", ")));
-        } else {
-            for s in scens {
-                self.emit(format!("{out}(X, T) :- {}(X, T).", s.rel));
-            }
-        }
-        let rs: Vec<&String> = scens.iter().filter_map(|s| s.rel_r.as_ref()).collect();
-        let rel_r = if rs.is_empty() {
-            None
-        } else {
-            for r in rs {
-                self.emit(format!("{out}_r(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
-            }
-            Some(format!("{out}_r"))
-        };
-        Scen { rel: out, rel_r }
-    }
-
-    fn apply_wrapped(
-        &mut self,
-        wrapper: &'static str,
-        inner: &'static Signature,
-        pos: Vec<Val>,
-        kw: Vec<(String, Val)>,
-        hint: Option<&str>,
-    ) -> Res<Val> {
-        if wrapper == "reverse_relationship" {
-            if inner.kind != Kind::Relational {
-                return Err(self.broken(
-                    "reverse_relationship",
-                    format!(
-                        "reverse_relationship({})(...): the wrapper calls its function with (track_candidates, related_candidates, log_dir), which {}() does not take",
-                        inner.name, inner.name
-                    ),
-                ));
-            }
-            let args = self.bind(inner, pos, kw)?;
-            self.log_dir(inner.name, &args)?;
-            let hint = hint.unwrap_or("reversed");
-            if inner.name == "get_objects_in_relative_direction" {
-                // RefAV special-cases this: the reverse is has_objects_in_relative_direction
-                // (with get_objects' defaults, min_number 0).
-                let (_, scen) = self.relational(inner, &args, hint, true)?;
-                return Ok(Val::Scen(scen));
-            }
-            let (sel, _) = self.relational(inner, &args, &format!("{}_fwd", inner.name), false)?;
-            let p0 = inner.params[0].0;
-            let tracks = self.scen(inner.name, p0, args.get(p0).unwrap_or(&Val::None))?;
-            return Ok(Val::Scen(self.reverse(&sel, &tracks, hint)));
-        }
-        // scenario_not
-        let args = self.bind(inner, pos, kw)?;
-        let base_param = if inner.name == "get_objects_in_relative_direction" {
-            inner.params[1].0
-        } else {
-            inner.params[0].0
-        };
-        let base = self.scen(
-            inner.name,
-            base_param,
-            args.get(base_param).unwrap_or(&Val::None),
-        )?;
-        let hint = hint.unwrap_or("not");
-        // A filter whose body is one literal over X (and T) is negated in place.
-        if inner.kind == Kind::Filter {
-            let body = self.filter_body(inner.name, &args)?;
-            self.log_dir(inner.name, &args)?;
-            if let [lit] = body.as_slice() {
-                if !lit.starts_with('!') && !lit.contains(" _") && !lit.contains("L)") {
-                    let neg = format!("!{lit}");
-                    return Ok(Val::Scen(self.filter(&base, &[neg], hint)));
-                }
-            }
-        }
-        let positive = match self.apply(inner, args, Some(&format!("{}_yes", inner.name)))? {
-            Val::Scen(s) => s,
-            _ => {
-                return Err(self.err(
-                    "scenario_not",
-                    "the wrapped function gave no scenario".into(),
-                ))
-            }
-        };
-        let neg = format!("!{}(X, T)", positive.rel);
-        Ok(Val::Scen(self.filter(&base, &[neg], hint)))
-    }
-
-    /// `scenario_not(reverse_relationship(f))(tracks, candidates, log_dir, …)`. RefAV's
-    /// `scenario_not` finds `log_dir` among the parameters of `reverse_relationship`'s wrapper
-    /// (`track_candidates, related_candidates, log_dir, …`), so the call must pass it third,
-    /// positionally; the result is the tracks' pairs where the track is not itself a top-level
-    /// object of the reversed relation (the reversal's top level is the candidates, so a track
-    /// drops out only at frames where it is also a candidate `f` relates to some track).
-    fn apply_not_reversed(
-        &mut self,
-        inner: &'static Signature,
-        pos: Vec<Val>,
-        kw: Vec<(String, Val)>,
-        hint: Option<&str>,
-    ) -> Res<Val> {
-        if pos.len() < 3 {
-            return Err(self.broken(
-                "scenario_not",
-                format!(
-                    "IndexError: scenario_not(reverse_relationship({}))(...) reads log_dir as its third positional argument, and the call has {}",
-                    inner.name,
-                    pos.len()
-                ),
-            ));
-        }
-        let tracks = self.scen(inner.name, inner.params[0].0, &pos[0])?;
-        let reversed = match self.apply_wrapped(
-            "reverse_relationship",
-            inner,
-            pos,
-            kw,
-            Some(&format!("{}_reversed", inner.name)),
-        )? {
-            Val::Scen(s) => s,
-            _ => {
-                return Err(self.err(
-                    "scenario_not",
-                    "the wrapped function gave no scenario".into(),
-                ))
-            }
-        };
-        let neg = format!("!{}(X, T)", reversed.rel);
-        Ok(Val::Scen(self.filter(
-            &tracks,
-            &[neg],
-            hint.unwrap_or("not"),
-        )))
-    }
 }
 
-fn stmt_name(s: &Stmt) -> &'static str {
+pub(crate) fn stmt_name(s: &Stmt) -> &'static str {
     match s {
         Stmt::FunctionDef(_) | Stmt::AsyncFunctionDef(_) => "function definition",
         Stmt::ClassDef(_) => "class definition",
@@ -1394,7 +844,7 @@ fn stmt_name(s: &Stmt) -> &'static str {
     }
 }
 
-fn expr_name(e: &Expr) -> &'static str {
+pub(crate) fn expr_name(e: &Expr) -> &'static str {
     match e {
         Expr::BoolOp(_) => "boolean operator",
         Expr::NamedExpr(_) => "walrus assignment",

@@ -1,0 +1,150 @@
+//! RefAV's filtering functions (categories, kinematics, map predicates) as the body of a
+//! helper relation over (track, frame), and the helper that applies one to a scenario.
+
+use super::*;
+
+impl Translator<'_> {
+    pub(crate) fn category(&self, f: &str, v: &Val) -> Res<String> {
+        match v {
+            Val::Str(s)
+                if scenalog_facts::scene::ALL_CATEGORIES.contains(&s.as_str())
+                    || scenalog_facts::scene::SUPER_CATEGORIES.contains(&s.as_str()) =>
+            {
+                Ok(s.clone())
+            }
+            other => Err(self.err(
+                f,
+                format!(
+                    "{f}(): category must be an AV2 category such as 'REGULAR_VEHICLE' (or 'VEHICLE', 'ANY'), got {} (RefAV would silently find nothing)",
+                    match other {
+                        Val::Str(s) => format!("'{s}'"),
+                        o => o.kind_name().into(),
+                    }
+                ),
+            )),
+        }
+    }
+
+    /// Body literals over `X` and `T` for a filter function (RefAV's `@composable`).
+    pub(crate) fn filter_body(
+        &self,
+        f: &str,
+        args: &BTreeMap<&'static str, Val>,
+    ) -> Res<Vec<String>> {
+        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
+        let range = |col: &str, lo: f64, hi: f64| {
+            let mut v = Vec::new();
+            if lo.is_finite() {
+                v.push(format!("{col} >= {}", fmt_num(lo)));
+            } else if lo == f64::INFINITY {
+                v.push(format!("{col} > {col}"));
+            }
+            if hi.is_finite() {
+                v.push(format!("{col} <= {}", fmt_num(hi)));
+            } else if hi == f64::NEG_INFINITY {
+                v.push(format!("{col} < {col}"));
+            }
+            v
+        };
+        Ok(match f {
+            "is_category" => vec![format!(
+                "category(X, \"{}\")",
+                self.category(f, &a("category"))?
+            )],
+            "turning" | "changing_lanes" => {
+                let rel = if f == "turning" && self.semantics == Semantics::Refav {
+                    "refav_turning"
+                } else if f == "turning" {
+                    "turning"
+                } else {
+                    "lane_change"
+                };
+                // RefAV: any other direction prints a warning and means None.
+                let dir = match a("direction") {
+                    Val::Str(s) if s == "left" || s == "right" => format!("\"{s}\""),
+                    _ => "_".to_string(),
+                };
+                vec![format!("{rel}(X, T, {dir})")]
+            }
+            "accelerating" if args.contains_key(signatures::FIRST_API_KEYWORD) => {
+                // RefAV's first API (see `bind`): `min_accel = thresh`, no upper bound, and
+                // its accelerating did not yet exclude stationary objects.
+                let lo = self.num(
+                    f,
+                    signatures::FIRST_API_KEYWORD,
+                    &a(signatures::FIRST_API_KEYWORD),
+                )?;
+                let mut v = vec!["accel(X, T, V)".to_string()];
+                v.extend(range("V", lo, f64::INFINITY));
+                v
+            }
+            "has_lateral_acceleration" | "accelerating" | "has_velocity" => {
+                let (rel, lo, hi) = match f {
+                    "has_lateral_acceleration" => ("lat_accel", "min_accel", "max_accel"),
+                    "accelerating" => ("accel", "min_accel", "max_accel"),
+                    _ => ("speed", "min_velocity", "max_velocity"),
+                };
+                let lo = self.num(f, lo, &a(lo))?;
+                let hi = self.num(f, hi, &a(hi))?;
+                let mut v = vec![format!("{rel}(X, T, V)")];
+                v.extend(range("V", lo, hi));
+                // RefAV returns nothing for a stationary (parked) object in these three.
+                v.push("!stationary(X)".into());
+                v
+            }
+            "at_pedestrian_crossing" => {
+                let d = self.num(f, "within_distance", &a("within_distance"))?;
+                // RefAV's default distance is the prelude's meaning of "at a crosswalk".
+                if d == AT_A_CROSSWALK_M {
+                    return Ok(vec!["at_a_crosswalk(X, T)".to_string()]);
+                }
+                let mut v = vec!["at_crosswalk(X, T, D)".to_string()];
+                v.extend(range("D", f64::NEG_INFINITY, d));
+                v
+            }
+            "on_lane_type" => {
+                let ty = self.word(f, "lane_type", &a("lane_type"), catalog::LANE_TYPES, false)?;
+                vec![
+                    format!("in_lane(X, T, L)"),
+                    format!("lane_type(L, \"{}\")", ty.unwrap_or_default()),
+                ]
+            }
+            "near_intersection" => {
+                let d = self.num(f, "threshold", &a("threshold"))?;
+                let mut v = vec!["near_intersection(X, T, D)".to_string()];
+                v.extend(range("D", f64::NEG_INFINITY, d));
+                v
+            }
+            "on_intersection" => vec!["on_intersection(X, T)".into()],
+            "stationary" => vec!["stationary(X)".into()],
+            "in_drivable_area" => vec!["in_drivable_area(X, T)".into()],
+            "on_road" => vec!["on_road(X, T)".into()],
+            "at_stop_sign" => {
+                let d = self.num(f, "forward_thresh", &a("forward_thresh"))?;
+                if d != 10.0 {
+                    return Err(self.err(
+                        f,
+                        format!("at_stop_sign(forward_thresh={}) : the catalog's at_stop_sign fixes 10 m", fmt_num(d)),
+                    ));
+                }
+                vec!["at_stop_sign(X, _, T)".into()]
+            }
+            _ => return Err(self.err(f, format!("{f}() is not a filter"))),
+        })
+    }
+
+    pub(crate) fn filter(&mut self, input: &Scen, body: &[String], hint: &str) -> Scen {
+        let out = self.fresh(hint);
+        self.emit(format!(
+            "{out}(X, T) :- {}(X, T), {}.",
+            input.rel,
+            body.join(", ")
+        ));
+        let rel_r = input.rel_r.as_ref().map(|r| {
+            let out_r = format!("{out}_r");
+            self.emit(format!("{out_r}(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
+            out_r
+        });
+        Scen { rel: out, rel_r }
+    }
+}

@@ -1,0 +1,282 @@
+//! RefAV's relational functions (objects in a relative direction, crossings, following, …)
+//! as helper relations over (track, related, frame), their counts, and reversing a relation.
+
+use super::*;
+
+impl Translator<'_> {
+    /// A relational function: its selected (track, candidate, frame) pairs, and its result.
+    pub(crate) fn relational(
+        &mut self,
+        sig: &'static Signature,
+        args: &BTreeMap<&'static str, Val>,
+        hint: &str,
+        want_result: bool,
+    ) -> Res<(String, Scen)> {
+        let f = sig.name;
+        let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
+        let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
+        let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
+        let base = format!("{}(X, T), {}(Y, T), X != Y", tracks.rel, cands.rel);
+        let out = self.fresh(hint);
+        let pairs = format!("{out}_pairs");
+        self.used_names.insert(pairs.clone());
+        let mut min_count = 1.0;
+        match f {
+            "has_objects_in_relative_direction" | "get_objects_in_relative_direction" => {
+                let dir = self
+                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
+                    .unwrap_or_default();
+                let min = self.num(f, "min_number", &a("min_number"))?;
+                let max = self.num(f, "max_number", &a("max_number"))?;
+                let within = self.num(f, "within_distance", &a("within_distance"))?;
+                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
+                if within > 50.0 {
+                    self.notes.push(format!(
+                        "line {}: within_distance={} is capped at 50 m, the range of the catalog's pair relations",
+                        self.line,
+                        fmt_num(within)
+                    ));
+                }
+                // RefAV counts the closest candidates within the distance, up to max_number;
+                // a timestamp with no candidate is never kept, so min_number 0 means 1.
+                min_count = min.max(1.0).ceil();
+                if max < min_count {
+                    return Err(self.err(
+                        f,
+                        format!(
+                            "{f}(min_number={}, max_number={}) can never hold",
+                            fmt_num(min),
+                            fmt_num(max)
+                        ),
+                    ));
+                }
+                let cand = format!("{out}_cand");
+                self.used_names.insert(cand.clone());
+                let rel = match self.semantics {
+                    Semantics::Scenalog => "direction",
+                    Semantics::Refav => "refav_direction",
+                };
+                let mut conds = vec![format!("{rel}(X, Y, T, \"{dir}\", D, Lat)")];
+                if within.is_finite() {
+                    conds.push(format!("D <= {}", fmt_num(within)));
+                }
+                if lat.is_finite() {
+                    conds.push(format!("Lat < {}", fmt_num(lat)));
+                }
+                self.emit(format!(
+                    "{cand}(X, Y, T, D) :- {base}, {}.",
+                    conds.join(", ")
+                ));
+                if max.is_finite() {
+                    // the max_number closest (ties: RefAV's stable sort keeps the earlier one;
+                    // here every tied candidate is kept)
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {cand}(X, Y, T, D), R = count : {{ {cand}(X, Y2, T, D2), D2 < D }}, R < {}.",
+                        max as i64
+                    ));
+                } else {
+                    self.emit(format!("{pairs}(X, Y, T) :- {cand}(X, Y, T, _)."));
+                }
+            }
+            "near_objects" => {
+                let d = self.num(f, "distance_thresh", &a("distance_thresh"))?;
+                let min = match a("min_objects") {
+                    Val::None => 0.0,
+                    v => self.num(f, "min_objects", &v)?,
+                };
+                if min <= 0.0 {
+                    return Err(self.err(
+                        f,
+                        "near_objects(min_objects=0) means \"all candidates\", a count Scenalog does not translate".into(),
+                    ));
+                }
+                min_count = min.ceil();
+                let include_self = matches!(a("include_self"), Val::Bool(true));
+                let base = if include_self {
+                    format!("{}(X, T), {}(Y, T)", tracks.rel, cands.rel)
+                } else {
+                    base.clone()
+                };
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, near(X, Y, T, D), D <= {}.",
+                    fmt_num(d)
+                ));
+            }
+            "being_crossed_by" => {
+                let dir = self
+                    .word(f, "direction", &a("direction"), catalog::DIRECTIONS, false)?
+                    .unwrap_or_default();
+                let in_dir = self
+                    .word(
+                        f,
+                        "in_direction",
+                        &a("in_direction"),
+                        &["clockwise", "counterclockwise", "either"],
+                        false,
+                    )?
+                    .unwrap_or_default();
+                let fwd = self.num(f, "forward_thresh", &a("forward_thresh"))?;
+                let lat = self.num(f, "lateral_thresh", &a("lateral_thresh"))?;
+                let sense = match in_dir.as_str() {
+                    "either" => "_".to_string(),
+                    s => format!("\"{s}\""),
+                };
+                if self.semantics == Semantics::Refav {
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
+                    ));
+                } else if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
+                    ));
+                } else {
+                    if !(0.0..=CROSSING_MAX_REACH).contains(&fwd)
+                        || !(0.0..=CROSSING_MAX_OFF).contains(&lat)
+                    {
+                        return Err(self.err(
+                            f,
+                            format!(
+                                "being_crossed_by(forward_thresh={}, lateral_thresh={}): crossing_detail covers 0-{} m and 0-{} m",
+                                fmt_num(fwd),
+                                fmt_num(lat),
+                                fmt_num(CROSSING_MAX_REACH),
+                                fmt_num(CROSSING_MAX_OFF)
+                            ),
+                        ));
+                    }
+                    self.emit(format!(
+                        "{pairs}(X, Y, T) :- {base}, crossing_detail(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off <= {}.",
+                        fmt_num(fwd),
+                        fmt_num(lat)
+                    ));
+                }
+            }
+            "facing_toward" => {
+                let ang = self.num(f, "within_angle", &a("within_angle"))?;
+                let d = self.num(f, "max_distance", &a("max_distance"))?;
+                if ang != 22.5 {
+                    return Err(self.err(
+                        f,
+                        format!(
+                            "facing_toward(within_angle={}): the catalog's facing fixes 22.5°",
+                            fmt_num(ang)
+                        ),
+                    ));
+                }
+                let mut c = format!("{pairs}(X, Y, T) :- {base}, facing(X, Y, T)");
+                if d.is_finite() {
+                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                }
+                self.emit(c + ".");
+            }
+            "heading_toward" => {
+                let ang = self.num(f, "angle_threshold", &a("angle_threshold"))?;
+                let sp = self.num(f, "minimum_speed", &a("minimum_speed"))?;
+                let d = self.num(f, "max_distance", &a("max_distance"))?;
+                if ang != 22.5 || sp != 0.5 {
+                    return Err(self.err(f, format!("heading_toward(angle_threshold={}, minimum_speed={}): the catalog's heading_toward fixes 22.5° and 0.5 m/s", fmt_num(ang), fmt_num(sp))));
+                }
+                let mut c = format!("{pairs}(X, Y, T) :- {base}, heading_toward(X, Y, T)");
+                if d.is_finite() {
+                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                }
+                self.emit(c + ".");
+            }
+            "following" => self.emit(format!("{pairs}(X, Y, T) :- {base}, following(X, Y, T).")),
+            "in_same_lane" => self.emit(format!("{pairs}(X, Y, T) :- {base}, same_lane(X, Y, T).")),
+            "heading_in_relative_direction_to" => {
+                let d = self
+                    .word(f, "direction", &a("direction"), catalog::HEADINGS, false)?
+                    .unwrap_or_default();
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, heading_relative(X, Y, T, \"{d}\")."
+                ));
+            }
+            "on_relative_side_of_road" => {
+                let s = self
+                    .word(f, "side", &a("side"), catalog::ROAD_SIDES, false)?
+                    .unwrap_or_default();
+                self.emit(format!(
+                    "{pairs}(X, Y, T) :- {base}, road_side(X, Y, T, \"{s}\")."
+                ));
+            }
+            _ => return Err(self.err(f, format!("{f}() is not a relational function"))),
+        }
+        // Tracks with at least `min_count` related candidates at the frame; only the pairs at
+        // kept frames are the function's relationships (RefAV applies `min_number` before it
+        // creates any, so `get_objects_in_relative_direction` keeps it too).
+        let sel = if min_count > 1.0 {
+            self.emit(format!(
+                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
+                tracks.rel, min_count as i64
+            ));
+            let sel = format!("{out}_sel");
+            self.used_names.insert(sel.clone());
+            self.emit(format!("{sel}(X, Y, T) :- {out}(X, T), {pairs}(X, Y, T)."));
+            sel
+        } else {
+            if want_result {
+                self.emit(format!("{out}(X, T) :- {pairs}(X, _, T)."));
+            }
+            pairs
+        };
+        if !want_result {
+            return Ok((
+                sel,
+                Scen {
+                    rel: out,
+                    rel_r: None,
+                },
+            ));
+        }
+        self.finish_relational(&out, &sel, &tracks, &cands)
+    }
+
+    pub(crate) fn finish_relational(
+        &mut self,
+        out: &str,
+        sel: &str,
+        tracks: &Scen,
+        cands: &Scen,
+    ) -> Res<(String, Scen)> {
+        let out_r = format!("{out}_r");
+        self.emit(format!("{out_r}(X, Y, T) :- {sel}(X, Y, T)."));
+        if let Some(r) = &tracks.rel_r {
+            self.emit(format!("{out_r}(X, Z, T) :- {out}(X, T), {r}(X, Z, T)."));
+        }
+        if let Some(r) = &cands.rel_r {
+            self.emit(format!("{out_r}(X, Z, T) :- {sel}(X, Y, T), {r}(Y, Z, T)."));
+        }
+        Ok((
+            sel.to_string(),
+            Scen {
+                rel: out.to_string(),
+                rel_r: Some(out_r),
+            },
+        ))
+    }
+
+    /// The candidates of a relational result become the tracks, and its tracks their related.
+    /// As in RefAV, a track's own related objects at the frame come along under it (RefAV nests
+    /// them under the reversed relation), except those the function itself related it to; the
+    /// candidates' related objects do not.
+    pub(crate) fn reverse(&mut self, pairs: &str, tracks: &Scen, hint: &str) -> Scen {
+        let out = self.fresh(hint);
+        self.emit(format!("{out}(Y, T) :- {pairs}(_, Y, T)."));
+        self.emit(format!("{out}_r(Y, X, T) :- {pairs}(X, Y, T)."));
+        if let Some(r) = &tracks.rel_r {
+            let new = format!("{out}_new");
+            self.used_names.insert(new.clone());
+            self.emit(format!("{new}(X, Y) :- {pairs}(X, Y, _)."));
+            self.emit(format!(
+                "{out}_r(Y, Z, T) :- {pairs}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
+            ));
+        }
+        Scen {
+            rel: out.clone(),
+            rel_r: Some(format!("{out}_r")),
+        }
+    }
+}
