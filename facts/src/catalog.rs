@@ -586,13 +586,26 @@ pub fn relation(name: &str) -> Option<&'static RelationSpec> {
 /// The catalog as plain text: a header with the column types, then the relations by group, each
 /// as its signature, its doc, and the allowed values of any closed string column.
 pub fn render_text() -> String {
+    render_text_of(|_| true)
+}
+
+/// The relations written from descriptions, as text: every group but RefAV's definitions
+/// ([`Group::Refav`]), which only `scenalog import refav --semantics refav` targets, so a model
+/// writing a program is shown one definition of turning, direction and crossing.
+pub fn render_rules_text() -> String {
+    render_text_of(|r| r.group != Group::Refav)
+}
+
+/// The relations `keep` accepts, as [`render_text`] writes them.
+fn render_text_of(keep: impl Fn(&RelationSpec) -> bool) -> String {
+    let kept: Vec<&RelationSpec> = CATALOG.iter().filter(|r| keep(r)).collect();
     let mut out = format!(
         "{} relations. Column types: track (an object; the ego is one), time (frame, 10 Hz), \
          lane (lane segment id), str, float, int. Metres, m/s, degrees, frames.\n\n",
-        CATALOG.len()
+        kept.len()
     );
     let mut group = None;
-    for r in CATALOG {
+    for r in kept {
         if group != Some(r.group) {
             if group.is_some() {
                 out.push('\n');
