@@ -1,20 +1,9 @@
 //! `scenalog check` end to end: exit codes, human and JSON output, stdin, `--no-referred`.
 
-use std::io::Write;
-use std::process::{Output, Stdio};
+use std::process::Output;
 
 fn scenalog(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = crate::util::scenalog()
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run scenalog");
-    if let Some(mut pipe) = child.stdin.take() {
-        let _ = pipe.write_all(stdin.unwrap_or("").as_bytes());
-    }
-    child.wait_with_output().expect("wait for scenalog")
+    crate::util::with_stdin(args, stdin.unwrap_or(""))
 }
 
 fn library(name: &str) -> String {

@@ -5,9 +5,7 @@
 //! `mine --timeout-ms` and one past the tuple budget (extracted relations included) fails
 //! naming the relation, while the other pairs of the run finish. Issue #18, items 1, 3 and 4.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Output, Stdio};
 
 const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 
@@ -21,17 +19,7 @@ fn log_dir() -> PathBuf {
 
 /// Runs the binary with `args` and `stdin`; the exit code must be a code, not a signal.
 fn scenalog(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = crate::util::scenalog()
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn scenalog");
-    if let Some(mut pipe) = child.stdin.take() {
-        let _ = pipe.write_all(stdin.as_bytes());
-    }
-    let o: Output = child.wait_with_output().expect("wait for scenalog");
+    let o = crate::util::with_stdin(args, stdin);
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     let Some(code) = o.status.code() else {
         panic!(

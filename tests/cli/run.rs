@@ -1,20 +1,9 @@
 //! `scenalog run` end to end: tuples as facts, JSON, sizes, limits, catalog use, exit codes.
 
-use std::io::Write;
-use std::process::{Output, Stdio};
+use std::process::Output;
 
 fn scenalog(args: &[&str], stdin: &str) -> Output {
-    let mut child = crate::util::scenalog()
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run scenalog");
-    if let Some(mut pipe) = child.stdin.take() {
-        let _ = pipe.write_all(stdin.as_bytes());
-    }
-    child.wait_with_output().expect("wait for scenalog")
+    crate::util::with_stdin(args, stdin)
 }
 
 const TC: &str = "edge(1, 2). edge(2, 3). edge(3, 4). label(1, \"a b\"). w(1, 2.5). w(2, 3.0).\n\

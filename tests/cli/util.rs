@@ -1,10 +1,27 @@
 //! What every command-line test shares: the built `scenalog` binary as a [`Command`].
 
-use std::process::Command;
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
 
 /// The `scenalog` binary this test run built, as a command to add arguments to. Variables of
 /// the environment that change the command's behaviour (the LLM server, the cache, the thread
 /// count) are left as the test sets them.
 pub fn scenalog() -> Command {
     Command::new(env!("CARGO_BIN_EXE_scenalog"))
+}
+
+/// Runs the binary with `args`, writing `stdin` to its standard input, and collects its output.
+pub fn with_stdin(args: &[&str], stdin: &str) -> Output {
+    let mut child = scenalog()
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run scenalog");
+    if let Some(mut pipe) = child.stdin.take() {
+        // A command that exits without reading its input closes the pipe: not an error here.
+        let _ = pipe.write_all(stdin.as_bytes());
+    }
+    child.wait_with_output().expect("wait for scenalog")
 }
