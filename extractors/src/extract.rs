@@ -25,6 +25,8 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "turning" => motion::events(ex, q, ex.turning()),
         "refav_turning" => motion::events(ex, q, ex.refav_turning()),
         "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
+        "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
+        "refav_order" => objects::refav_order(ex, q),
         "lane_change" => motion::events(ex, q, ex.lane_changes()),
         "in_lane" => map::in_lane(ex, q),
         "lane_type" => map::lane_type(ex, q),

@@ -11,8 +11,14 @@
 //!   time step; more than 45° is a left turn over the whole run, less than −45° a right turn.
 //!   The next run starts at the sample that stopped this one, so that sample belongs to both.
 //!   (RefAV's rule for turns cut by the log's ends never adds a frame; it is not reproduced.)
+//! - **`refav_order`** (the order of RefAV's candidates): the keys of
+//!   `get_objects_of_category(Cat)` are the annotation file's `track_uuid.unique()` (each
+//!   track's first row), for "VEHICLE" category by category in RefAV's list order (the
+//!   catalog's [`VEHICLE_CATEGORIES`]), each in the file's order. A function that loops over
+//!   candidates (`being_crossed_by`) depends on it.
 
-use scenalog_facts::Frame;
+use scenalog_facts::scene::{SUPER_CATEGORIES, VEHICLE_CATEGORIES};
+use scenalog_facts::{Frame, Scene, TrackId};
 
 use crate::events::Side;
 use crate::kinematics::TrackKinematics;
@@ -57,6 +63,28 @@ pub fn turning(t: &TrackKinematics) -> Vec<(Frame, Side)> {
         }
     }
     out
+}
+
+/// `refav_order(X, Cat, R)` rows: X's position (0 first) among the keys of RefAV's
+/// `get_objects_of_category(Cat)` for Cat = X's category, "VEHICLE" (for a vehicle) and "ANY".
+pub fn order(scene: &Scene) -> Vec<(TrackId, &str, i64)> {
+    let mut by_file: Vec<&scenalog_facts::Track> = scene.tracks.iter().collect();
+    by_file.sort_by_key(|t| t.file_order);
+    let mut rows = Vec::with_capacity(scene.tracks.len() * 3);
+    let mut per_category: std::collections::HashMap<&str, i64> = Default::default();
+    for (i, t) in by_file.iter().enumerate() {
+        let own = per_category.entry(t.category.as_str()).or_insert(0);
+        rows.push((t.id, t.category.as_str(), *own));
+        *own += 1;
+        rows.push((t.id, SUPER_CATEGORIES[1], i as i64));
+    }
+    let vehicles = VEHICLE_CATEGORIES
+        .iter()
+        .flat_map(|c| by_file.iter().filter(move |t| t.category == *c));
+    for (i, t) in vehicles.enumerate() {
+        rows.push((t.id, SUPER_CATEGORIES[0], i as i64));
+    }
+    rows
 }
 
 #[cfg(test)]

@@ -145,11 +145,17 @@ impl SceneBuilder {
                 .collect();
             tracks.push(("ego".into(), EGO_CATEGORY.into(), EGO_SIZE, way));
         }
-        tracks.sort_by(|a, b| a.0.cmp(&b.0));
+        // The order tracks were added in is the "file's" (`Track::file_order`).
+        let mut tracks: Vec<(u32, _)> = tracks
+            .into_iter()
+            .enumerate()
+            .map(|(i, t)| (i as u32, t))
+            .collect();
+        tracks.sort_by(|a, b| a.1 .0.cmp(&b.1 .0));
         let tracks: Vec<Track> = tracks
             .into_iter()
             .enumerate()
-            .map(|(i, (uuid, category, size, mut way))| {
+            .map(|(i, (file_order, (uuid, category, size, mut way)))| {
                 way.sort_by_key(|w| w.0);
                 let boxes = way
                     .into_iter()
@@ -166,6 +172,7 @@ impl SceneBuilder {
                     uuid,
                     category,
                     boxes,
+                    file_order,
                 }
             })
             .collect();

@@ -203,3 +203,140 @@ fn refav_crossing_counts_a_side_line_and_scenalog_the_midplane() {
     assert_eq!(crossers(&scene, "crossing"), ["diagonal"]);
     assert_eq!(crossers(&scene, "refav_crossing"), ["grazer"]);
 }
+
+#[test]
+fn refav_direction_corrected_moves_only_the_ego_back_edge() {
+    // As above: "level" is level with the ego's rear axle in the lane to the right; "behind" is
+    // 5 m behind the car's back. The corrected box puts the back edge 1.02 m behind the axle:
+    // "level" is only to the right, as in Scenalog; "behind" is behind in all three.
+    let scene = SceneBuilder::new(5)
+        .ego_at_rear_axle(straight(0, 5, 0.0, 0.0, 0.0, 0.0))
+        .track(
+            "level",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 5, 0.0, -3.5, 0.0, 0.0),
+        )
+        .track(
+            "behind",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 5, -1.02 - 5.0 - 2.25, 0.0, 0.0, 0.0),
+        )
+        .build();
+    let slipped = directions(&scene, "refav_direction");
+    let corrected = directions(&scene, "refav_direction_corrected");
+    assert!(has(&slipped, "ego", "level", "backward").is_some());
+    assert!(has(&corrected, "ego", "level", "backward").is_none());
+    assert!(has(&corrected, "ego", "level", "right").is_some());
+    for rows in [&slipped, &corrected] {
+        let d = has(rows, "ego", "behind", "backward").unwrap_or(f64::NAN);
+        // The distance is from the ego's box at the axle (its body 1.44 m behind where it is).
+        assert!(d.is_finite() && d > 0.0, "{d}");
+    }
+    assert_eq!(
+        has(&slipped, "ego", "behind", "backward"),
+        has(&corrected, "ego", "behind", "backward")
+    );
+    // Without the ego as X the two are the same relation.
+    let not_ego_x = |r: &Vec<(String, String, String, f64)>| -> Vec<(String, String, String)> {
+        r.iter()
+            .filter(|r| r.0 != "ego")
+            .map(|r| (r.0.clone(), r.1.clone(), r.2.clone()))
+            .collect()
+    };
+    assert_eq!(not_ego_x(&slipped), not_ego_x(&corrected));
+    assert!(!not_ego_x(&slipped).is_empty());
+}
+
+#[test]
+fn refav_crossing_event_holds_for_a_crossing_whatever_its_sense() {
+    // A parked car at the origin heading +x; "walker" crosses in front of it at x = 4 from the
+    // left (y = 3.05) to the right (y = -2.85) at 1 m/s: it passes the left side line (y = 0.9) and
+    // the right one (y = -0.9), moving towards -y ("clockwise"). An event is found at each side
+    // line, 1.75 m beyond half the car's length, and the spans of refav_crossing contain them.
+    const PED: [f64; 3] = [0.6, 0.6, 1.7];
+    let walker: Vec<Waypoint> = (0..60u32)
+        .map(|f| {
+            (
+                f,
+                4.0,
+                3.05 - f64::from(f) * 0.1,
+                -std::f64::consts::FRAC_PI_2,
+            )
+        })
+        .collect();
+    let scene = SceneBuilder::new(60)
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 60, 0.0, 0.0, 0.0, 0.0),
+        )
+        .track("walker", "PEDESTRIAN", PED, walker)
+        .build();
+    let events: Vec<(u64, f64)> = rows(&scene, "refav_crossing_event")
+        .iter()
+        .filter(|r| r[0] == "car" && r[1] == "walker" && r[3] == "forward")
+        .map(|r| {
+            (
+                r[2].as_u64().unwrap_or(0),
+                r[4].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    assert_eq!(events.len(), 2, "{events:?}");
+    for (_, reach) in &events {
+        assert!((reach - 1.75).abs() < 1e-6, "{reach}");
+    }
+    // y = 3.05 - 0.1 f passes 0.9 between frames 21 and 22, -0.9 between 39 and 40.
+    assert_eq!(events.iter().map(|e| e.0).collect::<Vec<_>>(), [22, 40]);
+    let span_frames: Vec<u64> = rows(&scene, "refav_crossing")
+        .iter()
+        .filter(|r| r[0] == "car" && r[1] == "walker" && r[3] == "forward")
+        .map(|r| r[2].as_u64().unwrap_or(0))
+        .collect();
+    for (f, _) in &events {
+        assert!(span_frames.contains(f), "{f} not in {span_frames:?}");
+    }
+    // Only "clockwise" spans, but the event carries no sense: a program asking for
+    // "counterclockwise" finds no span, while RefAV still overwrites its direction.
+    assert!(rows(&scene, "refav_crossing")
+        .iter()
+        .filter(|r| r[0] == "car" && r[1] == "walker")
+        .all(|r| r[4] == "clockwise"));
+}
+
+#[test]
+fn refav_order_is_the_file_order_and_for_vehicles_category_by_category() {
+    // Added (the "file's" order): a pedestrian, a regular vehicle, a bus, another pedestrian,
+    // the ego. RefAV's VEHICLE keys: the ego first, then BUS, then REGULAR_VEHICLE.
+    let still = |x: f64| straight(0, 3, x, 0.0, 0.0, 0.0);
+    let scene = SceneBuilder::new(3)
+        .track("p1", "PEDESTRIAN", [0.6, 0.6, 1.7], still(0.0))
+        .track("car", "REGULAR_VEHICLE", CAR, still(10.0))
+        .track("bus", "BUS", [12.0, 2.5, 3.0], still(30.0))
+        .track("p0", "PEDESTRIAN", [0.6, 0.6, 1.7], still(50.0))
+        .ego_at_rear_axle(still(-20.0))
+        .build();
+    let order = |cat: &str| -> Vec<(String, i64)> {
+        let mut v: Vec<(String, i64)> = rows(&scene, "refav_order")
+            .iter()
+            .filter(|r| r[1] == cat)
+            .map(|r| {
+                (
+                    r[0].as_str().unwrap_or("").to_string(),
+                    r[2].as_i64().unwrap_or(-1),
+                )
+            })
+            .collect();
+        v.sort_by_key(|r| r.1);
+        v
+    };
+    let names = |v: Vec<(String, i64)>| -> Vec<String> { v.into_iter().map(|r| r.0).collect() };
+    assert_eq!(names(order("ANY")), ["p1", "car", "bus", "p0", "ego"]);
+    assert_eq!(names(order("PEDESTRIAN")), ["p1", "p0"]);
+    assert_eq!(names(order("VEHICLE")), ["ego", "bus", "car"]);
+    assert_eq!(order("PEDESTRIAN")[0].1, 0);
+    assert_eq!(order("VEHICLE")[2].1, 2);
+}

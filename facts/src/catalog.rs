@@ -566,9 +566,27 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_direction_corrected",
+        columns: DIRECTION_COLUMNS,
+        doc: "`refav_direction` with the ego's back edge where RefAV means it: as X, its fixed box runs from 1.02 m behind the rear axle to 3.86 m ahead (RefAV's sign slip fixed)",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_crossing",
         columns: CROSSING_DETAIL_COLUMNS,
-        doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is not reproduced",
+        doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is the importer's, with `refav_crossing_event` and `refav_order`",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_crossing_event",
+        columns: &[X, Y, T, enum_col("Dir", DIRECTIONS), col("Reach", ColType::Float)],
+        doc: "a crossing RefAV's being_crossed_by(X, Y, direction=Dir) finds, whatever its sense and span: Y's median-filtered centre passes one of X's side lines extended in direction Dir between the frame before T and T, Reach m beyond half X's length, moving across faster than 0.2 m/s (after its first one RefAV overwrites its direction argument)",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_order",
+        columns: &[X, enum_col("Cat", CATEGORY_VALUES), col("R", ColType::Int)],
+        doc: "X is the R-th (0 first) of the objects RefAV's get_objects_of_category(Cat) returns, for Cat X's category, \"VEHICLE\" (a vehicle) and \"ANY\": the annotation file's order of first rows, for \"VEHICLE\" category by category (RefAV's loops over candidates follow it)",
         group: Group::Refav,
     },
 ];
@@ -689,8 +707,8 @@ mod tests {
         // The 32 relations of the original catalog, crossing_detail (crossing with its
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
-        // imported programs (issue #30).
-        assert_eq!(catalog().len(), 39);
+        // imported programs and the relations its defects need (issue #30).
+        assert_eq!(catalog().len(), 42);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -699,13 +717,16 @@ mod tests {
             "refav_turning",
             "refav_direction",
             "refav_crossing",
+            "refav_direction_corrected",
+            "refav_crossing_event",
+            "refav_order",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(39));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(42));
         let text = render_text();
-        assert!(text.starts_with("39 relations."));
+        assert!(text.starts_with("42 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

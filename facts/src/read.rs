@@ -486,9 +486,15 @@ fn build_tracks(
             }
         }
     }
-    building.sort_unstable_by(|a, b| a.uuid.cmp(b.uuid));
+    // `building` is in the order of each track's first row (the added ego last): keep it.
+    let mut building: Vec<(u32, Building)> = building
+        .into_iter()
+        .enumerate()
+        .map(|(i, b)| (i as u32, b))
+        .collect();
+    building.sort_unstable_by(|a, b| a.1.uuid.cmp(b.1.uuid));
     let mut tracks = Vec::with_capacity(building.len());
-    for (i, mut t) in building.into_iter().enumerate() {
+    for (i, (file_order, mut t)) in building.into_iter().enumerate() {
         t.boxes.sort_unstable_by_key(|b| b.frame);
         if let Some(w) = t.boxes.windows(2).find(|w| w[0].frame == w[1].frame) {
             return Err(duplicate_row(path, ann, timeline, t.uuid, w[0].frame));
@@ -498,6 +504,7 @@ fn build_tracks(
             uuid: t.uuid.to_owned(),
             category: t.category.to_owned(),
             boxes: t.boxes,
+            file_order,
         });
     }
     Ok(tracks)

@@ -172,6 +172,10 @@ pub struct Track {
     pub category: String,
     /// Boxes sorted by frame, at most one per frame.
     pub boxes: Vec<TrackBox>,
+    /// The track's rank among the annotation file's tracks by the row where each first appears
+    /// (0 for the first): RefAV's order of candidates (`track_uuid.unique()`). An ego the loader
+    /// adds comes last.
+    pub file_order: u32,
 }
 
 impl Track {

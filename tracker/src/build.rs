@@ -175,6 +175,7 @@ pub fn tracked_log(
             uuid,
             category,
             boxes: b,
+            file_order: i as u32,
         });
         scores.push(s);
         tracker_ids.push(id);

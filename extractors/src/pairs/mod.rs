@@ -58,6 +58,7 @@ pub const PAIR_RELATIONS: &[&str] = &[
     "following",
     "road_side",
     "refav_direction",
+    "refav_direction_corrected",
 ];
 
 /// Everything the pair relations read: the scene, its kinematics, lane assignment, prepared map
@@ -149,6 +150,7 @@ pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
         "following" => lanes::following(ctx, q),
         "road_side" => lanes::road_side(ctx, q),
         "refav_direction" => refav::refav_direction(ctx, q),
+        "refav_direction_corrected" => refav::refav_direction_corrected(ctx, q),
         _ => return None,
     })
 }
@@ -208,6 +210,10 @@ relation_fn!(
 relation_fn!(
     refav_direction,
     "`refav_direction(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction`]."
+);
+relation_fn!(
+    refav_direction_corrected,
+    "`refav_direction_corrected(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction_corrected`]."
 );
 
 /// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to

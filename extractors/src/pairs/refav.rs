@@ -20,9 +20,12 @@
 //!   on the far side along the way (RefAV extends while it is under `lateral_thresh`; the near
 //!   side is unbounded). Sense is "counterclockwise" towards +y, "clockwise" towards −y.
 //!   Computed over every shared frame (not only within 50 m) for pairs that come within 50 m at
-//!   some frame. Not reproduced: RefAV overwrites its `direction` with ±1 after the first
-//!   crossing it finds, so later candidates are tested against the forward plane (its order of
-//!   candidates is the annotation file's, which the scene does not keep).
+//!   some frame. RefAV's overwrite of its `direction` with ±1 after the first crossing it finds
+//!   (later candidates tested against the forward plane) is the importer's, over
+//!   **`refav_crossing_event`** (each crossing at the frame it passes the line, whatever its
+//!   sense and span) and `refav_order` (RefAV's order of candidates, [`crate::refav`]).
+//! - **`refav_direction_corrected`**: `refav_direction` with the ego's back edge where RefAV
+//!   means it (−[`REFAV_EGO_BACK_M`]), for imports that do not reproduce the sign slip.
 
 use scenalog_facts::catalog::{DIRECTIONS, SENSES};
 use scenalog_facts::relation::{Column, RelationData};
@@ -56,6 +59,17 @@ fn at_axle(b: &ObjBox) -> ObjBox {
 /// `refav_direction(X, Y, T, Dir, Dist, Lat)`: `direction` with the ego as RefAV places it (see
 /// the module doc); the same columns and meaning otherwise.
 pub fn refav_direction(ctx: &PairContext, q: &Query) -> RelationData {
+    refav_direction_with(ctx, q, REFAV_EGO_BACK_M)
+}
+
+/// `refav_direction_corrected(X, Y, T, Dir, Dist, Lat)`: `refav_direction` with the ego's back
+/// edge where RefAV means it, [`REFAV_EGO_BACK_M`] behind the rear axle (the sign slip fixed).
+pub fn refav_direction_corrected(ctx: &PairContext, q: &Query) -> RelationData {
+    refav_direction_with(ctx, q, -REFAV_EGO_BACK_M)
+}
+
+/// `refav_direction` with the ego's back edge at `back` metres ahead of its rear axle.
+fn refav_direction_with(ctx: &PairContext, q: &Query, back: f64) -> RelationData {
     let ego: Option<TrackId> = ctx
         .scene
         .tracks
@@ -73,7 +87,7 @@ pub fn refav_direction(ctx: &PairContext, q: &Query) -> RelationData {
         |x, y| {
             let yc = placed(y).center;
             if is_ego(x) {
-                let bounds = [REFAV_EGO_FRONT_M, REFAV_EGO_BACK_M, REFAV_EGO_HALF_WIDTH_M];
+                let bounds = [REFAV_EGO_FRONT_M, back, REFAV_EGO_HALF_WIDTH_M];
                 regions_within(bounds, at_axle(x).to_local(yc))
             } else {
                 regions(x, x.to_local(yc))
@@ -224,12 +238,14 @@ fn rotate(dir: usize, p: [f64; 2]) -> [f64; 2] {
 type CrossRow = (TrackId, TrackId, Frame, usize, usize, f64, f64);
 
 /// The crossings of Y over X's `dir` side lines, as RefAV's `being_crossed_by` finds them, with
-/// every frame of each crossing's span.
+/// every frame of each crossing's span; with `events`, one row per crossing at the frame it
+/// passes the line (Off 0), spans or not.
 fn crossings(
     r: &Relative,
     dims: [f64; 2],
     dir: usize,
     ids: (TrackId, TrackId),
+    events: bool,
     out: &mut Vec<CrossRow>,
 ) {
     let [half_len, half_wid] = [dims[0] / 2.0, dims[1] / 2.0];
@@ -249,6 +265,10 @@ fn crossings(
         let s = if y1 > y0 { 1.0 } else { -1.0 };
         // Sense: RefAV's in_direction "clockwise" keeps the crossings towards -y.
         let sense = usize::from(s > 0.0);
+        if events {
+            out.push((ids.0, ids.1, r.frames[i], dir, sense, reach, 0.0));
+            continue;
+        }
         let mut visit = |k: usize, off: &mut f64| -> bool {
             if s * v[k][1] <= REFAV_CROSSING_MIN_SPEED {
                 return false;
@@ -274,8 +294,65 @@ fn crossings(
 
 /// `refav_crossing(X, Y, T, Dir, Sense, Reach, Off)`: RefAV's `being_crossed_by(X, Y, direction=
 /// Dir, in_direction=Sense, forward_thresh >= Reach, lateral_thresh > Off)` holds at T (see
-/// `extractors/src/refav.rs`'s list; the direction overwrite is not reproduced).
+/// the module doc; the direction overwrite is the importer's, with `refav_crossing_event`).
 pub fn refav_crossing(scene: &Scene, q: &Query) -> RelationData {
+    let rows = crossing_rows(scene, q, false);
+    let senses = str_values(SENSES);
+    let names = str_values(DIRECTIONS);
+    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
+    for (x, y, t, d, s, reach, off) in rows {
+        cols.0.push(x);
+        cols.1.push(y);
+        cols.2.push(t);
+        cols.3.push(names[d].clone());
+        cols.4.push(senses[s].clone());
+        cols.5.push(reach);
+        cols.6.push(off);
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![
+            Column::Track(cols.0),
+            Column::Track(cols.1),
+            Column::Time(cols.2),
+            Column::Str(cols.3),
+            Column::Str(cols.4),
+            Column::Float(cols.5),
+            Column::Float(cols.6),
+        ],
+    }
+}
+
+/// `refav_crossing_event(X, Y, T, Dir, Reach)`: Y's median-filtered centre passes one of X's side
+/// lines extended in direction Dir between the frame before T and T, Reach m beyond half X's
+/// length, moving across faster than [`REFAV_CROSSING_MIN_SPEED`]: a crossing RefAV's
+/// `being_crossed_by` finds (whatever its sense, and whether or not a span follows), the event
+/// after which it overwrites its `direction` argument.
+pub fn refav_crossing_event(scene: &Scene, q: &Query) -> RelationData {
+    let rows = crossing_rows(scene, q, true);
+    let names = str_values(DIRECTIONS);
+    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
+    for (x, y, t, d, _, reach, _) in rows {
+        cols.0.push(x);
+        cols.1.push(y);
+        cols.2.push(t);
+        cols.3.push(names[d].clone());
+        cols.4.push(reach);
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![
+            Column::Track(cols.0),
+            Column::Track(cols.1),
+            Column::Time(cols.2),
+            Column::Str(cols.3),
+            Column::Float(cols.4),
+        ],
+    }
+}
+
+/// The rows of `refav_crossing` (spans) or `refav_crossing_event` (`events`) for a query.
+fn crossing_rows(scene: &Scene, q: &Query, events: bool) -> Vec<CrossRow> {
     let ego = scene
         .tracks
         .iter()
@@ -312,34 +389,11 @@ pub fn refav_crossing(scene: &Scene, q: &Query) -> RelationData {
                     continue;
                 }
                 for &d in &dirs {
-                    crossings(&r, dims, d, (xt, yt), &mut out);
+                    crossings(&r, dims, d, (xt, yt), events, &mut out);
                 }
             }
             out.into_iter()
         })
         .collect();
-    let senses = str_values(SENSES);
-    let names = str_values(DIRECTIONS);
-    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
-    for (x, y, t, d, s, reach, off) in rows {
-        cols.0.push(x);
-        cols.1.push(y);
-        cols.2.push(t);
-        cols.3.push(names[d].clone());
-        cols.4.push(senses[s].clone());
-        cols.5.push(reach);
-        cols.6.push(off);
-    }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![
-            Column::Track(cols.0),
-            Column::Track(cols.1),
-            Column::Time(cols.2),
-            Column::Str(cols.3),
-            Column::Str(cols.4),
-            Column::Float(cols.5),
-            Column::Float(cols.6),
-        ],
-    }
+    rows
 }

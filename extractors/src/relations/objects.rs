@@ -1,4 +1,5 @@
-//! Objects and time: `category`, `ego`, `present`, `frame_ns`, `seconds`.
+//! Objects and time: `category`, `ego`, `present`, `frame_ns`, `seconds`; RefAV's order of
+//! objects, `refav_order`.
 
 use scenalog_facts::relation::{Column, RelationData};
 use scenalog_facts::scene::{is_construction_category, is_vehicle_category, SUPER_CATEGORIES};
@@ -94,5 +95,22 @@ pub fn seconds(ex: &Extractor, q: &Query) -> RelationData {
     RelationData {
         name: q.spec.name.into(),
         columns: vec![Column::Time(frames), Column::Float(secs)],
+    }
+}
+
+/// `refav_order(X, Cat, R)`: see [`crate::refav::order`].
+pub fn refav_order(ex: &Extractor, q: &Query) -> RelationData {
+    let scene = ex.scene();
+    let (mut xs, mut cs, mut rs) = (Vec::new(), Vec::new(), Vec::new());
+    for (t, c, r) in crate::refav::order(scene) {
+        if q.allows_track(0, t) {
+            xs.push(t);
+            cs.push(s(c));
+            rs.push(r);
+        }
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Str(cs), Column::Int(rs)],
     }
 }
