@@ -32,8 +32,9 @@ pub enum Semantics {
     #[default]
     Scenalog,
     /// RefAV's definitions where the catalog has them (the `refav_*` relations), so the program
-    /// finds what RefAV's own code finds; elsewhere Scenalog's.
-    Refav,
+    /// finds what RefAV's own code finds; elsewhere Scenalog's. The set says which of RefAV's
+    /// defects are reproduced ([`Defects::ALL`] for RefAV's answers as its code gives them).
+    Refav(Defects),
 }
 
 impl Semantics {
@@ -41,7 +42,125 @@ impl Semantics {
     pub fn as_str(self) -> &'static str {
         match self {
             Semantics::Scenalog => "scenalog",
-            Semantics::Refav => "refav",
+            Semantics::Refav(_) => "refav",
+        }
+    }
+
+    /// The defects reproduced: none in Scenalog's definitions.
+    pub fn defects(self) -> Defects {
+        match self {
+            Semantics::Scenalog => Defects::NONE,
+            Semantics::Refav(d) => d,
+        }
+    }
+
+    /// RefAV's definitions reproduce `defect`.
+    pub fn reproduces(self, defect: Defect) -> bool {
+        self.defects().contains(defect)
+    }
+}
+
+/// A defect of RefAV's code that `--semantics refav` reproduces or not, by its name (each is
+/// described with a minimal example in import/README.md, "RefAV's defects").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Defect {
+    /// The ego's back edge has a sign slip (+1.02 m ahead of the rear axle where −1.02 m is
+    /// meant), so "behind the ego" includes objects beside it.
+    EgoBackEdge,
+    /// `being_crossed_by` overwrites its `direction` argument after the first crossing it finds,
+    /// so later candidates (in RefAV's candidate order) are tested against the forward plane.
+    CrossingDirection,
+    /// `reverse_relationship` (and `get_objects_in_relative_direction`) makes a track's earlier
+    /// related objects that are among the candidates referred objects.
+    ReverseCarryOver,
+}
+
+impl Defect {
+    /// Every defect the option knows, in the order the README lists them.
+    pub const ALL: [Defect; 3] = [
+        Defect::EgoBackEdge,
+        Defect::CrossingDirection,
+        Defect::ReverseCarryOver,
+    ];
+
+    /// The name the command line (`--defects`) and the program header use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Defect::EgoBackEdge => "ego-back-edge",
+            Defect::CrossingDirection => "crossing-direction",
+            Defect::ReverseCarryOver => "reverse-carry-over",
+        }
+    }
+
+    /// The defect named `name`, if there is one.
+    pub fn from_name(name: &str) -> Option<Defect> {
+        Defect::ALL.into_iter().find(|d| d.name() == name)
+    }
+
+    fn bit(self) -> u8 {
+        1 << (self as u8)
+    }
+}
+
+/// A set of [`Defect`]s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Defects(u8);
+
+impl Defects {
+    /// No defect reproduced: RefAV's definitions as they are meant.
+    pub const NONE: Defects = Defects(0);
+    /// Every defect reproduced: RefAV's answers as its code gives them.
+    pub const ALL: Defects = Defects(0b111);
+
+    /// The set holds `defect`.
+    pub fn contains(self, defect: Defect) -> bool {
+        self.0 & defect.bit() != 0
+    }
+
+    /// The set with `defect` added.
+    pub fn with(self, defect: Defect) -> Defects {
+        Defects(self.0 | defect.bit())
+    }
+
+    /// The set's defects, in [`Defect::ALL`]'s order.
+    pub fn iter(self) -> impl Iterator<Item = Defect> {
+        Defect::ALL.into_iter().filter(move |d| self.contains(*d))
+    }
+
+    /// Reads `all`, `none` or a comma-separated list of defect names.
+    ///
+    /// # Errors
+    /// A name that is not a defect's, listing the names there are.
+    pub fn parse(text: &str) -> Result<Defects, String> {
+        match text.trim() {
+            "all" => return Ok(Defects::ALL),
+            "none" | "" => return Ok(Defects::NONE),
+            _ => {}
+        }
+        let mut set = Defects::NONE;
+        for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            match Defect::from_name(part) {
+                Some(d) => set = set.with(d),
+                None => {
+                    let names: Vec<&str> = Defect::ALL.iter().map(|d| d.name()).collect();
+                    return Err(format!(
+                        "unknown RefAV defect `{part}`: expected `all`, `none` or a comma-separated list of {}",
+                        names.join(", ")
+                    ));
+                }
+            }
+        }
+        Ok(set)
+    }
+}
+
+impl std::fmt::Display for Defects {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = self.iter().map(Defect::name).collect();
+        if names.is_empty() {
+            f.write_str("none")
+        } else {
+            f.write_str(&names.join(","))
         }
     }
 }

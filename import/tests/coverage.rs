@@ -85,13 +85,45 @@ fn every_refav_program_imports_unless_refav_itself_rejects_it() {
 
 #[test]
 fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
-    // `--semantics refav`: the same 255 import and check clean, and none of them uses the
-    // Scenalog relations refav mode replaces (turning, direction, crossing, crossing_detail).
+    // `--semantics refav`, with RefAV's defects (the default) and without: the same 255 import
+    // and check clean, none of them uses the Scenalog relations refav mode replaces (turning,
+    // direction, crossing, crossing_detail), and the defects decide which RefAV relations.
+    use scenalog_import::{Defects, Semantics};
+    let with = refav_relations_used(Semantics::Refav(Defects::ALL));
+    assert_eq!(
+        with.keys().copied().collect::<Vec<_>>(),
+        [
+            "refav_crossing(",
+            "refav_crossing_event(",
+            "refav_direction(",
+            "refav_order(",
+            "refav_turning("
+        ],
+        "{with:?}"
+    );
+    let without = refav_relations_used(Semantics::Refav(Defects::NONE));
+    assert_eq!(
+        without.keys().copied().collect::<Vec<_>>(),
+        [
+            "refav_crossing(",
+            "refav_direction_corrected(",
+            "refav_turning("
+        ],
+        "{without:?}"
+    );
+    // The ego's box is RefAV's either way: the same programs use it.
+    assert_eq!(
+        with.get("refav_direction("),
+        without.get("refav_direction_corrected(")
+    );
+}
+
+/// Imports the 262 programs in `semantics` and counts the programs using each `refav_*` relation.
+fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'static str, usize> {
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/refav_programs");
     let out = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
-    let report =
-        scenalog_import::import_path_with(&input, out.path(), scenalog_import::Semantics::Refav)
-            .unwrap_or_else(|e| panic!("{e}"));
+    let report = scenalog_import::import_path_with(&input, out.path(), semantics)
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.imported(), 255);
     assert_eq!(report.refav_broken(), 7);
     let replaced = [
@@ -104,6 +136,14 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
     for f in report.files.iter().filter_map(|f| f.output.as_ref()) {
         let text = std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         assert!(text.contains("// Semantics: refav"), "{}", f.display());
+        assert!(
+            text.contains(&format!(
+                "// RefAV defects reproduced: {}\n",
+                semantics.defects()
+            )),
+            "{}",
+            f.display()
+        );
         // Clauses only: the comments quote the RefAV source.
         let clauses: String = text
             .lines()
@@ -113,12 +153,18 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
         for r in replaced {
             assert!(!clauses.contains(r), "{}: uses{r}", f.display());
         }
-        for r in ["refav_turning(", "refav_direction(", "refav_crossing("] {
-            if text.contains(r) {
+        for r in [
+            "refav_turning(",
+            "refav_direction(",
+            "refav_direction_corrected(",
+            "refav_crossing(",
+            "refav_crossing_event(",
+            "refav_order(",
+        ] {
+            if clauses.contains(r) {
                 *uses.entry(r).or_insert(0) += 1;
             }
         }
     }
-    // Each RefAV relation is used by some program.
-    assert_eq!(uses.len(), 3, "{uses:?}");
+    uses
 }

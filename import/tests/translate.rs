@@ -13,7 +13,9 @@ use scenalog_extractors::cache::Extractor;
 use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::Scene;
-use scenalog_import::{import_checked, ImportError};
+use scenalog_import::{
+    import_checked, import_checked_with, Defect, Defects, ImportError, Semantics,
+};
 use scenalog_rules::{check, CheckOptions};
 
 fn scene() -> &'static Scene {
@@ -49,7 +51,28 @@ type Triples = BTreeSet<(u32, u32, u32)>;
 
 /// Referred (track, frame) and related (track, other, frame) of `result` on the sample log.
 fn run(body: &str) -> (Pairs, Triples) {
-    let program = imported(body);
+    run_program(&imported(body))
+}
+
+/// [`run`] with the program imported in `semantics`.
+fn run_in(semantics: Semantics, body: &str) -> (Pairs, Triples) {
+    let src = format!("{HEAD}{body}\noutput_scenario(result, description, log_dir, output_dir)\n");
+    match import_checked_with(&src, "test program.txt", semantics) {
+        Ok(p) => run_program(&p.program),
+        Err(e) => panic!("does not import: {e:?}\n{src}"),
+    }
+}
+
+/// RefAV's definitions with only `defect` reproduced, and with none.
+fn with_and_without(defect: Defect) -> [Semantics; 2] {
+    [
+        Semantics::Refav(Defects::NONE.with(defect)),
+        Semantics::Refav(Defects::NONE),
+    ]
+}
+
+fn run_program(program: &str) -> (Pairs, Triples) {
+    let program = program.to_string();
     let Some(checked) = check(&program, &CheckOptions::default()).program else {
         panic!("does not check:\n{program}")
     };
@@ -407,4 +430,90 @@ fn first_api_accelerating_thresh() {
         Ok(p) => assert!(p.first_api && p.notes.iter().any(|n| n.contains("first API"))),
         Err(e) => panic!("{e:?}"),
     }
+}
+
+/// `--defects ego-back-edge`: RefAV's back edge of the ego 1.02 m ahead of the rear axle widens
+/// "behind the ego" and shortens its sides; without it the box runs back to 1.02 m behind.
+#[test]
+fn the_ego_back_edge_defect_widens_behind_and_shortens_the_sides() {
+    let [slip, meant] = with_and_without(Defect::EgoBackEdge);
+    let ego = "ego = get_objects_of_category(log_dir, category='EGO_VEHICLE')\n";
+    for (dir, wider) in [("backward", true), ("right", false), ("left", false)] {
+        let body = format!(
+            "{ego}result = has_objects_in_relative_direction(ego, vehicles, log_dir, direction='{dir}', within_distance=20, lateral_thresh=3)"
+        );
+        let (_, with) = run_in(slip, &body);
+        let (_, without) = run_in(meant, &body);
+        let (big, small) = if wider {
+            (&with, &without)
+        } else {
+            (&without, &with)
+        };
+        assert!(small.is_subset(big), "{dir}");
+        assert!(
+            big.len() > small.len(),
+            "{dir}: {} vs {}",
+            big.len(),
+            small.len()
+        );
+    }
+}
+
+/// `--defects reverse-carry-over`: a reversal makes the tracks' earlier related objects that are
+/// among its candidates referred objects, at the frames of the earlier relation where the
+/// function relates the track to something; without it only the function's own pairs reverse.
+/// "The ego two cars ahead of another vehicle": the first reversal relates the vehicle behind
+/// the ego to the ego, a VEHICLE candidate of the second, so RefAV makes the ego referred.
+#[test]
+fn the_reverse_carry_over_defect_makes_earlier_related_candidates_referred() {
+    let [carry, meant] = with_and_without(Defect::ReverseCarryOver);
+    let first = "ego = get_objects_of_category(log_dir, category='EGO_VEHICLE')\n\
+                 behind = get_objects_in_relative_direction(ego, vehicles, log_dir, direction='backward', max_number=1, within_distance=25)\n";
+    let body = format!("{first}result = get_objects_in_relative_direction(behind, vehicles, log_dir, direction='backward', max_number=1, within_distance=25)");
+    let (with, with_rel) = run_in(carry, &body);
+    let (without, without_rel) = run_in(meant, &body);
+    let (_, behind_rel) = run_in(meant, &format!("{first}result = behind"));
+    assert!(without.is_subset(&with));
+    let extra: Pairs = with.difference(&without).copied().collect();
+    assert!(!extra.is_empty());
+    let ego = scene().ego.0;
+    for &(z, t) in &extra {
+        assert_eq!(z, ego, "only the ego is carried here");
+        // the ego is related at t to a vehicle v behind it, and v has a vehicle behind it at t
+        let carriers: Vec<u32> = behind_rel
+            .iter()
+            .filter(|&&(v, e, ft)| {
+                e == z && ft == t && without_rel.iter().any(|&(_, w, wt)| w == v && wt == t)
+            })
+            .map(|&(v, _, _)| v)
+            .collect();
+        assert!(!carriers.is_empty(), "({z}, {t})");
+        // and in the result the ego is related to that vehicle at t
+        assert!(
+            carriers.iter().any(|v| with_rel.contains(&(z, *v, t))),
+            "({z}, {t})"
+        );
+    }
+}
+
+/// `--defects crossing-direction`: after the first candidate found crossing a track, RefAV
+/// tests the later ones against the forward plane; for a forward crossing nothing changes.
+#[test]
+fn the_crossing_direction_defect_changes_only_sideways_crossings() {
+    let [overwrite, meant] = with_and_without(Defect::CrossingDirection);
+    let moving = "moving = scenario_not(stationary)(vehicles, log_dir)\n";
+    let body = |dir: &str| {
+        format!("{moving}result = being_crossed_by(moving, moving, log_dir, direction='{dir}', forward_thresh=5, lateral_thresh=10)")
+    };
+    assert_eq!(
+        run_in(overwrite, &body("forward")),
+        run_in(meant, &body("forward"))
+    );
+    let (with, _) = run_in(overwrite, &body("right"));
+    let (without, _) = run_in(meant, &body("right"));
+    assert_ne!(with, without);
+    // Every track keeps at least the frames of its first crosser's crossings, so no track that
+    // is crossed on the right loses every frame.
+    let tracks = |p: &Pairs| p.iter().map(|x| x.0).collect::<BTreeSet<u32>>();
+    assert!(tracks(&without).is_subset(&tracks(&with)));
 }

@@ -31,6 +31,12 @@ enum Source {
         /// output; see import/README.md, "RefAV semantics").
         #[arg(long, value_enum, default_value_t = SemanticsArg::Scenalog)]
         semantics: SemanticsArg,
+        /// With `--semantics refav`: which of RefAV's defects to reproduce, `all` (the default:
+        /// RefAV's answers as its code gives them), `none` (RefAV's definitions as meant) or a
+        /// comma-separated list of ego-back-edge, crossing-direction, reverse-carry-over (see
+        /// import/README.md, "RefAV's defects").
+        #[arg(long, value_name = "all|none|LIST")]
+        defects: Option<String>,
     },
 }
 
@@ -50,10 +56,26 @@ pub fn run(args: Args) -> ExitCode {
         out,
         json,
         semantics,
+        defects,
     } = args.source;
-    let semantics = match semantics {
-        SemanticsArg::Scenalog => scenalog_import::Semantics::Scenalog,
-        SemanticsArg::Refav => scenalog_import::Semantics::Refav,
+    let semantics = match (semantics, defects) {
+        (SemanticsArg::Scenalog, None) => scenalog_import::Semantics::Scenalog,
+        (SemanticsArg::Scenalog, Some(_)) => {
+            eprintln!(
+                "scenalog import: --defects chooses which of RefAV's defects RefAV's definitions reproduce; add --semantics refav"
+            );
+            return ExitCode::from(2);
+        }
+        (SemanticsArg::Refav, None) => {
+            scenalog_import::Semantics::Refav(scenalog_import::Defects::ALL)
+        }
+        (SemanticsArg::Refav, Some(text)) => match scenalog_import::Defects::parse(&text) {
+            Ok(d) => scenalog_import::Semantics::Refav(d),
+            Err(e) => {
+                eprintln!("scenalog import: --defects: {e}");
+                return ExitCode::from(2);
+            }
+        },
     };
     // One import writes a folder at a time (held until the report is printed).
     let _held = match crate::pipeline::lock::OutputLock::acquire(&out) {

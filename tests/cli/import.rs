@@ -247,25 +247,7 @@ fn semantics_refav_targets_refav_definitions_and_mines_what_refav_finds() {
         let header = format!("// Semantics: {}", semantics.unwrap_or("scenalog"));
         assert!(text.contains(&header), "{text}");
         let mined = dir.path().join(format!("mined_{semantics:?}"));
-        let o = scenalog(&[
-            "mine",
-            "--rules",
-            &program.to_string_lossy(),
-            "--logs",
-            &log.to_string_lossy(),
-            "--out",
-            &mined.to_string_lossy(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let matches = std::fs::read_to_string(mined.join("matches.json")).expect("matches.json");
-        let matches: serde_json::Value = serde_json::from_str(&matches).expect("json");
-        let frames: u64 = matches
-            .as_array()
-            .expect("an array")
-            .iter()
-            .map(|m| m["frames"].as_u64().expect("frames"))
-            .sum();
-        found.push(frames);
+        found.push(mined_frames(&program, &log, &mined));
     }
     assert_eq!(found, [274, 274, 258]);
     let o = scenalog(&[
@@ -278,4 +260,105 @@ fn semantics_refav_targets_refav_definitions_and_mines_what_refav_finds() {
         "python",
     ]);
     assert!(!o.status.success());
+}
+
+#[test]
+fn defects_flag_chooses_which_refav_defects_the_import_reproduces() {
+    // "vehicle being overtaken on the right" on the sample log: RefAV's own output is 358
+    // (track, timestamp) pairs (import/tests/data/refav_outputs). Its being_crossed_by tests
+    // later candidates against the forward plane once it has found a crossing on the right:
+    // reproduced (the default, or the one defect named) the import finds RefAV's 358; with
+    // RefAV's definitions as meant, 453.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input =
+        root().join("import/tests/data/refav_programs/vehicle being overtaken on the right.txt");
+    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let cases = [
+        (
+            None,
+            "ego-back-edge,crossing-direction,reverse-carry-over",
+            358,
+        ),
+        (Some("none"), "none", 453),
+        (Some("crossing-direction"), "crossing-direction", 358),
+        (
+            Some("ego-back-edge,reverse-carry-over"),
+            "ego-back-edge,reverse-carry-over",
+            453,
+        ),
+    ];
+    for (i, (defects, header, frames)) in cases.into_iter().enumerate() {
+        let out = dir.path().join(format!("imported_{i}"));
+        let out_s = out.to_string_lossy().to_string();
+        let input_s = input.to_string_lossy().to_string();
+        let mut args = vec![
+            "import",
+            "refav",
+            &input_s,
+            "-o",
+            &out_s,
+            "--semantics",
+            "refav",
+        ];
+        if let Some(d) = defects {
+            args.extend(["--defects", d]);
+        }
+        let o = scenalog(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let program = out.join("vehicle_being_overtaken_on_the_right.dl");
+        let text = std::fs::read_to_string(&program).expect("imported program");
+        assert!(
+            text.contains(&format!("// RefAV defects reproduced: {header}\n")),
+            "{text}"
+        );
+        let mined = dir.path().join(format!("mined_{i}"));
+        let found = mined_frames(&program, &log, &mined);
+        assert_eq!(found, frames, "--defects {defects:?}");
+    }
+    // An unknown defect names the known ones; defects without RefAV's definitions are refused.
+    let x = dir.path().join("x").to_string_lossy().to_string();
+    let input_s = input.to_string_lossy().to_string();
+    let o = scenalog(&[
+        "import",
+        "refav",
+        &input_s,
+        "-o",
+        &x,
+        "--semantics",
+        "refav",
+        "--defects",
+        "loop",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("unknown RefAV defect `loop`") && err.contains("reverse-carry-over"),
+        "{err}"
+    );
+    let o = scenalog(&["import", "refav", &input_s, "-o", &x, "--defects", "all"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--semantics refav"));
+    assert!(!dir.path().join("x").exists());
+}
+
+/// Mines `program` on `log` into `out` and counts the matched (track, frame) pairs.
+fn mined_frames(program: &std::path::Path, log: &std::path::Path, out: &std::path::Path) -> u64 {
+    let o = scenalog(&[
+        "mine",
+        "--rules",
+        &program.to_string_lossy(),
+        "--logs",
+        &log.to_string_lossy(),
+        "--out",
+        &out.to_string_lossy(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let matches = std::fs::read_to_string(out.join("matches.json")).expect("matches.json");
+    let matches: serde_json::Value = serde_json::from_str(&matches).expect("json");
+    matches
+        .as_array()
+        .expect("an array")
+        .iter()
+        .map(|m| m["frames"].as_u64().expect("frames"))
+        .sum()
 }

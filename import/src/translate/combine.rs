@@ -23,7 +23,15 @@ impl Translator<'_> {
             }
             Some(format!("{out}_r"))
         };
-        Scen { rel: out, rel_r }
+        // RefAV's and / or keep the first scenario's keys in order, then (or) add the others':
+        // one category's order only when every part follows it.
+        let keys = scens.first().and_then(|s| s.keys.clone());
+        let keys = keys.filter(|k| scens.iter().all(|s| s.keys.as_ref() == Some(k)));
+        Scen {
+            rel: out,
+            rel_r,
+            keys,
+        }
     }
 
     pub(crate) fn apply_wrapped(
@@ -56,7 +64,9 @@ impl Translator<'_> {
             let (sel, _) = self.relational(inner, &args, &format!("{}_fwd", inner.name), false)?;
             let p0 = inner.params[0].0;
             let tracks = self.scen(inner.name, p0, args.get(p0).unwrap_or(&Val::None))?;
-            return Ok(Val::Scen(self.reverse(&sel, &tracks, hint)));
+            let p1 = inner.params[1].0;
+            let cands = self.scen(inner.name, p1, args.get(p1).unwrap_or(&Val::None))?;
+            return Ok(Val::Scen(self.reverse(&sel, &tracks, &cands, hint)));
         }
         // scenario_not
         let args = self.bind(inner, pos, kw)?;

@@ -52,7 +52,7 @@ impl Translator<'_> {
                 self.category(f, &a("category"))?
             )],
             "turning" | "changing_lanes" => {
-                let rel = if f == "turning" && self.semantics == Semantics::Refav {
+                let rel = if f == "turning" && self.refav() {
                     "refav_turning"
                 } else if f == "turning" {
                     "turning"
@@ -145,6 +145,10 @@ impl Translator<'_> {
             self.emit(format!("{out_r}(X, Y, T) :- {out}(X, T), {r}(X, Y, T)."));
             out_r
         });
-        Scen { rel: out, rel_r }
+        Scen {
+            rel: out,
+            rel_r,
+            keys: input.keys.clone(),
+        }
     }
 }

@@ -18,7 +18,7 @@ use rustpython_parser::ast::{self, Constant, Expr, Ranged, Stmt};
 use scenalog_facts::catalog;
 
 use crate::signatures::{self, Default, Kind, Signature};
-use crate::{ImportError, Imported, Semantics};
+use crate::{Defect, ImportError, Imported, Semantics};
 
 mod combine;
 mod filters;
@@ -30,6 +30,9 @@ mod relational;
 pub(crate) struct Scen {
     rel: String,
     rel_r: Option<String>,
+    /// The category of the `get_objects_of_category` call whose key order the scenario's keys
+    /// follow (RefAV iterates over candidates in that order), when one call's is.
+    keys: Option<String>,
 }
 
 /// A Python value the importer can follow.
@@ -96,6 +99,13 @@ pub(crate) struct Translator<'a> {
 }
 
 pub(crate) type Res<T> = Result<T, ImportError>;
+
+impl Translator<'_> {
+    /// The program targets RefAV's definitions.
+    pub(crate) fn refav(&self) -> bool {
+        matches!(self.semantics, Semantics::Refav(_))
+    }
+}
 
 /// The construct of the error raised by a use of [`Val::Poison`], never reported.
 pub(crate) const POISON: &str = "\0poison";
@@ -203,11 +213,12 @@ pub fn translate(
     } else {
         "// RefAV API: current (CainanD/RefAV 5c5be64)\n"
     });
-    text.push_str(match t.semantics {
-        Semantics::Scenalog => "// Semantics: scenalog (Scenalog's definitions)\n",
-        Semantics::Refav => {
-            "// Semantics: refav (RefAV's definitions where the catalog has them: refav_*)\n"
-        }
+    text.push_str(&match t.semantics {
+        Semantics::Scenalog => "// Semantics: scenalog (Scenalog's definitions)\n".to_string(),
+        Semantics::Refav(defects) => format!(
+            "// Semantics: refav (RefAV's definitions where the catalog has them: refav_*)\n\
+             // RefAV defects reproduced: {defects}\n"
+        ),
     });
     for n in &t.notes {
         text.push_str(&format!("// note: {}\n", one_line(n)));
@@ -737,6 +748,7 @@ impl Translator<'_> {
                 Ok(Val::Scen(Scen {
                     rel: out,
                     rel_r: None,
+                    keys: Some(cat),
                 }))
             }
             Kind::Filter => {
@@ -748,7 +760,9 @@ impl Translator<'_> {
                 if f == "get_objects_in_relative_direction" {
                     let (sel, _) = self.relational(sig, &args, "objects_in_direction", false)?;
                     let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
-                    return Ok(Val::Scen(self.reverse(&sel, &tracks, hint.unwrap_or(f))));
+                    let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
+                    let reversed = self.reverse(&sel, &tracks, &cands, hint.unwrap_or(f));
+                    return Ok(Val::Scen(reversed));
                 }
                 let (_, scen) = self.relational(sig, &args, hint.unwrap_or(f), true)?;
                 Ok(Val::Scen(scen))

@@ -54,7 +54,8 @@ impl Translator<'_> {
                 self.used_names.insert(cand.clone());
                 let rel = match self.semantics {
                     Semantics::Scenalog => "direction",
-                    Semantics::Refav => "refav_direction",
+                    s if s.reproduces(Defect::EgoBackEdge) => "refav_direction",
+                    Semantics::Refav(_) => "refav_direction_corrected",
                 };
                 let mut conds = vec![format!("{rel}(X, Y, T, \"{dir}\", D, Lat)")];
                 if within.is_finite() {
@@ -121,12 +122,8 @@ impl Translator<'_> {
                     "either" => "_".to_string(),
                     s => format!("\"{s}\""),
                 };
-                if self.semantics == Semantics::Refav {
-                    self.emit(format!(
-                        "{pairs}(X, Y, T) :- {base}, refav_crossing(X, Y, T, \"{dir}\", {sense}, Reach, Off), Reach <= {}, Off < {}.",
-                        fmt_num(fwd),
-                        fmt_num(lat)
-                    ));
+                if self.refav() {
+                    self.refav_crossing(&pairs, &base, (&tracks, &cands), &dir, &sense, [fwd, lat]);
                 } else if in_dir == "either" && fwd == 10.0 && lat == 5.0 {
                     self.emit(format!(
                         "{pairs}(X, Y, T) :- {base}, crossing(X, Y, T, \"{dir}\")."
@@ -228,6 +225,7 @@ impl Translator<'_> {
                 Scen {
                     rel: out,
                     rel_r: None,
+                    keys: tracks.keys.clone(),
                 },
             ));
         }
@@ -254,29 +252,110 @@ impl Translator<'_> {
             Scen {
                 rel: out.to_string(),
                 rel_r: Some(out_r),
+                keys: tracks.keys.clone(),
             },
         ))
+    }
+
+    /// `being_crossed_by` in RefAV's definitions. With the `crossing-direction` defect and a
+    /// direction other than "forward", RefAV's loop over a track's candidates (in
+    /// `refav_order`) uses the direction until the first candidate it finds crossing the track
+    /// (`refav_crossing_event`), and the forward plane for every later one.
+    fn refav_crossing(
+        &mut self,
+        pairs: &str,
+        base: &str,
+        (tracks, cands): (&Scen, &Scen),
+        dir: &str,
+        sense: &str,
+        [fwd, lat]: [f64; 2],
+    ) {
+        let (fwd_s, lat_s) = (fmt_num(fwd), fmt_num(lat));
+        let span = |d: &str| {
+            format!(
+                "refav_crossing(X, Y, T, \"{d}\", {sense}, Reach, Off), Reach <= {fwd_s}, Off < {lat_s}"
+            )
+        };
+        if dir == "forward" || !self.semantics.reproduces(Defect::CrossingDirection) {
+            self.emit(format!("{pairs}(X, Y, T) :- {base}, {}.", span(dir)));
+            return;
+        }
+        let cat = match &cands.keys {
+            Some(k) => k.clone(),
+            None => {
+                self.notes.push(format!(
+                    "line {}: being_crossed_by's candidates mix categories; RefAV's order of them is taken as get_objects_of_category(\"ANY\")'s (the annotation file's)",
+                    self.line
+                ));
+                "ANY".to_string()
+            }
+        };
+        let first = format!("{pairs}_first");
+        let late = format!("{pairs}_late");
+        self.used_names.insert(first.clone());
+        self.used_names.insert(late.clone());
+        self.emit(format!(
+            "{first}(X, R0) :- {}(X, _), R0 = min R : {{ {}(Y, _), refav_crossing_event(X, Y, _, \"{dir}\", E), E <= {fwd_s}, refav_order(Y, \"{cat}\", R) }}.",
+            tracks.rel, cands.rel
+        ));
+        self.emit(format!(
+            "{late}(X, Y) :- {first}(X, R0), {}(Y, _), refav_order(Y, \"{cat}\", R), R > R0.",
+            cands.rel
+        ));
+        self.emit(format!(
+            "{pairs}(X, Y, T) :- {base}, {}, !{late}(X, Y).",
+            span(dir)
+        ));
+        self.emit(format!(
+            "{pairs}(X, Y, T) :- {base}, {}, {late}(X, Y).",
+            span("forward")
+        ));
     }
 
     /// The candidates of a relational result become the tracks, and its tracks their related.
     /// As in RefAV, a track's own related objects at the frame come along under it (RefAV nests
     /// them under the reversed relation), except those the function itself related it to; the
-    /// candidates' related objects do not.
-    pub(crate) fn reverse(&mut self, pairs: &str, tracks: &Scen, hint: &str) -> Scen {
+    /// candidates' related objects do not. With the `reverse-carry-over` defect, a track's earlier
+    /// related objects that are among the candidates (or, for a track that is a candidate too,
+    /// among the tracks) are RefAV's "new relationships" too: they become tracks at the frames of
+    /// the earlier relation where the function relates the track to something.
+    pub(crate) fn reverse(&mut self, pairs: &str, tracks: &Scen, cands: &Scen, hint: &str) -> Scen {
         let out = self.fresh(hint);
-        self.emit(format!("{out}(Y, T) :- {pairs}(_, Y, T)."));
-        self.emit(format!("{out}_r(Y, X, T) :- {pairs}(X, Y, T)."));
+        let carry = self.semantics.reproduces(Defect::ReverseCarryOver);
+        let all = match &tracks.rel_r {
+            Some(r) if carry => {
+                let all = format!("{out}_all");
+                let own = format!("{out}_own");
+                self.used_names.insert(all.clone());
+                self.used_names.insert(own.clone());
+                self.emit(format!("{own}(X, Y) :- {pairs}(X, Y, _)."));
+                self.emit(format!("{all}(X, Y, T) :- {pairs}(X, Y, T)."));
+                self.emit(format!(
+                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {}(Z, _), !{own}(X, Z).",
+                    cands.rel
+                ));
+                self.emit(format!(
+                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {}(X, _), {}(Z, _), X != Z, !{own}(X, Z).",
+                    cands.rel, tracks.rel
+                ));
+                all
+            }
+            _ => pairs.to_string(),
+        };
+        self.emit(format!("{out}(Y, T) :- {all}(_, Y, T)."));
+        self.emit(format!("{out}_r(Y, X, T) :- {all}(X, Y, T)."));
         if let Some(r) = &tracks.rel_r {
             let new = format!("{out}_new");
             self.used_names.insert(new.clone());
-            self.emit(format!("{new}(X, Y) :- {pairs}(X, Y, _)."));
+            self.emit(format!("{new}(X, Y) :- {all}(X, Y, _)."));
             self.emit(format!(
-                "{out}_r(Y, Z, T) :- {pairs}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
+                "{out}_r(Y, Z, T) :- {all}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
             ));
         }
         Scen {
             rel: out.clone(),
             rel_r: Some(format!("{out}_r")),
+            keys: cands.keys.clone(),
         }
     }
 }
