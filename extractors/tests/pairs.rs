@@ -39,6 +39,7 @@ fn run(scene: &Scene, req: &Request) -> Vec<Row> {
         "following" => pairs::following,
         "road_side" => pairs::road_side,
         "refav_direction" => pairs::refav_direction,
+        "refav_direction_corrected" => pairs::refav_direction_corrected,
         other => panic!("not a pair relation: {other}"),
     };
     let data = f(&ctx, req).unwrap_or_else(|e| panic!("{e}"));

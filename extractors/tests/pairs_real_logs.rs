@@ -60,6 +60,7 @@ fn answer(ex: &Extractor, req: &Request) -> RelationData {
         "following" => pairs::following,
         "road_side" => pairs::road_side,
         "refav_direction" => pairs::refav_direction,
+        "refav_direction_corrected" => pairs::refav_direction_corrected,
         other => panic!("not a pair relation: {other}"),
     };
     f(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
