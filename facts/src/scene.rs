@@ -174,7 +174,8 @@ pub struct Track {
     pub boxes: Vec<TrackBox>,
     /// The track's rank among the annotation file's tracks by the row where each first appears
     /// (0 for the first): RefAV's order of candidates (`track_uuid.unique()`). An ego the loader
-    /// adds comes last.
+    /// adds comes last; a tracker's scene, which has no annotation rows, orders its tracks by
+    /// first frame, then tracker id.
     pub file_order: u32,
 }
 

@@ -159,13 +159,30 @@ pub fn tracked_log(
         None,
         ego_boxes.into_iter().map(|b| (b, 1.0)).collect(),
     ));
-    tracks.sort_by(|a, b| a.0.cmp(&b.0));
+    // The "file order" (RefAV's order of objects, `Track::file_order`): a tracker file has no
+    // annotation rows, so tracks are ordered by their first frame, then tracker id; the added
+    // ego last.
+    let mut first: Vec<(u32, i64, usize)> = tracks
+        .iter()
+        .enumerate()
+        .map(|(i, t)| match t.2 {
+            Some(id) => (t.3.first().map_or(u32::MAX, |b| b.0.frame), id, i),
+            None => (u32::MAX, i64::MAX, i),
+        })
+        .collect();
+    first.sort_unstable();
+    let mut file_order = vec![0u32; tracks.len()];
+    for (rank, &(_, _, i)) in first.iter().enumerate() {
+        file_order[i] = rank as u32;
+    }
+    let mut tracks: Vec<(u32, Assembled)> = file_order.into_iter().zip(tracks).collect();
+    tracks.sort_by(|a, b| a.1 .0.cmp(&b.1 .0));
 
     let mut out_tracks = Vec::with_capacity(tracks.len());
     let mut scores = Vec::with_capacity(tracks.len());
     let mut tracker_ids = Vec::with_capacity(tracks.len());
     let mut ego = TrackId(0);
-    for (i, (uuid, category, id, boxes)) in tracks.into_iter().enumerate() {
+    for (i, (file_order, (uuid, category, id, boxes))) in tracks.into_iter().enumerate() {
         if category == EGO_CATEGORY {
             ego = TrackId(i as u32);
         }
@@ -175,7 +192,7 @@ pub fn tracked_log(
             uuid,
             category,
             boxes: b,
-            file_order: i as u32,
+            file_order,
         });
         scores.push(s);
         tracker_ids.push(id);
