@@ -27,6 +27,7 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
         "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
         "refav_order" => objects::refav_order(ex, q),
+        "refav_crosswalk" => map::refav_crosswalk(ex, q),
         "lane_change" => motion::events(ex, q, ex.lane_changes()),
         "in_lane" => map::in_lane(ex, q),
         "lane_type" => map::lane_type(ex, q),

@@ -16,6 +16,12 @@
 //!   track's first row), for "VEHICLE" category by category in RefAV's list order (the
 //!   catalog's [`VEHICLE_CATEGORIES`]), each in the file's order. A function that loops over
 //!   candidates (`being_crossed_by`) depends on it.
+//! - **`refav_crosswalk`** (RefAV's `at_pedestrian_crossing`): X's box as RefAV has it (the
+//!   annotated row; the ego's at its rear axle) against each pedestrian crossing's polygon
+//!   dilated as RefAV's `dilate_convex_polygon` does (every edge moved out by the distance, the
+//!   corners mitred: the intersection of the edges' outer half-planes for a convex polygon).
+//!   D is the least dilation at which the two touch ([`mitred_distance`]), 0 when they overlap;
+//!   C the crossing's map id, so a program can follow which crossing (RefAV's loop defect).
 
 use scenalog_facts::scene::{SUPER_CATEGORIES, VEHICLE_CATEGORIES};
 use scenalog_facts::{Frame, Scene, TrackId};
@@ -87,6 +93,84 @@ pub fn order(scene: &Scene) -> Vec<(TrackId, &str, i64)> {
     rows
 }
 
+/// The least distance by which `poly` (a convex polygon, either winding, not closed) must be
+/// dilated with mitred corners (its edges moved out by the distance) to touch the convex
+/// quadrilateral `quad` (either winding), 0 when they overlap or touch. Over the quad, the
+/// dilation needed at a point is the largest signed distance past the polygon's edge lines; off
+/// the polygon its minimum lies on the quad's boundary, at a corner or where two edge lines'
+/// distances are equal along a side. A boundary minimum above 0 with the polygon inside the quad
+/// is an overlap too.
+pub fn mitred_distance(poly: &[[f64; 2]], quad: &[[f64; 2]; 4]) -> f64 {
+    if poly.len() < 3 {
+        return f64::INFINITY;
+    }
+    let n = poly.len();
+    let area: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum();
+    // Outward unit normals and offsets: n·p - c is the signed distance past edge i's line.
+    let lines: Vec<([f64; 2], f64)> = (0..n)
+        .filter_map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len = dx.hypot(dy);
+            if len <= 0.0 {
+                return None;
+            }
+            let nrm = if area > 0.0 {
+                [dy / len, -dx / len]
+            } else {
+                [-dy / len, dx / len]
+            };
+            Some((nrm, nrm[0] * a[0] + nrm[1] * a[1]))
+        })
+        .collect();
+    let need = |p: [f64; 2]| {
+        lines
+            .iter()
+            .map(|(m, c)| m[0] * p[0] + m[1] * p[1] - c)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let mut best = quad.iter().map(|&p| need(p)).fold(f64::INFINITY, f64::min);
+    for k in 0..4 {
+        let (u, v) = (quad[k], quad[(k + 1) % 4]);
+        let e = [v[0] - u[0], v[1] - u[1]];
+        for i in 0..lines.len() {
+            for j in i + 1..lines.len() {
+                let (mi, ci) = lines[i];
+                let (mj, cj) = lines[j];
+                let g = [mi[0] - mj[0], mi[1] - mj[1]];
+                let den = g[0] * e[0] + g[1] * e[1];
+                if den.abs() < 1e-12 {
+                    continue;
+                }
+                let s = (ci - cj - (g[0] * u[0] + g[1] * u[1])) / den;
+                if (0.0..=1.0).contains(&s) {
+                    best = best.min(need([u[0] + s * e[0], u[1] + s * e[1]]));
+                }
+            }
+        }
+    }
+    if best <= 0.0 || convex_contains(quad, poly[0]) {
+        0.0
+    } else {
+        best
+    }
+}
+
+/// `p` lies in the convex quadrilateral `q` (either winding, boundary included).
+fn convex_contains(q: &[[f64; 2]; 4], p: [f64; 2]) -> bool {
+    let side = |k: usize| {
+        let (a, b) = (q[k], q[(k + 1) % 4]);
+        (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+    };
+    let s: [f64; 4] = [side(0), side(1), side(2), side(3)];
+    s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,6 +197,35 @@ mod tests {
         // One flipped sample in the middle: two runs of 15 samples (30° each), neither a turn.
         w[15] = -1.0;
         assert!(turning(&track(w)).is_empty());
+    }
+
+    #[test]
+    fn mitred_distance_grows_square_corners() {
+        // A 4 m x 2 m crosswalk; a 1 m box 2 m beyond its right edge, and one 2 m beyond its
+        // corner along both axes: mitred corners reach a box diagonal from the corner at the
+        // same dilation as one straight out (2 m), where a round dilation needs 2.83 m.
+        let cw = [[0.0, 0.0], [4.0, 0.0], [4.0, 2.0], [0.0, 2.0]];
+        let sq = |x: f64, y: f64| [[x, y], [x + 1.0, y], [x + 1.0, y + 1.0], [x, y + 1.0]];
+        assert!((mitred_distance(&cw, &sq(6.0, 0.5)) - 2.0).abs() < 1e-12);
+        assert!((mitred_distance(&cw, &sq(6.0, 4.0)) - 2.0).abs() < 1e-12);
+        // Either winding; overlapping is 0.
+        let mut rev = cw;
+        rev.reverse();
+        assert!((mitred_distance(&rev, &sq(6.0, 4.0)) - 2.0).abs() < 1e-12);
+        assert_eq!(mitred_distance(&cw, &sq(1.0, 0.5)), 0.0);
+        // Touching, crossing an edge, and the crosswalk inside a large box: all 0.
+        assert_eq!(mitred_distance(&cw, &sq(4.0, 0.5)), 0.0);
+        assert_eq!(mitred_distance(&cw, &sq(3.5, 1.5)), 0.0);
+        let big = [[-1.0, -1.0], [5.0, -1.0], [5.0, 3.0], [-1.0, 3.0]];
+        assert_eq!(mitred_distance(&cw, &big), 0.0);
+        // A rotated box whose nearest point is on a side, not a corner: the diamond's left
+        // corner at (6, 1) faces the edge x = 4 at 2 m.
+        let diamond = [[6.0, 1.0], [7.0, 0.0], [8.0, 1.0], [7.0, 2.0]];
+        assert!((mitred_distance(&cw, &diamond) - 2.0).abs() < 1e-12);
+        // A square rotated 45° beside the corner (4, 2): its side from (5, 4) to (6, 3) meets
+        // the corner's bisector at (5.5, 3.5), 1.5 m past both edges.
+        let tilted = [[5.0, 4.0], [6.0, 3.0], [7.0, 4.0], [6.0, 5.0]];
+        assert!((mitred_distance(&cw, &tilted) - 1.5).abs() < 1e-12);
     }
 
     #[test]

@@ -340,3 +340,52 @@ fn refav_order_is_the_file_order_and_for_vehicles_category_by_category() {
     assert_eq!(order("PEDESTRIAN")[0].1, 0);
     assert_eq!(order("VEHICLE")[2].1, 2);
 }
+
+#[test]
+fn refav_crosswalk_dilates_with_mitred_corners_and_names_the_crossing() {
+    // A crosswalk from (0, 0) to (4, 2) (id 7). "beside" is a 0.6 m pedestrian 1.5 m beyond its
+    // right edge; "corner" 1.5 m beyond both its right and top edges, diagonal from the corner:
+    // RefAV's mitred dilation reaches both at 1.5 m, Scenalog's distance to the corner is
+    // 1.5·√2. "on" stands on it (0).
+    const PED: [f64; 3] = [0.6, 0.6, 1.7];
+    let at = |x: f64, y: f64| straight(0, 2, x, y, 0.0, 0.0);
+    let scene = SceneBuilder::new(2)
+        .crossing(7, &[[0.0, 0.0], [4.0, 0.0]], &[[0.0, 2.0], [4.0, 2.0]])
+        .track("beside", "PEDESTRIAN", PED, at(4.0 + 1.5 + 0.3, 1.0))
+        .track(
+            "corner",
+            "PEDESTRIAN",
+            PED,
+            at(4.0 + 1.5 + 0.3, 2.0 + 1.5 + 0.3),
+        )
+        .track("on", "PEDESTRIAN", PED, at(2.0, 1.0))
+        .build();
+    let refav: Vec<(String, i64, f64)> = rows(&scene, "refav_crosswalk")
+        .iter()
+        .filter(|r| r[1] == 0)
+        .map(|r| {
+            (
+                r[0].as_str().unwrap_or("").to_string(),
+                r[2].as_i64().unwrap_or(-1),
+                r[3].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    let d = |who: &str| {
+        refav
+            .iter()
+            .find(|r| r.0 == who && r.1 == 7)
+            .map_or(f64::NAN, |r| r.2)
+    };
+    assert!((d("beside") - 1.5).abs() < 1e-9, "{refav:?}");
+    assert!((d("corner") - 1.5).abs() < 1e-9, "{refav:?}");
+    assert_eq!(d("on"), 0.0);
+    let ours = |who: &str| {
+        rows(&scene, "at_crosswalk")
+            .iter()
+            .find(|r| r[0] == who && r[1] == 0)
+            .map_or(f64::NAN, |r| r[2].as_f64().unwrap_or(f64::NAN))
+    };
+    assert!((ours("beside") - 1.5).abs() < 1e-6);
+    assert!((ours("corner") - 1.5 * 2f64.sqrt()).abs() < 1e-6);
+}

@@ -584,6 +584,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_crosswalk",
+        columns: &[X, T, col("C", ColType::Int), col("D", ColType::Float)],
+        doc: "RefAV's definition of `at_crosswalk` (its at_pedestrian_crossing): X's box as RefAV has it (the ego's at its rear axle) touches pedestrian crossing C (its map id) dilated by D m with mitred corners (the polygon's edges moved out by D), 0 when they overlap",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_order",
         columns: &[X, enum_col("Cat", CATEGORY_VALUES), col("R", ColType::Int)],
         doc: "X is the R-th (0 first) of the objects RefAV's get_objects_of_category(Cat) returns, for Cat X's category, \"VEHICLE\" (a vehicle) and \"ANY\": the annotation file's order of first rows, for \"VEHICLE\" category by category (RefAV's loops over candidates follow it)",
@@ -708,7 +714,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 42);
+        assert_eq!(catalog().len(), 43);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -720,13 +726,14 @@ mod tests {
             "refav_direction_corrected",
             "refav_crossing_event",
             "refav_order",
+            "refav_crosswalk",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(42));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(43));
         let text = render_text();
-        assert!(text.starts_with("42 relations."));
+        assert!(text.starts_with("43 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -155,7 +155,7 @@ fn median_nearest_2d(p: &[[f64; 2]]) -> Vec<[f64; 2]> {
 }
 
 /// A box's city centre (at the rear axle for the ego) and heading.
-fn placed_centre(b: &TrackBox, ego: bool) -> ([f64; 2], f64) {
+pub(crate) fn placed_centre(b: &TrackBox, ego: bool) -> ([f64; 2], f64) {
     let c = b.city_center();
     let h = b.city_yaw();
     let a = if ego { EGO_CENTRE_AHEAD_OF_AXLE_M } else { 0.0 };

@@ -136,6 +136,50 @@ pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
     )
 }
 
+/// `refav_crosswalk(X, T, C, D)`: see [`crate::refav`]: X's box as RefAV has it at T, pedestrian
+/// crossing C (map id), D the mitred dilation at which they touch (0 overlapping), up to the
+/// query's bound on D (at most [`MAP_DISTANCE_MAX_M`]).
+pub fn refav_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
+    let (scene, index) = (ex.scene(), ex.map_index());
+    let n = scene.num_frames();
+    let max = distance_bound(q, 3);
+    let ids: Vec<i64> = scene.map.crossings.iter().map(|c| c.id).collect();
+    let (mut xs, mut ts, mut cs, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for t in q.tracks(scene, 0) {
+        let track = scene.track(t);
+        let ego = t == scene.ego;
+        let r = q.frames(1, n);
+        for b in track.boxes.iter().filter(|b| r.contains(&b.frame)) {
+            let (c, yaw) = crate::pairs::refav::placed_centre(b, ego);
+            // Relative to the box's centre, so city coordinates lose no precision.
+            let quad = box_corners([0.0, 0.0], yaw, b.size[0], b.size[1]);
+            for (k, poly) in index.crossings.iter().enumerate() {
+                let local: Vec<[f64; 2]> = poly
+                    .pts
+                    .iter()
+                    .map(|p| [p[0] - c[0], p[1] - c[1]])
+                    .collect();
+                let d = crate::refav::mitred_distance(&local, &quad);
+                if d <= max {
+                    xs.push(t);
+                    ts.push(b.frame);
+                    cs.push(ids[k]);
+                    ds.push(d);
+                }
+            }
+        }
+    }
+    rel(
+        q,
+        vec![
+            Column::Track(xs),
+            Column::Time(ts),
+            Column::Int(cs),
+            Column::Float(ds),
+        ],
+    )
+}
+
 /// `at_stop_sign(X, S, T)`.
 pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin, lanes) = (ex.scene(), ex.kinematics(), ex.lane_indices());
