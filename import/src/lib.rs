@@ -73,14 +73,19 @@ pub enum Defect {
     /// `reverse_relationship` (and `get_objects_in_relative_direction`) makes a track's earlier
     /// related objects that are among the candidates referred objects.
     ReverseCarryOver,
+    /// `at_pedestrian_crossing` reassigns the list of crossings it loops over to those the
+    /// object overlaps at the frame, so the next frame tests only those: an object off every
+    /// crossing at one frame is never at one again.
+    CrosswalkLoop,
 }
 
 impl Defect {
     /// Every defect the option knows, in the order the README lists them.
-    pub const ALL: [Defect; 3] = [
+    pub const ALL: [Defect; 4] = [
         Defect::EgoBackEdge,
         Defect::CrossingDirection,
         Defect::ReverseCarryOver,
+        Defect::CrosswalkLoop,
     ];
 
     /// The name the command line (`--defects`) and the program header use.
@@ -89,6 +94,7 @@ impl Defect {
             Defect::EgoBackEdge => "ego-back-edge",
             Defect::CrossingDirection => "crossing-direction",
             Defect::ReverseCarryOver => "reverse-carry-over",
+            Defect::CrosswalkLoop => "crosswalk-loop",
         }
     }
 
@@ -110,7 +116,7 @@ impl Defects {
     /// No defect reproduced: RefAV's definitions as they are meant.
     pub const NONE: Defects = Defects(0);
     /// Every defect reproduced: RefAV's answers as its code gives them.
-    pub const ALL: Defects = Defects(0b111);
+    pub const ALL: Defects = Defects(0b1111);
 
     /// The set holds `defect`.
     pub fn contains(self, defect: Defect) -> bool {

@@ -95,6 +95,7 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
         [
             "refav_crossing(",
             "refav_crossing_event(",
+            "refav_crosswalk(",
             "refav_direction(",
             "refav_order(",
             "refav_turning("
@@ -106,15 +107,20 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
         without.keys().copied().collect::<Vec<_>>(),
         [
             "refav_crossing(",
+            "refav_crosswalk(",
             "refav_direction_corrected(",
             "refav_turning("
         ],
         "{without:?}"
     );
-    // The ego's box is RefAV's either way: the same programs use it.
+    // The ego's box and the crosswalks are RefAV's either way: the same programs use them.
     assert_eq!(
         with.get("refav_direction("),
         without.get("refav_direction_corrected(")
+    );
+    assert_eq!(
+        with.get("refav_crosswalk("),
+        without.get("refav_crosswalk(")
     );
 }
 
@@ -160,6 +166,7 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
             "refav_crossing(",
             "refav_crossing_event(",
             "refav_order(",
+            "refav_crosswalk(",
         ] {
             if clauses.contains(r) {
                 *uses.entry(r).or_insert(0) += 1;

@@ -72,11 +72,26 @@ fn with_and_without(defect: Defect) -> [Semantics; 2] {
 }
 
 fn run_program(program: &str) -> (Pairs, Triples) {
+    run_program_on(scene(), program)
+}
+
+/// The sample log adcf7d18, whose pedestrians walk on and off its 11 crosswalks (3b3570b4 has
+/// none at a crosswalk).
+fn crosswalk_scene() -> &'static Scene {
+    static SCENE: OnceLock<Scene> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        let log = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../tests/data/av2/logs/adcf7d18-0510-35b0-a2fa-b4cea13a6d76");
+        load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
+    })
+}
+
+fn run_program_on(scene: &Scene, program: &str) -> (Pairs, Triples) {
     let program = program.to_string();
     let Some(checked) = check(&program, &CheckOptions::default()).program else {
         panic!("does not check:\n{program}")
     };
-    let ex = Extractor::new(scene());
+    let ex = Extractor::new(scene);
     let mut provider = |r: &Request| -> Result<RelationData, String> {
         ex.extract(r)
             .map(|d| (*d).clone())
@@ -516,4 +531,79 @@ fn the_crossing_direction_defect_changes_only_sideways_crossings() {
     // is crossed on the right loses every frame.
     let tracks = |p: &Pairs| p.iter().map(|x| x.0).collect::<BTreeSet<u32>>();
     assert!(tracks(&without).is_subset(&tracks(&with)));
+}
+
+/// `--defects crosswalk-loop`: RefAV's `at_pedestrian_crossing` tests, after a track's first
+/// frame, only the crossings its box overlapped at the frame before, and none once it overlapped
+/// none. On adcf7d18: a pedestrian off every crossing at its first frame is at one at most at
+/// that frame, and at a later frame only at a crossing it stood on the frame before.
+#[test]
+fn the_crosswalk_loop_defect_loses_pedestrians_that_step_onto_a_crosswalk() {
+    let [looped, meant] = with_and_without(Defect::CrosswalkLoop);
+    let src = |semantics| {
+        let text = "peds = get_objects_of_category(log_dir, category='PEDESTRIAN')\n\
+                    result = at_pedestrian_crossing(peds, log_dir, within_distance=1)\n\
+                    output_scenario(result, description, log_dir, output_dir)\n";
+        match import_checked_with(text, "peds at crosswalk.txt", semantics) {
+            Ok(p) => p.program,
+            Err(e) => panic!("{e:?}"),
+        }
+    };
+    let scene = crosswalk_scene();
+    let (with, _) = run_program_on(scene, &src(looped));
+    let (without, _) = run_program_on(scene, &src(meant));
+    assert!(with.is_subset(&without));
+    assert!(
+        with.len() < without.len(),
+        "{} vs {}",
+        with.len(),
+        without.len()
+    );
+    // RefAV's own rule, from the crossings each box overlaps (D = 0) and is within 1 m of.
+    let ex = Extractor::new(scene);
+    let data = ex
+        .extract(&Request::all("refav_crosswalk"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut near: BTreeSet<(u32, u32, i64)> = BTreeSet::new();
+    let mut on: BTreeSet<(u32, u32, i64)> = BTreeSet::new();
+    for i in 0..data.len() {
+        let row = data.row(i).unwrap_or_else(|| panic!("row {i}"));
+        let (Value::Track(x), Value::Time(t), Value::Int(c), Value::Float(d)) =
+            (&row[0], &row[1], &row[2], &row[3])
+        else {
+            panic!("{row:?}")
+        };
+        if *d <= 1.0 {
+            near.insert((x.0, *t, *c));
+        }
+        if *d <= 0.0 {
+            on.insert((x.0, *t, *c));
+        }
+    }
+    let mut expect = Pairs::new();
+    for t in scene.tracks.iter().filter(|t| t.category == "PEDESTRIAN") {
+        let x = t.id.0;
+        let frames: Vec<u32> = t.boxes.iter().map(|b| b.frame).collect();
+        let Some(&first) = frames.first() else {
+            continue;
+        };
+        if near.iter().any(|&(y, f, _)| y == x && f == first) {
+            expect.insert((x, first));
+        }
+        for w in frames.windows(2) {
+            let (p, f) = (w[0], w[1]);
+            let was_on: Vec<i64> = on
+                .iter()
+                .filter(|&&(y, g, _)| y == x && g == p)
+                .map(|r| r.2)
+                .collect();
+            if was_on.is_empty() {
+                break; // RefAV's list is empty from here on
+            }
+            if was_on.iter().any(|&c| near.contains(&(x, f, c))) {
+                expect.insert((x, f));
+            }
+        }
+    }
+    assert_eq!(with, expect);
 }

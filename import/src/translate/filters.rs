@@ -27,7 +27,7 @@ impl Translator<'_> {
 
     /// Body literals over `X` and `T` for a filter function (RefAV's `@composable`).
     pub(crate) fn filter_body(
-        &self,
+        &mut self,
         f: &str,
         args: &BTreeMap<&'static str, Val>,
     ) -> Res<Vec<String>> {
@@ -94,6 +94,14 @@ impl Translator<'_> {
             }
             "at_pedestrian_crossing" => {
                 let d = self.num(f, "within_distance", &a("within_distance"))?;
+                if self.refav() {
+                    if self.semantics.reproduces(Defect::CrosswalkLoop) {
+                        return Ok(vec![format!("{}(X, T)", self.crosswalk_loop(d))]);
+                    }
+                    let mut v = vec!["refav_crosswalk(X, T, _, D)".to_string()];
+                    v.extend(range("D", f64::NEG_INFINITY, d));
+                    return Ok(v);
+                }
                 // RefAV's default distance is the prelude's meaning of "at a crosswalk".
                 if d == AT_A_CROSSWALK_M {
                     return Ok(vec!["at_a_crosswalk(X, T)".to_string()]);
@@ -131,6 +139,44 @@ impl Translator<'_> {
             }
             _ => return Err(self.err(f, format!("{f}() is not a filter"))),
         })
+    }
+
+    /// RefAV's `at_pedestrian_crossing(within_distance=d)` with its loop defect, as a relation
+    /// over (track, frame): at a track's first frame every crossing is tested (dilated by `d`);
+    /// at each later frame only those its box overlapped at the frame before, and none once it
+    /// overlapped none (RefAV's list stays empty). Over every frame of the track, as RefAV's.
+    fn crosswalk_loop(&mut self, d: f64) -> String {
+        let h = self.fresh("at_pedestrian_crossing_loop");
+        let within = format!("D <= {}", fmt_num(d));
+        for part in ["prev", "gap", "later", "first", "live"] {
+            self.used_names.insert(format!("{h}_{part}"));
+        }
+        // The frame before T in X's track: T - 1 at 10 Hz, else (a gap, a slower rate, the first
+        // frame) the latest earlier one, if any.
+        self.emit(format!(
+            "{h}_prev(X, T, P) :- present(X, T), P = T - 1, present(X, P)."
+        ));
+        self.emit(format!(
+            "{h}_gap(X, T) :- present(X, T), P = T - 1, !present(X, P)."
+        ));
+        self.emit(format!(
+            "{h}_prev(X, T, P) :- {h}_gap(X, T), P = max U : {{ present(X, U), U < T }}."
+        ));
+        self.emit(format!("{h}_later(X, T) :- {h}_prev(X, T, _)."));
+        self.emit(format!(
+            "{h}_first(X, T) :- present(X, T), !{h}_later(X, T)."
+        ));
+        self.emit(format!("{h}_live(X, T) :- {h}_first(X, T)."));
+        self.emit(format!(
+            "{h}_live(X, T) :- {h}_prev(X, T, P), {h}_live(X, P), refav_crosswalk(X, P, _, D0), D0 <= 0.0."
+        ));
+        self.emit(format!(
+            "{h}(X, T) :- {h}_first(X, T), refav_crosswalk(X, T, _, D), {within}."
+        ));
+        self.emit(format!(
+            "{h}(X, T) :- {h}_prev(X, T, P), {h}_live(X, P), refav_crosswalk(X, P, C, D0), D0 <= 0.0, refav_crosswalk(X, T, C, D), {within}."
+        ));
+        h
     }
 
     pub(crate) fn filter(&mut self, input: &Scen, body: &[String], hint: &str) -> Scen {
