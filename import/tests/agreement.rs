@@ -37,9 +37,9 @@ const FLOOR_RELATED: f64 = 0.555;
 /// them).
 const REFAV_FLOOR_TRACKS: f64 = 0.95;
 /// See [`REFAV_FLOOR_TRACKS`].
-const REFAV_FLOOR_PAIRS: f64 = 0.945;
+const REFAV_FLOOR_PAIRS: f64 = 0.95;
 /// See [`REFAV_FLOOR_TRACKS`].
-const REFAV_FLOOR_RELATED: f64 = 0.915;
+const REFAV_FLOOR_RELATED: f64 = 0.92;
 
 /// RefAV's definitions with RefAV's defects reproduced (`--semantics refav`, the default
 /// `--defects all`).
@@ -83,7 +83,7 @@ const KNOWN: &[(&str, &str, &[Semantics])] = &[
     ),
     (
         "ego vehicle two cars ahead of another vehicle.txt",
-        "RefAV's ego back-edge sign slip ('backward' of the ego starts 1 m ahead of the rear axle), and its reverse_relationship makes the ego (the first reversal's related object, itself a VEHICLE candidate) a referred object (0.91 with --semantics refav, 0.55 with --defects none)",
+        "RefAV's ego back-edge sign slip ('backward' of the ego starts 1 m ahead of the rear axle), and its reverse_relationship makes the ego (the first reversal's related object, itself a VEHICLE candidate) a referred object (1.00 with --semantics refav, 0.55 with --defects none)",
         SCENALOG_ONLY,
     ),
     (

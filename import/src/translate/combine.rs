@@ -66,7 +66,9 @@ impl Translator<'_> {
             let tracks = self.scen(inner.name, p0, args.get(p0).unwrap_or(&Val::None))?;
             let p1 = inner.params[1].0;
             let cands = self.scen(inner.name, p1, args.get(p1).unwrap_or(&Val::None))?;
-            return Ok(Val::Scen(self.reverse(&sel, &tracks, &cands, hint)));
+            let keys = self.relation_keys(inner, &args, &tracks)?;
+            let reversed = self.reverse(&sel, (&tracks, &cands), keys.as_deref(), hint);
+            return Ok(Val::Scen(reversed));
         }
         // scenario_not
         let args = self.bind(inner, pos, kw)?;

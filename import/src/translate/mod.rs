@@ -96,6 +96,9 @@ pub(crate) struct Translator<'a> {
     first_api: bool,
     /// The definitions targeted.
     semantics: Semantics,
+    /// Relational functions are being translated over every frame both objects share, not only
+    /// the scenarios' ([`Translator::relation_keys`]).
+    any_frame: bool,
 }
 
 pub(crate) type Res<T> = Result<T, ImportError>;
@@ -130,6 +133,7 @@ pub fn translate(
         line: 0,
         first_api: false,
         semantics,
+        any_frame: false,
     };
     // Parsing, translating and dropping the tree each recurse once per level: a program nesting
     // past the limits is an error for its file, before any of them starts.
@@ -761,7 +765,9 @@ impl Translator<'_> {
                     let (sel, _) = self.relational(sig, &args, "objects_in_direction", false)?;
                     let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
                     let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
-                    let reversed = self.reverse(&sel, &tracks, &cands, hint.unwrap_or(f));
+                    let keys = self.relation_keys(sig, &args, &tracks)?;
+                    let reversed =
+                        self.reverse(&sel, (&tracks, &cands), keys.as_deref(), hint.unwrap_or(f));
                     return Ok(Val::Scen(reversed));
                 }
                 let (_, scen) = self.relational(sig, &args, hint.unwrap_or(f), true)?;

@@ -16,8 +16,25 @@ impl Translator<'_> {
         let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
         let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
         let cands = self.scen(f, sig.params[1].0, &a(sig.params[1].0))?;
-        let base = format!("{}(X, T), {}(Y, T), X != Y", tracks.rel, cands.rel);
+        // RefAV computes the relation at every frame both objects share; the scenarios' frames
+        // only filter it afterwards ([`Self::relation_keys`]).
         let out = self.fresh(hint);
+        let (x_at, y_at) = if self.any_frame {
+            // The scenarios' objects, whatever the frame (projected first, so no frame is
+            // paired with another).
+            let (tk, ck) = (format!("{out}_track_keys"), format!("{out}_cand_keys"));
+            self.used_names.insert(tk.clone());
+            self.used_names.insert(ck.clone());
+            self.emit(format!("{tk}(X) :- {}(X, _).", tracks.rel));
+            self.emit(format!("{ck}(Y) :- {}(Y, _).", cands.rel));
+            (format!("{tk}(X)"), format!("{ck}(Y)"))
+        } else {
+            (
+                format!("{}(X, T)", tracks.rel),
+                format!("{}(Y, T)", cands.rel),
+            )
+        };
+        let base = format!("{x_at}, {y_at}, X != Y");
         let pairs = format!("{out}_pairs");
         self.used_names.insert(pairs.clone());
         let mut min_count = 1.0;
@@ -94,7 +111,7 @@ impl Translator<'_> {
                 min_count = min.ceil();
                 let include_self = matches!(a("include_self"), Val::Bool(true));
                 let base = if include_self {
-                    format!("{}(X, T), {}(Y, T)", tracks.rel, cands.rel)
+                    format!("{x_at}, {y_at}")
                 } else {
                     base.clone()
                 };
@@ -205,9 +222,14 @@ impl Translator<'_> {
         // kept frames are the function's relationships (RefAV applies `min_number` before it
         // creates any, so `get_objects_in_relative_direction` keeps it too).
         let sel = if min_count > 1.0 {
+            let at = if self.any_frame {
+                format!("{pairs}(X, _, T)")
+            } else {
+                format!("{}(X, T)", tracks.rel)
+            };
             self.emit(format!(
-                "{out}(X, T) :- {}(X, T), N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
-                tracks.rel, min_count as i64
+                "{out}(X, T) :- {at}, N = count : {{ {pairs}(X, Y2, T) }}, N >= {}.",
+                min_count as i64
             ));
             let sel = format!("{out}_sel");
             self.used_names.insert(sel.clone());
@@ -255,6 +277,31 @@ impl Translator<'_> {
                 keys: tracks.keys.clone(),
             },
         ))
+    }
+
+    /// The (track, candidate) pairs a relational function relates at any frame the two share,
+    /// whatever the scenarios' frames: the keys RefAV's `composable_relational` gives a track
+    /// before it keeps the scenario's frames, which decide its `reverse_relationship`'s
+    /// bookkeeping (the carry-over defect). `None` unless that defect is reproduced.
+    pub(crate) fn relation_keys(
+        &mut self,
+        sig: &'static Signature,
+        args: &BTreeMap<&'static str, Val>,
+        tracks: &Scen,
+    ) -> Res<Option<String>> {
+        if tracks.rel_r.is_none() || !self.semantics.reproduces(Defect::ReverseCarryOver) {
+            return Ok(None);
+        }
+        let notes = self.notes.len();
+        self.any_frame = true;
+        let result = self.relational(sig, args, &format!("{}_any_frame", sig.name), false);
+        self.any_frame = false;
+        self.notes.truncate(notes);
+        let (sel, _) = result?;
+        let keys = format!("{sel}_keys");
+        self.used_names.insert(keys.clone());
+        self.emit(format!("{keys}(X, Y) :- {sel}(X, Y, _)."));
+        Ok(Some(keys))
     }
 
     /// `being_crossed_by` in RefAV's definitions. With the `crossing-direction` defect and a
@@ -319,16 +366,28 @@ impl Translator<'_> {
     /// related objects that are among the candidates (or, for a track that is a candidate too,
     /// among the tracks) are RefAV's "new relationships" too: they become tracks at the frames of
     /// the earlier relation where the function relates the track to something.
-    pub(crate) fn reverse(&mut self, pairs: &str, tracks: &Scen, cands: &Scen, hint: &str) -> Scen {
+    pub(crate) fn reverse(
+        &mut self,
+        pairs: &str,
+        (tracks, cands): (&Scen, &Scen),
+        keys: Option<&str>,
+        hint: &str,
+    ) -> Scen {
         let out = self.fresh(hint);
         let carry = self.semantics.reproduces(Defect::ReverseCarryOver);
         let all = match &tracks.rel_r {
             Some(r) if carry => {
                 let all = format!("{out}_all");
-                let own = format!("{out}_own");
                 self.used_names.insert(all.clone());
-                self.used_names.insert(own.clone());
-                self.emit(format!("{own}(X, Y) :- {pairs}(X, Y, _)."));
+                let own = match keys {
+                    Some(k) => k.to_string(),
+                    None => {
+                        let own = format!("{out}_own");
+                        self.used_names.insert(own.clone());
+                        self.emit(format!("{own}(X, Y) :- {pairs}(X, Y, _)."));
+                        own
+                    }
+                };
                 self.emit(format!("{all}(X, Y, T) :- {pairs}(X, Y, T)."));
                 self.emit(format!(
                     "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {}(Z, _), !{own}(X, Z).",
@@ -348,8 +407,14 @@ impl Translator<'_> {
             let new = format!("{out}_new");
             self.used_names.insert(new.clone());
             self.emit(format!("{new}(X, Y) :- {all}(X, Y, _)."));
+            // With the carry-over, RefAV drops an earlier related object the function relates
+            // to the track only at frames outside the track's scenario (its entry is emptied).
+            let dropped = match keys {
+                Some(k) if carry => format!(", !{k}(X, Z)"),
+                _ => String::new(),
+            };
             self.emit(format!(
-                "{out}_r(Y, Z, T) :- {all}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z)."
+                "{out}_r(Y, Z, T) :- {all}(X, Y, T), {r}(X, Z, T), Z != Y, !{new}(X, Z){dropped}."
             ));
         }
         Scen {
