@@ -27,6 +27,7 @@ pub struct Extractor<'s> {
     lanes: OnceLock<LaneAssignment>,
     turning: OnceLock<Vec<Vec<(Frame, Side)>>>,
     refav_turning: OnceLock<Vec<Vec<(Frame, Side)>>>,
+    refav_turning_filtered: OnceLock<Vec<Vec<(Frame, Side)>>>,
     lane_changes: OnceLock<Vec<Vec<(Frame, Side)>>>,
     stop_signs: OnceLock<Vec<StopSign>>,
     extra: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
@@ -52,6 +53,7 @@ impl<'s> Extractor<'s> {
             lanes: OnceLock::new(),
             turning: OnceLock::new(),
             refav_turning: OnceLock::new(),
+            refav_turning_filtered: OnceLock::new(),
             lane_changes: OnceLock::new(),
             stop_signs: OnceLock::new(),
             extra: Mutex::new(HashMap::new()),
@@ -119,6 +121,18 @@ impl<'s> Extractor<'s> {
                 .tracks
                 .iter()
                 .map(crate::refav::turning)
+                .collect()
+        })
+    }
+
+    /// Per track: its turning frames by RefAV's rule on a median-filtered yaw rate
+    /// ([`crate::refav::turning_filtered`]).
+    pub fn refav_turning_filtered(&self) -> &[Vec<(Frame, Side)>] {
+        self.refav_turning_filtered.get_or_init(|| {
+            self.kinematics()
+                .tracks
+                .iter()
+                .map(crate::refav::turning_filtered)
                 .collect()
         })
     }

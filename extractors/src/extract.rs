@@ -24,6 +24,7 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "stationary" => motion::stationary(ex, q),
         "turning" => motion::events(ex, q, ex.turning()),
         "refav_turning" => motion::events(ex, q, ex.refav_turning()),
+        "refav_turning_filtered" => motion::events(ex, q, ex.refav_turning_filtered()),
         "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
         "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
         "refav_order" => objects::refav_order(ex, q),

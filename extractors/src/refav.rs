@@ -11,6 +11,8 @@
 //!   time step; more than 45° is a left turn over the whole run, less than −45° a right turn.
 //!   The next run starts at the sample that stopped this one, so that sample belongs to both.
 //!   (RefAV's rule for turns cut by the log's ends never adds a frame; it is not reproduced.)
+//! - **`refav_turning_filtered`**: the same rule on the yaw rate median-filtered over 3 samples
+//!   ([`turning_filtered`]): RefAV's `turning` without the split a one-frame heading spike causes.
 //! - **`refav_order`** (the order of RefAV's candidates): the keys of
 //!   `get_objects_of_category(Cat)` are the annotation file's `track_uuid.unique()` (each
 //!   track's first row), for "VEHICLE" category by category in RefAV's list order (the
@@ -35,7 +37,29 @@ pub const REFAV_TURN_ANGLE_DEG: f64 = 45.0;
 /// The frames of one track's turns as RefAV's `turning` finds them, in frame order (a frame
 /// can be both a left and a right turn's, at the sample where the rate changes sign).
 pub fn turning(t: &TrackKinematics) -> Vec<(Frame, Side)> {
+    turning_of(t, &t.yaw_rate)
+}
+
+/// [`turning`] on the yaw rate median-filtered over 3 samples (the ends kept), so a one-frame
+/// heading spike, which moves the two rates beside it in opposite directions, does not split a
+/// turn: RefAV's rule without its spike defect (`refav_turning_filtered`).
+pub fn turning_filtered(t: &TrackKinematics) -> Vec<(Frame, Side)> {
     let v = &t.yaw_rate;
+    let filtered: Vec<f64> = (0..v.len())
+        .map(|i| {
+            if i == 0 || i + 1 == v.len() {
+                return v[i];
+            }
+            let mut w = [v[i - 1], v[i], v[i + 1]];
+            w.sort_by(f64::total_cmp);
+            w[1]
+        })
+        .collect();
+    turning_of(t, &filtered)
+}
+
+/// RefAV's run rule on the yaw rates `v` of track `t`'s samples.
+fn turning_of(t: &TrackKinematics, v: &[f64]) -> Vec<(Frame, Side)> {
     let n = v.len();
     if n < 2 || t.times.len() < 2 {
         return Vec::new();

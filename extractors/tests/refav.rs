@@ -389,3 +389,25 @@ fn refav_crosswalk_dilates_with_mitred_corners_and_names_the_crossing() {
     assert!((ours("beside") - 1.5).abs() < 1e-6);
     assert!((ours("corner") - 1.5 * 2f64.sqrt()).abs() < 1e-6);
 }
+
+#[test]
+fn refav_turning_filtered_keeps_a_turn_a_heading_blip_splits() {
+    // The blip of `a_one_frame_heading_blip_splits_a_turn_only_in_refav_turning`: RefAV's rule
+    // finds no turn; on the 3-sample median of the yaw rate it finds the same turn as without
+    // the blip, and it still counts a slow drift, as RefAV's rule does.
+    let blip = turner(30.0, 20, Some((20, 8.0)));
+    assert!(turns(&blip, "refav_turning", "turner").is_empty());
+    let filtered = turns(&blip, "refav_turning_filtered", "turner");
+    let clean = turns(&turner(30.0, 20, None), "refav_turning", "turner");
+    assert!(filtered.len() >= 15, "{filtered:?}");
+    assert!(filtered.iter().all(|(_, d)| d == "left"));
+    let frames = |v: &[(u64, String)]| v.iter().map(|r| r.0).collect::<Vec<_>>();
+    let (a, b) = (frames(&filtered), frames(&clean));
+    let common = a.iter().filter(|f| b.contains(f)).count();
+    assert!(common + 2 >= a.len().max(b.len()), "{a:?} vs {b:?}");
+    let drift = turner(0.9, 600, None);
+    assert_eq!(
+        turns(&drift, "refav_turning_filtered", "turner"),
+        turns(&drift, "refav_turning", "turner")
+    );
+}

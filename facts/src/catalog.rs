@@ -560,6 +560,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_turning_filtered",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "`refav_turning` on the yaw rate median-filtered over 3 samples: RefAV's rule without its spike defect (a one-frame heading spike no longer splits a turn)",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_direction",
         columns: DIRECTION_COLUMNS,
         doc: "RefAV's definition of `direction` (its has_objects_in_relative_direction): as `direction`, but the ego is where RefAV places it: its position and box at the rear axle (1.44 m behind its body's centre), and as X a fixed box from 3.86 m to 1.02 m ahead of the axle (RefAV's back-edge sign slip) and 1 m either side",
@@ -714,7 +720,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 43);
+        assert_eq!(catalog().len(), 44);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -727,13 +733,14 @@ mod tests {
             "refav_crossing_event",
             "refav_order",
             "refav_crosswalk",
+            "refav_turning_filtered",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(43));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(44));
         let text = render_text();
-        assert!(text.starts_with("43 relations."));
+        assert!(text.starts_with("44 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),
