@@ -77,15 +77,19 @@ pub enum Defect {
     /// object overlaps at the frame, so the next frame tests only those: an object off every
     /// crossing at one frame is never at one again.
     CrosswalkLoop,
+    /// `turning` sums runs of same-sign raw yaw rate, so a one-frame heading spike (two rates of
+    /// opposite sign beside it) splits a real turn into runs too short to count.
+    TurningSpikes,
 }
 
 impl Defect {
     /// Every defect the option knows, in the order the README lists them.
-    pub const ALL: [Defect; 4] = [
+    pub const ALL: [Defect; 5] = [
         Defect::EgoBackEdge,
         Defect::CrossingDirection,
         Defect::ReverseCarryOver,
         Defect::CrosswalkLoop,
+        Defect::TurningSpikes,
     ];
 
     /// The name the command line (`--defects`) and the program header use.
@@ -95,6 +99,7 @@ impl Defect {
             Defect::CrossingDirection => "crossing-direction",
             Defect::ReverseCarryOver => "reverse-carry-over",
             Defect::CrosswalkLoop => "crosswalk-loop",
+            Defect::TurningSpikes => "turning-spikes",
         }
     }
 
@@ -116,7 +121,7 @@ impl Defects {
     /// No defect reproduced: RefAV's definitions as they are meant.
     pub const NONE: Defects = Defects(0);
     /// Every defect reproduced: RefAV's answers as its code gives them.
-    pub const ALL: Defects = Defects(0b1111);
+    pub const ALL: Defects = Defects(0b1_1111);
 
     /// The set holds `defect`.
     pub fn contains(self, defect: Defect) -> bool {

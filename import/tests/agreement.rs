@@ -48,15 +48,17 @@ const REFAV: Semantics = Semantics::Refav(Defects::ALL);
 const REFAV_MEANT: Semantics = Semantics::Refav(Defects::NONE);
 
 /// The same three floors with `--semantics refav --defects none`.
-const REFAV_MEANT_FLOOR_TRACKS: f64 = 0.945;
+const REFAV_MEANT_FLOOR_TRACKS: f64 = 0.87;
 /// See [`REFAV_MEANT_FLOOR_TRACKS`].
-const REFAV_MEANT_FLOOR_PAIRS: f64 = 0.88;
+const REFAV_MEANT_FLOOR_PAIRS: f64 = 0.785;
 /// See [`REFAV_MEANT_FLOOR_TRACKS`].
 const REFAV_MEANT_FLOOR_RELATED: f64 = 0.78;
 
 /// In which semantics a [`KNOWN`] difference shows.
 const EVERY: &[Semantics] = &[Semantics::Scenalog, REFAV, REFAV_MEANT];
 const SCENALOG_ONLY: &[Semantics] = &[Semantics::Scenalog];
+/// Where RefAV's one-frame yaw-rate spikes are not reproduced.
+const WITHOUT_TURNING_SPIKES: &[Semantics] = &[Semantics::Scenalog, REFAV_MEANT];
 
 /// Programs whose results differ from RefAV's for a known reason (file name, reason, the
 /// semantics it shows in).
@@ -93,8 +95,8 @@ const KNOWN: &[(&str, &str, &[Semantics])] = &[
     ),
     (
         "high lateral acceleration.txt",
-        "RefAV's turning: the program drops turning vehicles, and Scenalog's turning covers the 2 frames RefAV's (split by a yaw-rate sign flip) does not (with --semantics refav: the same 2 frames)",
-        SCENALOG_ONLY,
+        "RefAV's turning: the program drops turning vehicles, and Scenalog's turning covers the 2 frames RefAV's (split by a yaw-rate sign flip) does not (with --semantics refav: the same 2 frames; with --defects none the 3-sample median also joins the split turn)",
+        WITHOUT_TURNING_SPIKES,
     ),
 ];
 

@@ -109,7 +109,7 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
             "refav_crossing(",
             "refav_crosswalk(",
             "refav_direction_corrected(",
-            "refav_turning("
+            "refav_turning_filtered("
         ],
         "{without:?}"
     );
@@ -121,6 +121,10 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
     assert_eq!(
         with.get("refav_crosswalk("),
         without.get("refav_crosswalk(")
+    );
+    assert_eq!(
+        with.get("refav_turning("),
+        without.get("refav_turning_filtered(")
     );
 }
 
@@ -167,6 +171,7 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
             "refav_crossing_event(",
             "refav_order(",
             "refav_crosswalk(",
+            "refav_turning_filtered(",
         ] {
             if clauses.contains(r) {
                 *uses.entry(r).or_insert(0) += 1;

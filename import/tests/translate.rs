@@ -607,3 +607,26 @@ fn the_crosswalk_loop_defect_loses_pedestrians_that_step_onto_a_crosswalk() {
     }
     assert_eq!(with, expect);
 }
+
+/// `--defects turning-spikes`: RefAV's `turning` sums runs of the raw yaw rate, so a one-frame
+/// heading spike splits a turn into runs too short to count; without it (the rate's 3-sample
+/// median) the split turns are found whole. On the sample log "vehicle turning right" finds
+/// RefAV's 258 (track, frame) pairs with the defect and more without it, the same ones and
+/// the frames of the turns the spikes split.
+#[test]
+fn the_turning_spikes_defect_splits_turns() {
+    let [spikes, meant] = with_and_without(Defect::TurningSpikes);
+    let body = "result = turning(vehicles, log_dir, direction='right')";
+    let (with, _) = run_in(spikes, body);
+    let (without, _) = run_in(meant, body);
+    assert_eq!(with.len(), 258);
+    assert!(
+        with.is_subset(&without),
+        "{:?}",
+        with.difference(&without).collect::<Vec<_>>()
+    );
+    assert!(without.len() > with.len());
+    // every vehicle RefAV's rule finds turning right is found without the defect too
+    let tracks = |p: &Pairs| p.iter().map(|x| x.0).collect::<BTreeSet<u32>>();
+    assert!(tracks(&with).is_subset(&tracks(&without)));
+}

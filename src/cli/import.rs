@@ -33,7 +33,7 @@ enum Source {
         semantics: SemanticsArg,
         /// With `--semantics refav`: which of RefAV's defects to reproduce, `all` (the default:
         /// RefAV's answers as its code gives them), `none` (RefAV's definitions as meant) or a
-        /// comma-separated list of ego-back-edge, crossing-direction, reverse-carry-over, crosswalk-loop (see
+        /// comma-separated list of ego-back-edge, crossing-direction, reverse-carry-over, crosswalk-loop, turning-spikes (see
         /// import/README.md, "RefAV's defects").
         #[arg(long, value_name = "all|none|LIST")]
         defects: Option<String>,

@@ -276,7 +276,7 @@ fn defects_flag_chooses_which_refav_defects_the_import_reproduces() {
     let cases = [
         (
             None,
-            "ego-back-edge,crossing-direction,reverse-carry-over,crosswalk-loop",
+            "ego-back-edge,crossing-direction,reverse-carry-over,crosswalk-loop,turning-spikes",
             358,
         ),
         (Some("none"), "none", 453),

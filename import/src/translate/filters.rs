@@ -52,8 +52,10 @@ impl Translator<'_> {
                 self.category(f, &a("category"))?
             )],
             "turning" | "changing_lanes" => {
-                let rel = if f == "turning" && self.refav() {
+                let rel = if f == "turning" && self.semantics.reproduces(Defect::TurningSpikes) {
                     "refav_turning"
+                } else if f == "turning" && self.refav() {
+                    "refav_turning_filtered"
                 } else if f == "turning" {
                     "turning"
                 } else {
