@@ -27,22 +27,7 @@ fn run(scene: &Scene, req: &Request) -> Vec<Row> {
     let ex = Extractor::new(scene);
     let index = pairs::pair_index(&ex);
     let ctx = PairContext::new(scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
-    let f = match req.name.as_str() {
-        "near" => pairs::near,
-        "direction" => pairs::direction,
-        "facing" => pairs::facing,
-        "heading_relative" => pairs::heading_relative,
-        "heading_toward" => pairs::heading_toward,
-        "crossing" => pairs::crossing,
-        "crossing_detail" => pairs::crossing_detail,
-        "same_lane" => pairs::same_lane,
-        "following" => pairs::following,
-        "road_side" => pairs::road_side,
-        "refav_direction" => pairs::refav_direction,
-        "refav_direction_corrected" => pairs::refav_direction_corrected,
-        other => panic!("not a pair relation: {other}"),
-    };
-    let data = f(&ctx, req).unwrap_or_else(|e| panic!("{e}"));
+    let data = pairs::pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"));
     to_rows(scene, &data)
 }
 

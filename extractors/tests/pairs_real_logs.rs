@@ -48,22 +48,7 @@ fn context<'a>(ex: &'a Extractor, index: &'a PairIndex) -> PairContext<'a> {
 fn answer(ex: &Extractor, req: &Request) -> RelationData {
     let index = pairs::pair_index(ex);
     let ctx = context(ex, &index);
-    let f = match req.name.as_str() {
-        "near" => pairs::near,
-        "direction" => pairs::direction,
-        "facing" => pairs::facing,
-        "heading_relative" => pairs::heading_relative,
-        "heading_toward" => pairs::heading_toward,
-        "crossing" => pairs::crossing,
-        "crossing_detail" => pairs::crossing_detail,
-        "same_lane" => pairs::same_lane,
-        "following" => pairs::following,
-        "road_side" => pairs::road_side,
-        "refav_direction" => pairs::refav_direction,
-        "refav_direction_corrected" => pairs::refav_direction_corrected,
-        other => panic!("not a pair relation: {other}"),
-    };
-    f(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
+    pairs::pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn rows(d: &RelationData) -> Vec<Vec<Value>> {

@@ -167,6 +167,12 @@ fn answer(ctx: &PairContext, req: &Request, name: &str) -> Result<RelationData, 
     Ok(q.finish(ctx.scene, data))
 }
 
+/// `req` answered by whichever pair relation it names (one of [`PAIR_RELATIONS`]), as the named
+/// functions below answer it; an error for a relation this module does not provide.
+pub fn pair_relation(ctx: &PairContext, req: &Request) -> Result<RelationData, ExtractError> {
+    answer(ctx, req, &req.name)
+}
+
 macro_rules! relation_fn {
     ($name:ident, $doc:literal) => {
         #[doc = $doc]
