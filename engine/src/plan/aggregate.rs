@@ -190,25 +190,50 @@ pub(crate) fn agg_filter(
     let inner = plan(&lits, &head, None, ctx)?;
     let rows = crate::stratum::once::run_plan(&inner, ctx.complete, ctx.types, ctx.limits)?;
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
-    let out_ty = match g.func {
-        AggFunc::Count => ColType::Int,
-        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
-        AggFunc::Sum => ColType::Int,
-        AggFunc::Min | AggFunc::Max => target_ty,
-    };
+    let (out_ty, default) = result_type(g.func, target_ty);
     let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty)
         .map_err(|SumOverflow| ctx.limits.sum_overflow())?;
-    let default = match g.func {
-        AggFunc::Count => encode(V::Int(0), ColType::Int),
-        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
-        AggFunc::Sum => encode(V::Int(0), ColType::Int),
-        AggFunc::Min | AggFunc::Max => None,
-    };
     let group_slots = group
         .iter()
         .map(|v| scope.slots.get(*v).map(|s| s.0))
         .collect::<Option<Vec<_>>>()
         .ok_or_else(|| EngineError::Unsupported("an aggregate's group is unbound".into()))?;
+    bind_result(g, out_ty, scope, ctx, |out| Filter::Agg {
+        group: group_slots,
+        table: Arc::new(table),
+        default,
+        out,
+    })
+}
+
+/// An aggregate's result type for a target of type `target_ty`, and its encoded value over no
+/// tuples (0 for count and sum; none, so the body fails, for min and max).
+fn result_type(func: AggFunc, target_ty: ColType) -> (ColType, Option<u64>) {
+    let out_ty = match func {
+        AggFunc::Count => ColType::Int,
+        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
+        AggFunc::Sum => ColType::Int,
+        AggFunc::Min | AggFunc::Max => target_ty,
+    };
+    let default = match func {
+        AggFunc::Count => encode(V::Int(0), ColType::Int),
+        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
+        AggFunc::Sum => encode(V::Int(0), ColType::Int),
+        AggFunc::Min | AggFunc::Max => None,
+    };
+    (out_ty, default)
+}
+
+/// The filter `make` builds for the slot holding an aggregate's result: the result variable's
+/// own slot when the variable is new here, else a fresh slot and a second filter comparing it
+/// with the result expression.
+fn bind_result(
+    g: &Aggregate,
+    out_ty: ColType,
+    scope: &mut Scope,
+    ctx: &mut Ctx<'_>,
+    make: impl FnOnce(usize) -> Filter,
+) -> Result<(Filter, Option<Filter>), EngineError> {
     let fresh = match g.result.as_var() {
         Some(v) if !scope.slots.contains_key(v) => Some(v),
         _ => None,
@@ -217,12 +242,7 @@ pub(crate) fn agg_filter(
         Some(v) => scope.new_slot(v, out_ty)?,
         None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
     };
-    let f = Filter::Agg {
-        group: group_slots,
-        table: Arc::new(table),
-        default,
-        out,
-    };
+    let f = make(out);
     if fresh.is_some() {
         return Ok((f, None));
     }
@@ -273,18 +293,7 @@ pub(crate) fn correlated(
         })
         .collect();
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
-    let out_ty = match g.func {
-        AggFunc::Count => ColType::Int,
-        AggFunc::Sum if target_ty == ColType::Float => ColType::Float,
-        AggFunc::Sum => ColType::Int,
-        AggFunc::Min | AggFunc::Max => target_ty,
-    };
-    let default = match g.func {
-        AggFunc::Count => encode(V::Int(0), ColType::Int),
-        AggFunc::Sum if out_ty == ColType::Float => encode(V::Float(0.0), ColType::Float),
-        AggFunc::Sum => encode(V::Int(0), ColType::Int),
-        AggFunc::Min | AggFunc::Max => None,
-    };
+    let (out_ty, default) = result_type(g.func, target_ty);
     let c = Correlated {
         plan: inner,
         indexes,
@@ -297,22 +306,7 @@ pub(crate) fn correlated(
         default,
         overflowed: std::sync::atomic::AtomicBool::new(false),
     };
-    let fresh = match g.result.as_var() {
-        Some(v) if !scope.slots.contains_key(v) => Some(v),
-        _ => None,
-    };
-    let out = match fresh {
-        Some(v) => scope.new_slot(v, out_ty)?,
-        None => scope.new_slot(&format!("#agg{}", scope.slots.len()), out_ty)?,
-    };
-    let f = Filter::AggRun(Arc::new(c), out);
-    if fresh.is_some() {
-        return Ok((f, None));
-    }
-    let cmp = Filter::Cmp(
-        CmpOp::Eq,
-        compile_expr(&g.result, scope, ctx.symbols)?,
-        CExpr::Slot(out, out_ty),
-    );
-    Ok((f, Some(cmp)))
+    bind_result(g, out_ty, scope, ctx, |out| {
+        Filter::AggRun(Arc::new(c), out)
+    })
 }
