@@ -121,7 +121,7 @@ impl Defects {
     /// No defect reproduced: RefAV's definitions as they are meant.
     pub const NONE: Defects = Defects(0);
     /// Every defect reproduced: RefAV's answers as its code gives them.
-    pub const ALL: Defects = Defects(0b1_1111);
+    pub const ALL: Defects = Defects((1 << Defect::ALL.len()) - 1);
 
     /// The set holds `defect`.
     pub fn contains(self, defect: Defect) -> bool {

@@ -148,8 +148,26 @@ impl Translator<'_> {
     /// at each later frame only those its box overlapped at the frame before, and none once it
     /// overlapped none (RefAV's list stays empty). Over every frame of the track, as RefAV's.
     fn crosswalk_loop(&mut self, d: f64) -> String {
+        let frames = self.crosswalk_frames();
         let h = self.fresh("at_pedestrian_crossing_loop");
         let within = format!("D <= {}", fmt_num(d));
+        self.emit(format!(
+            "{h}(X, T) :- {frames}_first(X, T), refav_crosswalk(X, T, _, D), {within}."
+        ));
+        self.emit(format!(
+            "{h}(X, T) :- {frames}_prev(X, T, P), {frames}_live(X, P), refav_crosswalk(X, P, C, D0), D0 <= 0.0, refav_crosswalk(X, T, C, D), {within}."
+        ));
+        h
+    }
+
+    /// The helpers every use of [`Self::crosswalk_loop`] shares, emitted once a program: each
+    /// object's frame before a frame (`_prev`), its first frame (`_first`), and the frames at
+    /// which RefAV's list of crossings is not yet empty (`_live`), whatever the distance.
+    fn crosswalk_frames(&mut self) -> String {
+        if let Some(h) = &self.crosswalk_frames {
+            return h.clone();
+        }
+        let h = self.fresh("crosswalk_loop_frames");
         for part in ["prev", "gap", "later", "first", "live"] {
             self.used_names.insert(format!("{h}_{part}"));
         }
@@ -172,12 +190,7 @@ impl Translator<'_> {
         self.emit(format!(
             "{h}_live(X, T) :- {h}_prev(X, T, P), {h}_live(X, P), refav_crosswalk(X, P, _, D0), D0 <= 0.0."
         ));
-        self.emit(format!(
-            "{h}(X, T) :- {h}_first(X, T), refav_crosswalk(X, T, _, D), {within}."
-        ));
-        self.emit(format!(
-            "{h}(X, T) :- {h}_prev(X, T, P), {h}_live(X, P), refav_crosswalk(X, P, C, D0), D0 <= 0.0, refav_crosswalk(X, T, C, D), {within}."
-        ));
+        self.crosswalk_frames = Some(h.clone());
         h
     }
 

@@ -98,9 +98,12 @@ pub(crate) struct Translator<'a> {
     first_api: bool,
     /// The definitions targeted.
     semantics: Semantics,
-    /// Relational functions are being translated over every frame both objects share, not only
-    /// the scenarios' ([`Translator::relation_keys`]).
-    any_frame: bool,
+    /// The name of the crosswalk loop's frame helpers, once emitted
+    /// ([`Translator::crosswalk_frames`]).
+    crosswalk_frames: Option<String>,
+    /// Per scenario relation, the relation of its objects whatever the frame, once emitted
+    /// ([`Translator::keys_of`]).
+    keys: BTreeMap<String, String>,
 }
 
 pub(crate) type Res<T> = Result<T, ImportError>;
@@ -135,7 +138,8 @@ pub fn translate(
         line: 0,
         first_api: false,
         semantics,
-        any_frame: false,
+        crosswalk_frames: None,
+        keys: BTreeMap::new(),
     };
     // Parsing, translating and dropping the tree each recurse once per level: a program nesting
     // past the limits is an error for its file, before any of them starts.
@@ -325,6 +329,19 @@ impl Translator<'_> {
         self.used_names.insert(name.clone());
         self.used_names.insert(format!("{name}_r"));
         name
+    }
+
+    /// The relation `K(X)` holding `scen`'s objects whatever the frame (the keys of RefAV's
+    /// scenario dict), emitted once per scenario. Joined instead of `scen(X, _)`, so that each
+    /// object is one tuple, not one per frame.
+    pub(crate) fn keys_of(&mut self, scen: &Scen) -> String {
+        if let Some(k) = self.keys.get(&scen.rel) {
+            return k.clone();
+        }
+        let k = self.fresh(&format!("{}_keys", scen.rel));
+        self.emit(format!("{k}(X) :- {}(X, _).", scen.rel));
+        self.keys.insert(scen.rel.clone(), k.clone());
+        k
     }
 
     pub(crate) fn emit(&mut self, clause: String) {

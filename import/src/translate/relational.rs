@@ -3,6 +3,15 @@
 
 use super::*;
 
+/// Where a relational function is computed: at the frames of its scenarios (the function's
+/// meaning), or at every frame the two objects share (RefAV's own computation, before it keeps
+/// the scenarios' frames).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Frames {
+    Scenario,
+    Shared,
+}
+
 impl Translator<'_> {
     /// A relational function: its selected (track, candidate, frame) pairs, and its result.
     pub(crate) fn relational(
@@ -12,6 +21,18 @@ impl Translator<'_> {
         hint: &str,
         want_result: bool,
     ) -> Res<(String, Scen)> {
+        self.relational_at(sig, args, hint, want_result, Frames::Scenario)
+    }
+
+    /// [`Self::relational`] computed at `frames`.
+    fn relational_at(
+        &mut self,
+        sig: &'static Signature,
+        args: &BTreeMap<&'static str, Val>,
+        hint: &str,
+        want_result: bool,
+        frames: Frames,
+    ) -> Res<(String, Scen)> {
         let f = sig.name;
         let a = |k: &str| args.get(k).cloned().unwrap_or(Val::None);
         let tracks = self.scen(f, sig.params[0].0, &a(sig.params[0].0))?;
@@ -19,14 +40,9 @@ impl Translator<'_> {
         // RefAV computes the relation at every frame both objects share; the scenarios' frames
         // only filter it afterwards ([`Self::relation_keys`]).
         let out = self.fresh(hint);
-        let (x_at, y_at) = if self.any_frame {
-            // The scenarios' objects, whatever the frame (projected first, so no frame is
-            // paired with another).
-            let (tk, ck) = (format!("{out}_track_keys"), format!("{out}_cand_keys"));
-            self.used_names.insert(tk.clone());
-            self.used_names.insert(ck.clone());
-            self.emit(format!("{tk}(X) :- {}(X, _).", tracks.rel));
-            self.emit(format!("{ck}(Y) :- {}(Y, _).", cands.rel));
+        let (x_at, y_at) = if frames == Frames::Shared {
+            // The scenarios' objects, whatever the frame.
+            let (tk, ck) = (self.keys_of(&tracks), self.keys_of(&cands));
             (format!("{tk}(X)"), format!("{ck}(Y)"))
         } else {
             (
@@ -222,7 +238,7 @@ impl Translator<'_> {
         // kept frames are the function's relationships (RefAV applies `min_number` before it
         // creates any, so `get_objects_in_relative_direction` keeps it too).
         let sel = if min_count > 1.0 {
-            let at = if self.any_frame {
+            let at = if frames == Frames::Shared {
                 format!("{pairs}(X, _, T)")
             } else {
                 format!("{}(X, T)", tracks.rel)
@@ -293,9 +309,8 @@ impl Translator<'_> {
             return Ok(None);
         }
         let notes = self.notes.len();
-        self.any_frame = true;
-        let result = self.relational(sig, args, &format!("{}_any_frame", sig.name), false);
-        self.any_frame = false;
+        let hint = format!("{}_any_frame", sig.name);
+        let result = self.relational_at(sig, args, &hint, false, Frames::Shared);
         self.notes.truncate(notes);
         let (sel, _) = result?;
         let keys = format!("{sel}_keys");
@@ -337,17 +352,16 @@ impl Translator<'_> {
                 "ANY".to_string()
             }
         };
+        let (tk, ck) = (self.keys_of(tracks), self.keys_of(cands));
         let first = format!("{pairs}_first");
         let late = format!("{pairs}_late");
         self.used_names.insert(first.clone());
         self.used_names.insert(late.clone());
         self.emit(format!(
-            "{first}(X, R0) :- {}(X, _), R0 = min R : {{ {}(Y, _), refav_crossing_event(X, Y, _, \"{dir}\", E), E <= {fwd_s}, refav_order(Y, \"{cat}\", R) }}.",
-            tracks.rel, cands.rel
+            "{first}(X, R0) :- {tk}(X), R0 = min R : {{ {ck}(Y), refav_crossing_event(X, Y, _, \"{dir}\", E), E <= {fwd_s}, refav_order(Y, \"{cat}\", R) }}."
         ));
         self.emit(format!(
-            "{late}(X, Y) :- {first}(X, R0), {}(Y, _), refav_order(Y, \"{cat}\", R), R > R0.",
-            cands.rel
+            "{late}(X, Y) :- {first}(X, R0), {ck}(Y), refav_order(Y, \"{cat}\", R), R > R0."
         ));
         self.emit(format!(
             "{pairs}(X, Y, T) :- {base}, {}, !{late}(X, Y).",
@@ -388,14 +402,13 @@ impl Translator<'_> {
                         own
                     }
                 };
+                let (tk, ck) = (self.keys_of(tracks), self.keys_of(cands));
                 self.emit(format!("{all}(X, Y, T) :- {pairs}(X, Y, T)."));
                 self.emit(format!(
-                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {}(Z, _), !{own}(X, Z).",
-                    cands.rel
+                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {ck}(Z), !{own}(X, Z)."
                 ));
                 self.emit(format!(
-                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {}(X, _), {}(Z, _), X != Z, !{own}(X, Z).",
-                    cands.rel, tracks.rel
+                    "{all}(X, Z, T) :- {r}(X, Z, T), {pairs}(X, _, T), {ck}(X), {tk}(Z), X != Z, !{own}(X, Z)."
                 ));
                 all
             }
