@@ -20,11 +20,15 @@ use scenalog_rules::{check, CheckOptions};
 
 fn scene() -> &'static Scene {
     static SCENE: OnceLock<Scene> = OnceLock::new();
-    SCENE.get_or_init(|| {
-        let log = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
-        load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
-    })
+    SCENE.get_or_init(|| sample_log("3b3570b4-7b0b-3268-a571-b0889dbf40b6"))
+}
+
+/// One of the bundled sample logs.
+fn sample_log(id: &str) -> Scene {
+    let log = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/logs")
+        .join(id);
+    load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
 }
 
 const HEAD: &str = "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n\
@@ -79,11 +83,7 @@ fn run_program(program: &str) -> (Pairs, Triples) {
 /// none at a crosswalk).
 fn crosswalk_scene() -> &'static Scene {
     static SCENE: OnceLock<Scene> = OnceLock::new();
-    SCENE.get_or_init(|| {
-        let log = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../tests/data/av2/logs/adcf7d18-0510-35b0-a2fa-b4cea13a6d76");
-        load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
-    })
+    SCENE.get_or_init(|| sample_log("adcf7d18-0510-35b0-a2fa-b4cea13a6d76"))
 }
 
 fn run_program_on(scene: &Scene, program: &str) -> (Pairs, Triples) {
