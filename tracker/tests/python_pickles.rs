@@ -137,3 +137,73 @@ fn python_pickles_made_live_decode_when_numpy_is_present() {
     );
     assert_eq!(check_dir(dir.path()), 12);
 }
+
+/// The 3D-tracking pickles Python wrote, in every protocol and layout, made into the sample log's
+/// scene (their frames moved to the log's first timestamps, where it has ego poses): tracks
+/// come in RefAV's order of objects (`Track::file_order`) by their first frame, then tracker id
+/// (all four first appear in the first frame: ids 7, 8, 300, 40000), the added ego last;
+/// `refav_order` over "ANY" follows it.
+#[test]
+fn python_tracker_pickles_order_their_tracks_by_first_frame_then_id() {
+    use scenalog_extractors::{extract, relation_json};
+    use scenalog_facts::relation::Request;
+    use scenalog_tracker::{tracked_log, Filter};
+    let log_dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    for protocol in 0..=5 {
+        let path = fixtures().join(format!("tracks_p{protocol}.pkl"));
+        let pickle = TrackerPickle::open(&path).unwrap_or_else(|e| panic!("{e}"));
+        let log = pickle.log_ids().next().expect("a log").to_string();
+        let mut frames = pickle.frames(&log).unwrap_or_else(|e| panic!("{e}"));
+        let stamps = scenalog_facts::read::load_scene(&log_dir)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .timeline
+            .timestamps_ns()
+            .to_vec();
+        for (f, &t) in frames.iter_mut().zip(&stamps) {
+            f.timestamp_ns = t;
+        }
+        let tracked = tracked_log(&log, &frames, &log_dir, Filter::None, pickle.file())
+            .unwrap_or_else(|e| panic!("protocol {protocol}: {e}"));
+        let scene = &tracked.scene;
+        let mut by_order: Vec<(u32, Option<i64>)> = scene
+            .tracks
+            .iter()
+            .map(|t| (t.file_order, tracked.tracker_ids[t.id.index()]))
+            .collect();
+        by_order.sort_unstable();
+        let ids: Vec<Option<i64>> = by_order.iter().map(|r| r.1).collect();
+        assert_eq!(
+            ids,
+            [Some(7), Some(8), Some(300), Some(40000), None],
+            "protocol {protocol}"
+        );
+        let data = extract(scene, &Request::all("refav_order")).expect("refav_order");
+        let rows = relation_json(scene, &data);
+        let mut any: Vec<(i64, String)> = rows
+            .as_array()
+            .expect("rows")
+            .iter()
+            .filter(|r| r[1] == "ANY")
+            .map(|r| {
+                (
+                    r[2].as_i64().unwrap_or(-1),
+                    r[0].as_str().unwrap_or("").to_string(),
+                )
+            })
+            .collect();
+        any.sort();
+        let uuids: Vec<String> = by_order
+            .iter()
+            .map(|&(o, _)| {
+                let t = scene
+                    .tracks
+                    .iter()
+                    .find(|t| t.file_order == o)
+                    .expect("a track");
+                t.uuid.clone()
+            })
+            .collect();
+        assert_eq!(any.into_iter().map(|r| r.1).collect::<Vec<_>>(), uuids);
+    }
+}
