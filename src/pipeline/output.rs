@@ -339,12 +339,12 @@ impl Staging {
     }
 
     /// Writes log number `index`'s predictions: its Arrow table (LZ4, the run's dictionaries)
-    /// and, when the pickle is written, its pickle body.
+    /// and, when the pickle is written, its pickle.
     pub fn write_part(&self, index: usize, part: &scenalog_eval::Submission) -> Result<(), String> {
         if self.pickle {
             write_atomic(
                 &self.part(index, "pkl"),
-                &scenalog_eval::sequences_bytes(part),
+                &scenalog_eval::pickle_bytes(part),
                 false,
             )?;
         }
@@ -355,24 +355,23 @@ impl Staging {
     }
 
     /// Joins the parts, in `order`, into the run's Arrow table (one record batch a log,
-    /// zstd-compressed) and, when asked for, its pickle (byte for byte the pickle of the whole
-    /// submission when `order` sorts the logs by id).
+    /// zstd-compressed) and, when asked for, its pickle (with `eval`'s joiner,
+    /// [`scenalog_eval::PickleJoin`]: byte for byte the pickle of the whole submission, `order`
+    /// sorting the logs by id; one log's part in memory at a time).
     pub fn join_parts(&self, order: &[usize], names: &OutputNames) -> Result<(), String> {
         let pickle = self.path(names.pickle);
         let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
         if self.pickle {
-            let mut f = std::io::BufWriter::new(
-                std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?,
-            );
-            f.write_all(scenalog_eval::SUBMISSION_HEAD)
-                .map_err(|e| io(&pickle, e))?;
+            let file = std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?;
+            let what = format!("`{}`", pickle.display());
+            let mut join = scenalog_eval::PickleJoin::new(std::io::BufWriter::new(file), &what)
+                .map_err(|e| e.to_string())?;
             for &i in order {
-                let part = self.part(i, "pkl");
-                let mut r = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
-                std::io::copy(&mut r, &mut f).map_err(|e| io(&pickle, e))?;
+                let part =
+                    scenalog_eval::read_pickle(&self.part(i, "pkl")).map_err(|e| e.to_string())?;
+                join.add(&part).map_err(|e| e.to_string())?;
             }
-            f.write_all(scenalog_eval::SUBMISSION_TAIL)
-                .map_err(|e| io(&pickle, e))?;
+            let f = join.finish().map_err(|e| e.to_string())?;
             let f = f.into_inner().map_err(|e| io(&pickle, e.into_error()))?;
             f.sync_all().map_err(|e| io(&pickle, e))?;
         }
