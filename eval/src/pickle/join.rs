@@ -2,16 +2,32 @@
 //! distributed run): [`PickleJoin`] writes the parts' sequences one part at a time, in key order,
 //! between [`SUBMISSION_HEAD`] and [`SUBMISSION_TAIL`], so the file is byte for byte
 //! [`pickle_bytes`](super::write::pickle_bytes) of their union and memory holds one part at a
-//! time. [`join_pickles`] joins whole pickles given as bytes. Both refuse a key in two parts,
-//! naming it: the joined submission never holds one sequence twice, or one of two silently.
+//! time. A part is added as a submission, or as the bytes [`encode_part`] made of one earlier
+//! (a run encodes each log's part as the log finishes, in parallel, and joins the bytes at the
+//! end without decoding them again). [`join_pickles`] joins whole pickles given as bytes. All
+//! refuse a key in two parts, naming it: the joined submission never holds one sequence twice,
+//! or one of two silently.
 
 use std::collections::BTreeSet;
-use std::io::Write;
+use std::io::{Read, Write};
 
 use super::submission::read_pickle_bytes;
 use super::write::{sequences_bytes, SUBMISSION_HEAD, SUBMISSION_TAIL};
 use crate::error::EvalError;
 use crate::model::{SeqKey, Submission};
+
+/// The keys of a part [`encode_part`] encoded, which [`PickleJoin::add_encoded`] checks before
+/// it copies the part's bytes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PartKeys(Vec<SeqKey>);
+
+/// A part's sequences as the bytes [`PickleJoin`] writes for it, and their keys.
+pub fn encode_part(part: &Submission) -> (PartKeys, Vec<u8>) {
+    (
+        PartKeys(part.sequences.keys().cloned().collect()),
+        sequences_bytes(part),
+    )
+}
 
 /// A submission pickle written part by part. Each part's keys must all come after every key of
 /// the parts added before it (parts one a log, added in log-id order, do).
@@ -38,16 +54,38 @@ impl<W: Write> PickleJoin<W> {
     /// Adds a part's sequences. A key already written (the sequence is in two parts), or one
     /// before the greatest key written (the parts are out of key order), is an error naming it.
     pub fn add(&mut self, part: &Submission) -> Result<(), EvalError> {
+        self.check(part.sequences.keys())?;
+        self.out
+            .write_all(&sequences_bytes(part))
+            .map_err(|e| EvalError::Io(self.what.clone(), e))?;
+        self.written.extend(part.sequences.keys().cloned());
+        Ok(())
+    }
+
+    /// Adds a part [`encode_part`] encoded: its keys checked as [`PickleJoin::add`] checks them,
+    /// then its bytes copied from `bytes` (the file they waited in).
+    pub fn add_encoded(&mut self, keys: &PartKeys, bytes: &mut impl Read) -> Result<(), EvalError> {
+        self.check(keys.0.iter())?;
+        std::io::copy(bytes, &mut self.out).map_err(|e| EvalError::Io(self.what.clone(), e))?;
+        self.written.extend(keys.0.iter().cloned());
+        Ok(())
+    }
+
+    /// Refuses keys already written, and keys (sorted) before the greatest written.
+    fn check<'k>(
+        &self,
+        mut keys: impl Iterator<Item = &'k SeqKey> + Clone,
+    ) -> Result<(), EvalError> {
         let refused = |key: &SeqKey, why: &str| {
             EvalError::Format(format!(
                 "{}: the sequence ({}, {:?}) {why}",
                 self.what, key.0, key.1
             ))
         };
-        if let Some(twice) = part.sequences.keys().find(|k| self.written.contains(*k)) {
+        if let Some(twice) = keys.clone().find(|k| self.written.contains(*k)) {
             return Err(refused(twice, "is in two parts"));
         }
-        if let (Some(first), Some(last)) = (part.sequences.keys().next(), self.written.last()) {
+        if let (Some(first), Some(last)) = (keys.next(), self.written.last()) {
             if first < last {
                 return Err(refused(
                     first,
@@ -59,10 +97,6 @@ impl<W: Write> PickleJoin<W> {
                 ));
             }
         }
-        self.out
-            .write_all(&sequences_bytes(part))
-            .map_err(|e| EvalError::Io(self.what.clone(), e))?;
-        self.written.extend(part.sequences.keys().cloned());
         Ok(())
     }
 
@@ -122,6 +156,17 @@ mod tests {
         join.add(&b).expect("b");
         let joined = join.finish().expect("tail");
         assert_eq!(joined, pickle_bytes(&union));
+        // Encoded ahead, the same bytes; an encoded part's keys are checked as a part's are.
+        let mut join = PickleJoin::new(Vec::new(), "t").expect("head");
+        for p in [&a, &b] {
+            let (keys, bytes) = encode_part(p);
+            join.add_encoded(&keys, &mut bytes.as_slice())
+                .expect("encoded");
+        }
+        let (keys, bytes) = encode_part(&b);
+        let twice = join.add_encoded(&keys, &mut bytes.as_slice());
+        assert!(twice.is_err_and(|e| e.to_string().contains("(b, \"x\") is in two parts")));
+        assert_eq!(join.finish().expect("tail"), joined);
         // Whole pickles, in any order.
         let (pa, pb) = (pickle_bytes(&a), pickle_bytes(&b));
         assert_eq!(join_pickles(&[&pb, &pa]).expect("join"), joined);
