@@ -14,24 +14,10 @@ use std::time::{Duration, Instant};
 
 use criterion::Criterion;
 
-// The pipeline is part of the binary; the bench compiles the modules it times (their unit
-// tests and the parts only the command uses are unused here).
-#[allow(dead_code, unused_imports)]
-#[path = "../src/pipeline"]
-mod pipeline {
-    pub mod lock;
-    pub mod output;
-    pub mod predictions;
-    pub mod run;
-    pub mod scenario;
-    pub mod tracks;
-}
-#[allow(dead_code)]
-#[path = "../src/input.rs"]
-mod input;
-
+// The pipeline is timed directly (below the API, as a run calls it).
 use pipeline::run::{run, LogInput, RunOptions};
 use pipeline::scenario::{evaluate_on, load_scenario, Scenario};
+use scenalog::pipeline;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

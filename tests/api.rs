@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use scenalog::api::check::{check, CheckRequest, ProgramSource};
-use scenalog::api::mine::{Limits, MineRequest};
+use scenalog::api::mine::MineRequest;
 use scenalog::api::split::SplitRequest;
-use scenalog::api::ErrorKind;
+use scenalog::api::{ErrorKind, Limits};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -53,9 +53,24 @@ fn a_mine_request_gives_the_commands_files_matches_and_score() {
     let plan = scenalog::api::mine::plan(&request).expect("plan");
     assert_eq!(plan.scenarios.len(), 3);
     assert_eq!(plan.logs.len(), 3);
-    let outcome = scenalog::api::mine::run(&request, &plan).expect("run");
+    let outcome = scenalog::api::mine::run(&request, plan).expect("run");
     assert_eq!(outcome.published, Ok(()));
-    assert!(outcome.pair_failures.is_empty() && outcome.score_errors.is_empty());
+    assert!(outcome.failures.is_empty() && outcome.score_errors.is_empty());
+    // The outcome names the files it published; they are there.
+    let outputs = &outcome.outputs;
+    assert_eq!(outputs.dir, tmp.path().join("api"));
+    let pickle = outputs.pickle.as_ref().expect("the pickle was asked for");
+    let scored = outputs.scored.as_ref().expect("scored against gt");
+    for file in [
+        &outputs.table,
+        pickle,
+        &outputs.matches,
+        &outputs.summary,
+        scored,
+    ] {
+        assert_eq!(file.path, outputs.dir.join(file.name));
+        assert!(file.path.is_file(), "{}", file.path.display());
+    }
 
     let cli_out = tmp.path().join("cli");
     let mut args: Vec<&std::ffi::OsStr> = vec!["mine".as_ref(), "--rules".as_ref()];
@@ -112,8 +127,9 @@ fn a_split_request_gives_the_commands_submission() {
     };
     let plan = scenalog::api::split::prepare(&request).expect("prepare");
     assert!(!plan.logs.is_empty());
-    let report = scenalog::api::split::run(&request, &plan).expect("run");
-    assert!(!report.pairs.is_empty());
+    let outcome = scenalog::api::split::run(&request, plan).expect("run");
+    assert!(!outcome.report.pairs.is_empty());
+    assert_eq!(outcome.outputs.table.name, "submission.feather");
     let cli_out = tmp.path().join("cli");
     let logs = logs();
     let o = scenalog(&[
@@ -234,4 +250,99 @@ fn check_reads_a_file_or_takes_text_and_a_missing_file_is_not_found() {
     };
     assert_eq!(e.kind, ErrorKind::NotFound);
     assert!(e.flags().contains(&missing.display().to_string()));
+}
+
+/// `api::facts` extracts within one pair's limits, as both front ends do: a relation past the
+/// tuple budget is an error naming the field to raise, which the command spells as its flag
+/// (and prints as it is) and Python as its keyword.
+#[test]
+fn a_relation_past_the_budget_says_what_to_raise_in_each_front_ends_words() {
+    use scenalog::api::facts::{facts, Facts, FactsRequest};
+    use scenalog::api::Field;
+    let log = logs().join("3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let request = |max_tuples| FactsRequest {
+        log: log.clone(),
+        relation: Some("near".to_string()),
+        limits: Limits {
+            max_tuples,
+            timeout_ms: None,
+        },
+    };
+    let Ok(Facts::Relation(near)) = facts(&request(None)) else {
+        panic!("near within the default budget");
+    };
+    assert!(near.len() > 100, "{}", near.len());
+    let Err(e) = facts(&request(Some(10))) else {
+        panic!("near in 10 tuples");
+    };
+    assert_eq!(e.message.fields(), vec![Field::MaxTuples]);
+    assert!(
+        e.flags().ends_with(" or raise --max-tuples"),
+        "{}",
+        e.flags()
+    );
+    assert!(
+        e.keywords().ends_with(" or raise max_tuples="),
+        "{}",
+        e.keywords()
+    );
+    assert!(!e.keywords().contains("--"), "{}", e.keywords());
+    let o = scenalog(&[
+        "facts".as_ref(),
+        log.as_os_str(),
+        "--relation".as_ref(),
+        "near".as_ref(),
+        "--max-tuples".as_ref(),
+        "10".as_ref(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim_end(),
+        format!("scenalog facts: {}", e.flags())
+    );
+}
+
+/// A pair past its tuple budget fails alone, and the run's failures name the field to raise:
+/// the command's `--format json` failures are the outcome's, rendered with its flags.
+#[test]
+fn a_pair_past_the_budget_is_a_failure_naming_the_field() {
+    use scenalog::api::Field;
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let request = MineRequest {
+        rules: programs()[..1].to_vec(),
+        logs: vec![logs()],
+        out: Some(tmp.path().join("api")),
+        limits: Limits {
+            max_tuples: Some(1),
+            timeout_ms: None,
+        },
+        ..MineRequest::default()
+    };
+    let outcome = scenalog::api::mine::mine(&request).expect("run");
+    assert!(outcome.any_failed());
+    assert!(outcome
+        .failures
+        .iter()
+        .any(|f| f.fields() == vec![Field::MaxTuples]));
+    let o = scenalog(&[
+        "mine".as_ref(),
+        "--rules".as_ref(),
+        programs()[0].as_os_str(),
+        "--logs".as_ref(),
+        logs().as_os_str(),
+        "--max-tuples".as_ref(),
+        "1".as_ref(),
+        "--out".as_ref(),
+        tmp.path().join("cli").as_os_str(),
+        "--format".as_ref(),
+        "json".as_ref(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let cli: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let flags: Vec<String> = outcome.failures.iter().map(|f| f.flags()).collect();
+    assert_eq!(cli["failures"], serde_json::json!(flags));
+    // The pairs' records name the flags in the command's file, the keywords for Python.
+    let pairs = outcome.pairs_json(scenalog::api::Names::Keywords);
+    let errors: Vec<&str> = pairs.iter().filter_map(|p| p["error"].as_str()).collect();
+    assert!(!errors.is_empty() && errors.iter().all(|e| !e.contains("--max-tuples")));
 }

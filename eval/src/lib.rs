@@ -25,6 +25,7 @@ pub use classes::{ClassHota, Further};
 pub use error::EvalError;
 pub use mining::{evaluate, EvalOptions, PromptHota, Report};
 pub use model::{FrameData, SeqKey, Submission};
+pub use pickle::join::{encode_part, join_pickles, PartKeys, PickleJoin};
 pub use pickle::write::{
     encode_value, pickle_bytes, sequences_bytes, write_pickle, PyValue, SUBMISSION_HEAD,
     SUBMISSION_TAIL,

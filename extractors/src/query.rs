@@ -43,8 +43,10 @@ pub enum ExtractError {
     /// The relation exists in the catalog but no extractor provides it yet.
     #[error("relation `{0}` is in the catalog but not provided by the extractors yet")]
     NotProvided(String),
-    /// Computing the relation would pass the tuple budget ([`crate::Budget::max_tuples`]).
-    #[error("relation `{relation}` would hold more than {limit} tuples (the tuple budget); constrain its use (a category, a track, a time range, a distance bound) or raise --max-tuples")]
+    /// Computing the relation would pass the tuple budget ([`crate::Budget::max_tuples`]). The
+    /// message says how to narrow the relation's use; a caller that knows where the budget is set
+    /// adds "or raise" and that setting (the command adds `--max-tuples`).
+    #[error("relation `{relation}` would hold more than {limit} tuples (the tuple budget); constrain its use (a category, a track, a time range, a distance bound)")]
     TooManyTuples {
         /// The relation.
         relation: String,

@@ -4,7 +4,8 @@ The functions mirror the ``scenalog`` command and run the same Rust code (the GI
 other threads run meanwhile, and Ctrl-C interrupts a call):
 
 - ``check(text_or_path)`` -> list of diagnostic dicts (``scenalog check --json``)
-- ``facts(log_dir)`` -> summary dict; ``facts(log_dir, relation)`` -> ``pyarrow.Table``
+- ``facts(log_dir)`` -> summary dict; ``facts(log_dir, relation)`` -> ``pyarrow.Table`` (within
+  ``max_tuples`` / ``timeout_ms``, as ``scenalog facts --relation``)
 - ``mine(rules, logs, ...)`` -> ``MineResult`` (matches, predictions as a ``pyarrow.Table``, ...)
 - ``explain(rules, log, track, at)`` -> the proof / why-not report as a dict
 - ``evaluate(predictions, ground_truth, dataset_dir=None)`` -> the official metrics as a dict
@@ -117,16 +118,24 @@ def check(
     return json.loads(_native.check(text, None, require_referred))
 
 
-def facts(log_dir: PathLike, relation: Optional[str] = None) -> Union[dict, pa.Table]:
+def facts(
+    log_dir: PathLike,
+    relation: Optional[str] = None,
+    *,
+    max_tuples: Optional[int] = None,
+    timeout_ms: Optional[int] = None,
+) -> Union[dict, pa.Table]:
     """A log's facts.
 
     Without ``relation``: the log's summary as ``scenalog facts LOG --json`` prints it (a dict).
     With it: that catalog relation extracted from the log, as a ``pyarrow.Table`` whose columns
-    are the catalog's (tracks as uuid strings, times as frame indices, lanes as map ids).
+    are the catalog's (tracks as uuid strings, times as frame indices, lanes as map ids), within
+    ``max_tuples`` and ``timeout_ms`` (``scenalog facts --relation``'s limits, by default those
+    of one ``mine`` pair): a relation past either raises ``ScenalogError`` naming it.
     """
     if relation is None:
         return json.loads(_native.facts_summary(os.fspath(log_dir)))
-    data = _native.facts_relation(os.fspath(log_dir), relation)
+    data = _native.facts_relation(os.fspath(log_dir), relation, max_tuples=max_tuples, timeout_ms=timeout_ms)
     return pa.ipc.open_stream(data).read_all()
 
 
@@ -306,13 +315,25 @@ def explain(
     track: str,
     at: Optional[float] = None,
     why_not: bool = False,
+    *,
+    max_tuples: Optional[int] = None,
+    timeout_ms: Optional[int] = None,
 ) -> dict:
     """Why ``track`` (a uuid or an unambiguous prefix) is, or is not, referred by the program
     ``rules`` on ``log`` at ``at`` seconds from the log's start (default: its first referred
     frame): the dict ``scenalog explain --json`` prints (the proof, and the why-not report when
-    it is not referred or ``why_not=True``)."""
+    it is not referred or ``why_not=True``). The program is evaluated within ``max_tuples`` and
+    ``timeout_ms`` (``scenalog explain``'s limits, by default those of one ``mine`` pair)."""
     return json.loads(
-        _native.explain(os.fspath(rules), os.fspath(log), track, None if at is None else float(at), why_not)
+        _native.explain(
+            os.fspath(rules),
+            os.fspath(log),
+            track,
+            None if at is None else float(at),
+            why_not,
+            max_tuples=max_tuples,
+            timeout_ms=timeout_ms,
+        )
     )
 
 

@@ -1,16 +1,16 @@
 //! `scenalog._native`: the Python extension module behind the `scenalog` package.
 //!
 //! Owns only the crossing into Python: every function here builds a request of the library API
-//! (`scenalog::api`, which the `scenalog` command calls too) from its keyword arguments, with
-//! no argument parsing, and hands back JSON text, Arrow IPC bytes or pickle bytes that the
-//! Python side (`python/scenalog/`) turns into dicts and `pyarrow` tables. Errors are the
-//! command's messages with keyword arguments named instead of flags (`max_tuples`, not
-//! `--max-tuples`): `ValueError` for a value out of range, `ScenalogFileNotFoundError` for a
-//! missing file, `ScenalogError` otherwise. The work runs on its own thread with the GIL
-//! released ([`interruptible`]), so other Python threads run meanwhile and Ctrl-C interrupts
-//! the call.
+//! (`scenalog::api`, which the `scenalog` command calls too, and nothing else of the workspace:
+//! `tests/tidy.rs` reads this file) from its keyword arguments, with no argument parsing, and
+//! hands back JSON text, Arrow IPC bytes or pickle bytes that the Python side
+//! (`python/scenalog/`) turns into dicts and `pyarrow` tables. Errors are the API's messages
+//! rendered with keyword arguments where the command names its flags (`max_tuples`, not
+//! `--max-tuples`, [`Names::Keywords`]): `ValueError` for a value out of range,
+//! `ScenalogFileNotFoundError` for a missing file, `ScenalogError` otherwise. The work runs on
+//! its own thread with the GIL released ([`interruptible`]), so other Python threads run
+//! meanwhile and Ctrl-C interrupts the call.
 
-mod arrow_out;
 mod interrupt;
 
 use std::path::PathBuf;
@@ -26,12 +26,10 @@ use interrupt::{interruptible, interruptible_with};
 use scenalog::api::check::{CheckRequest, ProgramSource};
 use scenalog::api::eval::{EvalRequest, Frames, SubmissionSource};
 use scenalog::api::explain::ExplainRequest;
-use scenalog::api::mine::{Limits, MineRequest};
+use scenalog::api::facts::{Facts, FactsRequest};
+use scenalog::api::mine::MineRequest;
 use scenalog::api::split::SplitRequest;
-use scenalog::api::{Error, ErrorKind, Names};
-use scenalog::pipeline::report::REPORT_DIR;
-use scenalog::pipeline::run::{pairs_json, PairStatus, RunReport};
-use scenalog::pipeline::scenario::Scenario;
+use scenalog::api::{Error, ErrorKind, Limits, Message, Names};
 
 pyo3::create_exception!(
     scenalog,
@@ -53,11 +51,6 @@ fn _register_not_found(py: Python<'_>, cls: Bound<'_, PyType>) -> PyResult<()> {
 
 /// `ENOENT`, "no such file or directory" (2 on every platform Python runs on).
 const ENOENT: i32 = 2;
-
-/// An error message as a `ScenalogError`, flags named as keyword arguments.
-fn err(message: impl std::fmt::Display) -> PyErr {
-    ScenalogError::new_err(Names::Keywords.reword(&message.to_string()))
-}
 
 /// An API error as Python's: `ValueError` for a value out of range, the registered
 /// `ScenalogFileNotFoundError` (its `filename` set when given) for a missing file,
@@ -82,6 +75,19 @@ fn api_err(e: Error, filename: Option<&str>) -> PyErr {
         }),
         ErrorKind::Failed => ScenalogError::new_err(message),
     }
+}
+
+/// Messages with their fields named as keyword arguments.
+fn keywords(messages: &[Message]) -> Vec<String> {
+    messages.iter().map(Message::keywords).collect()
+}
+
+/// The limits `max_tuples` and `timeout_ms` give (each refused, naming it, when negative).
+fn limits(max_tuples: Option<i64>, timeout_ms: Option<i64>) -> PyResult<Limits> {
+    Ok(Limits {
+        max_tuples: count("max_tuples", max_tuples)?,
+        timeout_ms: count("timeout_ms", timeout_ms)?,
+    })
 }
 
 /// A count a keyword argument gives, refused (naming it) when negative.
@@ -122,36 +128,38 @@ fn check(
 /// A log's summary as `scenalog facts LOG --json` prints it (with `load_ms`).
 #[pyfunction]
 fn facts_summary(py: Python<'_>, log_dir: PathBuf) -> PyResult<String> {
-    let work = move || -> Result<String, String> {
-        let start = std::time::Instant::now();
-        let scene = scenalog_facts::load_scene(&log_dir).map_err(|e| e.to_string())?;
-        let mut json = scenalog_facts::SceneSummary::of(&scene).to_json();
-        json["load_ms"] = serde_json::json!(start.elapsed().as_secs_f64() * 1e3);
-        Ok(json.to_string())
+    let request = FactsRequest {
+        log: log_dir,
+        ..FactsRequest::default()
     };
-    interruptible(py, work)?.map_err(err)
+    let work = move || match scenalog::api::facts::facts(&request)? {
+        Facts::Summary(summary) => Ok(summary.json().to_string()),
+        Facts::Relation(_) => Err(Error::plain("internal: a relation for a summary")),
+    };
+    interruptible(py, work)?.map_err(|e| api_err(e, None))
 }
 
-/// One catalog relation extracted from a log, as Arrow IPC stream bytes (see [`arrow_out`]).
+/// One catalog relation extracted from a log within `max_tuples` and `timeout_ms` (one pair's
+/// limits of `mine` by default), as Arrow IPC stream bytes (the catalog's columns).
 #[pyfunction]
+#[pyo3(signature = (log_dir, relation, max_tuples=None, timeout_ms=None))]
 fn facts_relation<'py>(
     py: Python<'py>,
     log_dir: PathBuf,
     relation: String,
+    max_tuples: Option<i64>,
+    timeout_ms: Option<i64>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let work = move || -> Result<Vec<u8>, String> {
-        let Some(spec) = scenalog_facts::catalog::relation(&relation) else {
-            return Err(format!(
-                "`{relation}` is not a relation of the catalog (see `scenalog catalog`)"
-            ));
-        };
-        let scene = scenalog_facts::load_scene(&log_dir).map_err(|e| e.to_string())?;
-        let request = scenalog_facts::relation::Request::all(&relation);
-        let data = scenalog_extractors::extract(&scene, &request)
-            .map_err(|e| format!("extracting {relation}: {e}"))?;
-        arrow_out::relation_ipc(&scene, spec, &data)
+    let request = FactsRequest {
+        log: log_dir,
+        relation: Some(relation),
+        limits: limits(max_tuples, timeout_ms)?,
     };
-    let bytes = interruptible(py, work)?.map_err(err)?;
+    let work = move || match scenalog::api::facts::facts(&request)? {
+        Facts::Relation(relation) => relation.arrow_ipc(),
+        Facts::Summary(_) => Err(Error::plain("internal: a summary for a relation")),
+    };
+    let bytes = interruptible(py, work)?.map_err(|e| api_err(e, None))?;
     Ok(PyBytes::new(py, &bytes))
 }
 
@@ -187,10 +195,7 @@ fn mine(
         pickle: true,
         gt,
         eval_timestamps,
-        limits: Limits {
-            max_tuples: count("max_tuples", max_tuples)?,
-            timeout_ms: count("timeout_ms", timeout_ms)?,
-        },
+        limits: limits(max_tuples, timeout_ms)?,
         report: count("report_max_pictures", report)?.map(|n| n as usize),
         cancel: Some(cancel.clone()),
         ..MineRequest::default()
@@ -201,45 +206,26 @@ fn mine(
 
 /// A run of programs on logs as [`mine`] reports it.
 fn mine_programs(request: &MineRequest) -> Result<String, Error> {
-    let plan = scenalog::api::mine::plan(request)?;
-    if plan.scenarios.is_empty() {
-        return Err(with_causes("no program to mine", &plan.failures));
-    }
-    if plan.logs.is_empty() {
-        return Err(with_causes("no log to mine", &plan.log_problems));
-    }
     // As the command: the outputs, the scored pickle and the report are one generation.
-    let outcome = scenalog::api::mine::run(request, &plan)?;
+    let outcome = scenalog::api::mine::mine(request)?;
     if let Some(e) = outcome.score_errors.first() {
         return Err(Error::plain(e));
     }
-    let page = match &outcome.report_page {
-        Some(Ok(_)) => {
-            let page = plan.out.join(REPORT_DIR).join("index.html");
-            serde_json::Value::String(page.display().to_string())
-        }
-        Some(Err(e)) => return Err(Error::plain(format!("the report: {e}"))),
-        None => serde_json::Value::Null,
-    };
+    if let Some(Err(e)) = &outcome.report_page {
+        return Err(Error::plain(format!("the report: {e}")));
+    }
     outcome.published.clone()?;
-    let report = &outcome.report;
-    let mut failures = plan.failures.clone();
-    failures.extend(plan.log_problems.iter().cloned());
-    failures.extend(report.log_failures.iter().map(|(_, e)| e.clone()));
-    failures.extend(outcome.pair_failures.iter().cloned());
-    let score = match &outcome.scored {
-        Some(s) => s.report.to_json(),
-        None => serde_json::Value::Null,
-    };
+    let outputs = &outcome.outputs;
+    let pickle = outputs.pickle.as_ref().map(|p| p.name);
     Ok(serde_json::json!({
-        "report": page,
-        "out": plan.out.display().to_string(),
-        "pickle": scenalog::pipeline::output::PREDICTIONS_PICKLE,
-        "table": scenalog::pipeline::output::PREDICTIONS_TABLE,
-        "matches": report.matches(),
-        "pairs": pairs(report, &plan.scenarios),
-        "failures": reworded(&failures),
-        "score": score,
+        "report": outputs.report.as_ref().map(|p| p.display().to_string()),
+        "out": outputs.dir.display().to_string(),
+        "pickle": pickle,
+        "table": outputs.table.name,
+        "matches": outcome.matches(),
+        "pairs": outcome.pairs_json(Names::Keywords),
+        "failures": keywords(&outcome.failures),
+        "score": outcome.scored.as_ref().map(|s| s.report.to_json()),
         "without_program": [],
     })
     .to_string())
@@ -271,10 +257,7 @@ fn mine_split(
         confidence_filter,
         threads: count("threads", threads)?.map(|n| n as usize),
         resume,
-        limits: Limits {
-            max_tuples: count("max_tuples", max_tuples)?,
-            timeout_ms: count("timeout_ms", timeout_ms)?,
-        },
+        limits: limits(max_tuples, timeout_ms)?,
         cancel: Some(cancel.clone()),
         ..SplitRequest::new(log_prompts, dataset_dir)
     };
@@ -284,64 +267,28 @@ fn mine_split(
 
 /// A split's run as [`mine_split`] reports it.
 fn split_pairs(request: &SplitRequest) -> Result<String, Error> {
-    let plan = scenalog::api::split::prepare(request)?;
-    if plan.logs.is_empty() {
-        return Err(with_causes("no log to mine", &plan.log_problems));
-    }
-    let report = scenalog::api::split::run(request, &plan)?;
-    let mut failures = plan.problems.clone();
-    failures.extend(plan.log_problems.iter().cloned());
-    failures.extend(report.pairs.iter().filter_map(|p| match &p.status {
-        PairStatus::Failed(e) => Some(e.clone()),
-        _ => None,
-    }));
+    let outcome = scenalog::api::split::mine_split(request)?;
+    let outputs = &outcome.outputs;
     Ok(serde_json::json!({
-        "out": plan.out.display().to_string(),
-        "pickle": scenalog::pipeline::output::SUBMISSION_PICKLE,
-        "table": scenalog::pipeline::output::SUBMISSION_TABLE,
-        "matches": report.matches(),
-        "pairs": pairs(&report, &plan.scenarios),
-        "failures": reworded(&failures),
+        "out": outputs.dir.display().to_string(),
+        "pickle": outputs.pickle.as_ref().map(|p| p.name),
+        "table": outputs.table.name,
+        "matches": outcome.matches(),
+        "pairs": outcome.pairs_json(Names::Keywords),
+        "failures": keywords(&outcome.failures),
         "score": serde_json::Value::Null,
         "report": serde_json::Value::Null,
-        "without_program": plan.without_program,
+        "without_program": outcome.without_program,
     })
     .to_string())
 }
 
-/// Each pair's record as `summary.json` holds it, a failed pair's error naming keyword
-/// arguments.
-fn pairs(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json::Value> {
-    let mut pairs = pairs_json(report, scenarios);
-    for p in &mut pairs {
-        if let Some(error) = p.get_mut("error") {
-            if let Some(text) = error.as_str() {
-                *error = serde_json::Value::String(Names::Keywords.reword(text));
-            }
-        }
-    }
-    pairs
-}
-
-/// Messages from below the API with their flags named as keyword arguments.
-fn reworded(messages: &[String]) -> Vec<String> {
-    messages.iter().map(|m| Names::Keywords.reword(m)).collect()
-}
-
-/// `message`, followed by the problems that caused it, one a line.
-fn with_causes(message: &str, causes: &[String]) -> Error {
-    let mut out = message.to_string();
-    for c in causes {
-        out.push_str("\n  ");
-        out.push_str(c);
-    }
-    Error::plain(out)
-}
-
-/// Why `track` is (or is not) referred by the program `rules` on `log` at `at` seconds: the
-/// JSON `scenalog explain --json` prints.
+/// Why `track` is (or is not) referred by the program `rules` on `log` at `at` seconds, the
+/// program evaluated within `max_tuples` and `timeout_ms` (one pair's limits of `mine` by
+/// default): the JSON `scenalog explain --json` prints.
 #[pyfunction]
-#[pyo3(signature = (rules, log, track, at=None, why_not=false))]
+#[pyo3(signature = (rules, log, track, at=None, why_not=false, max_tuples=None, timeout_ms=None))]
+#[allow(clippy::too_many_arguments)]
 fn explain(
     py: Python<'_>,
     rules: PathBuf,
@@ -349,6 +296,8 @@ fn explain(
     track: String,
     at: Option<f64>,
     why_not: bool,
+    max_tuples: Option<i64>,
+    timeout_ms: Option<i64>,
 ) -> PyResult<String> {
     let request = ExplainRequest {
         rules,
@@ -356,15 +305,11 @@ fn explain(
         track,
         at,
         why_not,
-        limits: Limits::default(),
+        limits: limits(max_tuples, timeout_ms)?,
     };
     let work = move || -> Result<String, Error> {
-        let x = scenalog::api::explain::explain_request(&request).map_err(|e| e.error)?;
-        let renderer = scenalog::pipeline::explain::Renderer {
-            scene: &x.scene,
-            scenario: &x.scenario,
-        };
-        Ok(scenalog::pipeline::explain::explanation_json(&renderer, &x.explanation).to_string())
+        let explained = scenalog::api::explain::explain(&request).map_err(|e| e.error)?;
+        Ok(explained.json().to_string())
     };
     interruptible(py, work)?.map_err(|e| api_err(e, None))
 }
@@ -407,9 +352,9 @@ fn evaluate(
             ))
         }
         (Some(hz), None) => Frames::Rate(hz),
-        (None, Some(text)) => {
-            Frames::Timestamps(scenalog_eval::parse_timestamps(&text, "timestamps").map_err(err)?)
-        }
+        (None, Some(text)) => Frames::Timestamps(
+            scenalog::api::eval::timestamps_from_json(&text).map_err(|e| api_err(e, None))?,
+        ),
         (None, None) => Frames::All,
     };
     let request = EvalRequest {
@@ -426,28 +371,15 @@ fn evaluate(
 }
 
 /// One submission pickle from the pickles of disjoint runs (e.g. one a log): byte for byte
-/// the pickle a single run over all of them writes. A (log, prompt) key in two parts is an
-/// error naming it.
+/// the pickle a single run over all of them writes (the `eval` crate's joiner, which `mine`'s
+/// runs use too). A (log, prompt) key in two parts is an error naming it.
 #[pyfunction]
 fn join_pickles<'py>(py: Python<'py>, parts: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyBytes>> {
-    let work = move || -> Result<Vec<u8>, String> {
-        let mut all = scenalog_eval::Submission::default();
-        for (i, part) in parts.iter().enumerate() {
-            let sub = scenalog_eval::read_pickle_bytes(part, &format!("part {i}"))
-                .map_err(|e| e.to_string())?;
-            for (key, frames) in sub.sequences {
-                if all.sequences.contains_key(&key) {
-                    return Err(format!(
-                        "the sequence ({}, {:?}) is in two parts",
-                        key.0, key.1
-                    ));
-                }
-                all.sequences.insert(key, frames);
-            }
-        }
-        Ok(scenalog_eval::pickle_bytes(&all))
+    let work = move || {
+        let parts: Vec<&[u8]> = parts.iter().map(Vec::as_slice).collect();
+        scenalog::api::join_pickles(&parts).map_err(Error::plain)
     };
-    let bytes = interruptible(py, work)?.map_err(err)?;
+    let bytes = interruptible(py, work)?.map_err(|e| api_err(e, None))?;
     Ok(PyBytes::new(py, &bytes))
 }
 
@@ -458,7 +390,7 @@ type FoundLogs = (Vec<(String, String)>, Vec<String>);
 /// directories' `.dl` files sorted by name).
 #[pyfunction]
 fn rule_files(rules: Vec<PathBuf>) -> PyResult<Vec<String>> {
-    scenalog::api::mine::rule_files(&rules)
+    scenalog::api::inputs::rule_files(&rules)
         .map(|v| v.iter().map(|p| p.display().to_string()).collect())
         .map_err(|e| api_err(e, None))
 }
@@ -467,7 +399,7 @@ fn rule_files(rules: Vec<PathBuf>) -> PyResult<Vec<String>> {
 /// of logs): `(directory, log id)` pairs, and the duplicates left out.
 #[pyfunction]
 fn log_dirs(logs: Vec<PathBuf>) -> PyResult<FoundLogs> {
-    let (found, problems) = scenalog::api::mine::log_dirs(&logs).map_err(|e| api_err(e, None))?;
+    let (found, problems) = scenalog::api::inputs::log_dirs(&logs).map_err(|e| api_err(e, None))?;
     Ok((
         found
             .into_iter()

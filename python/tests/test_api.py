@@ -106,6 +106,21 @@ def test_facts_errors(tmp_path, cli):
     assert str(e.value) == cli_message(err, "facts")
 
 
+def test_facts_relation_within_the_commands_limits(cli):
+    """``facts`` extracts within ``scenalog facts --relation``'s limits: past the tuple budget it
+    raises the command's message, naming the keyword to raise where the command names its flag."""
+    log = LOGS / LOG_IDS[0]
+    code, _, err = cli("facts", log, "--relation", "near", "--max-tuples", 10)
+    assert code == 2
+    with pytest.raises(scenalog.ScenalogError) as e:
+        scenalog.facts(log, "near", max_tuples=10)
+    assert cli_message(err, "facts").endswith(" or raise --max-tuples")
+    assert str(e.value) == cli_message(err, "facts").replace("--max-tuples", "max_tuples=")
+    with pytest.raises(ValueError, match="max_tuples"):
+        scenalog.facts(log, "near", max_tuples=0)
+    assert scenalog.facts(log, "near", timeout_ms=60_000).num_rows > 10
+
+
 def test_facts_corrupt_file(tmp_path, cli):
     log = tmp_path / LOG_IDS[0]
     shutil.copytree(LOGS / LOG_IDS[0], log)
@@ -262,6 +277,22 @@ def test_explain_errors(cli):
     assert str(e.value) == cli_message(err, "explain")
     with pytest.raises(ValueError):
         scenalog.explain(PROGRAMS[0], log, "x", at=float("nan"))
+    with pytest.raises(ValueError, match="timeout_ms"):
+        scenalog.explain(PROGRAMS[0], log, "x", timeout_ms=0)
+
+
+def test_explain_within_the_commands_limits(cli):
+    """``explain`` evaluates within ``scenalog explain``'s limits: past the tuple budget it
+    raises the command's message with the keyword to raise."""
+    result = scenalog.mine(PROGRAMS[:1], LOGS)
+    m = result.matches[0]
+    log = LOGS / m["log_id"]
+    code, _, err = cli("explain", "--rules", PROGRAMS[0], "--log", log, "--track", m["track_uuid"], "--max-tuples", 1)
+    assert code == 1
+    with pytest.raises(scenalog.ScenalogError) as e:
+        scenalog.explain(PROGRAMS[0], log, m["track_uuid"], max_tuples=1)
+    assert "--max-tuples" in cli_message(err, "explain")
+    assert str(e.value) == cli_message(err, "explain").replace("--max-tuples", "max_tuples=")
 
 
 def test_ctrl_c_interrupts_a_long_call_and_threads_run_meanwhile(tmp_path):

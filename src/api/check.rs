@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use scenalog_rules::{diagnostics_json, CheckOptions, CheckOutcome};
+use scenalog_rules::{diagnostics_json, render_human, CheckOptions, CheckOutcome};
 
 use crate::api::error::{Error, ErrorKind};
 
@@ -37,6 +37,28 @@ impl Checked {
     /// The diagnostics as the JSON array `scenalog check --json` prints for one file.
     pub fn diagnostics_json(&self) -> serde_json::Value {
         diagnostics_json(&self.outcome.diagnostics, &self.text)
+    }
+
+    /// The diagnostics for a person, each with the source lines it points at, the file called
+    /// `display` (`color` for a terminal).
+    pub fn diagnostics_text(&self, display: &str, color: bool) -> String {
+        render_human(&self.outcome.diagnostics, &self.text, display, color)
+    }
+
+    /// Whether the program checks (no error; warnings allowed).
+    pub fn is_clean(&self) -> bool {
+        self.outcome.program.is_some()
+    }
+
+    /// The errors and the warnings, counted.
+    pub fn counts(&self) -> (usize, usize) {
+        let errors = self
+            .outcome
+            .diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .count();
+        (errors, self.outcome.diagnostics.len() - errors)
     }
 }
 

@@ -1,14 +1,18 @@
 //! Scoring predictions against ground truth (`scenalog eval`, `scenalog.evaluate`) with the
 //! official scenario-mining metrics: each side a file or bytes, optionally resampled and
-//! filtered by range and drivable area.
+//! filtered by range and drivable area. The result renders itself as `scenalog eval` prints
+//! it ([`Evaluated::text`], [`Report::to_json`]) and writes the official metric files
+//! ([`Evaluated::write_metrics`]).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use scenalog_eval::{EvalOptions, Report, RoiMaps, Sampling, Submission};
+use scenalog_eval::{EvalOptions, RoiMaps, Sampling, Submission};
 
-use crate::api::error::{Arg, Error, ErrorKind};
+use crate::api::error::{Error, ErrorKind, Field, Message};
+
+pub use scenalog_eval::{ClassHota, Report};
 
 /// One side of an evaluation.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -103,13 +107,15 @@ pub fn evaluate_counted(request: &EvalRequest) -> Result<Evaluated, Error> {
     let m = request.max_range_m;
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::about(
-            Arg::MaxRangeM,
+            Field::MaxRangeM,
             format!("expected a finite number greater than 0, got {m}"),
         )
         .of_kind(ErrorKind::Invalid));
     }
     if request.frames == Frames::Rate(0) {
-        return Err(Error::about(Arg::Rate, "expected at least 1 (Hz)").of_kind(ErrorKind::Invalid));
+        return Err(
+            Error::about(Field::Rate, "expected at least 1 (Hz)").of_kind(ErrorKind::Invalid)
+        );
     }
     let mut pred = request.pred.read("predictions")?;
     let mut gt = request.gt.read("ground truth")?;
@@ -122,7 +128,7 @@ pub fn evaluate_counted(request: &EvalRequest) -> Result<Evaluated, Error> {
         Frames::All => None,
         Frames::Rate(hz) => Some(Sampling::Rate(*hz)),
         Frames::TimestampsFile(path) => Some(Sampling::Timestamps(
-            scenalog_eval::read_timestamps(path).map_err(|e| Error::about(Arg::Timestamps, e))?,
+            scenalog_eval::read_timestamps(path).map_err(|e| Error::about(Field::Timestamps, e))?,
         )),
         Frames::Timestamps(t) => Some(Sampling::Timestamps(t.clone())),
     };
@@ -134,7 +140,7 @@ pub fn evaluate_counted(request: &EvalRequest) -> Result<Evaluated, Error> {
         Some(dir) => {
             let ids = gt.sequences.keys().chain(pred.sequences.keys());
             let maps = RoiMaps::load(dir, ids.map(|k| k.0.as_str()))
-                .map_err(|e| Error::about(Arg::DatasetDir, e))?;
+                .map_err(|e| Error::about(Field::DatasetDir, e))?;
             Some(Arc::new(maps))
         }
     };
@@ -142,10 +148,124 @@ pub fn evaluate_counted(request: &EvalRequest) -> Result<Evaluated, Error> {
         max_range_m: request.max_range_m,
         roi,
     };
-    let report = scenalog_eval::evaluate(&pred, &gt, &opts).map_err(Error::plain)?;
+    let missing = gt.sequences.keys().any(|k| !pred.sequences.contains_key(k));
+    let report = scenalog_eval::evaluate(&pred, &gt, &opts).map_err(|e| {
+        let error = Error::plain(e);
+        if missing && !request.only_predicted {
+            error.with_hint(
+                Message::text(
+                    "(to score only the sequences the predictions hold, as `scenalog mine --gt` \
+                     does, add ",
+                )
+                .mention(Field::OnlyPredicted)
+                .then(")"),
+            )
+        } else {
+            error
+        }
+    })?;
     Ok(Evaluated {
         report,
         left_out,
         gt_sequences,
     })
+}
+
+/// Timestamps per log id from JSON text `{log_id: [timestamp_ns, …]}` (as RefAV's
+/// `eval_timestamps.json`), for [`Frames::Timestamps`].
+pub fn timestamps_from_json(text: &str) -> Result<BTreeMap<String, BTreeSet<i64>>, Error> {
+    scenalog_eval::parse_timestamps(text, "timestamps").map_err(Error::plain)
+}
+
+impl Evaluated {
+    /// The text `scenalog eval` prints: the headline metrics, the paper's further columns (`-`
+    /// and why where the ground truth has no such object), and with `per_prompt` a table of
+    /// every prompt's values.
+    pub fn text(&self, per_prompt: bool) -> String {
+        let report = &self.report;
+        let f = &report.further;
+        let mut out = format!(
+            "HOTA-Temporal: {}\nHOTA-Track: {}\nTimestamp-level Balanced Accuracy: {}\n\
+             Log-level Balanced Accuracy: {}\n",
+            report.hota_temporal, report.hota_track, report.timestamp_ba, report.log_ba
+        );
+        out.push_str(&format!(
+            "HOTA-Temporal (related objects): {}\n",
+            shown(f.related.value(), "no related object in the ground truth")
+        ));
+        out.push_str(&format!(
+            "HOTA-Temporal (other objects): {}\n",
+            shown(f.other.value(), "no other object in the ground truth")
+        ));
+        out.push_str(&format!(
+            "HOTA (tracker, every object): {}\n",
+            shown(f.tracker.value(), "no object in the ground truth")
+        ));
+        if !per_prompt {
+            return out;
+        }
+        out.push_str(
+            "\nprompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA\tHOTA-Temporal related\t\
+             HOTA-Temporal other\tHOTA\n",
+        );
+        let by = |c: &ClassHota, prompt: &str| {
+            let v = c
+                .by_prompt
+                .get(prompt)
+                .and_then(|h| h.as_ref().map(|h| h.value));
+            v.map_or_else(|| "-".to_string(), |v| v.to_string())
+        };
+        for (prompt, ts) in &report.timestamp_ba_by_prompt {
+            let ht = report
+                .hota_temporal_by_prompt
+                .get(prompt)
+                .map_or(0.0, |h| h.value);
+            let hk = report
+                .hota_track_by_prompt
+                .get(prompt)
+                .map_or(0.0, |h| h.value);
+            let lb = report
+                .log_ba_by_prompt
+                .get(prompt)
+                .copied()
+                .unwrap_or(f64::NAN);
+            let (rel, oth, trk) = (
+                by(&f.related, prompt),
+                by(&f.other, prompt),
+                by(&f.tracker, prompt),
+            );
+            out.push_str(&format!(
+                "{prompt}\t{ht}\t{hk}\t{ts}\t{lb}\t{rel}\t{oth}\t{trk}\n"
+            ));
+        }
+        out
+    }
+
+    /// Writes `temporal_metrics.json` and `spatiotemporal_metrics.json` (as the official code)
+    /// and `paper_metrics.json` (HOTA-Temporal of related and other objects, the tracker's HOTA)
+    /// into `dir` (created), each atomically.
+    pub fn write_metrics(&self, dir: &std::path::Path) -> Result<(), Error> {
+        let (temporal, spatio) = self.report.official_json();
+        let mut files = vec![("temporal_metrics.json", temporal)];
+        if let Some(s) = spatio {
+            files.push(("spatiotemporal_metrics.json", s));
+        }
+        files.push(("paper_metrics.json", self.report.paper_json()));
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::plain(format!("{}: {e}", dir.display())))?;
+        for (name, v) in &files {
+            crate::pipeline::output::write_atomic(
+                &dir.join(name),
+                format!("{v:#}\n").as_bytes(),
+                true,
+            )
+            .map_err(Error::plain)?;
+        }
+        Ok(())
+    }
+}
+
+/// A value, or `-` and why there is none.
+fn shown(v: Option<f64>, why_none: &str) -> String {
+    v.map_or_else(|| format!("- ({why_none})"), |v| v.to_string())
 }

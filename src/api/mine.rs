@@ -1,71 +1,34 @@
 //! Mining programs on logs (`scenalog mine --rules … --logs …`, `scenalog.mine(rules, logs)`):
 //! a [`MineRequest`] is planned ([`plan`]: the defaults, the ground truth, the timestamps, the
 //! programs checked, synthesis) and run ([`run`]: every (log, program) pair, the score, the
-//! report, published as one generation). The pieces the split's run shares ([`rule_files`],
-//! [`synthesize`], [`engine_options`], the bundled paths) are here too.
+//! report, published as one generation); [`mine`] does both. The outcome carries what the run
+//! published ([`Outputs`]: every file's path) and every failure in one list
+//! ([`MineOutcome::failures`]), so a caller neither knows the output layout nor gathers the
+//! failures itself.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use scenalog_synth::SynthConfig;
-
-use crate::api::error::{Arg, Error, ErrorKind};
-use crate::pipeline::limits::pair_limits;
+use crate::api::error::{Error, Field, Message, Names};
+use crate::api::inputs::{
+    bundled, check_threads, create_out, default_out, log_dirs, read_timestamps, rule_files,
+    scenarios_of, LIBRARY, MANIFEST_DIR, SAMPLE_GT, SAMPLE_LOGS,
+};
+use crate::api::limits::Limits;
+use crate::api::outputs::Outputs;
+use crate::api::synth::{check_jobs, synthesize, Synthesis};
 use crate::pipeline::output::{OutputNames, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
-use crate::pipeline::run::{run_unpublished, LogInput, PairStatus, RunOptions, RunReport};
-use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
-use crate::pipeline::summary::{score, Scored};
+use crate::pipeline::run::{pairs_json, run_unpublished, PairStatus, RunOptions};
+use crate::pipeline::scenario::{load_scenario, scenario_from_source};
+use crate::pipeline::summary::{render_score, render_table, score};
 
-/// Where the workspace was built: the bundled library and sample logs are found from here.
-const MANIFEST_DIR: &str = env!("CARGO_MANIFEST_DIR");
-/// The scenario library, relative to the workspace.
-pub const LIBRARY: &str = "rules/library";
-/// The bundled sample logs, relative to the workspace.
-const SAMPLE_LOGS: &str = "tests/data/av2/logs";
-/// The bundled ground truth of the sample logs, relative to the workspace.
-pub const SAMPLE_GT: &str = "tests/data/av2/eval/combined_gt_dev.pkl";
-
-/// One pair's limits: its tuple budget and its time limit (`None`: the defaults of
-/// [`crate::pipeline::limits`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Limits {
-    /// Most tuples one (log, program) pair may hold, across all its relations (at least 1).
-    pub max_tuples: Option<u64>,
-    /// Longest one pair may take to extract and evaluate, in milliseconds (at least 1).
-    pub timeout_ms: Option<u64>,
-}
-
-impl Limits {
-    /// The limits checked: each at least 1.
-    pub fn check(&self) -> Result<(), Error> {
-        for (value, arg) in [
-            (self.max_tuples, Arg::MaxTuples),
-            (self.timeout_ms, Arg::TimeoutMs),
-        ] {
-            if value == Some(0) {
-                return Err(invalid(arg, "expected at least 1, got 0"));
-            }
-        }
-        Ok(())
-    }
-}
-
-/// An out-of-range value of a field.
-pub(crate) fn invalid(arg: Arg, message: impl std::fmt::Display) -> Error {
-    Error::about(arg, message).of_kind(ErrorKind::Invalid)
-}
-
-/// How to synthesize programs with the LLM.
-pub struct Synthesis {
-    /// The server, the cache, the rounds, the examples; a `cache_dir` of `None` caches in
-    /// `OUT/.llm-cache`.
-    pub config: SynthConfig,
-    /// Descriptions synthesized at once (1 to 64).
-    pub jobs: usize,
-}
+pub use crate::pipeline::output::Match;
+pub use crate::pipeline::run::{LogInput, PairResult, RunReport};
+pub use crate::pipeline::scenario::Scenario;
+pub use crate::pipeline::summary::Scored;
 
 /// Descriptions to synthesize programs for and mine with the others.
 pub struct Descriptions {
@@ -129,49 +92,6 @@ impl Default for MineRequest {
     }
 }
 
-/// A bundled path: under the workspace the binary was built from, else under the current
-/// directory; `None` when neither exists.
-pub fn bundled(rel: &str) -> Option<PathBuf> {
-    [Path::new(MANIFEST_DIR).join(rel), PathBuf::from(rel)]
-        .into_iter()
-        .find(|p| p.exists())
-}
-
-/// `target/scenalog-mine` in the workspace the binary was built from (ignored by git, even when
-/// the build itself went to another `CARGO_TARGET_DIR`), else `./scenalog-out` when the binary
-/// runs away from its sources.
-pub fn default_out() -> PathBuf {
-    let workspace = Path::new(MANIFEST_DIR);
-    if workspace.join("Cargo.toml").is_file() {
-        workspace.join("target").join("scenalog-mine")
-    } else {
-        PathBuf::from("scenalog-out")
-    }
-}
-
-/// Worker threads checked: 1 to 1024.
-pub(crate) fn check_threads(threads: Option<usize>) -> Result<(), Error> {
-    match threads {
-        Some(n) if !(1..=1024).contains(&n) => Err(invalid(
-            Arg::Threads,
-            format!("expected 1 to 1024, got {n}"),
-        )),
-        _ => Ok(()),
-    }
-}
-
-/// Synthesis jobs checked: 1 to 64.
-pub(crate) fn check_jobs(synthesis: &Synthesis) -> Result<(), Error> {
-    if !(1..=64).contains(&synthesis.jobs) {
-        return Err(Error::plain(format!(
-            "synthesis jobs: expected 1 to 64, got {}",
-            synthesis.jobs
-        ))
-        .of_kind(ErrorKind::Invalid));
-    }
-    Ok(())
-}
-
 /// A run of programs on logs ready to start: what [`plan`] read and decided from the request
 /// before mining.
 pub struct MinePlan {
@@ -200,7 +120,7 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
     check_threads(request.threads)?;
     request.limits.check()?;
     if let Some(d) = &request.descriptions {
-        check_jobs(&d.synthesis)?;
+        check_jobs(d.synthesis.jobs)?;
     }
     let no_arguments =
         request.rules.is_empty() && request.logs.is_empty() && request.descriptions.is_none();
@@ -210,7 +130,7 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
             None => {
                 return Err(Error::mentioning(
                     "no ",
-                    Arg::Rules,
+                    Field::Rules,
                     format!(
                         " given and the scenario library is not in {MANIFEST_DIR}/{LIBRARY} or \
                          ./{LIBRARY}"
@@ -227,7 +147,7 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
             None => {
                 return Err(Error::mentioning(
                     "no ",
-                    Arg::Logs,
+                    Field::Logs,
                     format!(
                         " given and the sample logs are not in {MANIFEST_DIR}/{SAMPLE_LOGS} or \
                          ./{SAMPLE_LOGS}"
@@ -249,7 +169,7 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
     let gt = match &gt_path {
         Some(p) => match scenalog_eval::read_any(p) {
             Ok(g) => Some(g),
-            Err(e) => return Err(Error::about(Arg::Gt, e)),
+            Err(e) => return Err(Error::about(Field::Gt, e)),
         },
         None => None,
     };
@@ -292,16 +212,6 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
     })
 }
 
-/// Creates the output directory.
-pub(crate) fn create_out(out: &Path) -> Result<(), Error> {
-    std::fs::create_dir_all(out).map_err(|e| {
-        Error::plain(format!(
-            "cannot create output directory `{}`: {e}",
-            out.display()
-        ))
-    })
-}
-
 /// The run's options for a plan: resume, threads, the engine's limits, progress, the cancel
 /// flag; the submission is kept in memory when there is ground truth to score.
 pub fn run_options(request: &MineRequest, plan: &MinePlan) -> RunOptions {
@@ -310,7 +220,7 @@ pub fn run_options(request: &MineRequest, plan: &MinePlan) -> RunOptions {
         resume: request.resume,
         timestamps: plan.timestamps.clone(),
         threads: request.threads,
-        engine: engine_options(request.threads, &request.limits),
+        engine: request.limits.for_run(request.threads),
         progress: request.progress,
         names: OutputNames {
             write_pickle: request.pickle,
@@ -321,31 +231,115 @@ pub fn run_options(request: &MineRequest, plan: &MinePlan) -> RunOptions {
     }
 }
 
+impl MinePlan {
+    /// Why the plan cannot run, when it cannot: no program or no log to mine, and the problems
+    /// that left none (empty when there was nothing to begin with: the command's exit 2, else 1).
+    pub fn nothing_to_mine(&self) -> Option<(&'static str, Vec<Message>)> {
+        let causes = |c: &[String]| c.iter().map(Message::text).collect();
+        if self.scenarios.is_empty() {
+            Some(("no program to mine", causes(&self.failures)))
+        } else if self.logs.is_empty() {
+            Some(("no log to mine", causes(&self.log_problems)))
+        } else {
+            None
+        }
+    }
+}
+
+/// `message`, followed by the problems that caused it, one a line.
+pub(crate) fn with_causes(message: &str, causes: &[Message]) -> Error {
+    let mut out = Message::text(message);
+    for c in causes {
+        out = out.then("\n  ").append(c);
+    }
+    Error::from(out)
+}
+
 /// What a run of programs on logs gave, published (or not: see [`MineOutcome::published`]).
 pub struct MineOutcome {
     /// Every pair's result.
     pub report: RunReport,
-    /// The failed pairs' messages, a log that could not be read listed once (in the report's
-    /// `log_failures`) rather than once per pair.
-    pub pair_failures: Vec<String>,
+    /// The programs mined (names unique).
+    pub scenarios: Vec<Scenario>,
+    /// The logs mined.
+    pub logs: Vec<LogInput>,
+    /// Every failure, the rest having run: programs that do not check (or repeat a
+    /// description), failed syntheses, logs left out or unreadable, and failed pairs (a log that
+    /// could not be read listed once, not once per pair).
+    pub failures: Vec<Message>,
     /// The score against the plan's ground truth (`None` without ground truth, when no mined
     /// sequence is in it, or when scoring failed).
     pub scored: Option<Scored>,
+    /// The ground truth scored against, when there was one.
+    pub gt: Option<PathBuf>,
     /// Scoring failed, or `scored.pkl` could not be written: the messages.
     pub score_errors: Vec<String>,
     /// With a report: the page's path, or why it could not be written.
     pub report_page: Option<Result<PathBuf, String>>,
     /// Whether the outputs were published (the generation switched in), or why not.
     pub published: Result<(), String>,
+    /// The files published.
+    pub outputs: Outputs,
+}
+
+impl MineOutcome {
+    /// Whether a program, synthesis, log or pair failed (the command's exit 1).
+    pub fn any_failed(&self) -> bool {
+        !self.failures.is_empty()
+    }
+
+    /// Every match of every finished pair, in pair order (`matches.json`).
+    pub fn matches(&self) -> Vec<&Match> {
+        self.report.matches()
+    }
+
+    /// Each pair's record as `summary.json` holds it, a failed pair's error rendered with
+    /// `names`.
+    pub fn pairs_json(&self, names: Names) -> Vec<serde_json::Value> {
+        pairs_json(&self.report, &self.scenarios, names)
+    }
+
+    /// The table `scenalog mine` prints: matched tracks per program and log, totals, the time
+    /// per stage.
+    pub fn table_text(&self) -> String {
+        render_table(&self.report, &self.scenarios, &self.logs)
+    }
+
+    /// The score as `scenalog mine` prints it (the headline numbers and per prompt), when the
+    /// run was scored.
+    pub fn score_text(&self) -> Option<String> {
+        self.scored.as_ref().map(render_score)
+    }
+
+    /// A `scenalog explain` command for the run's first match (by program, then log).
+    pub fn explain_hint(&self) -> Option<String> {
+        let (report, scenarios, logs) = (&self.report, &self.scenarios, &self.logs);
+        let pair = report
+            .pairs
+            .iter()
+            .filter(|p| !p.matches.is_empty())
+            .min_by_key(|p| (p.scenario, logs.iter().position(|l| l.log_id == p.log_id)))?;
+        let m = pair.matches.first()?;
+        let log = logs.iter().find(|l| l.log_id == pair.log_id)?;
+        Some(format!(
+            "scenalog explain --rules {} --log {} --track {} --at {}",
+            scenarios[pair.scenario].path.display(),
+            log.dir.display(),
+            m.track_uuid,
+            m.first_s
+        ))
+    }
 }
 
 /// Mines a plan: every (log, program) pair, then the score (`scored.pkl`) and the report,
-/// published with the predictions as one generation. An error means nothing was published (a
-/// thread pool, the output folder's lock, a cancelled run).
-pub fn run(request: &MineRequest, plan: &MinePlan) -> Result<MineOutcome, Error> {
-    let options = run_options(request, plan);
+/// published with the predictions as one generation. An error means nothing was published (no
+/// program or log to mine, a thread pool, the output folder's lock, a cancelled run).
+pub fn run(request: &MineRequest, plan: MinePlan) -> Result<MineOutcome, Error> {
+    if let Some((what, causes)) = plan.nothing_to_mine() {
+        return Err(with_causes(what, &causes));
+    }
+    let options = run_options(request, &plan);
     let (report, generation) = run_unpublished(&plan.scenarios, &plan.logs, &options)?;
-    let pair_failures = pair_failures(&report);
     let mut score_errors = Vec::new();
     let scored = match &plan.gt {
         Some((_, g)) => match score(&report.submission, g) {
@@ -357,10 +351,12 @@ pub fn run(request: &MineRequest, plan: &MinePlan) -> Result<MineOutcome, Error>
         },
         None => None,
     };
+    let mut scored_written = false;
     if let Some(s) = &scored {
         let path = generation.path(SCORED_PICKLE);
-        if let Err(e) = scenalog_eval::write_pickle(&s.predictions, &path) {
-            score_errors.push(e.to_string());
+        match scenalog_eval::write_pickle(&s.predictions, &path) {
+            Ok(()) => scored_written = true,
+            Err(e) => score_errors.push(e.to_string()),
         }
     }
     let report_page = request.report.map(|max_pictures| {
@@ -375,19 +371,47 @@ pub fn run(request: &MineRequest, plan: &MinePlan) -> Result<MineOutcome, Error>
         )
     });
     let published = generation.publish();
+    let page = report_page.as_ref().and_then(|r| r.as_ref().ok().cloned());
+    let outputs = Outputs::of(&plan.out, &options.names, scored_written, page);
+    let failures = rolled_up(&plan, &report);
+    let MinePlan {
+        scenarios,
+        logs,
+        gt,
+        ..
+    } = plan;
     Ok(MineOutcome {
         report,
-        pair_failures,
+        scenarios,
+        logs,
+        failures,
         scored,
+        gt: gt.map(|(p, _)| p),
         score_errors,
         report_page,
         published,
+        outputs,
     })
+}
+
+/// Plans and runs a request ([`plan`], then [`run`]).
+pub fn mine(request: &MineRequest) -> Result<MineOutcome, Error> {
+    run(request, plan(request)?)
+}
+
+/// The plan's failures (programs, syntheses, logs left out), then the run's (logs that could not
+/// be read, then failed pairs of the other logs).
+fn rolled_up(plan: &MinePlan, report: &RunReport) -> Vec<Message> {
+    let mut all: Vec<Message> = plan.failures.iter().map(Message::text).collect();
+    all.extend(plan.log_problems.iter().map(Message::text));
+    all.extend(report.log_failures.iter().map(|(_, e)| e.clone()));
+    all.extend(pair_failures(report));
+    all
 }
 
 /// The failures of a run's pairs, a log that could not be read listed once (as the log, in
 /// the report's `log_failures`) rather than once per pair.
-pub fn pair_failures(report: &RunReport) -> Vec<String> {
+pub fn pair_failures(report: &RunReport) -> Vec<Message> {
     let failed_logs: BTreeSet<&str> = report
         .log_failures
         .iter()
@@ -402,248 +426,4 @@ pub fn pair_failures(report: &RunReport) -> Vec<String> {
             _ => None,
         })
         .collect()
-}
-
-/// Reads the output timestamps: `{"<log_id>": [timestamp_ns, …], …}`.
-pub fn read_timestamps(path: &Path) -> Result<BTreeMap<String, Vec<i64>>, Error> {
-    let text = crate::input::read_text(path).map_err(|e| Error::about(Arg::EvalTimestamps, e))?;
-    let timestamps: BTreeMap<String, Vec<i64>> = serde_json::from_str(&text).map_err(|e| {
-        Error::about(
-            Arg::EvalTimestamps,
-            format!(
-                "`{}`: expected a JSON object mapping log ids to lists of integer timestamps \
-                 (ns): {e}",
-                path.display()
-            ),
-        )
-    })?;
-    for log in timestamps.keys() {
-        scenalog_input::check_log_id(log)
-            .map_err(|e| Error::about(Arg::EvalTimestamps, format!("`{}`: {e}", path.display())))?;
-    }
-    Ok(timestamps)
-}
-
-/// The `.dl` files of rule paths: files as given, directories' `.dl` files sorted by name.
-pub fn rule_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut files: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| {
-                    Error::about(
-                        Arg::Rules,
-                        format!("cannot read directory `{}`: {e}", p.display()),
-                    )
-                })?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                // Anything named *.dl but a directory is kept, so a FIFO or a dangling link
-                // is reported when read rather than skipped in silence.
-                .filter(|f| !f.is_dir() && f.extension().is_some_and(|x| x == "dl"))
-                .collect();
-            files.sort();
-            if files.is_empty() {
-                return Err(Error::about(
-                    Arg::Rules,
-                    format!("no .dl file in `{}`", p.display()),
-                ));
-            }
-            out.extend(files);
-        } else {
-            match scenalog_input::regular_file(p) {
-                Ok(_) => out.push(p.clone()),
-                Err(problem) => {
-                    let kind = match problem {
-                        scenalog_input::FileProblem::NotFound => ErrorKind::NotFound,
-                        _ => ErrorKind::Failed,
-                    };
-                    return Err(
-                        Error::about(Arg::Rules, format!("`{}` {problem}", p.display()))
-                            .of_kind(kind),
-                    );
-                }
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// Whether a directory looks like one AV2 log (rather than a directory of logs).
-fn is_log_dir(p: &Path) -> bool {
-    p.join("city_SE3_egovehicle.feather").exists()
-        || p.join("annotations.feather").exists()
-        || p.join("annotations_with_ego.feather").exists()
-        || p.join("map").is_dir()
-}
-
-/// The logs of log paths (a log directory, or a directory whose subdirectories are logs,
-/// sorted by name), and the duplicates left out (same log id twice).
-pub fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), Error> {
-    let mut dirs = Vec::new();
-    for p in paths {
-        if !p.is_dir() {
-            let kind = if p.exists() {
-                ErrorKind::Failed
-            } else {
-                ErrorKind::NotFound
-            };
-            return Err(
-                Error::about(Arg::Logs, format!("`{}` is not a directory", p.display()))
-                    .of_kind(kind),
-            );
-        }
-        if is_log_dir(p) {
-            dirs.push(p.clone());
-            continue;
-        }
-        let mut subs: Vec<PathBuf> = std::fs::read_dir(p)
-            .map_err(|e| {
-                Error::about(
-                    Arg::Logs,
-                    format!("cannot read directory `{}`: {e}", p.display()),
-                )
-            })?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|d| {
-                d.is_dir()
-                    && !d
-                        .file_name()
-                        .is_some_and(|n| n.to_string_lossy().starts_with('.'))
-            })
-            .collect();
-        subs.sort();
-        if subs.is_empty() {
-            return Err(Error::about(
-                Arg::Logs,
-                format!(
-                    "`{}` is neither a log directory nor a directory of logs",
-                    p.display()
-                ),
-            ));
-        }
-        dirs.extend(subs);
-    }
-    let mut seen = BTreeSet::new();
-    let mut logs = Vec::new();
-    let mut problems = Vec::new();
-    for d in dirs {
-        let log = LogInput::new(d);
-        if seen.insert(log.log_id.clone()) {
-            logs.push(log);
-        } else {
-            problems.push(format!(
-                "log `{}`: a log with id {} is already in the run; left out",
-                log.dir.display(),
-                log.log_id
-            ));
-        }
-    }
-    Ok((logs, problems))
-}
-
-/// Checks every program; those that do not check, and those whose description another program
-/// already has (predictions are keyed by it), are failures. Names are made unique (`name-2`…)
-/// so every pair has its own files.
-pub fn scenarios_of(
-    loaded: Vec<(PathBuf, Result<Scenario, String>)>,
-    failures: &mut Vec<String>,
-) -> Vec<Scenario> {
-    let mut out: Vec<Scenario> = Vec::new();
-    let mut names = BTreeSet::new();
-    let mut descriptions: BTreeMap<String, String> = BTreeMap::new();
-    for (path, scenario) in loaded {
-        let mut s = match scenario {
-            Ok(s) => s,
-            Err(e) => {
-                failures.push(e);
-                continue;
-            }
-        };
-        if let Some(other) = descriptions.get(&s.description) {
-            failures.push(format!(
-                "`{}`: its description {:?} is already that of `{other}`; left out",
-                path.display(),
-                s.description
-            ));
-            continue;
-        }
-        descriptions.insert(s.description.clone(), path.display().to_string());
-        let base = s.name.clone();
-        let mut n = 1;
-        while !names.insert(s.name.clone()) {
-            n += 1;
-            s.name = format!("{base}-{n}");
-        }
-        out.push(s);
-    }
-    out
-}
-
-/// Programs synthesized from descriptions.
-pub struct Synthesized {
-    /// The programs that check clean: their file and text.
-    pub programs: Vec<(PathBuf, String)>,
-    /// A message per description that gave none.
-    pub problems: Vec<String>,
-    /// The batch's one-line summary.
-    pub summary: String,
-}
-
-/// Synthesizes the descriptions of `file` into OUT/programs (see `scenalog synth
-/// --descriptions`), caching completions in `OUT/.llm-cache` unless the configuration names a
-/// cache: the programs that check clean, and a failure per description that did not.
-pub fn synthesize(
-    file: &Path,
-    out: &Path,
-    synthesis: &Synthesis,
-    progress: bool,
-) -> Result<Synthesized, Error> {
-    let mut config = synthesis.config.clone();
-    if config.cache_dir.is_none() {
-        config.cache_dir = Some(out.join(".llm-cache"));
-    }
-    let dir = out.join("programs");
-    let report =
-        scenalog_synth::programs_for_descriptions(file, &dir, config, synthesis.jobs, progress)
-            .map_err(|e| Error::about(Arg::Descriptions, e))?;
-    let mut programs = Vec::new();
-    let mut problems = Vec::new();
-    for item in report.items {
-        use scenalog_synth::ItemStatus;
-        match (&item.status, item.program) {
-            (ItemStatus::Clean { .. } | ItemStatus::Resumed, Some(p)) => {
-                programs.push((item.path, p))
-            }
-            (ItemStatus::Failed, _) => problems.push(format!(
-                "synthesis of {:?} gave no clean program; the last attempt is in `{}`",
-                item.description,
-                item.path.display()
-            )),
-            (ItemStatus::Unreachable { error }, _) => problems.push(format!(
-                "synthesis of {:?}: the LLM could not be reached: {error}",
-                item.description
-            )),
-            (ItemStatus::Skipped, _) => problems.push(format!(
-                "synthesis of {:?}: not attempted, the LLM could not be reached",
-                item.description
-            )),
-            (_, None) => problems.push(format!(
-                "synthesis of {:?} gave no program",
-                item.description
-            )),
-        }
-    }
-    Ok(Synthesized {
-        programs,
-        problems,
-        summary: report.summary.to_string(),
-    })
-}
-
-/// The engine's limits for one pair: the tuple budget (default sized to the machine's memory
-/// and the worker threads) and the time limit (default
-/// [`crate::pipeline::limits::DEFAULT_TIMEOUT`]).
-pub fn engine_options(threads: Option<usize>, limits: &Limits) -> scenalog_engine::Options {
-    let threads = threads.unwrap_or_else(rayon::current_num_threads);
-    pair_limits(limits.max_tuples, limits.timeout_ms, threads)
 }

@@ -8,21 +8,25 @@
 //! empty prediction (every object `OTHER_OBJECT` at the output timestamps), so the submission
 //! keeps every listed key. A log missing from the tracker file or the split is an error naming
 //! it; the other logs are still mined. Each log is read, and its facts extracted, once for all
-//! of its prompts. Writes `OUT/submission.pkl` and `OUT/submission.feather` (see
-//! [`crate::pipeline::output`]).
+//! of its prompts. Writes `OUT/submission.pkl` and `OUT/submission.feather`; the outcome
+//! ([`SplitOutcome`]) carries their paths and every failure in one list. [`mine_split`] prepares
+//! and runs a request.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use crate::api::error::{Arg, Error};
-use crate::api::mine::{
-    bundled, check_jobs, check_threads, create_out, default_out, engine_options, rule_files,
-    synthesize, Limits, Synthesis, LIBRARY,
-};
+use crate::api::error::{Error, Field, Message, Names};
+use crate::api::inputs::{bundled, check_threads, create_out, default_out, rule_files, LIBRARY};
+use crate::api::limits::Limits;
+use crate::api::mine::{with_causes, Match};
+use crate::api::outputs::Outputs;
+use crate::api::synth::{check_jobs, synthesize, Synthesis};
 use crate::pipeline::output::{OutputNames, SUBMISSION_PICKLE, SUBMISSION_TABLE};
-use crate::pipeline::run::{run as run_mining, LogInput, RunOptions, RunReport, TrackerInput};
+use crate::pipeline::run::{
+    pairs_json, run as run_mining, LogInput, PairStatus, RunOptions, RunReport, TrackerInput,
+};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source, Scenario};
 
 /// The program given to a prompt that has none: it checks, and refers nothing.
@@ -80,10 +84,10 @@ impl SplitRequest {
 
 /// Reads `{"<log_id>": ["prompt", …]}`.
 fn read_pairs(path: &Path) -> Result<BTreeMap<String, Vec<String>>, Error> {
-    let text = crate::input::read_text(path).map_err(|e| Error::about(Arg::LogPrompts, e))?;
+    let text = crate::input::read_text(path).map_err(|e| Error::about(Field::LogPrompts, e))?;
     let pairs: BTreeMap<String, Vec<String>> = serde_json::from_str(&text).map_err(|e| {
         Error::about(
-            Arg::LogPrompts,
+            Field::LogPrompts,
             format!(
                 "`{}`: expected a JSON object mapping log ids to lists of prompts: {e}",
                 path.display()
@@ -92,7 +96,7 @@ fn read_pairs(path: &Path) -> Result<BTreeMap<String, Vec<String>>, Error> {
     })?;
     for log in pairs.keys() {
         scenalog_input::check_log_id(log)
-            .map_err(|e| Error::about(Arg::LogPrompts, format!("`{}`: {e}", path.display())))?;
+            .map_err(|e| Error::about(Field::LogPrompts, format!("`{}`: {e}", path.display())))?;
     }
     Ok(pairs)
 }
@@ -159,12 +163,12 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
     check_threads(request.threads)?;
     request.limits.check()?;
     if let Some(s) = &request.synthesis {
-        check_jobs(s)?;
+        check_jobs(s.jobs)?;
     }
     let split = &request.dataset_dir;
     if !split.is_dir() {
         return Err(Error::about(
-            Arg::DatasetDir,
+            Field::DatasetDir,
             format!("`{}` is not a directory", split.display()),
         ));
     }
@@ -174,7 +178,7 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
     let tracker = match &request.tracks {
         None => None,
         Some(p) => {
-            let bytes = crate::input::read_data(p).map_err(|e| Error::about(Arg::Tracks, e))?;
+            let bytes = crate::input::read_data(p).map_err(|e| Error::about(Field::Tracks, e))?;
             let filter = if request.confidence_filter {
                 scenalog_tracker::Filter::RefAv
             } else {
@@ -187,7 +191,7 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
                     filter,
                     fingerprint,
                 })),
-                Err(e) => return Err(Error::about(Arg::Tracks, e)),
+                Err(e) => return Err(Error::about(Field::Tracks, e)),
             }
         }
     };
@@ -198,7 +202,7 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
     if let Some(dir) = &request.programs {
         match programs_by_description(dir, &mut problems) {
             Ok(m) => sources.push(m),
-            Err(e) => return Err(e.within(Arg::Programs)),
+            Err(e) => return Err(e.within(Field::Programs)),
         }
     }
     if let Some(lib) = bundled(LIBRARY) {
@@ -319,7 +323,7 @@ pub fn run_options(request: &SplitRequest, plan: &SplitPlan) -> RunOptions {
         resume: request.resume,
         timestamps: BTreeMap::new(),
         threads: request.threads,
-        engine: engine_options(request.threads, &request.limits),
+        engine: request.limits.for_run(request.threads),
         progress: request.progress,
         names: OutputNames {
             pickle: SUBMISSION_PICKLE,
@@ -331,19 +335,104 @@ pub fn run_options(request: &SplitRequest, plan: &SplitPlan) -> RunOptions {
     }
 }
 
-/// Mines a plan's pairs and publishes the submission; an error means nothing was published.
-pub fn run(request: &SplitRequest, plan: &SplitPlan) -> Result<RunReport, Error> {
-    Ok(run_mining(
-        &plan.scenarios,
-        &plan.logs,
-        &run_options(request, plan),
-    )?)
+impl SplitPlan {
+    /// The pairs the pairs file lists, each (log, prompt) once.
+    pub fn listed_pairs(&self) -> usize {
+        self.pairs
+            .values()
+            .map(|v| v.iter().collect::<BTreeSet<_>>().len())
+            .sum()
+    }
 }
 
-/// The pairs the pairs file lists, each (log, prompt) once.
-pub fn listed_pairs(plan: &SplitPlan) -> usize {
-    plan.pairs
-        .values()
-        .map(|v| v.iter().collect::<BTreeSet<_>>().len())
-        .sum()
+/// What a split's run gave, published.
+pub struct SplitOutcome {
+    /// Every pair's result.
+    pub report: RunReport,
+    /// One program per prompt.
+    pub scenarios: Vec<Scenario>,
+    /// The logs mined.
+    pub logs: usize,
+    /// The pairs the pairs file lists, each (log, prompt) once.
+    pub listed: usize,
+    /// Every failure, the rest having run: programs that do not check, prompts synthesis gave
+    /// no program for, logs missing from the split or the tracker file, failed pairs.
+    pub failures: Vec<Message>,
+    /// Prompts with no program (their predictions are empty).
+    pub without_program: Vec<String>,
+    /// The files published (the submission's pickle and table).
+    pub outputs: Outputs,
+}
+
+impl SplitOutcome {
+    /// Pairs that failed.
+    pub fn failed_pairs(&self) -> usize {
+        self.report
+            .pairs
+            .iter()
+            .filter(|p| matches!(p.status, PairStatus::Failed(_)))
+            .count()
+    }
+
+    /// Every match of every finished pair, in pair order.
+    pub fn matches(&self) -> Vec<&Match> {
+        self.report.matches()
+    }
+
+    /// Each pair's record as `summary.json` holds it, a failed pair's error rendered with
+    /// `names`.
+    pub fn pairs_json(&self, names: Names) -> Vec<serde_json::Value> {
+        pairs_json(&self.report, &self.scenarios, names)
+    }
+
+    /// The line `scenalog mine --log-prompts` prints: logs, pairs listed, written, resumed,
+    /// failed, not mined, with matches, prompts without a program.
+    pub fn counts_text(&self) -> String {
+        let report = &self.report;
+        let failed = self.failed_pairs();
+        let written = report.pairs.len() - failed;
+        format!(
+            "{} logs, {} pairs listed: {written} written ({} resumed), {failed} failed, {} not \
+             mined (log missing), {} with matches; {} prompts without a program (empty \
+             predictions)",
+            self.logs,
+            self.listed,
+            report.resumed(),
+            self.listed - report.pairs.len(),
+            report.with_matches(),
+            self.without_program.len()
+        )
+    }
+}
+
+/// Mines a plan's pairs and publishes the submission; an error means nothing was published (no
+/// log to mine, a thread pool, the output folder's lock, a cancelled run).
+pub fn run(request: &SplitRequest, plan: SplitPlan) -> Result<SplitOutcome, Error> {
+    if plan.logs.is_empty() {
+        let causes: Vec<Message> = plan.log_problems.iter().map(Message::text).collect();
+        return Err(with_causes("no log to mine", &causes));
+    }
+    let options = run_options(request, &plan);
+    let report = run_mining(&plan.scenarios, &plan.logs, &options)?;
+    let mut failures: Vec<Message> = plan.problems.iter().map(Message::text).collect();
+    failures.extend(plan.log_problems.iter().map(Message::text));
+    failures.extend(report.pairs.iter().filter_map(|p| match &p.status {
+        PairStatus::Failed(e) => Some(e.clone()),
+        _ => None,
+    }));
+    let listed = plan.listed_pairs();
+    Ok(SplitOutcome {
+        outputs: Outputs::of(&plan.out, &options.names, false, None),
+        logs: plan.logs.len(),
+        listed,
+        failures,
+        without_program: plan.without_program,
+        scenarios: plan.scenarios,
+        report,
+    })
+}
+
+/// Prepares and runs a request ([`prepare`], then [`run`]).
+pub fn mine_split(request: &SplitRequest) -> Result<SplitOutcome, Error> {
+    run(request, prepare(request)?)
 }

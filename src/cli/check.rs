@@ -6,8 +6,6 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use scenalog_rules::render_human;
-
 use crate::api::check::{check, CheckRequest, ProgramSource};
 
 /// Arguments of `scenalog check`.
@@ -48,20 +46,15 @@ pub fn run(args: Args) -> ExitCode {
                 continue;
             }
         };
-        let outcome = &checked.outcome;
-        errors |= outcome.program.is_none();
+        errors |= !checked.is_clean();
         if args.json {
             json.push(serde_json::json!({
                 "file": display,
                 "diagnostics": checked.diagnostics_json(),
             }));
         } else {
-            out!(
-                "{}",
-                render_human(&outcome.diagnostics, &checked.text, display, color)
-            );
-            let n_err = outcome.diagnostics.iter().filter(|d| d.is_error()).count();
-            let n_warn = outcome.diagnostics.len() - n_err;
+            out!("{}", checked.diagnostics_text(display, color));
+            let (n_err, n_warn) = checked.counts();
             outln!("{display}: {n_err} error(s), {n_warn} warning(s)");
         }
     }

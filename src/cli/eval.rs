@@ -64,105 +64,36 @@ pub fn run(args: Args) -> ExitCode {
         frames,
         only_predicted: args.only_predicted,
     };
-    let report = match evaluate_counted(&request) {
-        Ok(done) => {
-            if done.left_out > 0 {
-                eprintln!(
-                    "scenalog eval: --only-predicted: {} of the ground truth's {} sequences are \
-                     not in the predictions and are not scored",
-                    done.left_out, done.gt_sequences
-                );
-            }
-            done.report
-        }
+    let evaluated = match evaluate_counted(&request) {
+        Ok(done) => done,
         Err(e) => {
             eprintln!("scenalog eval: {}", e.flags());
-            if e.flags().contains("not in the predictions") {
-                eprintln!(
-                    "  (to score only the sequences the predictions hold, as `scenalog mine --gt` \
-                     does, add --only-predicted)"
-                );
+            if let Some(hint) = &e.hint {
+                eprintln!("  {}", hint.flags());
             }
             return ExitCode::from(2);
         }
     };
+    if evaluated.left_out > 0 {
+        eprintln!(
+            "scenalog eval: --only-predicted: {} of the ground truth's {} sequences are not in \
+             the predictions and are not scored",
+            evaluated.left_out, evaluated.gt_sequences
+        );
+    }
     if let Some(dir) = &args.out {
-        let (temporal, spatio) = report.official_json();
-        let mut files = vec![("temporal_metrics.json", temporal)];
-        if let Some(s) = spatio {
-            files.push(("spatiotemporal_metrics.json", s));
-        }
-        files.push(("paper_metrics.json", report.paper_json()));
-        let written = std::fs::create_dir_all(dir).and_then(|()| {
-            files
-                .iter()
-                .try_for_each(|(name, v)| std::fs::write(dir.join(name), format!("{v:#}\n")))
-        });
-        if let Err(e) = written {
-            eprintln!("scenalog eval: {}: {e}", dir.display());
+        if let Err(e) = evaluated.write_metrics(dir) {
+            eprintln!("scenalog eval: {}", e.flags());
             return ExitCode::from(2);
         }
     }
-    for w in &report.further.warnings {
+    for w in &evaluated.report.further.warnings {
         eprintln!("scenalog eval: warning: {w}");
     }
     if args.json {
-        outln!("{:#}", report.to_json());
-        return ExitCode::SUCCESS;
-    }
-    let f = &report.further;
-    outln!("HOTA-Temporal: {}", report.hota_temporal);
-    outln!("HOTA-Track: {}", report.hota_track);
-    outln!("Timestamp-level Balanced Accuracy: {}", report.timestamp_ba);
-    outln!("Log-level Balanced Accuracy: {}", report.log_ba);
-    outln!(
-        "HOTA-Temporal (related objects): {}",
-        shown(f.related.value(), "no related object in the ground truth")
-    );
-    outln!(
-        "HOTA-Temporal (other objects): {}",
-        shown(f.other.value(), "no other object in the ground truth")
-    );
-    outln!(
-        "HOTA (tracker, every object): {}",
-        shown(f.tracker.value(), "no object in the ground truth")
-    );
-    if args.per_prompt {
-        outln!();
-        outln!("prompt\tHOTA-Temporal\tHOTA-Track\ttimestamp BA\tlog BA\tHOTA-Temporal related\tHOTA-Temporal other\tHOTA");
-        let by = |c: &scenalog_eval::ClassHota, prompt: &str| {
-            let v = c
-                .by_prompt
-                .get(prompt)
-                .and_then(|h| h.as_ref().map(|h| h.value));
-            v.map_or_else(|| "-".to_string(), |v| v.to_string())
-        };
-        for (prompt, ts) in &report.timestamp_ba_by_prompt {
-            let ht = report
-                .hota_temporal_by_prompt
-                .get(prompt)
-                .map_or(0.0, |h| h.value);
-            let hk = report
-                .hota_track_by_prompt
-                .get(prompt)
-                .map_or(0.0, |h| h.value);
-            let lb = report
-                .log_ba_by_prompt
-                .get(prompt)
-                .copied()
-                .unwrap_or(f64::NAN);
-            let (rel, oth, trk) = (
-                by(&f.related, prompt),
-                by(&f.other, prompt),
-                by(&f.tracker, prompt),
-            );
-            outln!("{prompt}\t{ht}\t{hk}\t{ts}\t{lb}\t{rel}\t{oth}\t{trk}");
-        }
+        outln!("{:#}", evaluated.report.to_json());
+    } else {
+        out!("{}", evaluated.text(args.per_prompt));
     }
     ExitCode::SUCCESS
-}
-
-/// A value, or `-` and why there is none.
-fn shown(v: Option<f64>, why_none: &str) -> String {
-    v.map_or_else(|| format!("- ({why_none})"), |v| v.to_string())
 }

@@ -7,7 +7,7 @@
 //! first frame where the track is referred, or, for a track never referred, the middle of its
 //! annotated frames. The why-not report comes with `--why-not`, or by itself when the track is
 //! not referred at that frame. `--json` prints one object (keys documented in
-//! [`crate::pipeline::explain`]).
+//! [`crate::pipeline::explain`]). [`crate::api::explain`] does the work and the drawing.
 //!
 //! `--picture OUT.png|OUT.svg|OUT.gif` also draws the scene at that frame from above (see
 //! `scenalog-view`): the track highlighted, its related objects linked to it, the proof's
@@ -24,15 +24,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use scenalog_facts::scene::Frame;
-
-use crate::api::explain::{explain_track, Explained};
-use crate::pipeline::explain::{explanation_json, explanation_text, Explanation, Renderer};
-use crate::pipeline::picture::{explanation_picture, frame_pictures};
-use scenalog_view::track_path::animation_frames;
-use scenalog_view::{
-    path_svg, scene_svg, write_animation, write_picture, Format, PathPicture, Reference, ViewError,
+use crate::api::explain::{
+    explain, ExplainError, ExplainRequest, FrameSpan, PictureRequest, ViewFrom as Reference,
 };
+use crate::api::Limits;
 
 /// Arguments of `scenalog explain`.
 #[derive(clap::Args)]
@@ -89,17 +84,14 @@ pub enum ViewFrom {
 }
 
 /// Parses `--frames`: `A..B` (inclusive) or `referred` (the first to the last referred frame).
-fn parse_frames(text: &str, referred: &[Frame]) -> Result<(Frame, Frame), String> {
+fn parse_frames(text: &str) -> Result<FrameSpan, String> {
     if text == "referred" {
-        return match (referred.first(), referred.last()) {
-            (Some(a), Some(b)) => Ok((*a, *b)),
-            _ => Err("--frames referred: the track is never referred".to_string()),
-        };
+        return Ok(FrameSpan::Referred);
     }
     let bad = || format!("--frames `{text}`: expected A..B (frame indices, A <= B) or `referred`");
     let (a, b) = text.split_once("..").ok_or_else(bad)?;
-    let a: Frame = a.trim().parse().map_err(|_| bad())?;
-    let b: Frame = b
+    let a: u32 = a.trim().parse().map_err(|_| bad())?;
+    let b: u32 = b
         .trim()
         .trim_start_matches('=')
         .parse()
@@ -107,63 +99,7 @@ fn parse_frames(text: &str, referred: &[Frame]) -> Result<(Frame, Frame), String
     if a > b {
         return Err(bad());
     }
-    Ok((a, b))
-}
-
-/// Draws `--picture`: one frame, or the path over `--frames`.
-fn draw(
-    args: &Args,
-    out: &std::path::Path,
-    renderer: &Renderer<'_>,
-    explanation: &Explanation,
-    related: Vec<scenalog_facts::scene::TrackId>,
-    limits: &scenalog_engine::Options,
-) -> Result<(), (u8, String)> {
-    let reference = match args.view {
-        ViewFrom::Ego => Reference::Ego,
-        ViewFrom::Object => Reference::Referred,
-    };
-    let mut picture = explanation_picture(renderer, explanation, related, reference);
-    picture.width = args.picture_size;
-    picture.height = args.picture_size;
-    if reference == Reference::Referred {
-        // Centred on the object: closer in (it grows to show the related objects).
-        picture.half_extent = 18.0;
-    }
-    let view_err = |e: ViewError| {
-        let code = if matches!(e, ViewError::Render(_)) {
-            1
-        } else {
-            2
-        };
-        (code, format!("--picture: {e}"))
-    };
-    let Some(frames) = &args.frames else {
-        let svg = scene_svg(&picture).map_err(view_err)?;
-        return write_picture(out, &svg).map_err(view_err);
-    };
-    let (first, last) = parse_frames(frames, &explanation.referred_frames).map_err(|e| (2, e))?;
-    let mut path = PathPicture {
-        picture,
-        track: explanation.track,
-        first,
-        last,
-        referred_frames: explanation.referred_frames.clone(),
-        frames: Vec::new(),
-    };
-    match Format::of(out).map_err(view_err)? {
-        Format::Gif => {
-            // Each frame with its own proof and related objects.
-            path.frames =
-                frame_pictures(renderer, &path.picture, first, last, limits).map_err(|e| (1, e))?;
-            let frames = animation_frames(&path).map_err(view_err)?;
-            write_animation(out, &frames, 10).map_err(view_err)
-        }
-        Format::Png | Format::Svg => {
-            let svg = path_svg(&path).map_err(view_err)?;
-            write_picture(out, &svg).map_err(view_err)
-        }
-    }
+    Ok(FrameSpan::Range(a, b))
 }
 
 fn fail(code: u8, msg: &str) -> ExitCode {
@@ -171,39 +107,49 @@ fn fail(code: u8, msg: &str) -> ExitCode {
     ExitCode::from(code)
 }
 
+fn failed(e: ExplainError) -> ExitCode {
+    fail(e.code, &e.error.flags())
+}
+
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
-    let limits = crate::pipeline::limits::pair_limits(args.max_tuples, args.timeout_ms, 1);
-    let explained = match explain_track(
-        &args.rules,
-        &args.log,
-        &args.track,
-        args.at,
-        args.why_not,
-        &limits,
-    ) {
-        Ok(x) => x,
-        Err((code, e)) => return fail(code, &e),
+    let request = ExplainRequest {
+        rules: args.rules.clone(),
+        log: args.log.clone(),
+        track: args.track.clone(),
+        at: args.at,
+        why_not: args.why_not,
+        limits: Limits {
+            max_tuples: args.max_tuples,
+            timeout_ms: args.timeout_ms,
+        },
     };
-    let Explained {
-        scene,
-        scenario,
-        explanation,
-        related,
-    } = explained;
-    let renderer = Renderer {
-        scene: &scene,
-        scenario: &scenario,
+    let explained = match explain(&request) {
+        Ok(x) => x,
+        Err(e) => return failed(e),
     };
     if let Some(out) = &args.picture {
-        if let Err((code, e)) = draw(&args, out, &renderer, &explanation, related, &limits) {
-            return fail(code, &e);
+        let frames = match args.frames.as_deref().map(parse_frames).transpose() {
+            Ok(f) => f,
+            Err(e) => return fail(2, &e),
+        };
+        let picture = PictureRequest {
+            out: out.clone(),
+            size: args.picture_size,
+            view: match args.view {
+                ViewFrom::Ego => Reference::Ego,
+                ViewFrom::Object => Reference::Referred,
+            },
+            frames,
+        };
+        if let Err(e) = explained.draw(&picture) {
+            return failed(e);
         }
     }
     let text = if args.json {
-        format!("{:#}\n", explanation_json(&renderer, &explanation))
+        format!("{:#}\n", explained.json())
     } else {
-        explanation_text(&renderer, &explanation)
+        explained.text()
     };
     crate::cli::stdout::write_str(&text);
     ExitCode::SUCCESS

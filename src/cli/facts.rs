@@ -1,11 +1,12 @@
 //! `scenalog facts LOG_DIR`: load one Argoverse 2 log and summarise it (text or `--json`), or
-//! extract one relation (`--relation`) within `mine`'s limits (`--max-tuples`, `--timeout-ms`).
+//! extract one relation (`--relation`) within `mine`'s limits (`--max-tuples`, `--timeout-ms`);
+//! [`crate::api::facts`] does the work.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
 
-use scenalog_facts::{load_scene, SceneSummary};
+use crate::api::facts::{facts, Facts, FactsRequest};
+use crate::api::Limits;
 
 /// Arguments of `scenalog facts`.
 #[derive(clap::Args)]
@@ -36,80 +37,39 @@ pub struct Args {
     pub timeout_ms: Option<u64>,
 }
 
-/// Loads the log and prints its summary; exit 2 with a message on stderr if it cannot be read.
+/// Loads the log and prints its summary or the relation; exit 2 with a message on stderr if the
+/// log cannot be read, the relation is not in the catalog or its extraction passes a limit.
 pub fn run(args: Args) -> ExitCode {
-    let start = Instant::now();
-    let scene = match load_scene(&args.log_dir) {
-        Ok(s) => s,
+    let request = FactsRequest {
+        log: args.log_dir.clone(),
+        relation: args.relation.clone(),
+        limits: Limits {
+            max_tuples: args.max_tuples,
+            timeout_ms: args.timeout_ms,
+        },
+    };
+    let facts = match facts(&request) {
+        Ok(f) => f,
         Err(e) => {
-            eprintln!("scenalog facts: {e}");
+            eprintln!("scenalog facts: {}", e.flags());
             return ExitCode::from(2);
         }
     };
-    let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    if let Some(name) = &args.relation {
-        let limits = crate::pipeline::limits::pair_limits(args.max_tuples, args.timeout_ms, 1);
-        return print_relation(&scene, name, (args.json, args.columns), &limits);
-    }
-    let summary = SceneSummary::of(&scene);
-    if args.json {
-        let mut json = summary.to_json();
-        json["load_ms"] = serde_json::json!(load_ms);
-        outln!("{json:#}");
-    } else {
-        out!("{}", summary.to_text());
-        outln!("  loaded in {load_ms:.1} ms");
-    }
-    ExitCode::SUCCESS
-}
-
-/// Extracts one relation within `limits` (its tuple budget and time limit, `mine`'s by default)
-/// and prints its count (text) or its tuples (`--json`; with `--columns` named, see [`Args`]).
-fn print_relation(
-    scene: &scenalog_facts::Scene,
-    name: &str,
-    (json, columns): (bool, bool),
-    limits: &scenalog_engine::Options,
-) -> ExitCode {
-    let Some(spec) = scenalog_facts::catalog::relation(name) else {
-        eprintln!(
-            "scenalog facts: `{name}` is not a relation of the catalog (see `scenalog catalog`)"
-        );
-        return ExitCode::from(2);
-    };
-    let start = Instant::now();
-    let request = scenalog_facts::relation::Request::all(name);
-    let budget = scenalog_extractors::Budget::new(limits.max_tuples, start, limits.timeout);
-    let extractor = scenalog_extractors::cache::Extractor::new(scene);
-    let data = match extractor.extract_within(&request, &budget) {
-        Ok(d) => d,
-        Err(e) => {
-            eprintln!("scenalog facts: extracting {name}: {e}");
-            return ExitCode::from(2);
+    match facts {
+        Facts::Summary(summary) if args.json => outln!("{:#}", summary.json()),
+        Facts::Summary(summary) => out!("{}", summary.text()),
+        Facts::Relation(relation) if args.json => {
+            let json = if args.columns {
+                relation.columns_json()
+            } else {
+                relation.tuples_json()
+            };
+            crate::cli::stdout::write_with(|out| {
+                serde_json::to_writer(&mut *out, &json)?;
+                std::io::Write::write_all(out, b"\n")
+            });
         }
-    };
-    let ms = start.elapsed().as_secs_f64() * 1e3;
-    if json {
-        let mut json = scenalog_extractors::relation_json(scene, &data);
-        if columns {
-            let named: Vec<serde_json::Value> = spec
-                .column_names()
-                .into_iter()
-                .zip(spec.types())
-                .map(|(n, t)| serde_json::json!({"name": n, "type": t.to_string()}))
-                .collect();
-            json = serde_json::json!({"relation": name, "columns": named, "tuples": json});
-        }
-        crate::cli::stdout::write_with(|out| {
-            serde_json::to_writer(&mut *out, &json)?;
-            std::io::Write::write_all(out, b"\n")
-        });
-    } else {
-        outln!(
-            "{}: {name}: {} tuples ({ms:.1} ms)",
-            scene.log_id,
-            data.len()
-        );
+        Facts::Relation(relation) => out!("{}", relation.text()),
     }
     ExitCode::SUCCESS
 }

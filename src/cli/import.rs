@@ -7,6 +7,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::api::import::{import, parse_defects, Defects, ImportRequest, Semantics};
+
 /// Arguments of `scenalog import`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -59,86 +61,40 @@ pub fn run(args: Args) -> ExitCode {
         defects,
     } = args.source;
     let semantics = match (semantics, defects) {
-        (SemanticsArg::Scenalog, None) => scenalog_import::Semantics::Scenalog,
+        (SemanticsArg::Scenalog, None) => Semantics::Scenalog,
         (SemanticsArg::Scenalog, Some(_)) => {
             eprintln!(
                 "scenalog import: --defects chooses which of RefAV's defects RefAV's definitions reproduce; add --semantics refav"
             );
             return ExitCode::from(2);
         }
-        (SemanticsArg::Refav, None) => {
-            scenalog_import::Semantics::Refav(scenalog_import::Defects::ALL)
-        }
-        (SemanticsArg::Refav, Some(text)) => match scenalog_import::Defects::parse(&text) {
-            Ok(d) => scenalog_import::Semantics::Refav(d),
+        (SemanticsArg::Refav, None) => Semantics::Refav(Defects::ALL),
+        (SemanticsArg::Refav, Some(text)) => match parse_defects(&text) {
+            Ok(d) => Semantics::Refav(d),
             Err(e) => {
-                eprintln!("scenalog import: --defects: {e}");
+                eprintln!("scenalog import: --defects: {}", e.flags());
                 return ExitCode::from(2);
             }
         },
     };
-    // One import writes a folder at a time (held until the report is printed).
-    let _held = match crate::pipeline::lock::OutputLock::acquire(&out) {
-        Ok(l) => l,
-        Err(e) => {
-            eprintln!("scenalog import: {e}");
-            return ExitCode::from(2);
-        }
+    let request = ImportRequest {
+        input,
+        out,
+        semantics,
     };
-    let report = match scenalog_import::import_path_with(&input, &out, semantics) {
-        Ok(r) => r,
+    let imported = match import(&request) {
+        Ok(i) => i,
         Err(e) => {
-            eprintln!("scenalog import: {e}");
+            eprintln!("scenalog import: {}", e.flags());
             return ExitCode::from(2);
         }
     };
     if json {
-        let rows: Vec<serde_json::Value> = report
-            .files
-            .iter()
-            .map(|f| {
-                serde_json::json!({
-                    "source": f.source.display().to_string(),
-                    "output": f.output.as_ref().map(|p| p.display().to_string()),
-                    "refav_broken": f.refav_broken(),
-                    "refav_api": if f.first_api { "first" } else { "current" },
-                    "notes": f.notes,
-                    "errors": f.errors.iter().map(|e| serde_json::json!({
-                        "line": e.line, "construct": e.construct, "message": e.message,
-                        "refav_broken": e.refav_broken,
-                    })).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        outln!("{}", serde_json::Value::Array(rows));
+        outln!("{}", imported.json());
     } else {
-        for f in &report.files {
-            for e in &f.errors {
-                let kind = if e.refav_broken {
-                    "broken in RefAV"
-                } else {
-                    "not imported"
-                };
-                outln!(
-                    "{}:{}: {kind}: {}: {}",
-                    f.source.display(),
-                    e.line,
-                    e.construct,
-                    e.message
-                );
-            }
-        }
-        outln!(
-            "{} programs: {} imported and checked clean into {} ({} written against RefAV's first API), {} broken in RefAV itself, {} not imported",
-            report.files.len(),
-            report.imported(),
-            out.display(),
-            report.first_api(),
-            report.refav_broken(),
-            report.failed_here()
-        );
+        out!("{}", imported.text(&request.out));
     }
-    if report.failed_here() > 0 {
+    if imported.any_failed() {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

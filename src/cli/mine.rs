@@ -34,13 +34,9 @@
 
 use std::process::ExitCode;
 
-use crate::api::mine::{Descriptions, MineOutcome, MinePlan, MineRequest};
+use crate::api::mine::{Descriptions, MineRequest};
 use crate::cli::mine_options::{fail, limits, synthesis};
 pub use crate::cli::mine_options::{Format, Options};
-use crate::pipeline::output::{MATCHES_JSON, PREDICTIONS_PICKLE, PREDICTIONS_TABLE, SCORED_PICKLE};
-use crate::pipeline::run::{LogInput, RunReport};
-use crate::pipeline::scenario::Scenario;
-use crate::pipeline::summary::{render_score, render_table};
 
 /// Arguments of `scenalog mine` (boxed: they are many, and the command enum stays small).
 #[derive(clap::Args)]
@@ -105,52 +101,23 @@ pub fn run(args: Args) -> ExitCode {
     if let Some(summary) = &plan.synthesis_summary {
         eprintln!("scenalog mine: synthesis: {summary}");
     }
-    for f in &plan.failures {
+    for f in plan.failures.iter().chain(&plan.log_problems) {
         eprintln!("scenalog mine: {f}");
     }
-    for f in &plan.log_problems {
-        eprintln!("scenalog mine: {f}");
-    }
-    if plan.scenarios.is_empty() {
-        eprintln!("scenalog mine: no program to mine");
-        return ExitCode::from(if plan.failures.is_empty() { 2 } else { 1 });
-    }
-    if plan.logs.is_empty() {
-        eprintln!("scenalog mine: no log to mine");
-        return ExitCode::from(if plan.log_problems.is_empty() { 2 } else { 1 });
+    if let Some((what, causes)) = plan.nothing_to_mine() {
+        eprintln!("scenalog mine: {what}");
+        return ExitCode::from(if causes.is_empty() { 2 } else { 1 });
     }
     // The outputs, the scored pickle and the report are one generation, published together.
-    let outcome = match crate::api::mine::run(&request, &plan) {
+    let outcome = match crate::api::mine::run(&request, plan) {
         Ok(o) => o,
         Err(e) => return fail(e.flags()),
     };
-    let MineOutcome {
-        report,
-        pair_failures,
-        scored,
-        score_errors,
-        report_page,
-        published,
-    } = outcome;
-    let MinePlan {
-        scenarios,
-        logs,
-        failures,
-        mut log_problems,
-        gt,
-        out,
-        ..
-    } = plan;
-    let gt_path = gt.map(|(p, _)| p);
-    for (_, e) in &report.log_failures {
-        log_problems.push(e.clone());
-    }
-    for e in &score_errors {
+    for e in &outcome.score_errors {
         eprintln!("scenalog mine: {e}");
     }
-    let mut score_failed = !score_errors.is_empty();
-    let any_failed = report.any_failed() || !failures.is_empty() || !log_problems.is_empty();
-    match report_page {
+    let mut score_failed = !outcome.score_errors.is_empty();
+    match &outcome.report_page {
         Some(Ok(page)) => eprintln!("scenalog mine: wrote the report {}", page.display()),
         Some(Err(e)) => {
             eprintln!("scenalog mine: the report: {e}");
@@ -158,22 +125,18 @@ pub fn run(args: Args) -> ExitCode {
         }
         None => {}
     }
-    if let Err(e) = published {
+    if let Err(e) = &outcome.published {
         return fail(e);
     }
-
+    let failures: Vec<String> = outcome.failures.iter().map(|f| f.flags()).collect();
+    let outputs = &outcome.outputs;
     match args.format {
         Format::Json => {
-            let all_failures: Vec<&String> = failures
-                .iter()
-                .chain(&log_problems)
-                .chain(&pair_failures)
-                .collect();
             let value = serde_json::json!({
-                "out": out.display().to_string(),
-                "matches": report.matches(),
-                "failures": all_failures,
-                "score": scored.as_ref().map(|s| s.report.to_json()),
+                "out": outputs.dir.display().to_string(),
+                "matches": outcome.matches(),
+                "failures": failures,
+                "score": outcome.scored.as_ref().map(|s| s.report.to_json()),
             });
             match serde_json::to_string_pretty(&value) {
                 Ok(text) => outln!("{text}"),
@@ -181,11 +144,10 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
         Format::Text => {
-            out!("{}", render_table(&report, &scenarios, &logs));
-            let all = failures.len() + log_problems.len() + pair_failures.len();
-            if all > 0 {
-                outln!("\nfailed ({all}):");
-                for f in failures.iter().chain(&log_problems).chain(&pair_failures) {
+            out!("{}", outcome.table_text());
+            if !failures.is_empty() {
+                outln!("\nfailed ({}):", failures.len());
+                for f in &failures {
                     let mut lines = f.trim_end().lines();
                     outln!("  {}", lines.next().unwrap_or_default());
                     for l in lines {
@@ -193,36 +155,37 @@ pub fn run(args: Args) -> ExitCode {
                     }
                 }
             }
-            let pickle = if args.pickle {
-                format!("{PREDICTIONS_PICKLE} (official pickle), ")
-            } else {
-                String::new()
+            let pickle = match &outputs.pickle {
+                Some(p) => format!("{} (official pickle), ", p.name),
+                None => String::new(),
             };
             outln!(
                 "\nwrote {pickle}{} (Arrow table), {} (one entry per matched track) in {}",
-                PREDICTIONS_TABLE,
-                MATCHES_JSON,
-                out.display()
+                outputs.table.name,
+                outputs.matches.name,
+                outputs.dir.display()
             );
-            if let Some(hint) = explain_hint(&report, &scenarios, &logs) {
+            if let Some(hint) = outcome.explain_hint() {
                 outln!("\nwhy did a track match? for example:\n  {hint}");
             }
-            match (&scored, &gt_path) {
-                (Some(s), Some(p)) => {
+            match (&outcome.scored, outcome.score_text(), &outcome.gt) {
+                (Some(s), Some(text), Some(p)) => {
                     outln!("\nscore against {}:", p.display());
-                    out!("{}", render_score(s));
+                    out!("{text}");
                     let only = if s.not_mined.is_empty() {
                         ""
                     } else {
                         " --only-predicted"
                     };
-                    outln!(
-                        "score it again: scenalog eval --pred {} --gt {}{only}",
-                        out.join(SCORED_PICKLE).display(),
-                        p.display()
-                    );
+                    if let Some(scored) = &outputs.scored {
+                        outln!(
+                            "score it again: scenalog eval --pred {} --gt {}{only}",
+                            scored.path.display(),
+                            p.display()
+                        );
+                    }
                 }
-                (None, Some(p)) if !score_failed => outln!(
+                (None, _, Some(p)) if !score_failed => outln!(
                     "\nnot scored: no mined (log, description) pair is in {}",
                     p.display()
                 ),
@@ -230,27 +193,9 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
     }
-    if any_failed || score_failed {
+    if outcome.any_failed() || score_failed {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
     }
-}
-
-/// A `scenalog explain` command for the first match of the run (by program, then log).
-fn explain_hint(report: &RunReport, scenarios: &[Scenario], logs: &[LogInput]) -> Option<String> {
-    let pair = report
-        .pairs
-        .iter()
-        .filter(|p| !p.matches.is_empty())
-        .min_by_key(|p| (p.scenario, logs.iter().position(|l| l.log_id == p.log_id)))?;
-    let m = pair.matches.first()?;
-    let log = logs.iter().find(|l| l.log_id == pair.log_id)?;
-    Some(format!(
-        "scenalog explain --rules {} --log {} --track {} --at {}",
-        scenarios[pair.scenario].path.display(),
-        log.dir.display(),
-        m.track_uuid,
-        m.first_s
-    ))
 }

@@ -6,7 +6,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::api::mine::{Limits, Synthesis};
+use crate::api::synth::Synthesis;
+use crate::api::Limits;
 use crate::cli::synth::{synth_config, SynthArgs};
 
 /// What `scenalog mine` prints on standard output.

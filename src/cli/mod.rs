@@ -1,6 +1,8 @@
-//! One module per subcommand: its clap `Args` and a `run` returning the exit code; `flags`
-//! (parsers for float flags) and `stdout` (output that ends quietly on a closed pipe) serve them
-//! all.
+//! One module per subcommand: its clap `Args` turned into a request of [`crate::api`], the
+//! result printed, and a `run` returning the exit code; `flags` (parsers for float flags) and
+//! `stdout` (output that ends quietly on a closed pipe) serve them all. The subcommands call
+//! only [`crate::api`] (and std, clap, serde_json): a test (`tests/tidy.rs`) reads these files
+//! and fails on an import past it.
 
 #[macro_use]
 pub mod stdout;
@@ -17,4 +19,3 @@ pub mod mine_options;
 pub mod run;
 pub mod split;
 pub mod synth;
-pub mod synth_fixture;

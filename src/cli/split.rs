@@ -5,10 +5,8 @@
 
 use std::process::ExitCode;
 
-use crate::api::split::{listed_pairs, prepare, run as run_split, SplitPlan, SplitRequest};
+use crate::api::split::{prepare, run as run_split, SplitRequest};
 use crate::cli::mine_options::{fail, limits, synthesis, Format, Options};
-use crate::pipeline::output::{SUBMISSION_PICKLE, SUBMISSION_TABLE};
-use crate::pipeline::run::PairStatus;
 
 /// The request of `mine --log-prompts`: the flags of a programs-on-logs run are an error here
 /// (not silently ignored), and `--dataset-dir` is required.
@@ -92,59 +90,33 @@ pub fn run(args: &Options) -> ExitCode {
         eprintln!("scenalog mine: no log to mine");
         return ExitCode::from(if plan.log_problems.is_empty() { 2 } else { 1 });
     }
-    let report = match run_split(&request, &plan) {
-        Ok(r) => r,
+    let outcome = match run_split(&request, plan) {
+        Ok(o) => o,
         Err(e) => return fail(e.flags()),
     };
-    let listed = listed_pairs(&plan);
-    let SplitPlan {
-        out,
-        logs,
-        problems,
-        log_problems,
-        without_program,
-        ..
-    } = plan;
-    let failed: Vec<&String> = report
-        .pairs
-        .iter()
-        .filter_map(|p| match &p.status {
-            PairStatus::Failed(e) => Some(e),
-            _ => None,
-        })
-        .collect();
-    let resumed = report.resumed();
-    let with_matches = report.with_matches();
-    let written = report.pairs.len() - failed.len();
-    outln!(
-        "{} logs, {listed} pairs listed: {written} written ({resumed} resumed), {} failed, {} \
-         not mined (log missing), {with_matches} with matches; {} prompts without a program \
-         (empty predictions)",
-        logs.len(),
-        failed.len(),
-        listed - report.pairs.len(),
-        without_program.len()
-    );
-    let all: Vec<&String> = problems.iter().chain(&log_problems).chain(failed).collect();
-    if !all.is_empty() {
-        outln!("\nfailed ({}):", all.len());
-        for f in &all {
+    outln!("{}", outcome.counts_text());
+    let failures: Vec<String> = outcome.failures.iter().map(|f| f.flags()).collect();
+    if !failures.is_empty() {
+        outln!("\nfailed ({}):", failures.len());
+        for f in &failures {
             outln!("  {}", f.trim_end().replace('\n', "\n    "));
         }
     }
-    if !without_program.is_empty() {
-        outln!("\nno program ({}):", without_program.len());
-        for p in &without_program {
+    if !outcome.without_program.is_empty() {
+        outln!("\nno program ({}):", outcome.without_program.len());
+        for p in &outcome.without_program {
             outln!("  {p}");
         }
     }
+    let outputs = &outcome.outputs;
+    let pickle = outputs.pickle.as_ref().map_or("", |p| p.name);
     outln!(
-        "\nwrote {} (the submission: official pickle, one sequence per written pair) and {} in {}",
-        SUBMISSION_PICKLE,
-        SUBMISSION_TABLE,
-        out.display()
+        "\nwrote {pickle} (the submission: official pickle, one sequence per written pair) and {} \
+         in {}",
+        outputs.table.name,
+        outputs.dir.display()
     );
-    if all.is_empty() {
+    if failures.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)

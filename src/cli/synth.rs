@@ -12,9 +12,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use scenalog_synth::batch::{self, diagnostics_path, write_outputs};
-use scenalog_synth::client::{ENV_API_KEY, ENV_BASE_URL, ENV_MODEL};
-use scenalog_synth::{library, prompt, BatchOptions, LlmConfig, Outcome, SynthConfig, Synthesizer};
+use crate::api::synth::{
+    self as api, BatchRequest, EvalRequest, ItemStatus, OneRequest, Outcome, Price, SynthConfig,
+    SynthSettings, Synthesizer, ENV_API_KEY, ENV_BASE_URL, ENV_MODEL,
+};
+use crate::api::{Limits, Names};
 
 /// Arguments of `scenalog synth` (boxed: they are many, and the command enum stays small).
 #[derive(clap::Args)]
@@ -50,8 +52,8 @@ pub struct Options {
     pub json: bool,
     /// Prices per million tokens, `IN,CACHED,OUT` (uncached input, cached input, output), e.g.
     /// `2,0.5,8`: the cost of the tokens the server reports is shown with them.
-    #[arg(long, value_name = "IN,CACHED,OUT", value_parser = scenalog_synth::Price::parse)]
-    pub price: Option<scenalog_synth::Price>,
+    #[arg(long, value_name = "IN,CACHED,OUT", value_parser = Price::parse)]
+    pub price: Option<Price>,
     /// With `--eval`: most tuples one (log, program) evaluation may hold, as `mine
     /// --max-tuples` [default: sized to the machine, as `mine`'s].
     #[arg(long, value_name = "N", requires = "eval", value_parser = clap::value_parser!(u64).range(1..))]
@@ -134,9 +136,10 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn llm_config(args: &SynthArgs) -> Result<LlmConfig, String> {
-    let mut llm = LlmConfig::from_env();
-    llm.temperature = match args.temperature.trim() {
+/// The settings of the flags: `--temperature` a number from 0 to 2 or "default", `--examples` a
+/// number or "all".
+fn settings(args: &SynthArgs) -> Result<SynthSettings, String> {
+    let temperature = match args.temperature.trim() {
         "default" => None,
         t => Some(
             t.parse::<f64>()
@@ -149,18 +152,26 @@ fn llm_config(args: &SynthArgs) -> Result<LlmConfig, String> {
                 })?,
         ),
     };
-    if let Some(v) = &args.base_url {
-        llm.base_url = v.clone();
-    }
-    if let Some(v) = &args.model {
-        llm.model = v.clone();
-    }
-    if let Some(v) = &args.api_key {
-        llm.api_key = Some(v.clone());
-    }
-    llm.timeout = Duration::from_secs(args.timeout.max(1));
-    llm.max_retries = args.retries;
-    Ok(llm)
+    let examples = match args.examples.trim() {
+        "all" => None,
+        k => Some(
+            k.parse::<usize>()
+                .map_err(|_| format!("--examples: expected a number or \"all\", got {k:?}"))?,
+        ),
+    };
+    Ok(SynthSettings {
+        cache_dir: args.cache_dir.clone(),
+        rounds: args.rounds as usize,
+        base_url: args.base_url.clone(),
+        model: args.model.clone(),
+        api_key: args.api_key.clone(),
+        temperature,
+        timeout: Duration::from_secs(args.timeout),
+        retries: args.retries,
+        examples,
+        library: args.library.clone(),
+        held_out: false,
+    })
 }
 
 /// The synthesis configuration from the flags and the environment; completions are cached in
@@ -170,33 +181,14 @@ pub fn synth_config(
     args: &SynthArgs,
     default_cache: Option<PathBuf>,
 ) -> Result<SynthConfig, String> {
-    let examples = match args.examples.trim() {
-        "all" => None,
-        k => Some(
-            k.parse::<usize>()
-                .map_err(|_| format!("--examples: expected a number or \"all\", got {k:?}"))?,
-        ),
-    };
-    let mut library = match &args.library {
-        Some(dir) => library::load_dir(dir).map_err(|e| e.to_string())?,
-        None => library::embedded(),
-    };
-    let dropped = library::retain_clean(&mut library);
-    if !dropped.is_empty() {
+    let configured = api::config(&settings(args)?, default_cache).map_err(|e| e.flags())?;
+    if !configured.left_out.is_empty() {
         eprintln!(
             "scenalog synth: warning: examples left out because they do not check clean: {}",
-            dropped.join(", ")
+            configured.left_out.join(", ")
         );
     }
-    let cache_dir = args.cache_dir.clone().or(default_cache);
-    Ok(SynthConfig {
-        llm: llm_config(args)?,
-        cache_dir,
-        rounds: args.rounds as usize,
-        library,
-        examples,
-        held_out: false,
-    })
+    Ok(configured.config)
 }
 
 /// Runs the subcommand.
@@ -208,32 +200,30 @@ pub fn run(args: Args) -> ExitCode {
         Err(e) => return fail(e),
     };
     config.held_out = args.held_out || args.eval.is_some();
-    let synth = match Synthesizer::new(config) {
+    let synth = match api::synthesizer(config) {
         Ok(s) => s,
-        Err(e) => return fail(e),
+        Err(e) => return fail(e.flags()),
     };
     if args.print_prompt {
         let Some(description) = &args.description else {
             return fail("--print-prompt needs a description");
         };
-        out!("{}", prompt::render(&synth.prompt(description)));
+        out!("{}", api::prompt_text(&synth, description));
         return ExitCode::SUCCESS;
     }
     if let Some(file) = &args.eval {
-        let gt = args
-            .gt
-            .clone()
-            .or_else(|| crate::api::mine::bundled(crate::api::mine::SAMPLE_GT));
-        let limits = crate::pipeline::limits::pair_limits(
-            args.max_tuples,
-            args.timeout_ms,
-            rayon::current_num_threads(),
-        );
-        let shown = Shown {
-            json: args.json,
+        let request = EvalRequest {
+            descriptions: file.clone(),
+            logs: args.logs.clone(),
+            gt: args.gt.clone(),
+            limits: Limits {
+                max_tuples: args.max_tuples,
+                timeout_ms: args.timeout_ms,
+            },
             price: args.price,
+            names: Names::Flags,
         };
-        return eval(&synth, file, &args.logs, gt.as_deref(), shown, &limits);
+        return eval(&synth, &request, args.json);
     }
     match (&args.description, &args.descriptions, &args.out) {
         (Some(d), _, _) => one(&synth, d, &args),
@@ -244,121 +234,59 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-/// How `--eval` shows its report: as JSON or text, with the cost at a price.
-struct Shown {
-    json: bool,
-    price: Option<scenalog_synth::Price>,
-}
-
-/// `--eval FILE`: every description synthesized with held-out prompts, each clean program run on
-/// the sample logs, the descriptions that are prompts of the ground truth `gt` mined and scored;
-/// the report on stdout. Exit 0 when it ran, 1 when the fixture scoring failed (the rest is
-/// reported), 2 when an input is unusable.
-fn eval(
-    synth: &Synthesizer,
-    file: &std::path::Path,
-    logs: &std::path::Path,
-    gt: Option<&std::path::Path>,
-    shown: Shown,
-    limits: &scenalog_engine::Options,
-) -> ExitCode {
-    let descriptions = match batch::read_descriptions(file) {
-        Ok(d) => d,
-        Err(e) => return fail(e),
+/// `--eval FILE`: the report on stdout (JSON with `--json`). Exit 0 when it ran, 1 when the
+/// fixture scoring failed (the rest is reported), 2 when an input is unusable.
+fn eval(synth: &Synthesizer, request: &EvalRequest, json: bool) -> ExitCode {
+    let evaluated = match api::evaluate(synth, request) {
+        Ok(e) => e,
+        Err(e) => return fail(e.flags()),
     };
-    if let Some(g) = gt {
-        if !g.is_file() {
-            return fail(format!("--gt `{}` is not a file", g.display()));
-        }
-    }
-    let mut dirs: Vec<PathBuf> = match std::fs::read_dir(logs) {
-        Ok(rd) => rd
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_dir())
-            .collect(),
-        Err(e) => return fail(format!("--logs `{}`: {e}", logs.display())),
-    };
-    dirs.sort();
-    let mut scenes = Vec::new();
-    for d in &dirs {
-        match scenalog_facts::load_scene(d) {
-            Ok(s) => scenes.push(s),
-            Err(e) => return fail(format!("`{}`: {e}", d.display())),
-        }
-    }
-    if scenes.is_empty() {
-        return fail(format!("--logs `{}` holds no log", logs.display()));
-    }
-    let extractors: Vec<_> = scenes
-        .iter()
-        .map(scenalog_extractors::cache::Extractor::new)
-        .collect();
-    let report = scenalog_synth::evaluation::evaluate(synth, &descriptions, |source| {
-        let checked = scenalog_rules::check(source, &scenalog_rules::CheckOptions::default())
-            .program
-            .ok_or("the clean program no longer checks")?;
-        let mut n = 0;
-        for x in &extractors {
-            let ev = crate::pipeline::scenario::evaluate_on(x, &checked, limits)
-                .map_err(|e| e.to_string())?;
-            n += ev.size("referred");
-        }
-        Ok(n)
-    });
-    let mut report = report;
-    report.price = shown.price;
     let mut code = ExitCode::SUCCESS;
-    if let Some(g) = gt {
-        let scratch = std::env::temp_dir();
-        match crate::cli::synth_fixture::fixture_score(&report, g, logs, &scratch, limits) {
-            Ok(f) => report.fixture = f,
-            Err(e) => {
-                eprintln!("scenalog synth: the fixture score: {e}");
-                code = ExitCode::from(1);
-            }
-        }
+    if let Some(e) = &evaluated.fixture_error {
+        eprintln!("scenalog synth: the fixture score: {}", e.flags());
+        code = ExitCode::from(1);
     }
-    if shown.json {
-        match serde_json::to_string_pretty(&report.to_json()) {
+    if json {
+        match serde_json::to_string_pretty(&evaluated.report.to_json()) {
             Ok(text) => outln!("{text}"),
             Err(e) => return fail(format!("cannot encode the report: {e}")),
         }
     } else {
-        out!("{}", report.render());
+        out!("{}", evaluated.report.render());
     }
     code
 }
 
 fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
-    if description.trim().is_empty() {
-        return fail("the description is empty");
+    let request = OneRequest {
+        description: description.to_string(),
+        output: args.output.clone(),
+        transcript: args.transcript.clone(),
+    };
+    let done = match api::synthesize_one(synth, &request) {
+        Ok(d) => d,
+        Err(e) => return fail(e.flags()),
+    };
+    let t = &done.transcript;
+    if let Some(e) = &done.transcript_error {
+        eprintln!("scenalog synth: {e}");
     }
-    let t = synth.synthesize(description);
-    if let Some(path) = &args.transcript {
-        if let Err(e) = scenalog_synth::cache::write_atomic(path, t.to_json().as_bytes()) {
-            eprintln!("scenalog synth: {e}");
+    if let Some(e) = &done.output_error {
+        // Keep the answer: print it rather than lose it.
+        if let Some(p) = t.program() {
+            out!("{p}");
         }
+        return fail(e);
     }
-    match &args.output {
-        Some(path) => {
-            if let Err(e) = write_outputs(path, &t) {
-                // Keep the answer: print it rather than lose it.
-                if let Some(p) = t.program() {
-                    out!("{p}");
-                }
-                return fail(e);
-            }
-        }
-        None => {
-            if let Some(p) = t.program() {
-                out!("{p}");
-            }
+    if args.output.is_none() {
+        if let Some(p) = t.program() {
+            out!("{p}");
         }
     }
     let rounds = t.rounds.len();
     eprintln!(
         "scenalog synth: {}",
-        tokens_line(&t.usage(), args.price.as_ref())
+        api::tokens_line(&t.usage(), args.price.as_ref())
     );
     match &t.outcome {
         Outcome::Clean { round } => {
@@ -370,11 +298,11 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
                 "scenalog synth: no clean program after {rounds} round{}",
                 if rounds == 1 { "" } else { "s" }
             );
-            report_last(&t, args);
+            report_last(&done, args.output.as_deref());
             ExitCode::from(1)
         }
         Outcome::Unreachable { error } => {
-            report_last(&t, args);
+            report_last(&done, args.output.as_deref());
             eprintln!("scenalog synth: {error}");
             eprintln!(
                 "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
@@ -384,51 +312,24 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
     }
 }
 
-/// Says where the last attempt and its diagnostics are, or prints the diagnostics.
-fn report_last(t: &scenalog_synth::Transcript, args: &Options) {
-    let Some(program) = t.program() else {
+/// Says where the last attempt and its diagnostics are (with `-o`), or prints the diagnostics.
+fn report_last(done: &api::OneOutcome, output: Option<&std::path::Path>) {
+    if done.transcript.program().is_none() {
         return;
-    };
-    match &args.output {
-        Some(path) => eprintln!(
+    }
+    match (output, &done.diagnostics_file) {
+        (Some(path), Some(diagnostics)) => eprintln!(
             "scenalog synth: the last attempt is in {}, its diagnostics in {}",
             path.display(),
-            diagnostics_path(path).display()
+            diagnostics.display()
         ),
-        None => {
-            let outcome = scenalog_rules::check(
-                program,
-                &scenalog_rules::CheckOptions {
-                    require_referred: true,
-                },
-            );
+        _ => {
             let color = std::io::stderr().is_terminal();
-            eprint!(
-                "{}",
-                scenalog_rules::render_human(&outcome.diagnostics, program, "<synthesized>", color)
-            );
+            if let Some(text) = done.diagnostics_text(color) {
+                eprint!("{text}");
+            }
         }
     }
-}
-
-/// The tokens of `u` on one line, with their cost at `price`.
-fn tokens_line(u: &scenalog_synth::Usage, price: Option<&scenalog_synth::Price>) -> String {
-    let mut s = format!(
-        "tokens: {} uncached input, {} cached input, {} output",
-        u.uncached_tokens(),
-        u.cached_tokens,
-        u.completion_tokens
-    );
-    if let Some(p) = price {
-        s.push_str(&format!(", cost {:.4}", p.cost(u)));
-    }
-    if u.without_usage > 0 {
-        s.push_str(&format!(
-            " ({} of {} server answers reported no usage)",
-            u.without_usage, u.completions
-        ));
-    }
-    s
 }
 
 fn many(
@@ -436,33 +337,27 @@ fn many(
     file: &std::path::Path,
     out: &std::path::Path,
     jobs: usize,
-    price: Option<&scenalog_synth::Price>,
+    price: Option<&Price>,
 ) -> ExitCode {
-    let descriptions = match batch::read_descriptions(file) {
-        Ok(d) => d,
-        Err(e) => return fail(e),
-    };
-    // One batch writes a folder at a time (held until the report is printed).
-    let _held = match crate::pipeline::lock::OutputLock::acquire(out) {
-        Ok(l) => l,
-        Err(e) => return fail(e),
-    };
-    let options = BatchOptions {
-        out_dir: out.to_path_buf(),
+    let request = BatchRequest {
+        descriptions: file.to_path_buf(),
+        out: out.to_path_buf(),
         jobs,
         progress: true,
     };
-    let report = match batch::run(synth, &descriptions, &options) {
-        Ok(r) => r,
-        Err(e) => return fail(e),
+    // The folder stays held until the report is printed.
+    let done = match api::synthesize_batch(synth, &request) {
+        Ok(d) => d,
+        Err(e) => return fail(e.flags()),
     };
+    let report = &done.report;
     for item in &report.items {
         let status = match &item.status {
-            scenalog_synth::ItemStatus::Resumed => "already clean".to_string(),
-            scenalog_synth::ItemStatus::Clean { round } => format!("clean in round {round}"),
-            scenalog_synth::ItemStatus::Failed => "FAILED".to_string(),
-            scenalog_synth::ItemStatus::Unreachable { error } => format!("UNREACHABLE: {error}"),
-            scenalog_synth::ItemStatus::Skipped => "not attempted".to_string(),
+            ItemStatus::Resumed => "already clean".to_string(),
+            ItemStatus::Clean { round } => format!("clean in round {round}"),
+            ItemStatus::Failed => "FAILED".to_string(),
+            ItemStatus::Unreachable { error } => format!("UNREACHABLE: {error}"),
+            ItemStatus::Skipped => "not attempted".to_string(),
         };
         outln!("{}\t{status}\t{}", item.path.display(), item.description);
     }

@@ -290,6 +290,8 @@ pub struct Staging {
     dictionaries: scenalog_eval::arrow_table::TableDictionaries,
     /// Whether the per-log pickle parts are written (and joined).
     pickle: bool,
+    /// The keys of each log's pickle part written so far, by log index (the joiner checks them).
+    pickle_keys: std::sync::Mutex<std::collections::BTreeMap<usize, scenalog_eval::PartKeys>>,
 }
 
 impl Staging {
@@ -308,6 +310,7 @@ impl Staging {
             lock,
             dictionaries: Default::default(),
             pickle: true,
+            pickle_keys: Default::default(),
         })
     }
 
@@ -339,14 +342,16 @@ impl Staging {
     }
 
     /// Writes log number `index`'s predictions: its Arrow table (LZ4, the run's dictionaries)
-    /// and, when the pickle is written, its pickle body.
+    /// and, when the pickle is written, its sequences encoded for `eval`'s joiner
+    /// ([`scenalog_eval::encode_part`]; their keys kept for the join).
     pub fn write_part(&self, index: usize, part: &scenalog_eval::Submission) -> Result<(), String> {
         if self.pickle {
-            write_atomic(
-                &self.part(index, "pkl"),
-                &scenalog_eval::sequences_bytes(part),
-                false,
-            )?;
+            let (keys, bytes) = scenalog_eval::encode_part(part);
+            write_atomic(&self.part(index, "pkl"), &bytes, false)?;
+            self.pickle_keys
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(index, keys);
         }
         let path = self.part(index, "feather");
         let bytes = scenalog_eval::arrow_table::table_bytes(part, &self.dictionaries, PART_CODEC)
@@ -355,24 +360,31 @@ impl Staging {
     }
 
     /// Joins the parts, in `order`, into the run's Arrow table (one record batch a log,
-    /// zstd-compressed) and, when asked for, its pickle (byte for byte the pickle of the whole
-    /// submission when `order` sorts the logs by id).
+    /// zstd-compressed) and, when asked for, its pickle (with `eval`'s joiner,
+    /// [`scenalog_eval::PickleJoin`], which checks every part's keys: byte for byte the pickle of
+    /// the whole submission, `order` sorting the logs by id; the parts' bytes copied, not
+    /// decoded).
     pub fn join_parts(&self, order: &[usize], names: &OutputNames) -> Result<(), String> {
         let pickle = self.path(names.pickle);
         let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
         if self.pickle {
-            let mut f = std::io::BufWriter::new(
-                std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?,
-            );
-            f.write_all(scenalog_eval::SUBMISSION_HEAD)
-                .map_err(|e| io(&pickle, e))?;
+            let file = std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?;
+            let what = format!("`{}`", pickle.display());
+            let mut join = scenalog_eval::PickleJoin::new(std::io::BufWriter::new(file), &what)
+                .map_err(|e| e.to_string())?;
+            let keys = self.pickle_keys.lock().unwrap_or_else(|e| e.into_inner());
             for &i in order {
                 let part = self.part(i, "pkl");
+                let Some(keys) = keys.get(&i) else {
+                    return Err(format!(
+                        "`{}`: part {i} was never written",
+                        pickle.display()
+                    ));
+                };
                 let mut r = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
-                std::io::copy(&mut r, &mut f).map_err(|e| io(&pickle, e))?;
+                join.add_encoded(keys, &mut r).map_err(|e| e.to_string())?;
             }
-            f.write_all(scenalog_eval::SUBMISSION_TAIL)
-                .map_err(|e| io(&pickle, e))?;
+            let f = join.finish().map_err(|e| e.to_string())?;
             let f = f.into_inner().map_err(|e| io(&pickle, e.into_error()))?;
             f.sync_all().map_err(|e| io(&pickle, e))?;
         }

@@ -15,6 +15,8 @@ use scenalog_rules::ast::{ExprKind, Literal};
 use scenalog_view::{Annotation, Mark, Picture, Reference, Side};
 
 use super::explain::{evaluate_for_explain, referred_frames, Explanation, Renderer};
+use super::scenario::EvaluationError;
+use crate::message::Message;
 
 /// Most proof lines a picture lists.
 const MAX_NOTES: usize = 9;
@@ -317,17 +319,18 @@ pub fn frame_pictures<'a>(
     first: Frame,
     last: Frame,
     limits: &Options,
-) -> Result<Vec<Picture<'a>>, String> {
+) -> Result<Vec<Picture<'a>>, Message> {
     let Some(track) = like.referred else {
         return Ok(Vec::new());
     };
-    let failed = |e: scenalog_engine::EngineError| {
-        format!(
-            "evaluating {} on log {}: {e}",
+    let failed = |e: EvaluationError| {
+        e.message(&format!(
+            "evaluating {} on log {}: ",
             r.scenario.path.display(),
             r.scene.log_id
-        )
+        ))
     };
+    let text = |e: scenalog_engine::WhyNotError| Message::text(e);
     let extractor = Extractor::new(r.scene);
     let ev =
         evaluate_for_explain(&extractor, &r.scenario.program, false, limits).map_err(failed)?;
@@ -348,12 +351,11 @@ pub fn frame_pictures<'a>(
     let mut out = Vec::new();
     for frame in first..=last {
         let tuple = [Value::Track(track), Value::Time(frame)];
-        let proof =
-            explain(&r.scenario.program, &ev, "referred", &tuple).map_err(|e| e.to_string())?;
+        let proof = explain(&r.scenario.program, &ev, "referred", &tuple).map_err(text)?;
         let why_not = match (&proof, &whole) {
-            (None, Some(w)) if present(frame) => Some(
-                why_not(&r.scenario.program, w, "referred", &tuple).map_err(|e| e.to_string())?,
-            ),
+            (None, Some(w)) if present(frame) => {
+                Some(why_not(&r.scenario.program, w, "referred", &tuple).map_err(text)?)
+            }
             _ => None,
         };
         let e = Explanation {

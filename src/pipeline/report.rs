@@ -27,6 +27,7 @@ use super::output::Match;
 use super::picture::{explanation_picture, related_at};
 use super::run::{LogInput, PairStatus, RunReport};
 use super::scenario::Scenario;
+use crate::message::Names;
 
 /// The report's directory under the run's output directory.
 pub const REPORT_DIR: &str = crate::pipeline::output::REPORT_DIR;
@@ -131,10 +132,12 @@ fn pair_pictures<'a>(
 ) -> PairOut<'a> {
     let extractor = Extractor::new(scene);
     let ev = evaluate_for_explain(&extractor, &scenario.program, false, limits).map_err(|e| {
-        format!(
-            "{} on log {log_id}: evaluating again for the proofs failed: {e}",
+        let context = format!(
+            "{} on log {log_id}: evaluating again for the proofs failed: ",
             scenario.name
-        )
+        );
+        // The page is the command's (it quotes `scenalog explain` commands): its flags.
+        e.message(&context).render(Names::Flags)
     })?;
     let renderer = Renderer { scene, scenario };
     let mut out = Vec::new();

@@ -6,9 +6,11 @@ use std::time::{Duration, Instant};
 
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
-use scenalog_extractors::Budget;
+use scenalog_extractors::{Budget, ExtractError};
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, render_human, CheckOptions, CheckedProgram};
+
+use crate::message::{Field, Message};
 
 /// A checked scenario program and where it came from.
 #[derive(Debug, Clone)]
@@ -70,7 +72,7 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
 
 /// The engine's limits for one pair of `scenario` once its check is counted: the pair's time
 /// limit less the time the check took, so checking and evaluating a program on a log together
-/// stay within `--timeout-ms`. An error when the check alone took the whole limit.
+/// stay within the pair's time limit. An error when the check alone took the whole limit.
 pub fn limits_after_check(options: &Options, scenario: &Scenario) -> Result<Options, String> {
     let Some(limit) = options.timeout else {
         return Ok(options.clone());
@@ -89,13 +91,43 @@ pub fn limits_after_check(options: &Options, scenario: &Scenario) -> Result<Opti
     }
 }
 
+/// Why a program could not be evaluated on a log: the engine's error, and whether it came from
+/// an extracted relation past the tuple budget (the message then says to raise it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvaluationError {
+    /// The engine's error.
+    pub engine: EngineError,
+    /// A relation the extractor computed would have passed the tuple budget.
+    pub over_budget: bool,
+}
+
+impl EvaluationError {
+    /// The error after `context` ("program `p` failed on log L: "): the engine's message, and
+    /// for an extraction past the tuple budget, "or raise" and the budget's field.
+    pub fn message(&self, context: &str) -> Message {
+        let message = Message::text(format!("{context}{}", self.engine));
+        if self.over_budget {
+            message.then(" or raise ").mention(Field::MaxTuples)
+        } else {
+            message
+        }
+    }
+}
+
+impl std::fmt::Display for EvaluationError {
+    /// The engine's message (without what to raise: see [`EvaluationError::message`]).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.engine)
+    }
+}
+
 /// Evaluates a checked program on one scene, asking the extractor (and its per-scene cache) for
 /// exactly the catalog relations the program uses, with the constraints the program implies.
 pub fn evaluate_on(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     options: &Options,
-) -> Result<Evaluation, EngineError> {
+) -> Result<Evaluation, EvaluationError> {
     evaluate_with(extractor, program, options, false)
 }
 
@@ -106,7 +138,7 @@ pub fn evaluate_on_whole(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     options: &Options,
-) -> Result<Evaluation, EngineError> {
+) -> Result<Evaluation, EvaluationError> {
     evaluate_with(extractor, program, options, true)
 }
 
@@ -118,17 +150,24 @@ fn evaluate_with(
     program: &CheckedProgram,
     options: &Options,
     whole: bool,
-) -> Result<Evaluation, EngineError> {
+) -> Result<Evaluation, EvaluationError> {
     let budget = Budget::new(options.max_tuples, Instant::now(), options.timeout);
+    let mut over_budget = false;
     let mut provider = |r: &Request| -> Result<RelationData, String> {
         let extracted = if whole {
             extractor.extract_within(&Request::all(&r.name), &budget)
         } else {
             extractor.extract_within(r, &budget)
         };
-        extracted.map(|d| (*d).clone()).map_err(|e| e.to_string())
+        extracted.map(|d| (*d).clone()).map_err(|e| {
+            over_budget |= matches!(e, ExtractError::TooManyTuples { .. });
+            e.to_string()
+        })
     };
-    evaluate(program, &mut provider, options)
+    evaluate(program, &mut provider, options).map_err(|engine| EvaluationError {
+        over_budget: over_budget && matches!(engine, EngineError::Provider { .. }),
+        engine,
+    })
 }
 
 #[cfg(test)]

@@ -21,6 +21,7 @@ use crate::numpy_data::{decode, fortran_to_c, scalar_i64, width, Dtype};
 use crate::pickle_text::{quoted_string, raw_unicode_escape};
 use std::collections::BTreeMap;
 
+pub mod join;
 mod machine;
 mod node;
 mod submission;

@@ -35,8 +35,8 @@
 //! human rendering.
 
 use scenalog_engine::{
-    BodyFact, ClauseAttempt, Derivation, EngineError, Evaluation, Failure, Options, Outcome,
-    Reason, Step, WhyNot,
+    BodyFact, ClauseAttempt, Derivation, Evaluation, Failure, Options, Outcome, Reason, Step,
+    WhyNot,
 };
 use scenalog_extractors::cache::Extractor;
 use scenalog_facts::catalog::ColType;
@@ -48,7 +48,8 @@ use scenalog_rules::printer::print_literal;
 use scenalog_rules::CheckedProgram;
 use serde_json::{json, Value as Json};
 
-use super::scenario::Scenario;
+use super::scenario::{EvaluationError, Scenario};
+use crate::message::{Field, Message};
 
 mod json;
 mod text;
@@ -70,7 +71,7 @@ pub fn evaluate_for_explain(
     program: &CheckedProgram,
     whole: bool,
     limits: &Options,
-) -> Result<Evaluation, EngineError> {
+) -> Result<Evaluation, EvaluationError> {
     let options = Options {
         provenance: !whole,
         ..limits.clone()
@@ -111,25 +112,27 @@ pub fn frame_nearest(scene: &Scene, seconds: f64) -> Option<Frame> {
 }
 
 /// The log's frame nearest `seconds` from its start, when `seconds` lies within the log's time
-/// range (to half a 0.1 s step past either end); otherwise an error naming the range, so `--at
-/// 999` on a 15 s log is refused rather than explaining the last frame.
-pub fn frame_at(scene: &Scene, seconds: f64) -> Result<Frame, String> {
+/// range (to half a 0.1 s step past either end); otherwise an error naming the range (and the
+/// request's field [`Field::At`]), so `--at 999` on a 15 s log is refused rather than explaining
+/// the last frame.
+pub fn frame_at(scene: &Scene, seconds: f64) -> Result<Frame, Message> {
     let frames = scene.timeline.frames();
     let span = frames
         .first()
         .zip(frames.last())
         .and_then(|(a, b)| Some((scene.timeline.seconds(*a)?, scene.timeline.seconds(*b)?)));
     let Some((first, last)) = span else {
-        return Err(format!("log {} has no frames", scene.log_id));
+        return Err(Message::text(format!("log {} has no frames", scene.log_id)));
     };
     const HALF_STEP: f64 = 0.05;
     if seconds < first - HALF_STEP || seconds > last + HALF_STEP {
-        return Err(format!(
-            "--at {seconds}: outside log {}, which runs from {first:.1} s to {last:.1} s",
+        return Err(Message::text("").mention(Field::At).then(format!(
+            " {seconds}: outside log {}, which runs from {first:.1} s to {last:.1} s",
             scene.log_id
-        ));
+        )));
     }
-    frame_nearest(scene, seconds).ok_or_else(|| format!("log {} has no frames", scene.log_id))
+    frame_nearest(scene, seconds)
+        .ok_or_else(|| Message::text(format!("log {} has no frames", scene.log_id)))
 }
 
 /// Renders values for a person, with the scene for names and times.

@@ -33,6 +33,7 @@ use super::output::{self, Match, PairRecord};
 use super::predictions::{to_frames, BoxScores};
 use super::scenario::{evaluate_on, limits_after_check, Scenario};
 use super::tracks::{eval_frames, label_frames};
+use crate::message::{Message, Names};
 
 mod pair;
 mod resume;
@@ -110,7 +111,8 @@ pub struct RunOptions {
     /// The engine's limits.
     pub engine: Options,
     /// Draw a progress bar (only when stderr is a terminal) and print each failure on stderr as
-    /// it happens (the command does; a library caller gets them in the report).
+    /// it happens, naming the command's flags (the command does; a library caller gets them in
+    /// the report).
     pub progress: bool,
     /// The file names of the run's pickle and Arrow table.
     pub names: output::OutputNames,
@@ -127,6 +129,9 @@ pub struct RunOptions {
 /// The error of a run stopped through [`RunOptions::cancel`].
 pub const CANCELLED: &str = "the run was cancelled";
 
+/// How failures printed as they happen ([`RunOptions::progress`], the command's) name fields.
+const PROGRESS_NAMES: Names = Names::Flags;
+
 /// Whether the run was asked to stop.
 fn cancelled(options: &RunOptions) -> bool {
     options
@@ -142,8 +147,9 @@ pub enum PairStatus {
     Done,
     /// Already written by an earlier run (`resume`).
     Resumed,
-    /// Could not be evaluated or written: the reason.
-    Failed(String),
+    /// Could not be evaluated or written: the reason (naming the request's fields, such as the
+    /// tuple budget to raise).
+    Failed(Message),
 }
 
 /// One (log, program) pair's outcome.
@@ -189,7 +195,7 @@ pub struct RunReport {
     /// One per (log, program), logs in input order, programs in input order within a log.
     pub pairs: Vec<PairResult>,
     /// Logs that could not be read (or whose output timestamps do not fit), with the reason.
-    pub log_failures: Vec<(String, String)>,
+    pub log_failures: Vec<(String, Message)>,
     /// The run's predictions, keyed `(log_id, description)` (finished pairs only), when
     /// [`RunOptions::keep_submission`]; else empty.
     pub submission: Submission,
@@ -293,7 +299,7 @@ pub fn run_unpublished(
         indicatif::ProgressBar::hidden()
     };
     let load_time = Mutex::new(Duration::ZERO);
-    type LogOutcome = (Vec<PairResult>, Option<String>, Result<(), String>);
+    type LogOutcome = (Vec<PairResult>, Option<Message>, Result<(), String>);
     let per_log: Vec<LogOutcome> = pool.install(|| {
         logs.par_iter()
             .enumerate()
@@ -347,7 +353,7 @@ pub fn run_unpublished(
     report.timings.wall = start.elapsed();
     output::write_json(
         &staging.path(output::SUMMARY_JSON),
-        &summary_json(&report, scenarios),
+        &summary_json(&report, scenarios, SUMMARY_NAMES),
         true,
     )?;
     if options.keep_submission {
@@ -365,8 +371,13 @@ pub fn run_unpublished(
     Ok((report, staging))
 }
 
-/// `summary.json`: the stage times, the failed logs and every pair's status.
-fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value {
+/// How `summary.json` names the request's fields in its errors: it is the command's file, so
+/// with the command's flags (the Python package's `pairs` name its keywords: [`pairs_json`]).
+const SUMMARY_NAMES: Names = Names::Flags;
+
+/// `summary.json`: the stage times, the failed logs and every pair's status, messages rendered
+/// with `names`.
+fn summary_json(report: &RunReport, scenarios: &[Scenario], names: Names) -> serde_json::Value {
     let t = &report.timings;
     serde_json::json!({
         "threads": report.threads,
@@ -378,16 +389,20 @@ fn summary_json(report: &RunReport, scenarios: &[Scenario]) -> serde_json::Value
             "wall": t.wall.as_secs_f64(),
         },
         "failed_logs": report.log_failures.iter()
-            .map(|(l, e)| serde_json::json!({"log_id": l, "error": e}))
+            .map(|(l, e)| serde_json::json!({"log_id": l, "error": e.render(names)}))
             .collect::<Vec<_>>(),
-        "pairs": pairs_json(report, scenarios),
+        "pairs": pairs_json(report, scenarios, names),
     })
 }
 
 /// Every pair of a run as JSON, in pair order: its log, program, description, status
-/// (`done`, `resumed`, `failed`), error, number of matches and evaluation time; the `pairs` of
-/// `summary.json` (and of the Python package's `mine`).
-pub fn pairs_json(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json::Value> {
+/// (`done`, `resumed`, `failed`), error (rendered with `names`), number of matches and
+/// evaluation time; the `pairs` of `summary.json` (and of the Python package's `mine`).
+pub fn pairs_json(
+    report: &RunReport,
+    scenarios: &[Scenario],
+    names: Names,
+) -> Vec<serde_json::Value> {
     report
         .pairs
         .iter()
@@ -395,7 +410,7 @@ pub fn pairs_json(report: &RunReport, scenarios: &[Scenario]) -> Vec<serde_json:
             let (status, error) = match &p.status {
                 PairStatus::Done => ("done", None),
                 PairStatus::Resumed => ("resumed", None),
-                PairStatus::Failed(e) => ("failed", Some(e.clone())),
+                PairStatus::Failed(e) => ("failed", Some(e.render(names))),
             };
             serde_json::json!({
                 "log_id": p.log_id,
@@ -472,11 +487,11 @@ fn log_part(log: &LogInput, scenarios: &[Scenario], pairs: &mut [PairResult]) ->
     part
 }
 
-fn failed(log: &LogInput, index: usize, reason: String) -> PairResult {
+fn failed(log: &LogInput, index: usize, reason: impl Into<Message>) -> PairResult {
     PairResult {
         log_id: log.log_id.clone(),
         scenario: index,
-        status: PairStatus::Failed(reason),
+        status: PairStatus::Failed(reason.into()),
         frames: Vec::new(),
         matches: Vec::new(),
         evaluate: Duration::ZERO,
@@ -493,7 +508,7 @@ fn mine_log(
     scenarios: &[Scenario],
     options: &RunOptions,
     bar: &indicatif::ProgressBar,
-) -> (Vec<PairResult>, Option<String>, Duration) {
+) -> (Vec<PairResult>, Option<Message>, Duration) {
     let t0 = Instant::now();
     let indices = log.program_indices(scenarios.len());
     if cancelled(options) {
@@ -503,7 +518,7 @@ fn mine_log(
             .collect();
         return (pairs, None, Duration::ZERO);
     }
-    let scene = load_log(log);
+    let scene = load_log(log).map_err(Message::text);
     let load = t0.elapsed();
     let frames = scene.and_then(|(scene, scores)| {
         let frames = output_frames(&scene, options.timestamps.get(&log.log_id))?;
@@ -513,7 +528,7 @@ fn mine_log(
         Ok(x) => x,
         Err(e) => {
             if options.progress {
-                bar.suspend(|| eprintln!("scenalog mine: {e}"));
+                bar.suspend(|| eprintln!("scenalog mine: {}", e.render(PROGRESS_NAMES)));
             }
             bar.inc(indices.len() as u64);
             let pairs = indices.iter().map(|&i| failed(log, i, e.clone())).collect();
@@ -552,7 +567,7 @@ fn mine_log(
             });
             if let PairStatus::Failed(e) = &r.status {
                 if options.progress {
-                    bar.suspend(|| eprintln!("scenalog mine: {e}"));
+                    bar.suspend(|| eprintln!("scenalog mine: {}", e.render(PROGRESS_NAMES)));
                 }
             }
             bar.inc(1);

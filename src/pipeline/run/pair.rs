@@ -2,6 +2,7 @@
 //! tuples turned into labelled frames and matches, and the pair's record written.
 
 use super::*;
+use crate::message::Field;
 
 /// What every pair of one log shares.
 pub(crate) struct PairContext<'a> {
@@ -33,16 +34,22 @@ pub fn short_id(log_id: &str) -> &str {
 
 /// The frames predictions are emitted at: the given timestamps (each must be a frame of the
 /// log), or every 5th frame from the first.
-pub(crate) fn output_frames(scene: &Scene, given: Option<&Vec<i64>>) -> Result<Vec<Frame>, String> {
+pub(crate) fn output_frames(
+    scene: &Scene,
+    given: Option<&Vec<i64>>,
+) -> Result<Vec<Frame>, Message> {
     let Some(given) = given else {
         return Ok(eval_frames(scene));
     };
     let mut frames = Vec::with_capacity(given.len());
     for &ns in given {
         let f = scene.timeline.frame_of(ns).ok_or_else(|| {
-            format!(
-                "--eval-timestamps: {ns} is not an annotation timestamp of log {}",
-                scene.log_id
+            Message::about(
+                Field::EvalTimestamps,
+                format!(
+                    "{ns} is not an annotation timestamp of log {}",
+                    scene.log_id
+                ),
             )
         })?;
         frames.push(f);
@@ -69,14 +76,8 @@ pub(crate) fn mine_pair(
     let evaluation = match evaluate_on(extractor, &scenario.program, &engine) {
         Ok(e) => e,
         Err(e) => {
-            return failed(
-                log,
-                index,
-                format!(
-                    "program `{}` failed on log {}: {e}",
-                    scenario.name, log.log_id
-                ),
-            )
+            let context = format!("program `{}` failed on log {}: ", scenario.name, log.log_id);
+            return failed(log, index, e.message(&context));
         }
     };
     let evaluate = t0.elapsed();
@@ -90,7 +91,7 @@ pub(crate) fn mine_pair(
     let write = t2.elapsed();
     let status = match written {
         Ok(()) => PairStatus::Done,
-        Err(e) => PairStatus::Failed(e),
+        Err(e) => PairStatus::Failed(Message::text(e)),
     };
     PairResult {
         log_id: log.log_id.clone(),

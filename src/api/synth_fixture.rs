@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 
 use scenalog_synth::evaluation::{EvalReport, FixtureScore, PromptScore};
 
-use crate::api::mine::log_dirs;
+use crate::api::error::{Field, Message, Names};
+use crate::api::inputs::log_dirs;
 use crate::pipeline::run::{run as run_mining, PairStatus, RunOptions};
 use crate::pipeline::scenario::scenario_from_source;
 use crate::pipeline::summary::score;
@@ -27,16 +28,18 @@ fn predicts_nothing(description: &str) -> String {
 
 /// Mines the report's programs for the ground truth's prompts on `logs` (a directory of logs)
 /// and scores them against `gt_path`; `Ok(None)` when no description of the set is one of its
-/// prompts. Each pair runs within `limits` (a pair past them is mined as no match). Scratch
+/// prompts. Each pair runs within `limits` (a pair past them is mined as no match; its failure
+/// in the score rendered with `names`). Scratch
 /// output goes to a fresh directory under `scratch`, removed afterwards.
-pub fn fixture_score(
+pub(crate) fn fixture_score(
     report: &EvalReport,
     gt_path: &Path,
     logs: &Path,
     scratch: &Path,
     limits: &scenalog_engine::Options,
-) -> Result<Option<FixtureScore>, String> {
-    let gt = scenalog_eval::read_any(gt_path).map_err(|e| format!("--gt: {e}"))?;
+    names: Names,
+) -> Result<Option<FixtureScore>, Message> {
+    let gt = scenalog_eval::read_any(gt_path).map_err(|e| Message::about(Field::Gt, e))?;
     let gt_prompts: BTreeSet<&str> = gt.sequences.keys().map(|(_, p)| p.as_str()).collect();
     let (mut prompts, mut without_program, mut scenarios) = (Vec::new(), Vec::new(), Vec::new());
     for item in &report.items {
@@ -54,10 +57,10 @@ pub fn fixture_score(
         let path = PathBuf::from(format!("{}.dl", scenalog_synth::slug::slug(d)));
         let scenario = scenario_from_source(&path, source)?;
         if scenario.description != d {
-            return Err(format!(
+            return Err(Message::text(format!(
                 "the program for `{d}` is described as `{}`",
                 scenario.description
-            ));
+            )));
         }
         prompts.push(d.to_string());
         scenarios.push(scenario);
@@ -65,9 +68,9 @@ pub fn fixture_score(
     if prompts.is_empty() {
         return Ok(None);
     }
-    let (log_inputs, problems) = log_dirs(&[logs.to_path_buf()]).map_err(|e| e.flags())?;
+    let (log_inputs, problems) = log_dirs(&[logs.to_path_buf()]).map_err(|e| e.message)?;
     if let Some(p) = problems.first() {
-        return Err(p.clone());
+        return Err(Message::text(p));
     }
     let out = scratch.join(format!("scenalog-synth-fixture-{}", std::process::id()));
     let options = RunOptions {
@@ -85,7 +88,7 @@ pub fn fixture_score(
     let _ = std::fs::remove_dir_all(&out);
     let mut run = run?;
     if let Some((log, e)) = run.log_failures.first() {
-        return Err(format!("{log}: {e}"));
+        return Err(e.clone().after(format!("{log}: ")));
     }
     // A pair past the limits has no prediction: mine it again with a program that predicts
     // nothing, so the prompt is scored there (as zero) rather than left out of the score.
@@ -94,7 +97,7 @@ pub fn fixture_score(
     for p in &run.pairs {
         if let PairStatus::Failed(e) = &p.status {
             let d = &scenarios[p.scenario].description;
-            failed_pairs.push(format!("{}: {d}: {e}", p.log_id));
+            failed_pairs.push(format!("{}: {d}: {}", p.log_id, e.render(names)));
             redo.entry(p.log_id.clone()).or_default().push(p.scenario);
         }
     }

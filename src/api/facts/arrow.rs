@@ -1,4 +1,5 @@
-//! A catalog relation's tuples as an Arrow table, for `scenalog.facts(log, relation)`.
+//! A catalog relation's tuples as an Arrow table, for `scenalog.facts(log, relation)`: the
+//! columns the catalog names, typed as `scenalog facts --relation --json` writes the values.
 
 use std::sync::Arc;
 
@@ -11,7 +12,7 @@ use scenalog_facts::Scene;
 /// The tuples as one record batch in an Arrow IPC stream, written as `scenalog facts --relation
 /// --json` writes them: tracks as uuid strings, times as frame indices (uint32), lanes as map
 /// ids (int64), strings, floats (float64; a non-finite one null) and integers (int64).
-pub fn relation_ipc(
+pub(crate) fn relation_ipc(
     scene: &Scene,
     spec: &RelationSpec,
     data: &RelationData,
