@@ -411,3 +411,55 @@ fn refav_turning_filtered_keeps_a_turn_a_heading_blip_splits() {
         turns(&drift, "refav_turning", "turner")
     );
 }
+
+/// The frames of `track` in a (track, time) relation.
+fn frames_of(scene: &Scene, name: &str, track: &str) -> Vec<u64> {
+    rows(scene, name)
+        .iter()
+        .filter(|r| r[0] == track)
+        .map(|r| r[1].as_u64().unwrap_or(0))
+        .collect()
+}
+
+#[test]
+fn a_roll_at_one_frame_splits_refav_turning_through_the_rotation_vector() {
+    // A left turn of 48° at 16 deg/s from a heading of 90°: RefAV's turn.
+    let base = |roll: Option<u32>| {
+        let mut scene = turner(16.0, 30, None);
+        let i = scene.track_by_uuid["turner"].index();
+        for b in &mut scene.tracks[i].boxes {
+            let turn = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, 90f64.to_radians());
+            b.city.rotation = turn * b.city.rotation;
+            b.ego.rotation = b.city.rotation;
+        }
+        if let Some(f) = roll {
+            // The box at frame f rolled 40° about its own x axis: its heading is unchanged.
+            let b = &mut scene.tracks[i].boxes[f as usize];
+            let tilt = nalgebra::UnitQuaternion::from_euler_angles(40f64.to_radians(), 0.0, 0.0);
+            b.city.rotation *= tilt;
+            b.ego.rotation = b.city.rotation;
+        }
+        scene
+    };
+    let (flat, rolled) = (base(None), base(Some(25)));
+    let theirs = turns(&flat, "refav_turning", "turner");
+    assert!(theirs.len() >= 30, "{theirs:?}");
+    assert!(theirs.iter().all(|(_, d)| d == "left"));
+    // The heading, and so Scenalog's turning, does not see the roll.
+    assert_eq!(
+        turns(&flat, "turning", "turner"),
+        turns(&rolled, "turning", "turner")
+    );
+    assert_eq!(
+        rows(&flat, "yaw_rate"),
+        rows(&rolled, "yaw_rate"),
+        "the heading's rate"
+    );
+    // The rotation vector's z drops at the rolled frame, so its rate turns negative just
+    // before it: two runs of about 24°, neither a turn.
+    assert!(
+        turns(&rolled, "refav_turning", "turner").is_empty(),
+        "{:?}",
+        turns(&rolled, "refav_turning", "turner")
+    );
+}
