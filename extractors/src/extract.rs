@@ -29,6 +29,8 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
         "refav_order" => objects::refav_order(ex, q),
         "refav_crosswalk" => map::refav_crosswalk(ex, q),
+        "refav_lane_change" => crate::refav_lanes::refav_lane_change(ex, q),
+        "refav_on_intersection" => crate::refav_lanes::refav_on_intersection(ex, q),
         "lane_change" => motion::events(ex, q, ex.lane_changes()),
         "in_lane" => map::in_lane(ex, q),
         "lane_type" => map::lane_type(ex, q),

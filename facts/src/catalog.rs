@@ -596,6 +596,18 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_lane_change",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "RefAV's definition of `lane_change` (its changing_lanes): X's lane by RefAV's lane buckets becomes its previous lane's \"left\" or \"right\" neighbour by AV2's links (across a centre line too) while X moves sideways at 0.1 m/s or more in the city frame, spanning the frames around it over which X keeps moving across its lane that way; RefAV's turning frames removed",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_on_intersection",
+        columns: &[X, T],
+        doc: "RefAV's definition of `on_intersection`: the lane RefAV's lane buckets assign X at T (its median-filtered centre, the ego's at its rear axle) is an intersection lane",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_order",
         columns: &[X, enum_col("Cat", CATEGORY_VALUES), col("R", ColType::Int)],
         doc: "X is the R-th (0 first) of the objects RefAV's get_objects_of_category(Cat) returns, for Cat X's category, \"VEHICLE\" (a vehicle) and \"ANY\": the annotation file's order of first rows, for \"VEHICLE\" category by category (RefAV's loops over candidates follow it)",
@@ -720,7 +732,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 44);
+        assert_eq!(catalog().len(), 46);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -734,13 +746,15 @@ mod tests {
             "refav_order",
             "refav_crosswalk",
             "refav_turning_filtered",
+            "refav_lane_change",
+            "refav_on_intersection",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(44));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(46));
         let text = render_text();
-        assert!(text.starts_with("44 relations."));
+        assert!(text.starts_with("46 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

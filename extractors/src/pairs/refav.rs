@@ -122,7 +122,7 @@ struct Relative {
 /// scipy's `median_filter(x, size=min(7, n), mode="nearest")` on one series: a centred window
 /// (for an even size, one more sample behind than ahead), edges repeated, the middle order
 /// statistic (the upper one for an even size).
-fn median_nearest(x: &[f64]) -> Vec<f64> {
+pub(crate) fn median_nearest(x: &[f64]) -> Vec<f64> {
     let n = x.len();
     let w = n.min(7);
     if w == 0 {
