@@ -58,6 +58,8 @@ impl Translator<'_> {
                     "refav_turning_filtered"
                 } else if f == "turning" {
                     "turning"
+                } else if self.refav() {
+                    "refav_lane_change"
                 } else {
                     "lane_change"
                 };
@@ -125,6 +127,7 @@ impl Translator<'_> {
                 v.extend(range("D", f64::NEG_INFINITY, d));
                 v
             }
+            "on_intersection" if self.refav() => vec!["refav_on_intersection(X, T)".into()],
             "on_intersection" => vec!["on_intersection(X, T)".into()],
             "stationary" => vec!["stationary(X)".into()],
             "in_drivable_area" => vec!["in_drivable_area(X, T)".into()],
