@@ -28,6 +28,7 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
         "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
         "refav_order" => objects::refav_order(ex, q),
+        "refav_color" => objects::refav_color(ex, q)?,
         "refav_crosswalk" => map::refav_crosswalk(ex, q),
         "refav_lane_change" => crate::refav_lanes::refav_lane_change(ex, q),
         "refav_on_intersection" => crate::refav_lanes::refav_on_intersection(ex, q),

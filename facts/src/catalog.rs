@@ -235,6 +235,9 @@ pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
 /// The sense in which an object crosses another's midplane, about it seen from above.
 pub const SENSES: &[&str] = &["clockwise", "counterclockwise"];
 
+/// The values of `refav_color`'s colour column: RefAV's colours and "none".
+pub const COLOR_VALUES: &[&str] = &["white", "silver", "black", "red", "yellow", "blue", "none"];
+
 const CATEGORY_COUNT: usize = ALL_CATEGORIES.len() + SUPER_CATEGORIES.len();
 
 const CATEGORY_ARRAY: [&str; CATEGORY_COUNT] = {
@@ -608,6 +611,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_color",
+        columns: &[X, enum_col("C", COLOR_VALUES)],
+        doc: "X's colour in RefAV's colour cache of the log (`cache/color_cache.json`, SigLIP2 over camera crops, computed offline by RefAV), \"none\" where the cache holds none; no rows for a log without a cache or a track the cache lacks (RefAV's is_color keeps those)",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_order",
         columns: &[X, enum_col("Cat", CATEGORY_VALUES), col("R", ColType::Int)],
         doc: "X is the R-th (0 first) of the objects RefAV's get_objects_of_category(Cat) returns, for Cat X's category, \"VEHICLE\" (a vehicle) and \"ANY\": the annotation file's order of first rows, for \"VEHICLE\" category by category (RefAV's loops over candidates follow it)",
@@ -710,6 +719,13 @@ mod tests {
     }
 
     #[test]
+    fn color_values_are_refav_colours_and_none() {
+        let mut want: Vec<&str> = crate::color::REFAV_COLORS.to_vec();
+        want.push(crate::color::NO_COLOR);
+        assert_eq!(COLOR_VALUES, &want[..]);
+    }
+
+    #[test]
     fn names_are_unique_and_lookup_works() {
         let mut names: Vec<_> = catalog().iter().map(|r| r.name).collect();
         names.sort_unstable();
@@ -732,7 +748,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 46);
+        assert_eq!(catalog().len(), 47);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -748,13 +764,14 @@ mod tests {
             "refav_turning_filtered",
             "refav_lane_change",
             "refav_on_intersection",
+            "refav_color",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(46));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(47));
         let text = render_text();
-        assert!(text.starts_with("46 relations."));
+        assert!(text.starts_with("47 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),
