@@ -253,7 +253,7 @@ struct Shown {
 /// `--eval FILE`: every description synthesized with held-out prompts, each clean program run on
 /// the sample logs, the descriptions that are prompts of the ground truth `gt` mined and scored;
 /// the report on stdout. Exit 0 when it ran, 1 when the fixture scoring failed (the rest is
-/// reported), 2 when an input is unusable.
+/// reported), 2 when an input is unusable or the server could not be reached for a description.
 fn eval(
     synth: &Synthesizer,
     file: &std::path::Path,
@@ -325,6 +325,21 @@ fn eval(
         }
     } else {
         out!("{}", report.render());
+    }
+    // A server that could not be reached leaves the report without programs: not a success.
+    let unreachable = report.unreachable();
+    if unreachable > 0 {
+        let first = report
+            .items
+            .iter()
+            .find(|i| i.unreachable)
+            .and_then(|i| i.error.as_deref())
+            .unwrap_or_default();
+        eprintln!(
+            "scenalog synth: the LLM server could not be reached for {unreachable} of {} descriptions: {first}",
+            report.items.len()
+        );
+        return ExitCode::from(2);
     }
     code
 }
