@@ -584,3 +584,64 @@ fn refav_on_intersection_is_the_bucketed_lane_not_any_lane_under_the_centre() {
     );
     assert_eq!(frames_of(&stopped, "on_intersection", "car").len(), 30);
 }
+
+#[test]
+fn refav_near_measures_from_the_egos_box_at_its_rear_axle() {
+    // The ego's rear axle at the origin heading +x: its body spans -1.0 m to +3.877 m, RefAV's
+    // box (the annotated row, centred on the axle) -2.44 m to +2.44 m. A 0.5 m cone 9 m past
+    // the body's front is within 10 m of the body, 10.44 m from RefAV's box; one 10.5 m behind
+    // the body's back is 9.06 m from RefAV's box.
+    let cone = [0.5, 0.5, 1.0];
+    let scene = SceneBuilder::new(5)
+        .ego_at_rear_axle(straight(0, 5, 0.0, 0.0, 0.0, 0.0))
+        .track(
+            "ahead",
+            "CONSTRUCTION_CONE",
+            cone,
+            straight(0, 5, 3.877 + 9.25, 0.0, 0.0, 0.0),
+        )
+        .track(
+            "behind",
+            "CONSTRUCTION_CONE",
+            cone,
+            straight(0, 5, -1.0 - 10.75, 0.0, 0.0, 0.0),
+        )
+        .build();
+    let dist = |name: &str, y: &str| -> Option<f64> {
+        rows(&scene, name)
+            .iter()
+            .find(|r| r[0] == "ego" && r[1] == y && r[2] == 0)
+            .and_then(|r| r[3].as_f64())
+    };
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-4);
+    assert!(
+        close(dist("near", "ahead"), 9.0),
+        "{:?}",
+        dist("near", "ahead")
+    );
+    assert!(
+        close(dist("near", "behind"), 10.5),
+        "{:?}",
+        dist("near", "behind")
+    );
+    let half = 4.877 / 2.0;
+    assert!(
+        close(dist("refav_near", "ahead"), 3.877 + 9.0 - half),
+        "{:?}",
+        dist("refav_near", "ahead")
+    );
+    assert!(close(dist("refav_near", "behind"), 1.0 + 10.5 - half));
+    // Between two other objects the two agree.
+    let (a, b) = (
+        rows(&scene, "near")
+            .iter()
+            .filter(|r| r[0] != "ego" && r[1] != "ego")
+            .count(),
+        rows(&scene, "refav_near")
+            .iter()
+            .filter(|r| r[0] != "ego" && r[1] != "ego")
+            .count(),
+    );
+    assert_eq!(a, b);
+    assert!(a > 0);
+}

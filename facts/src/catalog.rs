@@ -581,6 +581,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_near",
+        columns: &[X, Y, T, col("D", ColType::Float)],
+        doc: "RefAV's definition of `near` (the distance of its near_objects): as `near`, but the ego's ground rectangle is where RefAV places it, centred on the rear axle (1.44 m behind its body's centre)",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_crossing",
         columns: CROSSING_DETAIL_COLUMNS,
         doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is the importer's, with `refav_crossing_event` and `refav_order`",
@@ -748,7 +754,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 47);
+        assert_eq!(catalog().len(), 48);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -765,13 +771,14 @@ mod tests {
             "refav_lane_change",
             "refav_on_intersection",
             "refav_color",
+            "refav_near",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(47));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(48));
         let text = render_text();
-        assert!(text.starts_with("47 relations."));
+        assert!(text.starts_with("48 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -98,6 +98,7 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
             "refav_crosswalk(",
             "refav_direction(",
             "refav_lane_change(",
+            "refav_near(",
             "refav_on_intersection(",
             "refav_order(",
             "refav_turning("
@@ -112,6 +113,7 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
             "refav_crosswalk(",
             "refav_direction_corrected(",
             "refav_lane_change(",
+            "refav_near(",
             "refav_on_intersection(",
             "refav_turning_filtered("
         ],
@@ -130,7 +132,11 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
         with.get("refav_turning("),
         without.get("refav_turning_filtered(")
     );
-    for r in ["refav_lane_change(", "refav_on_intersection("] {
+    for r in [
+        "refav_lane_change(",
+        "refav_on_intersection(",
+        "refav_near(",
+    ] {
         assert_eq!(with.get(r), without.get(r), "{r}");
     }
 }
@@ -150,6 +156,7 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
         " crossing_detail(",
         " lane_change(",
         " on_intersection(",
+        " near(",
     ];
     let mut uses = BTreeMap::new();
     for f in report.files.iter().filter_map(|f| f.output.as_ref()) {
@@ -183,6 +190,7 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
             "refav_turning_filtered(",
             "refav_lane_change(",
             "refav_on_intersection(",
+            "refav_near(",
         ] {
             if clauses.contains(r) {
                 *uses.entry(r).or_insert(0) += 1;
