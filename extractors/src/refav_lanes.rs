@@ -366,12 +366,15 @@ pub struct RefavLaneData {
     pub changes: Vec<Vec<(Frame, Side)>>,
 }
 
+/// One track's lane per box and its lane-change frames.
+type TrackLanes = (Vec<Option<usize>>, Vec<(Frame, Side)>);
+
 /// RefAV's lanes and lane changes of every track, computed once per scene.
 pub fn lane_data(ex: &Extractor) -> Arc<RefavLaneData> {
     ex.cached(|ex| {
         use rayon::prelude::*;
         let (scene, index, turning) = (ex.scene(), ex.map_index(), ex.refav_turning());
-        let per: Vec<(Vec<Option<usize>>, Vec<(Frame, Side)>)> = scene
+        let per: Vec<TrackLanes> = scene
             .tracks
             .par_iter()
             .map(|t| {
