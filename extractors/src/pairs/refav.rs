@@ -123,6 +123,10 @@ pub fn refav_near(ctx: &PairContext, q: &Query) -> RelationData {
         search,
         |r: &(TrackId, TrackId, Frame, f64)| (r.0, r.1, r.2, 0),
         |f, x, y, d, out| {
+            // Like every pair relation, only pairs within 50 m of each other (the car's body).
+            if d.value() > PAIR_MAX_DISTANCE_M {
+                return;
+            }
             let d = if x.track == ego || y.track == ego {
                 box_distance(&placed(x), &placed(y))
             } else {
