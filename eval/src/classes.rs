@@ -10,6 +10,12 @@
 //! sequence: a tracker's output is the same under every prompt of a log), as a tracking benchmark
 //! scores a tracker with the classes merged. The official code never computed that one; it is
 //! defined here as the paper describes it. `eval/README.md` says which is which.
+//!
+//! Objects are classed by their `label` (0 referred, 1 related, 2 other), as the current
+//! official code reads a submission; the older code that computed the related and other columns
+//! classed them by `name` (`RELATED_OBJECT`, `OTHER_OBJECT`). Where a file's name and label
+//! disagree the two give different values, so every such file gets a warning
+//! ([`label_name_mismatches`]).
 
 use crate::mining::{pick, tune, Filter, Pick, PromptHota};
 use crate::model::{FrameData, Submission};
@@ -82,6 +88,11 @@ pub(crate) fn further(pred: &Submission, gt: &Submission, fp: &Filter, fg: &Filt
     let other = score(Pick::Label(2));
     let (p, g) = (pick(pred, fp, Pick::Every), pick(gt, fg, Pick::Every));
     let mut warnings = Vec::new();
+    for (sub, what) in [(pred, "predictions"), (gt, "ground truth")] {
+        if let Some(w) = label_name_mismatches(sub, what) {
+            warnings.push(w);
+        }
+    }
     let (pl, gl) = (
         one_per_log(&p, "predictions", &mut warnings),
         one_per_log(&g, "ground truth", &mut warnings),
@@ -93,6 +104,37 @@ pub(crate) fn further(pred: &Submission, gt: &Submission, fp: &Filter, fg: &Filt
         tracker,
         warnings,
     }
+}
+
+/// The `name` av2 gives each `label` of a scenario-mining object.
+pub const LABEL_NAMES: [&str; 3] = ["REFERRED_OBJECT", "RELATED_OBJECT", "OTHER_OBJECT"];
+
+/// A warning when some of `sub`'s objects carry a `name` other than their `label`'s
+/// ([`LABEL_NAMES`]): how many, and the first (log, prompt, timestamp, label, name).
+pub fn label_name_mismatches(sub: &Submission, what: &str) -> Option<String> {
+    let mut n = 0usize;
+    let mut first = None;
+    for ((log, prompt), frames) in &sub.sequences {
+        for f in frames {
+            for (l, name) in f.label.iter().zip(&f.name) {
+                let want = usize::try_from(*l).ok().and_then(|i| LABEL_NAMES.get(i));
+                if want != Some(&name.as_str()) {
+                    n += 1;
+                    first.get_or_insert_with(|| {
+                        format!(
+                            "log {log}, prompt {prompt:?}, {} ns: label {l}, name {name:?}",
+                            f.timestamp_ns
+                        )
+                    });
+                }
+            }
+        }
+    }
+    first.map(|f| {
+        format!(
+            "{what}: {n} object(s) whose name is not their label's (first: {f}); HOTA-Temporal of related and other objects classes them by label, where av2's older code classed them by name"
+        )
+    })
 }
 
 /// Per prompt of `gt` and overall (on `pooled_pred`/`pooled_gt`, whose sequences all carry the

@@ -30,7 +30,11 @@ fn frame(t_ms: i64, objs: &[Obj], scored: bool) -> FrameData {
         size: vec![[4.0, 2.0, 1.5]; objs.len()],
         yaw: vec![0.0; objs.len()],
         label: objs.iter().map(|o| o.1).collect(),
-        name: vec!["REGULAR_VEHICLE".into(); objs.len()],
+        // As RefAV's create_mining_pkl names them: from the label.
+        name: objs
+            .iter()
+            .map(|o| scenalog_eval::classes::LABEL_NAMES[o.1 as usize].to_string())
+            .collect(),
         track_id: objs.iter().map(|o| o.0).collect(),
         score: scored.then(|| vec![1.0; objs.len()]),
         ..Default::default()
@@ -365,6 +369,14 @@ fn fixture_values_are_pinned() {
     assert_eq!(f.related.value(), None);
     close(f.other.value().expect("other"), 0.5807763575364608, "other");
     close(f.tracker.value().expect("hota"), 0.7466950270710451, "hota");
+    // The same HOTA averaged over the 10 score thresholds (av2's tracking summary), not the best.
+    let mean = f
+        .tracker
+        .overall
+        .as_ref()
+        .map(|h| h.mean_over_thresholds)
+        .expect("hota");
+    close(mean, 0.5611703033297353, "hota, mean over the thresholds");
     let stopped = |c: &scenalog_eval::ClassHota| {
         c.by_prompt["stopped car"]
             .as_ref()

@@ -259,3 +259,42 @@ fn emptied_sequence_scores_zero_for_its_prompt() {
         }
     }
 }
+
+/// Related and other objects are classed by label; a file whose names disagree with its labels
+/// is named in a warning (the value would differ under av2's older classing by name).
+#[test]
+fn a_name_that_disagrees_with_its_label_is_warned_of() {
+    use scenalog_eval::classes::label_name_mismatches;
+    let g = gt();
+    assert_eq!(label_name_mismatches(&g, "ground truth"), None);
+    let mut h = base();
+    assert_eq!(label_name_mismatches(&h, "predictions"), None);
+    let Some(frame) = h
+        .sequences
+        .values_mut()
+        .flat_map(|f| f.iter_mut())
+        .find(|f| !f.label.is_empty())
+    else {
+        panic!("no object in the base submission")
+    };
+    let label = frame.label[0];
+    let wrong = if label == 2 {
+        "RELATED_OBJECT"
+    } else {
+        "OTHER_OBJECT"
+    };
+    frame.name[0] = wrong.into();
+    let w = label_name_mismatches(&h, "predictions").unwrap_or_default();
+    assert!(
+        w.contains("1 object(s)")
+            && w.contains(&format!("label {label}, name \"{wrong}\""))
+            && w.contains("by label"),
+        "{w}"
+    );
+    let names: Vec<&str> = ["drop_frames", "empty_seq", "id_switch", "jitter", "scores"]
+        .into_iter()
+        .filter(|n| label_name_mismatches(&holdout(n), "predictions").is_some())
+        .collect();
+    // Two of the five carry names that disagree with their labels.
+    assert_eq!(names, ["drop_frames", "empty_seq"]);
+}

@@ -117,10 +117,10 @@ impl<'s> Extractor<'s> {
     /// Per track: its turning frames as RefAV's `turning` finds them ([`crate::refav`]).
     pub fn refav_turning(&self) -> &[Vec<(Frame, Side)>] {
         self.refav_turning.get_or_init(|| {
-            self.kinematics()
+            self.scene
                 .tracks
                 .iter()
-                .map(crate::refav::turning)
+                .map(|t| crate::refav::turning(self.scene, t))
                 .collect()
         })
     }
@@ -129,10 +129,10 @@ impl<'s> Extractor<'s> {
     /// ([`crate::refav::turning_filtered`]).
     pub fn refav_turning_filtered(&self) -> &[Vec<(Frame, Side)>] {
         self.refav_turning_filtered.get_or_init(|| {
-            self.kinematics()
+            self.scene
                 .tracks
                 .iter()
-                .map(crate::refav::turning_filtered)
+                .map(|t| crate::refav::turning_filtered(self.scene, t))
                 .collect()
         })
     }

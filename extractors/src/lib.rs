@@ -2,7 +2,7 @@
 //!
 //! Owns: kinematics ([`kinematics`]), the map prepared for queries and lane assignment ([`map`],
 //! [`lanes`]), events ([`events`]: turning, lane change), RefAV's definitions where they differ
-//! ([`refav`], for imported programs), the pairwise relations ([`pairs`]), the
+//! ([`refav`], [`refav_lanes`], for imported programs), the pairwise relations ([`pairs`]), the
 //! per-scene context that computes each thing once ([`Extractor`]), constraint pushdown
 //! ([`Query`]), and every threshold in one place ([`thresholds`]).
 //!
@@ -35,6 +35,7 @@ pub mod map;
 pub mod pairs;
 pub mod query;
 pub mod refav;
+pub mod refav_lanes;
 pub mod relations;
 pub mod synthetic;
 pub mod thresholds;

@@ -61,6 +61,14 @@ pub enum ExtractError {
         /// The time limit, in milliseconds.
         limit_ms: u128,
     },
+    /// An input the relation is computed from cannot be read (e.g. a log's colour cache).
+    #[error("relation `{relation}` cannot be computed: {message}")]
+    BadInput {
+        /// The relation.
+        relation: String,
+        /// What is wrong, naming the file.
+        message: String,
+    },
 }
 
 /// Whether `category` (a track's AV2 category) matches a category constraint (an AV2 category or

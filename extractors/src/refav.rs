@@ -3,9 +3,10 @@
 //! Each says which RefAV function (CainanD/RefAV 5c5be64, `refAV/atomic_functions.py`) it
 //! reproduces; the differences from Scenalog's definitions are listed in `import/README.md`.
 //!
-//! - **`refav_turning`** (RefAV's `turning`): the yaw rate is RefAV's, unfiltered (central
-//!   differences of the heading over real time, one-sided at the ends: the kinematics'
-//!   `yaw_rate`). A run starts at index `s`; it grows while the rate at its end has the sign of
+//! - **`refav_turning`** (RefAV's `turning`): the yaw rate is RefAV's, unfiltered
+//!   ([`rotvec_yaw_rate`]: central differences, one-sided at the ends, of the z component of
+//!   the rotation vector of the box's full city-frame rotation, its roll and pitch included,
+//!   not of the heading; near a zero rate the two can differ in sign). A run starts at index `s`; it grows while the rate at its end has the sign of
 //!   the rate at `s` (a zero rate has no sign), and stops at the first sample that does not (or
 //!   at the last sample), which it includes. The run's rates are summed times the track's first
 //!   time step; more than 45° is a left turn over the whole run, less than −45° a right turn.
@@ -26,25 +27,31 @@
 //!   C the crossing's map id, so a program can follow which crossing (RefAV's loop defect).
 
 use scenalog_facts::scene::{SUPER_CATEGORIES, VEHICLE_CATEGORIES};
-use scenalog_facts::{Frame, Scene, TrackId};
+use scenalog_facts::{Frame, Scene, Track, TrackId};
 
 use crate::events::Side;
-use crate::kinematics::TrackKinematics;
 
 /// RefAV's turn threshold, degrees over a run.
 pub const REFAV_TURN_ANGLE_DEG: f64 = 45.0;
 
 /// The frames of one track's turns as RefAV's `turning` finds them, in frame order (a frame
 /// can be both a left and a right turn's, at the sample where the rate changes sign).
-pub fn turning(t: &TrackKinematics) -> Vec<(Frame, Side)> {
-    turning_of(t, &t.yaw_rate)
+pub fn turning(scene: &Scene, track: &Track) -> Vec<(Frame, Side)> {
+    let rate: Vec<f64> = rotvec_yaw_rate(scene, track)
+        .into_iter()
+        .map(f64::to_degrees)
+        .collect();
+    turning_of(&frames_ns(scene, track), &rate)
 }
 
 /// [`turning`] on the yaw rate median-filtered over 3 samples (the ends kept), so a one-frame
 /// heading spike, which moves the two rates beside it in opposite directions, does not split a
 /// turn: RefAV's rule without its spike defect (`refav_turning_filtered`).
-pub fn turning_filtered(t: &TrackKinematics) -> Vec<(Frame, Side)> {
-    let v = &t.yaw_rate;
+pub fn turning_filtered(scene: &Scene, track: &Track) -> Vec<(Frame, Side)> {
+    let v: Vec<f64> = rotvec_yaw_rate(scene, track)
+        .into_iter()
+        .map(f64::to_degrees)
+        .collect();
     let filtered: Vec<f64> = (0..v.len())
         .map(|i| {
             if i == 0 || i + 1 == v.len() {
@@ -55,17 +62,62 @@ pub fn turning_filtered(t: &TrackKinematics) -> Vec<(Frame, Side)> {
             w[1]
         })
         .collect();
-    turning_of(t, &filtered)
+    turning_of(&frames_ns(scene, track), &filtered)
 }
 
-/// RefAV's run rule on the yaw rates `v` of track `t`'s samples.
-fn turning_of(t: &TrackKinematics, v: &[f64]) -> Vec<(Frame, Side)> {
+/// Each box's frame and timestamp (ns; a frame outside the timeline, which a loaded scene does
+/// not have, at 10 Hz).
+pub(crate) fn frames_ns(scene: &Scene, track: &Track) -> Vec<(Frame, i64)> {
+    track
+        .boxes
+        .iter()
+        .map(|b| {
+            let ns = scene
+                .timeline
+                .ns(b.frame)
+                .unwrap_or(i64::from(b.frame) * 100_000_000);
+            (b.frame, ns)
+        })
+        .collect()
+}
+
+/// RefAV's yaw rate of a track (its `get_nth_yaw_deriv(track, 1, coordinate_frame='self')`),
+/// rad/s per box: the z component of the rotation vector (angle in [0, π]) of each box's
+/// city-frame rotation, differenced between the boxes before and after (one-sided at the
+/// ends), a jump of more than π taken the short way round, over the timestamps' difference.
+pub fn rotvec_yaw_rate(scene: &Scene, track: &Track) -> Vec<f64> {
+    let z: Vec<f64> = track
+        .boxes
+        .iter()
+        .map(|b| b.city.rotation.scaled_axis().z)
+        .collect();
+    let ns = frames_ns(scene, track);
+    let n = z.len();
+    // One box: RefAV takes no difference and returns the angle itself.
+    if n == 1 {
+        return z;
+    }
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let mut d = z[b] - z[a];
+            if d.abs() > std::f64::consts::PI {
+                d -= std::f64::consts::TAU.copysign(d);
+            }
+            1e9 * d / (ns[b].1 - ns[a].1) as f64
+        })
+        .collect()
+}
+
+/// RefAV's run rule on the yaw rates `v` (degrees/s) of a track's samples at `frames` (frame,
+/// timestamp in ns).
+fn turning_of(frames: &[(Frame, i64)], v: &[f64]) -> Vec<(Frame, Side)> {
     let n = v.len();
-    if n < 2 || t.times.len() < 2 {
+    if n < 2 || frames.len() < 2 {
         return Vec::new();
     }
     // RefAV multiplies every rate by the track's first time step.
-    let dt = t.times[1] - t.times[0];
+    let dt = (frames[1].1 - frames[0].1) as f64 / 1e9;
     let same_sign = |a: f64, b: f64| (a > 0.0 && b > 0.0) || (a < 0.0 && b < 0.0);
     let (mut left, mut right) = (vec![false; n], vec![false; n]);
     let (mut s, mut e) = (0, 0);
@@ -84,7 +136,7 @@ fn turning_of(t: &TrackKinematics, v: &[f64]) -> Vec<(Frame, Side)> {
         e += 1;
     }
     let mut out = Vec::new();
-    for (i, &f) in t.frames.iter().enumerate() {
+    for (i, &(f, _)) in frames.iter().enumerate() {
         if left[i] {
             out.push((f, Side::Left));
         }
@@ -199,14 +251,12 @@ fn convex_contains(q: &[[f64; 2]; 4], p: [f64; 2]) -> bool {
 mod tests {
     use super::*;
 
-    fn track(yaw_rate: Vec<f64>) -> TrackKinematics {
-        let n = yaw_rate.len();
-        TrackKinematics {
-            frames: (0..n as Frame).collect(),
-            times: (0..n).map(|i| i as f64 * 0.1).collect(),
-            yaw_rate,
-            ..TrackKinematics::default()
-        }
+    /// RefAV's run rule on these rates (degrees/s) at 10 Hz.
+    fn turning(yaw_rate: &[f64]) -> Vec<(Frame, Side)> {
+        let frames: Vec<(Frame, i64)> = (0..yaw_rate.len() as Frame)
+            .map(|f| (f, i64::from(f) * 100_000_000))
+            .collect();
+        turning_of(&frames, yaw_rate)
     }
 
     #[test]
@@ -215,12 +265,12 @@ mod tests {
         let mut w = vec![20.0; 30];
         w.push(-1.0);
         w.extend(vec![0.0; 5]);
-        let t = turning(&track(w.clone()));
+        let t = turning(&w);
         assert_eq!(t.len(), 31, "{t:?}");
         assert!(t.iter().all(|&(_, s)| s == Side::Left));
         // One flipped sample in the middle: two runs of 15 samples (30° each), neither a turn.
         w[15] = -1.0;
-        assert!(turning(&track(w)).is_empty());
+        assert!(turning(&w).is_empty());
     }
 
     #[test]
@@ -254,9 +304,9 @@ mod tests {
 
     #[test]
     fn the_last_sample_ends_a_run() {
-        let t = turning(&track(vec![-20.0; 30]));
+        let t = turning(&[-20.0; 30]);
         assert_eq!(t.len(), 30);
         assert!(t.iter().all(|&(_, s)| s == Side::Right));
-        assert!(turning(&track(vec![-20.0])).is_empty());
+        assert!(turning(&[-20.0]).is_empty());
     }
 }

@@ -191,6 +191,7 @@ impl SceneBuilder {
             ego_poses: vec![Isometry3::identity(); self.frames],
             map: VectorMap::new(self.lanes, self.crossings, self.areas),
             track_by_uuid,
+            color_cache: scenalog_facts::ColorCache::Absent,
         }
     }
 }

@@ -411,3 +411,237 @@ fn refav_turning_filtered_keeps_a_turn_a_heading_blip_splits() {
         turns(&drift, "refav_turning", "turner")
     );
 }
+
+/// The frames of `track` in a (track, time) relation.
+fn frames_of(scene: &Scene, name: &str, track: &str) -> Vec<u64> {
+    rows(scene, name)
+        .iter()
+        .filter(|r| r[0] == track)
+        .map(|r| r[1].as_u64().unwrap_or(0))
+        .collect()
+}
+
+#[test]
+fn a_roll_at_one_frame_splits_refav_turning_through_the_rotation_vector() {
+    // A left turn of 48° at 16 deg/s from a heading of 90°: RefAV's turn.
+    let base = |roll: Option<u32>| {
+        let mut scene = turner(16.0, 30, None);
+        let i = scene.track_by_uuid["turner"].index();
+        for b in &mut scene.tracks[i].boxes {
+            let turn = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, 90f64.to_radians());
+            b.city.rotation = turn * b.city.rotation;
+            b.ego.rotation = b.city.rotation;
+        }
+        if let Some(f) = roll {
+            // The box at frame f rolled 40° about its own x axis: its heading is unchanged.
+            let b = &mut scene.tracks[i].boxes[f as usize];
+            let tilt = nalgebra::UnitQuaternion::from_euler_angles(40f64.to_radians(), 0.0, 0.0);
+            b.city.rotation *= tilt;
+            b.ego.rotation = b.city.rotation;
+        }
+        scene
+    };
+    let (flat, rolled) = (base(None), base(Some(25)));
+    let theirs = turns(&flat, "refav_turning", "turner");
+    assert!(theirs.len() >= 30, "{theirs:?}");
+    assert!(theirs.iter().all(|(_, d)| d == "left"));
+    // The heading, and so Scenalog's turning, does not see the roll.
+    assert_eq!(
+        turns(&flat, "turning", "turner"),
+        turns(&rolled, "turning", "turner")
+    );
+    assert_eq!(
+        rows(&flat, "yaw_rate"),
+        rows(&rolled, "yaw_rate"),
+        "the heading's rate"
+    );
+    // The rotation vector's z drops at the rolled frame, so its rate turns negative just
+    // before it: two runs of about 24°, neither a turn.
+    assert!(
+        turns(&rolled, "refav_turning", "turner").is_empty(),
+        "{:?}",
+        turns(&rolled, "refav_turning", "turner")
+    );
+}
+
+/// A two-lane road along +x from x = 0 to 200: lane 1 on the right (y from -3.5 to 0), lane
+/// 2 on the left (0 to 3.5), lane 1's left neighbour and lane 1 its right one; `oncoming` makes
+/// lane 2 run along -x (its boundaries reversed) with lane 1 its left neighbour too, as AV2
+/// links the lanes either side of a centre line. A car at 10 m/s
+/// moves from lane 1's middle to lane 2's over 3 s, starting at 2.05 s (so no sample lies on the
+/// boundary, where RefAV's fraction across the lane is 0, which Python takes as false).
+fn lane_changer(oncoming: bool) -> Scene {
+    let way: Vec<Waypoint> = (0..80)
+        .map(|f| {
+            let t = f64::from(f) * 0.1;
+            let s = ((t - 2.05) / 3.0).clamp(0.0, 1.0);
+            (f, 10.0 * t, -1.75 + 3.5 * s, 0.0)
+        })
+        .collect();
+    // Boundaries with a point every 10 m, as AV2's have several (with only its two ends,
+    // RefAV's left-boundary direction near the first point is the zero vector: its
+    // `min(0, nearest - 1)` slip takes the last point, which is also the one after).
+    let line = |y: f64, back: bool| -> Vec<[f64; 2]> {
+        let mut v: Vec<[f64; 2]> = (0..=20).map(|k| [10.0 * f64::from(k), y]).collect();
+        if back {
+            v.reverse();
+        }
+        v
+    };
+    let (left2, right2) = if oncoming {
+        (line(0.0, true), line(3.5, true))
+    } else {
+        (line(3.5, false), line(0.0, false))
+    };
+    SceneBuilder::new(80)
+        .lane(
+            1,
+            &line(0.0, false),
+            &line(-3.5, false),
+            &[],
+            Some(2),
+            None,
+            false,
+        )
+        .lane(
+            2,
+            &left2,
+            &right2,
+            &[],
+            oncoming.then_some(1),
+            (!oncoming).then_some(1),
+            false,
+        )
+        .track("car", "REGULAR_VEHICLE", CAR, way)
+        .build()
+}
+
+#[test]
+fn refav_lane_change_follows_links_across_the_centre_line() {
+    // Into a lane running the same way: a left change in both, around the boundary crossing
+    // (y = 0 at frame 35).
+    let same = lane_changer(false);
+    let ours = turns(&same, "lane_change", "car");
+    let theirs = turns(&same, "refav_lane_change", "car");
+    assert!(ours.iter().any(|(f, _)| *f == 35), "{ours:?}");
+    assert!(theirs.iter().any(|(f, _)| *f == 35), "{theirs:?}");
+    assert!(theirs.iter().all(|(_, d)| d == "left"), "{theirs:?}");
+    // RefAV's span runs while the car keeps moving across its lane: from the change's start
+    // (frame 20) to its end (frame 50), not beyond.
+    let span: Vec<u64> = theirs.iter().map(|(f, _)| *f).collect();
+    assert!(span.iter().all(|f| (20..=51).contains(f)), "{span:?}");
+    assert!(span.len() >= 20, "{span:?}");
+    // Into the oncoming lane (AV2 links it as the left neighbour): RefAV's lane change, not
+    // Scenalog's.
+    let oncoming = lane_changer(true);
+    assert!(turns(&oncoming, "lane_change", "car").is_empty());
+    let theirs = turns(&oncoming, "refav_lane_change", "car");
+    assert!(theirs.iter().any(|(f, _)| *f == 35), "{theirs:?}");
+}
+
+#[test]
+fn refav_on_intersection_is_the_bucketed_lane_not_any_lane_under_the_centre() {
+    // A road lane from x = 0 to 200 with an intersection lane over x = 95..105 on top of it.
+    // A car driving through at 10 m/s has its centre in the intersection lane for 10 frames,
+    // fewer than in the road lane, whose bucket wins them: on an intersection in Scenalog's
+    // sense, not in RefAV's.
+    let road = |b: SceneBuilder| {
+        b.straight_lane(1, 0.0, 200.0, -1.75, 1.75).lane(
+            2,
+            &[[95.0, 1.75], [105.0, 1.75]],
+            &[[95.0, -1.75], [105.0, -1.75]],
+            &[],
+            None,
+            None,
+            true,
+        )
+    };
+    let through = road(SceneBuilder::new(150))
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 150, 50.0, 0.0, 0.0, 10.0),
+        )
+        .build();
+    let ours = frames_of(&through, "on_intersection", "car");
+    assert!(ours.len() >= 9, "{ours:?}");
+    assert!(frames_of(&through, "refav_on_intersection", "car").is_empty());
+    // Stopped inside the intersection lane for the whole log: both buckets hold every frame,
+    // the tie goes to the earlier bucket (lane 1, by id) unless the intersection lane's turn
+    // (straight) agrees with the track's yaw rate (0: it does), so RefAV's answer is yes.
+    let stopped = road(SceneBuilder::new(30))
+        .track(
+            "car",
+            "REGULAR_VEHICLE",
+            CAR,
+            straight(0, 30, 100.0, 0.0, 0.0, 0.0),
+        )
+        .build();
+    assert_eq!(
+        frames_of(&stopped, "refav_on_intersection", "car").len(),
+        30
+    );
+    assert_eq!(frames_of(&stopped, "on_intersection", "car").len(), 30);
+}
+
+#[test]
+fn refav_near_measures_from_the_egos_box_at_its_rear_axle() {
+    // The ego's rear axle at the origin heading +x: its body spans -1.0 m to +3.877 m, RefAV's
+    // box (the annotated row, centred on the axle) -2.44 m to +2.44 m. A 0.5 m cone 9 m past
+    // the body's front is within 10 m of the body, 10.44 m from RefAV's box; one 10.5 m behind
+    // the body's back is 9.06 m from RefAV's box.
+    let cone = [0.5, 0.5, 1.0];
+    let scene = SceneBuilder::new(5)
+        .ego_at_rear_axle(straight(0, 5, 0.0, 0.0, 0.0, 0.0))
+        .track(
+            "ahead",
+            "CONSTRUCTION_CONE",
+            cone,
+            straight(0, 5, 3.877 + 9.25, 0.0, 0.0, 0.0),
+        )
+        .track(
+            "behind",
+            "CONSTRUCTION_CONE",
+            cone,
+            straight(0, 5, -1.0 - 10.75, 0.0, 0.0, 0.0),
+        )
+        .build();
+    let dist = |name: &str, y: &str| -> Option<f64> {
+        rows(&scene, name)
+            .iter()
+            .find(|r| r[0] == "ego" && r[1] == y && r[2] == 0)
+            .and_then(|r| r[3].as_f64())
+    };
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-4);
+    assert!(
+        close(dist("near", "ahead"), 9.0),
+        "{:?}",
+        dist("near", "ahead")
+    );
+    assert!(
+        close(dist("near", "behind"), 10.5),
+        "{:?}",
+        dist("near", "behind")
+    );
+    let half = 4.877 / 2.0;
+    assert!(
+        close(dist("refav_near", "ahead"), 3.877 + 9.0 - half),
+        "{:?}",
+        dist("refav_near", "ahead")
+    );
+    assert!(close(dist("refav_near", "behind"), 1.0 + 10.5 - half));
+    // Between two other objects the two agree.
+    let (a, b) = (
+        rows(&scene, "near")
+            .iter()
+            .filter(|r| r[0] != "ego" && r[1] != "ego")
+            .count(),
+        rows(&scene, "refav_near")
+            .iter()
+            .filter(|r| r[0] != "ego" && r[1] != "ego")
+            .count(),
+    );
+    assert_eq!(a, b);
+    assert!(a > 0);
+}

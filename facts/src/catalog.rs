@@ -235,6 +235,9 @@ pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
 /// The sense in which an object crosses another's midplane, about it seen from above.
 pub const SENSES: &[&str] = &["clockwise", "counterclockwise"];
 
+/// The values of `refav_color`'s colour column: RefAV's colours and "none".
+pub const COLOR_VALUES: &[&str] = &["white", "silver", "black", "red", "yellow", "blue", "none"];
+
 const CATEGORY_COUNT: usize = ALL_CATEGORIES.len() + SUPER_CATEGORIES.len();
 
 const CATEGORY_ARRAY: [&str; CATEGORY_COUNT] = {
@@ -578,6 +581,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Refav,
     },
     RelationSpec {
+        name: "refav_near",
+        columns: &[X, Y, T, col("D", ColType::Float)],
+        doc: "RefAV's definition of `near` (the distance of its near_objects): as `near`, but the ego's ground rectangle is where RefAV places it, centred on the rear axle (1.44 m behind its body's centre)",
+        group: Group::Refav,
+    },
+    RelationSpec {
         name: "refav_crossing",
         columns: CROSSING_DETAIL_COLUMNS,
         doc: "RefAV's definition of `crossing` (its being_crossed_by(X, Y, direction=Dir, in_direction=Sense) with forward_thresh >= Reach and lateral_thresh > Off): Y's median-filtered centre passes one of X's side lines extended in direction Dir (Reach m beyond half X's length) moving across faster than 0.2 m/s; T is in the span around it while Y keeps moving across that fast, Off the farthest Y has got past X's midplane on the far side by T (the near side unbounded); RefAV's direction overwrite is the importer's, with `refav_crossing_event` and `refav_order`",
@@ -593,6 +602,24 @@ const CATALOG: &[RelationSpec] = &[
         name: "refav_crosswalk",
         columns: &[X, T, col("C", ColType::Int), col("D", ColType::Float)],
         doc: "RefAV's definition of `at_crosswalk` (its at_pedestrian_crossing): X's box as RefAV has it (the ego's at its rear axle) touches pedestrian crossing C (its map id) dilated by D m with mitred corners (the polygon's edges moved out by D), 0 when they overlap",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_lane_change",
+        columns: &[X, T, enum_col("Dir", SIDES)],
+        doc: "RefAV's definition of `lane_change` (its changing_lanes): X's lane by RefAV's lane buckets becomes its previous lane's \"left\" or \"right\" neighbour by AV2's links (across a centre line too) while X moves sideways at 0.1 m/s or more in the city frame, spanning the frames around it over which X keeps moving across its lane that way; RefAV's turning frames removed",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_on_intersection",
+        columns: &[X, T],
+        doc: "RefAV's definition of `on_intersection`: the lane RefAV's lane buckets assign X at T (its median-filtered centre, the ego's at its rear axle) is an intersection lane",
+        group: Group::Refav,
+    },
+    RelationSpec {
+        name: "refav_color",
+        columns: &[X, enum_col("C", COLOR_VALUES)],
+        doc: "X's colour in RefAV's colour cache of the log (`cache/color_cache.json`, SigLIP2 over camera crops, computed offline by RefAV), \"none\" where the cache holds none; no rows for a log without a cache or a track the cache lacks (RefAV's is_color keeps those)",
         group: Group::Refav,
     },
     RelationSpec {
@@ -698,6 +725,13 @@ mod tests {
     }
 
     #[test]
+    fn color_values_are_refav_colours_and_none() {
+        let mut want: Vec<&str> = crate::color::REFAV_COLORS.to_vec();
+        want.push(crate::color::NO_COLOR);
+        assert_eq!(COLOR_VALUES, &want[..]);
+    }
+
+    #[test]
     fn names_are_unique_and_lookup_works() {
         let mut names: Vec<_> = catalog().iter().map(|r| r.name).collect();
         names.sort_unstable();
@@ -720,7 +754,7 @@ mod tests {
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 44);
+        assert_eq!(catalog().len(), 48);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -734,13 +768,17 @@ mod tests {
             "refav_order",
             "refav_crosswalk",
             "refav_turning_filtered",
+            "refav_lane_change",
+            "refav_on_intersection",
+            "refav_color",
+            "refav_near",
         ] {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(44));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(48));
         let text = render_text();
-        assert!(text.starts_with("44 relations."));
+        assert!(text.starts_with("48 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod catalog;
+pub mod color;
 pub mod conventions;
 pub mod error;
 pub mod intern;
@@ -21,6 +22,7 @@ pub mod scene;
 pub mod summary;
 pub mod time;
 
+pub use color::ColorCache;
 pub use error::LoadError;
 pub use intern::{Interner, Sym};
 pub use map::{DrivableArea, PedestrianCrossing};

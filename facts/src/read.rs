@@ -122,7 +122,8 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
         .find(|t| t.category == EGO_CATEGORY)
         .map(|t| t.id)
         .unwrap_or(TrackId(0));
-    let track_by_uuid = tracks.iter().map(|t| (t.uuid.clone(), t.id)).collect();
+    let track_by_uuid: std::collections::HashMap<String, TrackId> =
+        tracks.iter().map(|t| (t.uuid.clone(), t.id)).collect();
 
     let map = map_json::read_map(&map_path)?;
     let city = map_path
@@ -130,6 +131,7 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
         .map(|n| city_from_map_name(&n.to_string_lossy()))
         .unwrap_or_default();
 
+    let color_cache = crate::color::read_color_cache(log_dir, |u| track_by_uuid.get(u).copied());
     Ok(Scene {
         log_id: log_id_of(log_dir),
         city,
@@ -139,6 +141,7 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
         ego_poses,
         map,
         track_by_uuid,
+        color_cache,
     })
 }
 

@@ -214,6 +214,8 @@ pub struct Scene {
     pub map: VectorMap,
     /// uuid → track id.
     pub track_by_uuid: HashMap<String, TrackId>,
+    /// RefAV's colour cache of the log (`cache/color_cache.json`), for `refav_color`.
+    pub color_cache: crate::color::ColorCache,
 }
 
 impl Scene {

@@ -132,6 +132,12 @@ pub const SIGNATURES: &[Signature] = &[
         kind: Kind::Filter,
     },
     Signature {
+        name: "is_color",
+        params: &[("track_candidates", R), ("log_dir", R), ("color", R)],
+        var_kwargs: false,
+        kind: Kind::Filter,
+    },
+    Signature {
         name: "on_lane_type",
         params: &[("track_uuid", R), ("log_dir", R), ("lane_type", R)],
         var_kwargs: false,
@@ -348,11 +354,9 @@ pub const FIRST_API_FUNCTION: &str = "accelerating";
 /// The first API's keyword of [`FIRST_API_FUNCTION`].
 pub const FIRST_API_KEYWORD: &str = "thresh";
 
-/// RefAV functions that exist but read data Scenalog does not have (camera images, colours).
-pub const UNSUPPORTED: &[(&str, &str)] = &[
-    ("is_color", "needs camera images and a colour classifier"),
-    ("within_camera_view", "needs camera calibration and images"),
-];
+/// RefAV functions that exist but read data Scenalog does not have (camera images).
+pub const UNSUPPORTED: &[(&str, &str)] =
+    &[("within_camera_view", "needs camera calibration and images")];
 
 /// The signature of a RefAV function, if it is one.
 pub fn lookup(name: &str) -> Option<&'static Signature> {

@@ -87,7 +87,7 @@ fn every_refav_program_imports_unless_refav_itself_rejects_it() {
 fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
     // `--semantics refav`, with RefAV's defects (the default) and without: the same 255 import
     // and check clean, none of them uses the Scenalog relations refav mode replaces (turning,
-    // direction, crossing, crossing_detail), and the defects decide which RefAV relations.
+    // direction, crossing, crossing_detail, lane_change, on_intersection), and the defects decide which RefAV relations.
     use scenalog_import::{Defects, Semantics};
     let with = refav_relations_used(Semantics::Refav(Defects::ALL));
     assert_eq!(
@@ -97,6 +97,9 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
             "refav_crossing_event(",
             "refav_crosswalk(",
             "refav_direction(",
+            "refav_lane_change(",
+            "refav_near(",
+            "refav_on_intersection(",
             "refav_order(",
             "refav_turning("
         ],
@@ -109,6 +112,9 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
             "refav_crossing(",
             "refav_crosswalk(",
             "refav_direction_corrected(",
+            "refav_lane_change(",
+            "refav_near(",
+            "refav_on_intersection(",
             "refav_turning_filtered("
         ],
         "{without:?}"
@@ -126,6 +132,13 @@ fn with_refav_semantics_the_same_programs_import_onto_refav_relations() {
         with.get("refav_turning("),
         without.get("refav_turning_filtered(")
     );
+    for r in [
+        "refav_lane_change(",
+        "refav_on_intersection(",
+        "refav_near(",
+    ] {
+        assert_eq!(with.get(r), without.get(r), "{r}");
+    }
 }
 
 /// Imports the 262 programs in `semantics` and counts the programs using each `refav_*` relation.
@@ -141,6 +154,9 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
         " direction(",
         " crossing(",
         " crossing_detail(",
+        " lane_change(",
+        " on_intersection(",
+        " near(",
     ];
     let mut uses = BTreeMap::new();
     for f in report.files.iter().filter_map(|f| f.output.as_ref()) {
@@ -172,6 +188,9 @@ fn refav_relations_used(semantics: scenalog_import::Semantics) -> BTreeMap<&'sta
             "refav_order(",
             "refav_crosswalk(",
             "refav_turning_filtered(",
+            "refav_lane_change(",
+            "refav_on_intersection(",
+            "refav_near(",
         ] {
             if clauses.contains(r) {
                 *uses.entry(r).or_insert(0) += 1;

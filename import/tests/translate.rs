@@ -630,3 +630,99 @@ fn the_turning_spikes_defect_splits_turns() {
     let tracks = |p: &Pairs| p.iter().map(|x| x.0).collect::<BTreeSet<u32>>();
     assert!(tracks(&with).is_subset(&tracks(&without)));
 }
+
+/// The tracks of a (track, frame) set.
+fn tracks_of(p: &Pairs) -> BTreeSet<u32> {
+    p.iter().map(|&(t, _)| t).collect()
+}
+
+/// A copy of the sample log 3b3570b4 in a temporary folder with `cache` as its
+/// `cache/color_cache.json`.
+fn log_with_color_cache(cache: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let from = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let to = tmp.path().join("3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    for rel in ["", "map", "cache"] {
+        std::fs::create_dir_all(to.join(rel)).unwrap_or_else(|e| panic!("{e}"));
+    }
+    for rel in ["", "map"] {
+        for entry in std::fs::read_dir(from.join(rel)).unwrap_or_else(|e| panic!("{e}")) {
+            let path = entry.unwrap_or_else(|e| panic!("{e}")).path();
+            if path.is_file() {
+                let name = path.file_name().unwrap_or_default();
+                std::fs::copy(&path, to.join(rel).join(name)).unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
+    }
+    std::fs::write(to.join("cache/color_cache.json"), cache).unwrap_or_else(|e| panic!("{e}"));
+    (tmp, to)
+}
+
+#[test]
+fn is_color_reads_refavs_colour_cache_and_without_one_keeps_every_object() {
+    let base = scene();
+    let vehicles: Vec<&scenalog_facts::Track> = base
+        .tracks
+        .iter()
+        .filter(|t| t.id != base.ego && scenalog_facts::scene::is_vehicle_category(&t.category))
+        .collect();
+    let [red, blue, unknown, ..] = vehicles[..] else {
+        panic!("fewer than 3 vehicles")
+    };
+    // As RefAV's construct_caches writes it: json.dump of uuid -> colour word, or null where
+    // no crop was found; a uuid of another log's track is ignored.
+    let cache = format!(
+        "{{\"{}\": \"red\", \"{}\": \"blue\", \"{}\": null, \"not-in-this-log\": \"red\"}}",
+        red.uuid, blue.uuid, unknown.uuid
+    );
+    let (_tmp, dir) = log_with_color_cache(&cache);
+    let cached = load_scene(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let program = imported("result = is_color(vehicles, log_dir, color='red')");
+    assert!(
+        program.contains("refav_color(X, C), C != \"red\""),
+        "{program}"
+    );
+    assert!(
+        program.contains("// note: is_color reads RefAV's colour cache"),
+        "{program}"
+    );
+    let all = tracks_of(&run("result = vehicles").0);
+    // RefAV keeps the red one and every vehicle the cache does not hold; the blue one and the
+    // one without a colour go.
+    let want: BTreeSet<u32> = all
+        .iter()
+        .copied()
+        .filter(|&t| t != blue.id.0 && t != unknown.id.0)
+        .collect();
+    let (with_cache, _) = run_program_on(&cached, &program);
+    assert_eq!(tracks_of(&with_cache), want);
+    assert!(tracks_of(&with_cache).contains(&red.id.0));
+    // Without a cache (the bundled log has none) RefAV's is_color keeps every object.
+    assert_eq!(tracks_of(&run_program(&program).0), all);
+    // A colour RefAV does not know: every cached object goes, as its code (not its docstring)
+    // has it.
+    let green = imported("result = is_color(vehicles, log_dir, color='green')");
+    let kept = tracks_of(&run_program_on(&cached, &green).0);
+    assert!(kept
+        .iter()
+        .all(|t| ![red.id.0, blue.id.0, unknown.id.0].contains(t)));
+    assert_eq!(kept.len(), all.len() - 3);
+    // A cache RefAV does not write is an error naming the file, not a quiet answer.
+    let (_tmp2, bad) = log_with_color_cache(&format!("{{\"{}\": 3}}", red.uuid));
+    let bad = load_scene(&bad).unwrap_or_else(|e| panic!("{e}"));
+    let Some(checked) = check(&program, &CheckOptions::default()).program else {
+        panic!("does not check")
+    };
+    let ex = Extractor::new(&bad);
+    let mut provider = |r: &Request| -> Result<RelationData, String> {
+        ex.extract(r)
+            .map(|d| (*d).clone())
+            .map_err(|e| e.to_string())
+    };
+    let err = match evaluate(&checked, &mut provider, &Options::default()) {
+        Ok(_) => panic!("an unreadable colour cache gave an answer"),
+        Err(e) => e.to_string(),
+    };
+    assert!(err.contains("color_cache.json"), "{err}");
+}

@@ -327,6 +327,16 @@ fn warnings_that_change_meaning_are_reported() {
     )
     .iter()
     .all(|d| d.code != "W0504"));
+    // A time bound from a float: worded as a computation, not a comparison.
+    let src = "referred(X, T2) :- turning(X, T, \"left\"), T2 = T + 0.5, present(X, T2).\n";
+    let all = diags(src);
+    let d = all.iter().find(|d| d.code == "W0504");
+    assert!(
+        d.is_some_and(|d| d.message.contains("computed with a float")
+            && !d.message.contains("compared")
+            && d.hint.as_deref().unwrap_or("").contains("5 frames")),
+        "{all:#?}"
+    );
     // A count whose every variable also occurs outside: always 0 or 1.
     let src = "referred(P, T) :- category(P, \"PEDESTRIAN\"), near(P, Q, T, D), D < 5.0,\n    \
                N = count : { near(P, Q, T, D) }, N >= 3.\n";

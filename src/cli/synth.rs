@@ -235,7 +235,8 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// `--eval FILE`: the report on stdout (JSON with `--json`). Exit 0 when it ran, 1 when the
-/// fixture scoring failed (the rest is reported), 2 when an input is unusable.
+/// fixture scoring failed (the rest is reported), 2 when an input is unusable or the server could not be reached for a
+/// description.
 fn eval(synth: &Synthesizer, request: &EvalRequest, json: bool) -> ExitCode {
     let evaluated = match api::evaluate(synth, request) {
         Ok(e) => e,
@@ -253,6 +254,22 @@ fn eval(synth: &Synthesizer, request: &EvalRequest, json: bool) -> ExitCode {
         }
     } else {
         out!("{}", evaluated.report.render());
+    }
+    // A server that could not be reached leaves the report without programs: not a success.
+    let report = &evaluated.report;
+    let unreachable = report.unreachable();
+    if unreachable > 0 {
+        let first = report
+            .items
+            .iter()
+            .find(|i| i.unreachable)
+            .and_then(|i| i.error.as_deref())
+            .unwrap_or_default();
+        eprintln!(
+            "scenalog synth: the LLM server could not be reached for {unreachable} of {} descriptions: {first}",
+            report.items.len()
+        );
+        return ExitCode::from(2);
     }
     code
 }

@@ -292,12 +292,15 @@ pub fn explanation_picture<'a>(
     p.related = related;
     p.title = r.scenario.description.clone();
     let who = r.track(e.track);
+    p.referred_here = e.proof.is_some();
     if let Some(proof) = &e.proof {
         p.status = format!("{who}: referred — why:");
         proof_annotations(r, proof, &mut p.annotations);
         proof_notes(r, proof, &mut p.notes);
-    } else {
+    } else if e.why_not.is_some() {
         p.status = format!("{who}: NOT referred — why not:");
+    } else {
+        p.status = format!("{who}: NOT referred at this frame");
     }
     if let Some(w) = &e.why_not {
         let (marks, notes) = why_not_content(r, w);

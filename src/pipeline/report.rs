@@ -11,7 +11,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
-use scenalog_engine::explain;
+use scenalog_engine::{explain, why_not};
 use scenalog_extractors::cache::Extractor;
 use scenalog_facts::relation::Value;
 use scenalog_facts::scene::Frame;
@@ -140,6 +140,9 @@ fn pair_pictures<'a>(
         e.message(&context).render(Names::Flags)
     })?;
     let renderer = Renderer { scene, scenario };
+    // The evaluation a why-not report needs (every tuple kept), made once, only if a pictured
+    // frame turns out not to be referred (the frames are spread between a match's first and last).
+    let mut whole: Option<Result<scenalog_engine::Evaluation, String>> = None;
     let mut out = Vec::new();
     for &i in members {
         let Some(track) = scene.track_by_uuid(&all[i].2.track_uuid) else {
@@ -153,12 +156,23 @@ fn pair_pictures<'a>(
             let proof = explain(&scenario.program, &ev, "referred", &tuple)
                 .ok()
                 .flatten();
+            let why_not = if proof.is_none() {
+                let w = whole.get_or_insert_with(|| {
+                    evaluate_for_explain(&extractor, &scenario.program, true, limits)
+                        .map_err(|e| e.to_string())
+                });
+                w.as_ref()
+                    .ok()
+                    .and_then(|w| why_not(&scenario.program, w, "referred", &tuple).ok())
+            } else {
+                None
+            };
             let explanation = Explanation {
                 track: track.id,
                 frame,
                 referred_frames: referred.clone(),
                 proof,
-                why_not: None,
+                why_not,
             };
             let related = related_at(&ev, track.id, frame);
             let mut picture =

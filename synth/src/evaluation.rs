@@ -33,6 +33,8 @@ pub struct EvalItem {
     pub program: Option<String>,
     /// The tokens the server reported for this description's completions.
     pub usage: Usage,
+    /// The server could not be reached (or refused) for this description: `error` says why.
+    pub unreachable: bool,
 }
 
 /// One prompt's scores on the fixture.
@@ -164,6 +166,11 @@ impl EvalReport {
         self.items
             .iter()
             .fold(Usage::default(), |t, i| t.add(&i.usage))
+    }
+
+    /// Descriptions for which the server could not be reached (or refused).
+    pub fn unreachable(&self) -> usize {
+        self.items.iter().filter(|i| i.unreachable).count()
     }
 
     /// Descriptions whose synthesis or run ended in an error.
@@ -312,6 +319,7 @@ pub fn evaluate(
             error: None,
             program: None,
             usage: t.usage(),
+            unreachable: false,
         };
         match &t.outcome {
             Outcome::Clean { round } => {
@@ -325,7 +333,10 @@ pub fn evaluate(
                 }
             }
             Outcome::Failed => {}
-            Outcome::Unreachable { error } => item.error = Some(error.clone()),
+            Outcome::Unreachable { error } => {
+                item.error = Some(error.clone());
+                item.unreachable = true;
+            }
         }
         items.push(item);
     }

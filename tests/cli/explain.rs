@@ -478,6 +478,61 @@ fn a_proof_descends_into_the_prelude() {
     assert!(out.contains("✓ V < 0.5"), "{out}");
 }
 
+/// Why-not on a prelude relation with two rules (`at_an_intersection`): the rule not chosen as
+/// the closest is labelled with the prelude's file, not the program's; and the near misses of
+/// a missing `stopped` tuple a frame apart are one span, not a line each.
+#[test]
+fn why_not_labels_prelude_rules_and_gives_near_misses_as_one_span() {
+    let log = &logs()[0];
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let program = dir.path().join("x21.dl");
+    std::fs::write(
+        &program,
+        "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), at_an_intersection(X, T).\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let (code, out, err) = scenalog(&[
+        "explain",
+        "--rules",
+        program.to_str().unwrap_or_default(),
+        "--log",
+        log.to_str().unwrap_or_default(),
+        "--track",
+        "0f0d16d4",
+        "--at",
+        "12.0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let rules: Vec<&str> = out.lines().filter(|l| l.contains("the rule at")).collect();
+    assert!(rules.len() >= 3, "{out}");
+    assert!(rules[0].contains("x21.dl:1"), "{out}");
+    for r in &rules[1..] {
+        assert!(
+            r.contains("the rule at the prelude, rules/prelude.dl:"),
+            "{out}"
+        );
+        assert!(!r.contains("x21.dl"), "{out}");
+    }
+    let (code, out, err) = scenalog(&[
+        "explain",
+        "--rules",
+        "rules/library/stopped_car.dl",
+        "--log",
+        log.to_str().unwrap_or_default(),
+        "--track",
+        "0f0d16d4",
+        "--at",
+        "12.0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let closest: Vec<&str> = out.lines().filter(|l| l.contains("closest:")).collect();
+    assert_eq!(closest.len(), 1, "{out}");
+    assert!(
+        closest[0].contains("stopped(0f0d16d4 (REGULAR_VEHICLE), T) for T from 7.6 s to 8.0 s"),
+        "{out}"
+    );
+}
+
 /// `--at` past either end of the log is an error naming the log's time range (it used to
 /// explain the last frame in silence); a time inside the range still explains the nearest frame.
 #[test]

@@ -511,3 +511,35 @@ fn the_report_pictures_every_matched_program_the_scored_ones_first() {
     assert!(positions >= 2, "{positions} proofs");
     assert_eq!(one.matches(" hidden>").count(), positions - 1);
 }
+
+/// A pictured frame of a match where the track is not referred (the frames are spread between
+/// its first and last: stopped_car's 0f0d16d4 at 3.6 s on 3b3570b4) says why not, as `explain
+/// --at 3.6 --why-not` does, instead of "why not:" followed by nothing.
+#[test]
+fn a_report_frame_where_the_track_is_not_referred_says_why_not() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = scenalog(&[
+        "mine",
+        "--rules",
+        "rules/library/stopped_car.dl",
+        "--logs",
+        LOG,
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--report",
+        "--report-max-pictures",
+        "1",
+        "--threads",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("report/index.html")).expect("the report page");
+    let at = html
+        .find("at 3.6 s (frame 36): NOT referred")
+        .expect("frame 36 is pictured and not referred");
+    let proof = &html[at..];
+    let proof = &proof[..proof.find("</pre>").expect("the block ends")];
+    assert!(proof.contains("Why not:"), "{proof}");
+    assert!(proof.contains("✗ stopped(V, T)"), "{proof}");
+}

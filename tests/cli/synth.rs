@@ -216,6 +216,33 @@ fn unreachable_or_refused_exits_2_with_the_servers_message() {
         "{}",
         stderr(&o)
     );
+
+    // `--eval` too: the report is printed, and the exit says the server was not reached.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("set.txt");
+    fs::write(&file, "stopped car\nparked bus\n").expect("write descriptions");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let o = scenalog(
+        &[
+            "--eval",
+            file.to_str().expect("utf-8 path"),
+            "--logs",
+            logs,
+            "--base-url",
+            "http://127.0.0.1:9/v1",
+            "--retries",
+            "0",
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("could not be reached for 2 of 2 descriptions")
+            && err.contains("http://127.0.0.1:9/v1"),
+        "{err}"
+    );
+    assert!(stdout(&o).contains("descriptions"), "{}", stdout(&o));
 }
 
 #[test]

@@ -208,6 +208,8 @@ pub fn tracked_log(
             ego_poses,
             map,
             track_by_uuid,
+            // RefAV's colour cache is per tracker log (keyed by its own uuids); not read.
+            color_cache: scenalog_facts::ColorCache::Absent,
         },
         scores,
         tracker_ids,

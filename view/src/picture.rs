@@ -37,6 +37,10 @@ pub struct Picture<'a> {
     pub reference: Reference,
     /// The referred object, highlighted.
     pub referred: Option<TrackId>,
+    /// Whether [`Picture::referred`] is referred at this frame: `false` (a why-not picture)
+    /// draws it in its category's colour with a dashed outline in the referred colour and no
+    /// halo, so the picture does not show it as referred.
+    pub referred_here: bool,
     /// Objects related to the referred one, outlined and linked to it.
     pub related: Vec<TrackId>,
     /// The proof's geometric facts.
@@ -64,6 +68,7 @@ impl<'a> Picture<'a> {
             frame,
             reference: Reference::Ego,
             referred: None,
+            referred_here: true,
             related: Vec::new(),
             annotations: Vec::new(),
             title: String::new(),
@@ -235,7 +240,14 @@ pub fn draw_with(
     let kinds: MapKinds = draw_map(&mut svg, view, p.scene, &layout.map);
     draw_annotations(&mut svg, view, p, Layer::Under);
     under(&mut svg, view);
-    let objects = draw_objects(&mut svg, view, p.scene, p.frame, p.referred, &p.related);
+    let objects = draw_objects(
+        &mut svg,
+        view,
+        p.scene,
+        p.frame,
+        (p.referred, p.referred_here),
+        &p.related,
+    );
     let mut labels = objects.labels;
     labels.extend(draw_annotations(&mut svg, view, p, Layer::Over));
     labels.extend(extra);
@@ -310,12 +322,14 @@ pub mod priority {
 /// Draws every object present at `frame`: oriented boxes coloured by category with a heading
 /// tick, stop signs as octagons, the ego, the referred object highlighted, related objects
 /// outlined and linked to it; returns each object's short id as a label to place last.
+/// `referred` is the highlighted track and whether it is referred at `frame` (see
+/// [`Picture::referred_here`]).
 pub fn draw_objects(
     svg: &mut Svg,
     view: &View,
     scene: &Scene,
     frame: Frame,
-    referred: Option<TrackId>,
+    (referred, referred_here): (Option<TrackId>, bool),
     related: &[TrackId],
 ) -> Objects {
     let mut out = Objects::default();
@@ -379,13 +393,18 @@ pub fn draw_objects(
             ));
             continue;
         }
-        let fill = if is_referred {
+        let fill = if is_referred && referred_here {
             style::REFERRED
         } else {
             style::category_colour(&t.category)
         };
         let stroke = if is_related {
             format!(r#"stroke="{}" stroke-width="3.5""#, style::RELATED)
+        } else if is_referred && !referred_here {
+            format!(
+                r#"stroke="{}" stroke-width="2.5" stroke-dasharray="5 3""#,
+                style::REFERRED
+            )
         } else if is_referred {
             r##"stroke="#000000" stroke-width="2""##.to_string()
         } else {
@@ -396,7 +415,7 @@ pub fn draw_objects(
         } else {
             ""
         };
-        if is_referred {
+        if is_referred && referred_here {
             // A halo that shows the referred object even when it is small.
             svg.path(
                 &path_data(&px, true),

@@ -147,3 +147,22 @@ fn text_renders_with_the_embedded_font() {
         .count();
     assert!(dark > 100, "only {dark} dark pixels where the title is");
 }
+
+/// A why-not picture (the track not referred at the frame) draws the track in its category's
+/// colour with a dashed outline, not filled in the referred colour with its halo.
+#[test]
+fn a_track_not_referred_here_is_not_drawn_in_the_referred_colour() {
+    let scene = scene();
+    let car = scene.track_by_uuid["car-left"];
+    let mut p = Picture::new(&scene, 3);
+    p.referred = Some(car);
+    let referred = scene_svg(&p).expect("svg");
+    let fill = format!("id=\"referred-box\" fill=\"{}\"", style::REFERRED);
+    assert!(referred.contains(&fill), "{referred}");
+    p.referred_here = false;
+    let not = scene_svg(&p).expect("svg");
+    assert!(!not.contains(&fill));
+    assert!(not.contains("id=\"referred-box\""));
+    assert!(not.contains("stroke-dasharray=\"5 3\""));
+    assert!(!not.contains("stroke-opacity=\"0.35\" stroke-width=\"10\""));
+}

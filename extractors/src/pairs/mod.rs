@@ -59,6 +59,7 @@ pub const PAIR_RELATIONS: &[&str] = &[
     "road_side",
     "refav_direction",
     "refav_direction_corrected",
+    "refav_near",
 ];
 
 /// Everything the pair relations read: the scene, its kinematics, lane assignment, prepared map
@@ -151,6 +152,7 @@ pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
         "road_side" => lanes::road_side(ctx, q),
         "refav_direction" => refav::refav_direction(ctx, q),
         "refav_direction_corrected" => refav::refav_direction_corrected(ctx, q),
+        "refav_near" => refav::refav_near(ctx, q),
         _ => return None,
     })
 }
@@ -220,6 +222,10 @@ relation_fn!(
 relation_fn!(
     refav_direction_corrected,
     "`refav_direction_corrected(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction_corrected`]."
+);
+relation_fn!(
+    refav_near,
+    "`refav_near(X, Y, T, D)`: see [`refav::refav_near`]."
 );
 
 /// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to

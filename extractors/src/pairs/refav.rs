@@ -24,6 +24,8 @@
 //!   (later candidates tested against the forward plane) is the importer's, over
 //!   **`refav_crossing_event`** (each crossing at the frame it passes the line, whatever its
 //!   sense and span) and `refav_order` (RefAV's order of candidates, [`crate::refav`]).
+//! - **`refav_near`** (RefAV's `near_objects`' distance): `near` with the ego's box at its
+//!   rear axle.
 //! - **`refav_direction_corrected`**: `refav_direction` with the ego's back edge where RefAV
 //!   means it (−[`REFAV_EGO_BACK_M`]), for imports that do not reproduce the sign slip.
 
@@ -106,6 +108,53 @@ fn refav_direction_with(ctx: &PairContext, q: &Query, back: f64) -> RelationData
     )
 }
 
+/// `refav_near(X, Y, T, D)`: `near` with the ego's box where RefAV has it, the annotated row
+/// centred on the rear axle (its `cuboid_distance`), not the car's body 1.44 m further ahead:
+/// D is the distance between the two boxes so placed. As every pair relation, only up to 50 m.
+pub fn refav_near(ctx: &PairContext, q: &Query) -> RelationData {
+    let ego = ctx.scene.ego;
+    let placed = |b: &ObjBox| if b.track == ego { at_axle(b) } else { *b };
+    let r = radius(q, Some(3));
+    // The ego's box moves back by up to EGO_CENTRE_AHEAD_OF_AXLE_M: search that much further.
+    let search = (r + EGO_CENTRE_AHEAD_OF_AXLE_M).min(PAIR_MAX_DISTANCE_M);
+    let rows = super::for_each_pair(
+        ctx,
+        q,
+        search,
+        |r: &(TrackId, TrackId, Frame, f64)| (r.0, r.1, r.2, 0),
+        |f, x, y, d, out| {
+            // Like every pair relation, only pairs within 50 m of each other (the car's body).
+            if d.value() > PAIR_MAX_DISTANCE_M {
+                return;
+            }
+            let d = if x.track == ego || y.track == ego {
+                box_distance(&placed(x), &placed(y))
+            } else {
+                d.value()
+            };
+            if d <= r {
+                out.push((x.track, y.track, f, d));
+            }
+        },
+    );
+    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
+    for (x, y, t, d) in rows {
+        cols.0.push(x);
+        cols.1.push(y);
+        cols.2.push(t);
+        cols.3.push(d);
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![
+            Column::Track(cols.0),
+            Column::Track(cols.1),
+            Column::Time(cols.2),
+            Column::Float(cols.3),
+        ],
+    }
+}
+
 /// RefAV's speed across the plane below which a sample neither crosses nor extends a crossing
 /// (`VELOCITY_THRESH`, m/s).
 pub const REFAV_CROSSING_MIN_SPEED: f64 = 0.2;
@@ -122,7 +171,7 @@ struct Relative {
 /// scipy's `median_filter(x, size=min(7, n), mode="nearest")` on one series: a centred window
 /// (for an even size, one more sample behind than ahead), edges repeated, the middle order
 /// statistic (the upper one for an even size).
-fn median_nearest(x: &[f64]) -> Vec<f64> {
+pub(crate) fn median_nearest(x: &[f64]) -> Vec<f64> {
     let n = x.len();
     let w = n.min(7);
     if w == 0 {

@@ -114,3 +114,33 @@ pub fn refav_order(ex: &Extractor, q: &Query) -> RelationData {
         columns: vec![Column::Track(xs), Column::Str(cs), Column::Int(rs)],
     }
 }
+
+/// `refav_color(X, C)`: the log's RefAV colour cache (`scenalog_facts::color`): each track it
+/// holds with its colour, "none" for `null`; nothing without a cache; an unreadable cache is an
+/// error naming the file.
+pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query::ExtractError> {
+    use scenalog_facts::color::NO_COLOR;
+    use scenalog_facts::ColorCache;
+    let (mut xs, mut cs) = (Vec::new(), Vec::new());
+    match &ex.scene().color_cache {
+        ColorCache::Absent => {}
+        ColorCache::Read { colors, .. } => {
+            for (&t, c) in colors {
+                if q.allows_track(0, t) {
+                    xs.push(t);
+                    cs.push(s(c.as_deref().unwrap_or(NO_COLOR)));
+                }
+            }
+        }
+        ColorCache::Unreadable(message) => {
+            return Err(crate::query::ExtractError::BadInput {
+                relation: q.spec.name.into(),
+                message: message.clone(),
+            })
+        }
+    }
+    Ok(RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Str(cs)],
+    })
+}

@@ -3,6 +3,9 @@
 
 use super::*;
 
+/// The start of the note an `is_color` program gets (once).
+const COLOR_CACHE_NOTE: &str = "is_color reads RefAV's colour cache of each log";
+
 impl Translator<'_> {
     pub(crate) fn category(&self, f: &str, v: &Val) -> Res<String> {
         match v {
@@ -58,6 +61,8 @@ impl Translator<'_> {
                     "refav_turning_filtered"
                 } else if f == "turning" {
                     "turning"
+                } else if self.refav() {
+                    "refav_lane_change"
                 } else {
                     "lane_change"
                 };
@@ -112,6 +117,45 @@ impl Translator<'_> {
                 v.extend(range("D", f64::NEG_INFINITY, d));
                 v
             }
+            "is_color" => {
+                // RefAV keeps an object unless the log's colour cache holds it with `null` or
+                // another colour (`scenalog_facts::color`): no cache, or a track it lacks,
+                // keeps everything.
+                let h = self.fresh("is_color_other");
+                match a("color") {
+                    Val::Str(c) if scenalog_facts::color::REFAV_COLORS.contains(&c.as_str()) => {
+                        self.emit(format!(
+                            "{h}(X) :- refav_color(X, C), C != \"{c}\"."
+                        ));
+                    }
+                    Val::Str(c) if c.chars().all(|ch| ch.is_ascii_alphanumeric()) => {
+                        self.notes.push(format!(
+                            "is_color(color='{c}'): not one of RefAV's colours ({}); RefAV's code then drops every object its colour cache holds (its docstring says it keeps all)",
+                            scenalog_facts::color::REFAV_COLORS.join(", ")
+                        ));
+                        self.emit(format!("{h}(X) :- refav_color(X, _)."));
+                    }
+                    other => {
+                        return Err(self.err(
+                            f,
+                            format!(
+                                "is_color()'s argument 'color' is {}; it must be a colour word such as 'red'",
+                                match other {
+                                    Val::Str(s) => format!("'{s}'"),
+                                    o => o.kind_name().to_string(),
+                                }
+                            ),
+                        ))
+                    }
+                }
+                if !self.notes.iter().any(|n| n.starts_with(COLOR_CACHE_NOTE)) {
+                    self.notes.push(format!(
+                        "{COLOR_CACHE_NOTE} (`{}`, written by RefAV's construct_caches); a log without one keeps every object, as RefAV does, and mine says so once per log",
+                        scenalog_facts::color::COLOR_CACHE_FILE
+                    ));
+                }
+                vec![format!("!{h}(X)")]
+            }
             "on_lane_type" => {
                 let ty = self.word(f, "lane_type", &a("lane_type"), catalog::LANE_TYPES, false)?;
                 vec![
@@ -125,6 +169,7 @@ impl Translator<'_> {
                 v.extend(range("D", f64::NEG_INFINITY, d));
                 v
             }
+            "on_intersection" if self.refav() => vec!["refav_on_intersection(X, T)".into()],
             "on_intersection" => vec!["on_intersection(X, T)".into()],
             "stationary" => vec!["stationary(X)".into()],
             "in_drivable_area" => vec!["in_drivable_area(X, T)".into()],

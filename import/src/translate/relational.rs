@@ -13,6 +13,15 @@ enum Frames {
 }
 
 impl Translator<'_> {
+    /// The box-to-box distance relation: RefAV's (the ego at its rear axle) in refav mode.
+    fn near_relation(&self) -> &'static str {
+        if self.refav() {
+            "refav_near"
+        } else {
+            "near"
+        }
+    }
+
     /// A relational function: its selected (track, candidate, frame) pairs, and its result.
     pub(crate) fn relational(
         &mut self,
@@ -132,7 +141,8 @@ impl Translator<'_> {
                     base.clone()
                 };
                 self.emit(format!(
-                    "{pairs}(X, Y, T) :- {base}, near(X, Y, T, D), D <= {}.",
+                    "{pairs}(X, Y, T) :- {base}, {}(X, Y, T, D), D <= {}.",
+                    self.near_relation(),
                     fmt_num(d)
                 ));
             }
@@ -197,7 +207,11 @@ impl Translator<'_> {
                 }
                 let mut c = format!("{pairs}(X, Y, T) :- {base}, facing(X, Y, T)");
                 if d.is_finite() {
-                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                    c.push_str(&format!(
+                        ", {}(X, Y, T, D), D <= {}",
+                        self.near_relation(),
+                        fmt_num(d)
+                    ));
                 }
                 self.emit(c + ".");
             }
@@ -210,7 +224,11 @@ impl Translator<'_> {
                 }
                 let mut c = format!("{pairs}(X, Y, T) :- {base}, heading_toward(X, Y, T)");
                 if d.is_finite() {
-                    c.push_str(&format!(", near(X, Y, T, D), D <= {}", fmt_num(d)));
+                    c.push_str(&format!(
+                        ", {}(X, Y, T, D), D <= {}",
+                        self.near_relation(),
+                        fmt_num(d)
+                    ));
                 }
                 self.emit(c + ".");
             }

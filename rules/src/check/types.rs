@@ -557,16 +557,26 @@ impl Infer<'_> {
                 let time = Ty::Known(ColType::Time);
                 let float = |t: Ty, e: &Expr| t == Ty::Known(ColType::Float) || has_float(e);
                 if (tl == time || tr == time) && (float(tl, &cmp.lhs) || float(tr, &cmp.rhs)) {
-                    self.push(
-                        diagnostics::warning(
-                            diagnostics::TIME_VS_FLOAT,
-                            cmp.span,
-                            "a time (a frame number, 10 frames a second) compared with a float",
+                    // `T2 = T + 0.5` binds a time from arithmetic with a float; it compares
+                    // nothing, so it is worded as what it does.
+                    let binding = cmp.op == crate::ast::CmpOp::Eq
+                        && (cmp.lhs.as_var().is_some() != cmp.rhs.as_var().is_some());
+                    let (message, hint) = if binding {
+                        (
+                            "a time (a frame number, 10 frames a second) computed with a float",
+                            "times count frames: 0.5 s is 5 frames (`T2 = T + 5`); to work in \
+                             seconds, bind them with `seconds(T, S)`",
                         )
-                        .with_hint(
+                    } else {
+                        (
+                            "a time (a frame number, 10 frames a second) compared with a float",
                             "times count frames: 2 s is 20 frames (`T2 - T1 >= 20`); to compare \
                              seconds, bind them with `seconds(T, S)`",
-                        ),
+                        )
+                    };
+                    self.push(
+                        diagnostics::warning(diagnostics::TIME_VS_FLOAT, cmp.span, message)
+                            .with_hint(hint),
                     );
                 }
                 if cmp.op == crate::ast::CmpOp::Eq {

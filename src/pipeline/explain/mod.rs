@@ -35,8 +35,8 @@
 //! human rendering.
 
 use scenalog_engine::{
-    BodyFact, ClauseAttempt, Derivation, Evaluation, Failure, Options, Outcome, Reason, Step,
-    WhyNot,
+    BodyFact, ClauseAttempt, Derivation, Evaluation, Failure, NearMiss, Options, Outcome, Reason,
+    Step, WhyNot,
 };
 use scenalog_extractors::cache::Extractor;
 use scenalog_facts::catalog::ColType;

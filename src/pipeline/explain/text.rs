@@ -119,6 +119,116 @@ impl Renderer<'_> {
         }
     }
 
+    /// The near misses of a missing tuple, one line each, except that misses differing from
+    /// what was wanted only in one time column, alike in every other and at consecutive frames,
+    /// are one line giving the span (`stopped(X, T) for T from 7.6 s to 8.0 s`): five lines a
+    /// frame apart say no more than that.
+    fn closest_lines(&self, relation: &str, closest: &[NearMiss]) -> Vec<String> {
+        let differs = |m: &NearMiss| -> String {
+            let cols: Vec<String> = m
+                .differs
+                .iter()
+                .map(|&i| self.column_name(relation, i))
+                .collect();
+            if cols.is_empty() {
+                String::new()
+            } else {
+                format!(" (differs in {})", cols.join(", "))
+            }
+        };
+        // The time column a miss differs in alone, and its frame.
+        let time_only =
+            |m: &NearMiss| match (m.differs.as_slice(), m.tuple.get(*m.differs.first()?)) {
+                ([i], Some(Value::Time(f))) => Some((*i, *f)),
+                _ => None,
+            };
+        let mut lines = Vec::new();
+        let mut done = vec![false; closest.len()];
+        for (k, m) in closest.iter().enumerate() {
+            if done[k] {
+                continue;
+            }
+            done[k] = true;
+            let Some((col, f)) = time_only(m) else {
+                lines.push(format!(
+                    "closest: {}{}",
+                    self.fact(relation, &m.tuple),
+                    differs(m)
+                ));
+                continue;
+            };
+            // Its fellows: the same tuple but for the frame.
+            let alike = |o: &NearMiss| {
+                time_only(o).is_some_and(|(c, _)| c == col)
+                    && o.tuple
+                        .iter()
+                        .zip(&m.tuple)
+                        .enumerate()
+                        .all(|(i, (a, b))| i == col || a == b)
+            };
+            let mut frames = vec![(f, k)];
+            for (j, o) in closest.iter().enumerate().skip(k + 1) {
+                if !done[j] && alike(o) {
+                    if let Some((_, g)) = time_only(o) {
+                        frames.push((g, j));
+                    }
+                }
+            }
+            frames.sort_unstable();
+            // Split into runs of frames next to each other on the log's timeline.
+            let mut runs: Vec<Vec<(Frame, usize)>> = Vec::new();
+            for &(g, j) in &frames {
+                match runs.last_mut() {
+                    Some(r)
+                        if r.last()
+                            .is_some_and(|&(p, _)| self.scene.timeline.next(p) == Some(g)) =>
+                    {
+                        r.push((g, j))
+                    }
+                    _ => runs.push(vec![(g, j)]),
+                }
+            }
+            for r in runs {
+                let (first, j0) = r[0];
+                if r.len() == 1 {
+                    if j0 == k {
+                        lines.push(format!(
+                            "closest: {}{}",
+                            self.fact(relation, &m.tuple),
+                            differs(m)
+                        ));
+                    }
+                    continue;
+                }
+                for &(_, j) in &r {
+                    done[j] = true;
+                }
+                let last = r[r.len() - 1].0;
+                let name = self.column_name(relation, col);
+                let args: Vec<String> = m
+                    .tuple
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        if i == col {
+                            name.clone()
+                        } else {
+                            self.value(v, Some((relation, i)))
+                        }
+                    })
+                    .collect();
+                lines.push(format!(
+                    "closest: {relation}({}) for {name} from {} to {} ({} frames; differs in {name})",
+                    args.join(", "),
+                    self.value(&Value::Time(first), Some((relation, col))),
+                    self.value(&Value::Time(last), Some((relation, col))),
+                    r.len()
+                ));
+            }
+        }
+        lines
+    }
+
     /// One line saying why a literal failed, with the values that failed it.
     pub fn reason_text(&self, clause: usize, f: &Failure) -> Vec<String> {
         let c = Some(clause);
@@ -138,22 +248,7 @@ impl Renderer<'_> {
                     )),
                     None => lines.push(format!("{relation} holds no tuple")),
                 }
-                for m in closest {
-                    let cols: Vec<String> = m
-                        .differs
-                        .iter()
-                        .map(|&i| self.column_name(relation, i))
-                        .collect();
-                    lines.push(format!(
-                        "closest: {}{}",
-                        self.fact(relation, &m.tuple),
-                        if cols.is_empty() {
-                            String::new()
-                        } else {
-                            format!(" (differs in {})", cols.join(", "))
-                        }
-                    ));
-                }
+                lines.extend(self.closest_lines(relation, closest));
             }
             Reason::Comparison { op, values } => {
                 let n = f.binding_count;
@@ -341,7 +436,10 @@ impl Renderer<'_> {
                     format!("fails at {} after {} literal(s)", f.text, f.held.len())
                 }
             };
-            out.push_str(&format!("{pad}the rule at {}{line}: {what}\n", self.file()));
+            out.push_str(&format!(
+                "{pad}the rule at {}{line}: {what}\n",
+                self.clause_file(a.clause)
+            ));
         }
     }
 

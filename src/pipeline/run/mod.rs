@@ -425,6 +425,28 @@ pub fn pairs_json(
         .collect()
 }
 
+/// Says once per log, when one of its programs reads RefAV's colour cache (`refav_color`, what
+/// an imported `is_color` becomes) and the log has none, that `is_color` keeps every object
+/// there, as RefAV does without a cache.
+fn no_color_cache_note(
+    log: &LogInput,
+    scene: &Scene,
+    scenarios: &[Scenario],
+    indices: &[usize],
+    bar: &indicatif::ProgressBar,
+) {
+    let reads = |i: &usize| scenarios[*i].program.predicates.contains_key("refav_color");
+    if scene.color_cache == scenalog_facts::ColorCache::Absent && indices.iter().any(reads) {
+        bar.suspend(|| {
+            eprintln!(
+                "scenalog mine: log `{}` has no RefAV colour cache (`{}`): is_color keeps every object there, as RefAV does without one",
+                log.log_id,
+                scenalog_facts::color::COLOR_CACHE_FILE
+            )
+        });
+    }
+}
+
 /// A log's scene and, for tracker input, each box's score (`scores[track][box]`).
 type LoadedLog = (Scene, Option<Vec<Vec<f32>>>);
 
@@ -537,6 +559,9 @@ fn mine_log(
     };
     let log_fp = log_fingerprint(log);
     let extractor = Extractor::new(&scene);
+    if options.progress {
+        no_color_cache_note(log, &scene, scenarios, &indices, bar);
+    }
     let ctx = PairContext {
         log,
         scene: &scene,
