@@ -45,7 +45,9 @@ fn logs() -> Vec<LogInput> {
         .filter(|p| p.is_dir())
         .collect();
     dirs.sort();
-    dirs.into_iter().map(LogInput::new).collect()
+    dirs.into_iter()
+        .map(|d| LogInput::new(d).expect("a sample log's id"))
+        .collect()
 }
 
 fn options(out: &Path, threads: usize) -> RunOptions {

@@ -185,7 +185,7 @@ pub fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), Error
     let mut logs = Vec::new();
     let mut problems = Vec::new();
     for d in dirs {
-        let log = LogInput::new(d);
+        let log = LogInput::new(d).map_err(|e| Error::about(Field::Logs, e))?;
         if seen.insert(log.log_id.clone()) {
             logs.push(log);
         } else {

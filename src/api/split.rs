@@ -300,7 +300,7 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
         logs.push(LogInput {
             tracker: tracker.clone(),
             programs: Some(programs),
-            ..LogInput::new(dir)
+            ..LogInput::with_id(dir, log_id.clone())
         });
     }
     Ok(SplitPlan {

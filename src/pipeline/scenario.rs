@@ -50,10 +50,7 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
             render_human(&outcome.diagnostics, &source, &display, false)
         ));
     };
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| display.clone());
+    let name = program_name(path);
     let description = program
         .program
         .description
@@ -68,6 +65,23 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
         program,
         check_time,
     })
+}
+
+/// A program's name: its file's stem, which names its files under `OUT/` (`pairs/<log>/<name>.json`,
+/// `programs/<name>.dl`), so never a path: a stem that is empty, `.`/`..`-like or holds a
+/// separator or NUL (a path such as `x/..` has no stem) is `program`.
+pub fn program_name(path: &Path) -> String {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let plain =
+        !stem.is_empty() && !stem.chars().all(|c| c == '.') && !stem.contains(['/', '\\', '\0']);
+    if plain {
+        stem
+    } else {
+        "program".to_string()
+    }
 }
 
 /// The engine's limits for one pair of `scenario` once its check is counted: the pair's time

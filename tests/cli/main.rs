@@ -16,6 +16,7 @@ mod hostile;
 mod hostile_input;
 mod import;
 mod mine;
+mod out_confined;
 mod output_folder;
 mod pictures;
 mod run;

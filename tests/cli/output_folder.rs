@@ -128,23 +128,6 @@ fn a_stale_lock_of_a_dead_process_is_taken_over() {
     );
 }
 
-/// Every file under `dir`, recursively (symbolic links not followed).
-fn files_under(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut todo = vec![dir.to_path_buf()];
-    while let Some(d) = todo.pop() {
-        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
-            let p = e.path();
-            if e.file_type().is_ok_and(|t| t.is_dir()) {
-                todo.push(p);
-            } else {
-                out.push(p);
-            }
-        }
-    }
-    out
-}
-
 #[cfg(unix)]
 #[test]
 fn a_file_past_ulimit_f_is_an_error_naming_it_and_nothing_is_published() {
@@ -178,7 +161,7 @@ fn a_file_past_ulimit_f_is_an_error_naming_it_and_nothing_is_published() {
         "{all}"
     );
     assert!(!out.join("predictions.feather").exists());
-    let left: Vec<PathBuf> = files_under(&out)
+    let left: Vec<PathBuf> = crate::util::files_under(&out)
         .into_iter()
         .filter(|p| {
             let name = p.file_name().map(|n| n.to_string_lossy().into_owned());

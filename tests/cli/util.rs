@@ -1,6 +1,7 @@
 //! What every command-line test shares: the built `scenalog` binary as a [`Command`].
 
 use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 /// The `scenalog` binary this test run built, as a command to add arguments to. Variables of
@@ -24,4 +25,21 @@ pub fn with_stdin(args: &[&str], stdin: &str) -> Output {
         let _ = pipe.write_all(stdin.as_bytes());
     }
     child.wait_with_output().expect("wait for scenalog")
+}
+
+/// Every file under `dir`, recursively (symbolic links not followed).
+pub fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = e.path();
+            if e.file_type().is_ok_and(|t| t.is_dir()) {
+                todo.push(p);
+            } else {
+                out.push(p);
+            }
+        }
+    }
+    out
 }

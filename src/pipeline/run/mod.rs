@@ -17,7 +17,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -73,12 +73,20 @@ impl std::fmt::Debug for TrackerInput {
 }
 
 impl LogInput {
-    /// A log directory; its id is the directory's name.
-    pub fn new(dir: PathBuf) -> LogInput {
-        let log_id = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| dir.display().to_string());
+    /// A log directory; its id is the directory's name: the path's last component when it is a
+    /// plain name, else (a path ending in `..` or `.`) the name of the directory it resolves to.
+    /// The id is joined to output paths, so it must pass [`scenalog_input::check_log_id`].
+    ///
+    /// # Errors
+    /// The directory cannot be resolved, or its name is not a valid log id (the message says
+    /// which and why).
+    pub fn new(dir: PathBuf) -> Result<LogInput, String> {
+        let log_id = log_id_of_dir(&dir)?;
+        Ok(LogInput::with_id(dir, log_id))
+    }
+
+    /// A log directory with an id already checked by the caller (a split's key).
+    pub fn with_id(dir: PathBuf, log_id: String) -> LogInput {
         LogInput {
             dir,
             log_id,
@@ -94,6 +102,23 @@ impl LogInput {
             None => (0..n).collect(),
         }
     }
+}
+
+/// The log id of a log directory (see [`LogInput::new`]).
+fn log_id_of_dir(dir: &Path) -> Result<String, String> {
+    let name = match dir.components().next_back() {
+        Some(std::path::Component::Normal(n)) => n.to_string_lossy().into_owned(),
+        _ => {
+            let real = std::fs::canonicalize(dir)
+                .map_err(|e| format!("cannot resolve log directory `{}`: {e}", dir.display()))?;
+            real.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        }
+    };
+    scenalog_input::check_log_id(&name)
+        .map_err(|e| format!("log directory `{}`: {e}", dir.display()))?;
+    Ok(name)
 }
 
 /// How to run.
