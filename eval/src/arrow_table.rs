@@ -12,7 +12,6 @@ use arrow_array::{
 use arrow_ipc::writer::{FileWriter, IpcWriteOptions};
 use arrow_ipc::CompressionType;
 use arrow_schema::{DataType, Field, Schema};
-use std::io::Write;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -494,20 +493,7 @@ pub fn write_table_with(
         EvalError::Format(m) => EvalError::Format(format!("{what}: {m}")),
         e => e,
     })?;
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp{}", std::process::id()));
-    let io = |e| EvalError::Io(what.clone(), e);
-    let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(&buf).map_err(io)?;
-    f.sync_all().map_err(io)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    scenalog_input::out_dir::write_atomic(path, &buf, true).map_err(|e| EvalError::Io(what, e))
 }
 
 /// Reads a submission from a pickle or an Arrow table, by content (Arrow files start with `ARROW1`).

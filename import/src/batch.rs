@@ -204,8 +204,6 @@ fn failure(source: PathBuf, construct: &str, message: String) -> FileOutcome {
 }
 
 fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
-    let tmp = path.with_extension("dl.tmp");
-    std::fs::write(&tmp, text).map_err(|e| format!("{}: cannot write: {e}", tmp.display()))?;
-    std::fs::rename(&tmp, path)
-        .map_err(|e| format!("{}: cannot rename into place: {e}", path.display()))
+    scenalog_input::out_dir::write_atomic(path, text.as_bytes(), false)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }

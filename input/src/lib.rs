@@ -8,7 +8,10 @@
 //! decoder panic or allocate petabytes and abort the process.
 //!
 //! Also owns the one check of a log id read from an input file ([`log_id::check_log_id`]), since
-//! every reader joins ids to a dataset directory.
+//! every reader joins ids to a dataset directory, and the other side of the same guard: an output
+//! folder is input too (someone who can write there can plant a link), so every writer replaces
+//! files through [`out_dir::write_atomic`] and checks a folder with [`out_dir::refuse_links`]
+//! before writing into it.
 //!
 //! Does not own: what the columns mean. The log reader (`scenalog-facts`) and the evaluation
 //! (`scenalog-eval`) both read their tables through [`arrow::read_batches`] and wrap
@@ -21,6 +24,7 @@
 pub mod arrow;
 pub mod file;
 pub mod log_id;
+pub mod out_dir;
 
 pub use arrow::{read_batches, read_schema, Corrupt};
 pub use file::{

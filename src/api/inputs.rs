@@ -51,14 +51,16 @@ pub(crate) fn check_threads(threads: Option<usize>) -> Result<(), Error> {
     }
 }
 
-/// Creates the output directory.
+/// Creates the output directory; one holding a link no run of ours made is an error naming it
+/// (nothing is written through a link planted there).
 pub(crate) fn create_out(out: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(out).map_err(|e| {
         Error::plain(format!(
             "cannot create output directory `{}`: {e}",
             out.display()
         ))
-    })
+    })?;
+    crate::pipeline::lock::refuse_foreign_links(out).map_err(Error::plain)
 }
 
 /// Reads the output timestamps: `{"<log_id>": [timestamp_ns, …], …}`.

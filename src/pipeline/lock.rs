@@ -38,13 +38,7 @@ impl OutputLock {
             .map_err(|e| format!("cannot create output directory `{}`: {e}", dir.display()))?;
         let path = lock_path(dir);
         let cannot = |e: std::io::Error| format!("cannot lock `{}`: {e}", path.display());
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(&path)
-            .map_err(cannot)?;
+        let mut file = scenalog_input::out_dir::open_no_follow(&path).map_err(cannot)?;
         let previous = read_holder(&mut file);
         if let Err(e) = try_lock(&file) {
             if e.kind() != std::io::ErrorKind::WouldBlock {
@@ -59,6 +53,9 @@ impl OutputLock {
                 path.display()
             ));
         }
+        // Held: nobody else of ours writes here now; a link someone planted is refused before
+        // anything is written through it.
+        refuse_foreign_links(dir)?;
         let holder = format!(
             "pid {}, started {}, command `{}`",
             std::process::id(),
@@ -87,6 +84,34 @@ impl Drop for OutputLock {
     fn drop(&mut self) {
         // Cleared while still held: a lock file with a holder and no lock is a crashed run's.
         let _ = self.file.set_len(0);
+    }
+}
+
+/// An error naming every link in the output folder `dir` that no run of ours made
+/// ([`scenalog_input::out_dir::refuse_links`]); checked when the folder is created and again
+/// once it is held.
+///
+/// # Errors
+/// A link someone else made is in `dir`.
+pub fn refuse_foreign_links(dir: &Path) -> Result<(), String> {
+    scenalog_input::out_dir::refuse_links(dir, &published_link)
+}
+
+/// Whether a link in an output folder is one a run makes when it publishes its outputs
+/// (`OUT/<name> -> .current/<name>`, `OUT/.current -> .staging-<pid>-<n>`, and their temporary
+/// names left by a killed run): at the folder's top level, pointing at a plain name inside it.
+fn published_link(rel: &Path, target: &Path) -> bool {
+    use std::path::Component;
+    let plain = |c: Option<Component>| matches!(c, Some(Component::Normal(_)));
+    let mut top = rel.components();
+    if !(plain(top.next()) && top.next().is_none()) {
+        return false;
+    }
+    let parts: Vec<Component> = target.components().collect();
+    match parts.as_slice() {
+        [Component::Normal(g)] => g.to_string_lossy().starts_with(".staging-"),
+        [Component::Normal(c), n] => c.to_str() == Some(super::output::CURRENT) && plain(Some(*n)),
+        _ => false,
     }
 }
 

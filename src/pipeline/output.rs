@@ -34,7 +34,6 @@
 //! (Where symbolic links are missing, non-Unix systems, the outputs are renamed into place one
 //! after the other, as before.)
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -127,8 +126,6 @@ pub fn pair_path(out: &Path, log_id: &str, program: &str) -> PathBuf {
         .join(format!("{program}.json"))
 }
 
-static TMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
-
 /// Writes `bytes` to `path` atomically: a temporary file beside it, then renamed over it, synced
 /// to disk first when `sync`. The parent directory is created when missing. The error names the
 /// file. Per-pair files skip the sync: the rename is still atomic for a crashed process, and a
@@ -141,25 +138,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8], sync: bool) -> Result<(), String>
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(parent)
         .map_err(|e| format!("cannot create directory `{}`: {e}", parent.display()))?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let n = TMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-    let tmp = parent.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
-    let written = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        if sync {
-            f.sync_all()?;
-        }
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("cannot write `{}`: {e}", path.display())
-    })
+    scenalog_input::out_dir::write_atomic(path, bytes, sync)
+        .map_err(|e| format!("cannot write `{}`: {e}", path.display()))
 }
 
 /// Writes a value as pretty JSON (with a final newline), atomically (synced when `sync`).
@@ -301,7 +281,8 @@ impl Staging {
         let lock = super::lock::OutputLock::acquire(out)?;
         let n = STAGING_COUNTER.fetch_add(1, Ordering::Relaxed);
         let dir = out.join(format!("{STAGING_PREFIX}{}-{n}", std::process::id()));
-        std::fs::create_dir_all(&dir)
+        // Created new: something already there (a link planted at the name) is an error.
+        std::fs::create_dir(&dir)
             .map_err(|e| format!("cannot create directory `{}`: {e}", dir.display()))?;
         Ok(Staging {
             out: out.to_path_buf(),
@@ -368,7 +349,7 @@ impl Staging {
         let pickle = self.path(names.pickle);
         let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
         if self.pickle {
-            let file = std::fs::File::create(&pickle).map_err(|e| io(&pickle, e))?;
+            let file = scenalog_input::out_dir::create_new(&pickle).map_err(|e| io(&pickle, e))?;
             let what = format!("`{}`", pickle.display());
             let mut join = scenalog_eval::PickleJoin::new(std::io::BufWriter::new(file), &what)
                 .map_err(|e| e.to_string())?;
@@ -397,7 +378,7 @@ impl Staging {
             let file = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
             let reader = arrow_ipc::reader::FileReader::try_new(file, None).map_err(arrow)?;
             if writer.is_none() {
-                let f = std::fs::File::create(&table).map_err(|e| io(&table, e))?;
+                let f = scenalog_input::out_dir::create_new(&table).map_err(|e| io(&table, e))?;
                 let options = scenalog_eval::arrow_table::table_write_options(Some(
                     scenalog_eval::arrow_table::TABLE_COMPRESSION,
                 ))

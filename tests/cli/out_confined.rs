@@ -119,3 +119,91 @@ fn a_log_directory_whose_name_is_not_a_log_id_is_refused_naming_it() {
     );
     assert!(!out.join("pairs").exists(), "nothing mined: {all}");
 }
+
+/// `mine --rules stopped_car --logs SAMPLE --out OUT`.
+fn mine_into(out: &Path) -> std::process::Output {
+    crate::util::scenalog()
+        .args(["mine", "--rules", &stopped_car(), "--logs"])
+        .arg(sample_log())
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("run")
+}
+
+#[cfg(unix)]
+#[test]
+fn links_planted_in_an_output_folder_are_refused_and_never_written_through() {
+    use std::os::unix::fs::symlink;
+    let t = tempfile::tempdir().expect("tempdir");
+    let victim = t.path().join("victim.txt");
+    let elsewhere = t.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).expect("mkdir");
+    // Each planted link: where it is, relative to OUT, and what it points at.
+    let cases: [(&str, &Path); 4] = [
+        (".lock", &victim),
+        ("pairs", &elsewhere),
+        (&format!("pairs/{LOG}"), &elsewhere),
+        ("programs", &elsewhere),
+    ];
+    for (i, (at, target)) in cases.iter().enumerate() {
+        std::fs::write(&victim, "keep").expect("write");
+        let out = t.path().join(format!("out{i}"));
+        let link = out.join(at);
+        std::fs::create_dir_all(link.parent().expect("parent")).expect("mkdir");
+        symlink(target, &link).expect("link");
+        let o = mine_into(&out);
+        let all = text(&o);
+        assert!(!o.status.success(), "{at}: {all}");
+        assert!(
+            all.contains(&link.display().to_string()) && all.contains("link"),
+            "{at}: the message names the link: {all}"
+        );
+        assert_eq!(std::fs::read_to_string(&victim).expect("read"), "keep");
+        assert_eq!(
+            std::fs::read_dir(&elsewhere).expect("read").count(),
+            0,
+            "{at}: nothing written through the link"
+        );
+        // With the link removed, the same command runs; run again, its own links pass.
+        std::fs::remove_file(&link).expect("rm");
+        for _ in 0..2 {
+            let o = mine_into(&out);
+            assert!(o.status.success(), "{at}: {}", text(&o));
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn eval_out_replaces_a_planted_link_without_writing_its_target() {
+    let t = tempfile::tempdir().expect("tempdir");
+    let victim = t.path().join("victim.txt");
+    std::fs::write(&victim, "keep").expect("write");
+    let out = t.path().join("metrics");
+    std::fs::create_dir(&out).expect("mkdir");
+    std::os::unix::fs::symlink(&victim, out.join("temporal_metrics.json")).expect("link");
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/av2/eval");
+    let o = crate::util::scenalog()
+        .args(["eval", "--pred"])
+        .arg(data.join("combined_predictions_dev.pkl"))
+        .arg("--gt")
+        .arg(data.join("combined_gt_dev.pkl"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("run");
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(std::fs::read_to_string(&victim).expect("read"), "keep");
+    let written = out.join("temporal_metrics.json");
+    assert!(
+        !std::fs::symlink_metadata(&written)
+            .expect("written")
+            .file_type()
+            .is_symlink(),
+        "the link is replaced by the file"
+    );
+    assert!(std::fs::read_to_string(&written)
+        .expect("read")
+        .contains("balanced_accuracy"));
+}

@@ -1,7 +1,7 @@
 //! Writing a picture to a file in the format its extension names, atomically (a temporary
 //! file beside it, then a rename), with errors that name the file.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::error::ViewError;
 
@@ -40,20 +40,7 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ViewError> {
         path: path.to_path_buf(),
         source,
     };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(err)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        err(e)
-    })
+    scenalog_input::out_dir::write_atomic(path, bytes, false).map_err(err)
 }
 
 /// Writes an SVG picture as `.svg` (as is), `.png` (rasterised) or `.gif` (one frame).

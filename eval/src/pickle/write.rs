@@ -3,7 +3,6 @@
 
 use crate::error::EvalError;
 use crate::model::{FrameData, Submission};
-use std::io::Write;
 use std::path::Path;
 
 const MODULE: &str = "numpy.core.multiarray";
@@ -301,22 +300,7 @@ pub fn pickle_bytes(sub: &Submission) -> Vec<u8> {
 /// Writes a submission as a pickle file atomically (a temporary file in the same directory, then rename).
 pub fn write_pickle(sub: &Submission, path: &Path) -> Result<(), EvalError> {
     let bytes = pickle_bytes(sub);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let io = |e| EvalError::Io(path.display().to_string(), e);
     // The temporary file is removed on any failure (a full disk must not stay full of it).
-    let written = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(&bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    scenalog_input::out_dir::write_atomic(path, &bytes, true)
+        .map_err(|e| EvalError::Io(path.display().to_string(), e))
 }
