@@ -30,7 +30,10 @@ fn ferr(msg: String) -> EvalError {
 /// Reads a timestamps file: a JSON object of log id to a list of integer nanosecond timestamps.
 pub fn read_timestamps(path: &Path) -> Result<BTreeMap<String, BTreeSet<i64>>, EvalError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| EvalError::Io(name.clone(), e))?;
+    // Through the one input reader: a FIFO or a device is an error naming it, not a hang, and
+    // nothing is read past the text limit.
+    let text = scenalog_input::read_text_file(path, scenalog_input::TEXT_LIMIT)
+        .map_err(|p| EvalError::File(name.clone(), p))?;
     parse_timestamps(&text, &name)
 }
 

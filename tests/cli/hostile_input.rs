@@ -303,6 +303,7 @@ fn every_input_flag_refuses_a_fifo_and_dev_zero_naming_the_path() {
         vec!["explain", "--rules", "{}", "--log", &log, "--track", "ego"],
         vec!["eval", "--pred", "{}", "--gt", &gt],
         vec!["eval", "--pred", &gt, "--gt", "{}"],
+        vec!["eval", "--pred", &gt, "--gt", &gt, "--timestamps", "{}"],
         vec!["synth", "--eval", "{}", "--logs", &logs],
         vec!["synth", "--descriptions", "{}", "--out", &out],
         vec!["import", "refav", "{}", "-o", &out],
