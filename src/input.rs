@@ -16,8 +16,13 @@ pub fn read_text(path: &Path) -> Result<String, String> {
     read.map_err(|problem| format!("cannot read `{}`: {problem}", path.display()))
 }
 
-/// A binary input (a pickle), at most [`scenalog_input::DATA_LIMIT`] bytes.
-pub fn read_data(path: &Path) -> Result<Vec<u8>, String> {
-    scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-        .map_err(|problem| format!("cannot read `{}`: {problem}", path.display()))
+/// A pickle, at most [`scenalog_input::DATA_LIMIT`] bytes; one that does not end as a pickle
+/// does (cut short, padded) is an error before it is read whole.
+pub fn read_pickle(path: &Path) -> Result<Vec<u8>, String> {
+    scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::DATA_LIMIT,
+        &scenalog_input::ends::pickle_ends,
+    )
+    .map_err(|problem| format!("cannot read `{}`: {problem}", path.display()))
 }

@@ -108,8 +108,12 @@ impl<'a> Strings<'a> {
 /// the file, never a panic or an allocation the bytes cannot back.
 pub fn read_table(path: &Path) -> Result<Submission, EvalError> {
     let what = path.display().to_string();
-    let bytes = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-        .map_err(|p| EvalError::File(what.clone(), p))?;
+    let bytes = scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::DATA_LIMIT,
+        &scenalog_input::ends::arrow_ends,
+    )
+    .map_err(|p| EvalError::File(what.clone(), p))?;
     table_from_bytes(&bytes, &what)
 }
 
@@ -502,8 +506,12 @@ pub fn write_table_with(
 /// is an [`EvalError::File`] saying which.
 pub fn read_any(path: &Path) -> Result<Submission, EvalError> {
     let what = path.display().to_string();
-    let bytes = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-        .map_err(|p| EvalError::File(what.clone(), p))?;
+    let bytes = scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::DATA_LIMIT,
+        &scenalog_input::ends::arrow_or_pickle_ends,
+    )
+    .map_err(|p| EvalError::File(what.clone(), p))?;
     if bytes.starts_with(b"ARROW1") {
         table_from_bytes(&bytes, &what)
     } else {

@@ -14,6 +14,18 @@ use std::path::Path;
 pub const TEXT_LIMIT: u64 = 256 << 20;
 /// The largest binary input read (Arrow tables, pickles of predictions, ground truth, tracks).
 pub const DATA_LIMIT: u64 = 32 << 30;
+/// The largest table of one log read (its annotations, a tracker's per-log boxes, its ego
+/// poses): an AV2 log's annotations are tens of megabytes.
+pub const LOG_TABLE_LIMIT: u64 = 2 << 30;
+/// The largest vector map read (JSON; an AV2 log's map is a few megabytes).
+pub const MAP_LIMIT: u64 = TEXT_LIMIT;
+
+/// A check of a file's first and last bytes (see [`read_file_checking_ends`]): `Err` says what is
+/// wrong with them.
+pub type EndsCheck<'a> = &'a dyn Fn(&[u8], &[u8]) -> Result<(), String>;
+
+/// How many bytes of each end of a file [`read_file_checking_ends`] shows its check.
+pub const END_BYTES: usize = 64;
 
 /// Why a path cannot be read as a regular file.
 #[derive(Debug)]
@@ -36,6 +48,9 @@ pub enum FileProblem {
     },
     /// A text file is not UTF-8; the byte offset of the first invalid byte.
     NotUtf8(usize),
+    /// The file's first or last bytes are not those of its format (checked before the whole
+    /// file is read); what is wrong.
+    NotFormat(String),
     /// The path could not be examined or read: permission denied, a symlink loop, an I/O error.
     Io(std::io::Error),
 }
@@ -49,6 +64,7 @@ impl std::fmt::Display for FileProblem {
                 f,
                 "is too large ({size} bytes or more; the limit for this input is {limit} bytes)"
             ),
+            FileProblem::NotFormat(what) => write!(f, "{what}"),
             FileProblem::NotUtf8(at) => {
                 write!(f, "is not UTF-8 text (invalid byte at offset {at})")
             }
@@ -141,6 +157,19 @@ fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
 /// saying what it is, never a read that waits forever or runs out of memory. Every input file of
 /// every command is read through this function (or [`read_text_file`]).
 pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, FileProblem> {
+    read_file_checking_ends(path, limit, &|_, _| Ok(()))
+}
+
+/// [`read_regular_file`], with the file's first and last [`END_BYTES`] bytes (fewer in a
+/// shorter file) shown to `ends` before the rest is read: a file of the wrong format, or one
+/// padded to gigabytes, is an error at once ([`FileProblem::NotFormat`] with `ends`'s message)
+/// instead of after reading and decoding all of it. Memory is what the file holds, reserved
+/// fallibly: a size that cannot be allocated is an error, not an abort.
+pub fn read_file_checking_ends(
+    path: &Path,
+    limit: u64,
+    ends: EndsCheck,
+) -> Result<Vec<u8>, FileProblem> {
     // The kind first by path, so a directory or FIFO is named without being opened at all.
     regular_file(path)?;
     let file = open_nonblocking(path).map_err(|e| match e.kind() {
@@ -161,7 +190,17 @@ pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, FileProblem
             limit,
         });
     }
-    let mut data = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    let mut file = file;
+    let (head, tail) = read_ends(&mut file, meta.len()).map_err(FileProblem::Io)?;
+    ends(&head, &tail).map_err(FileProblem::NotFormat)?;
+    let mut data = Vec::new();
+    data.try_reserve_exact(usize::try_from(meta.len()).unwrap_or(usize::MAX))
+        .map_err(|_| {
+            FileProblem::Io(std::io::Error::new(
+                ErrorKind::OutOfMemory,
+                format!("{} bytes cannot be allocated", meta.len()),
+            ))
+        })?;
     file.take(limit.saturating_add(1))
         .read_to_end(&mut data)
         .map_err(FileProblem::Io)?;
@@ -172,6 +211,19 @@ pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, FileProblem
         });
     }
     Ok(data)
+}
+
+/// The first and last [`END_BYTES`] bytes of a file of `len` bytes, then back at its start.
+fn read_ends(file: &mut std::fs::File, len: u64) -> std::io::Result<(Vec<u8>, Vec<u8>)> {
+    use std::io::{Seek, SeekFrom};
+    let n = len.min(END_BYTES as u64);
+    let mut head = vec![0; n as usize];
+    file.read_exact(&mut head)?;
+    let mut tail = vec![0; n as usize];
+    file.seek(SeekFrom::Start(len - n))?;
+    file.read_exact(&mut tail)?;
+    file.seek(SeekFrom::Start(0))?;
+    Ok((head, tail))
 }
 
 /// [`read_regular_file`] for a UTF-8 text file.

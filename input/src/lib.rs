@@ -22,13 +22,14 @@
 #![warn(missing_docs)]
 
 pub mod arrow;
+pub mod ends;
 pub mod file;
 pub mod log_id;
 pub mod out_dir;
 
 pub use arrow::{read_batches, read_schema, Corrupt};
 pub use file::{
-    directory, read_regular_file, read_stdin_text, read_text_file, regular_file, FileProblem,
-    DATA_LIMIT, TEXT_LIMIT,
+    directory, read_file_checking_ends, read_regular_file, read_stdin_text, read_text_file,
+    regular_file, FileProblem, DATA_LIMIT, LOG_TABLE_LIMIT, MAP_LIMIT, TEXT_LIMIT,
 };
 pub use log_id::check_log_id;

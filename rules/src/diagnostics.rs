@@ -10,6 +10,8 @@ pub const SYNTAX: &str = "E0001";
 /// An expression or a nesting too deep to evaluate safely (operator chains, parentheses, signs,
 /// calls, aggregates).
 pub const TOO_DEEP: &str = "E0002";
+/// A program longer than [`crate::MAX_PROGRAM_BYTES`]: not parsed at all.
+pub const TOO_LARGE: &str = "E0003";
 /// A predicate that is neither in the catalog nor defined or declared by the program.
 pub const UNKNOWN_PREDICATE: &str = "E0101";
 /// An atom with the wrong number of arguments.
@@ -70,6 +72,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
 pub const CODES: &[(&str, Severity, &str)] = &[
     (SYNTAX, Severity::Error, "syntax error"),
     (TOO_DEEP, Severity::Error, "expression or nesting too deep"),
+    (TOO_LARGE, Severity::Error, "program too large"),
     (UNKNOWN_PREDICATE, Severity::Error, "unknown predicate"),
     (WRONG_ARITY, Severity::Error, "wrong number of arguments"),
     (TYPE_MISMATCH, Severity::Error, "type mismatch"),

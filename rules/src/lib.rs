@@ -205,9 +205,37 @@ pub struct CheckOutcome {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// The longest program checked, in bytes (4 MiB): parsing and checking hold several times a
+/// program's size, so a longer one is refused (E0003) before it is parsed. The library's
+/// programs are a few kilobytes; 10,000 one-line rules are about 400 KB.
+pub const MAX_PROGRAM_BYTES: usize = 4 << 20;
+
 /// Parses and checks a program against the catalog: every syntax error, unknown predicate, arity
 /// and type error, unsafe variable, recursion through negation or aggregation, output-shape
-/// problem and warning, in source order. Never panics, whatever the input.
+/// problem and warning, in source order. Never panics, whatever the input; a program longer
+/// than [`MAX_PROGRAM_BYTES`] is one E0003 and is not parsed.
 pub fn check(source: &str, options: &CheckOptions) -> CheckOutcome {
+    if source.len() > MAX_PROGRAM_BYTES {
+        let end = (0..=64)
+            .rev()
+            .find(|&i| source.is_char_boundary(i))
+            .unwrap_or(0);
+        let d = diagnostics::error(
+            diagnostics::TOO_LARGE,
+            ast::Span::new(0, end),
+            format!(
+                "this program is {} bytes long; the longest checked is {MAX_PROGRAM_BYTES} bytes",
+                source.len()
+            ),
+        )
+        .with_hint(
+            "split it into several programs, or derive repeated rules from one rule over a \
+             helper relation of the varying constants",
+        );
+        return CheckOutcome {
+            program: None,
+            diagnostics: vec![d],
+        };
+    }
     check::check_source(source, options)
 }

@@ -89,6 +89,23 @@ fn e0002_long_operator_chain_is_too_deep() {
 }
 
 #[test]
+fn e0003_a_program_past_4_mib_is_refused_before_parsing() {
+    let rule = "referred(X, T) :- present(X, T), T > 0.\n";
+    let fits = rule.repeat(scenalog_rules::MAX_PROGRAM_BYTES / rule.len());
+    assert!(check(&fits, &CheckOptions::default()).program.is_some());
+    let src = rule.repeat(scenalog_rules::MAX_PROGRAM_BYTES / rule.len() + 1);
+    let all = diags(&src);
+    assert_eq!(all.len(), 1, "{all:#?}");
+    assert_eq!(all[0].code, "E0003");
+    assert!(
+        all[0].message.contains(&src.len().to_string()),
+        "{}",
+        all[0].message
+    );
+    assert!(all[0].hint.as_deref().unwrap_or_default().contains("split"));
+}
+
+#[test]
 fn e0002_deep_parentheses_are_too_deep() {
     let src = format!(
         "referred(X, T) :- present(X, T), T > {}1{}.\n",

@@ -178,7 +178,7 @@ pub fn prepare(request: &SplitRequest) -> Result<SplitPlan, Error> {
     let tracker = match &request.tracks {
         None => None,
         Some(p) => {
-            let bytes = crate::input::read_data(p).map_err(|e| Error::about(Field::Tracks, e))?;
+            let bytes = crate::input::read_pickle(p).map_err(|e| Error::about(Field::Tracks, e))?;
             let filter = if request.confidence_filter {
                 scenalog_tracker::Filter::RefAv
             } else {

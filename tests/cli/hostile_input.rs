@@ -374,3 +374,84 @@ fn every_input_flag_refuses_a_fifo_and_dev_zero_naming_the_path() {
         assert_fails_saying(&o, 2, &["log_map_archive", what]);
     }
 }
+
+/// Inputs padded with `truncate -s 20G` (sparse: no disk used) are errors at once naming the
+/// file, not an allocation of their size (which aborted the process): a log's annotations and
+/// map (`facts`, `mine`), and the evaluation's and the tracker's pickles. Issue #42, item 3.
+#[test]
+fn inputs_padded_to_20_gib_are_errors_at_once_not_aborts() {
+    const PADDED: u64 = 20 << 30;
+    let pad = |path: &Path| {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .and_then(|f| f.set_len(PADDED))
+            .expect("pad");
+    };
+    let s = |p: &Path| p.to_str().expect("utf8").to_owned();
+    // The annotations, then the map, of a log.
+    for padded in ["annotations", "map"] {
+        let (_tmp, log) = copy_log();
+        let file = if padded == "map" {
+            std::fs::read_dir(log.join("map"))
+                .expect("map")
+                .flatten()
+                .map(|e| e.path())
+                .find(|p| p.to_string_lossy().contains("log_map_archive"))
+                .expect("the map file")
+        } else {
+            log.join(ANNOTATIONS)
+        };
+        pad(&file);
+        let name = file
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
+        let out = scenalog(&["facts", &s(&log)]);
+        assert_fails_saying(&out, 2, &[&name]);
+        let out_dir = tempfile::tempdir().expect("tempdir");
+        let rules = s(&repo("rules/library/stopped_car.dl"));
+        let out = scenalog(&[
+            "mine",
+            "--rules",
+            &rules,
+            "--logs",
+            &s(&log),
+            "--out",
+            &s(out_dir.path()),
+        ]);
+        let err = stderr(&out);
+        assert!(out.status.code().is_some(), "mine died of a signal: {err}");
+        assert!(err.contains(&name) && !err.contains("panicked"), "{err}");
+    }
+    // The evaluation's predictions and ground truth, and a tracker's pickle.
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let gt = repo("tests/data/av2/eval/combined_gt_dev.pkl");
+    let pred = tmp.path().join("predictions.pkl");
+    std::fs::copy(
+        repo("tests/data/av2/eval/combined_predictions_dev.pkl"),
+        &pred,
+    )
+    .expect("copy");
+    pad(&pred);
+    let out = scenalog(&["eval", "--pred", &s(&pred), "--gt", &s(&gt)]);
+    assert_fails_saying(&out, 2, &["predictions.pkl", "STOP"]);
+    let out = scenalog(&["eval", "--pred", &s(&gt), "--gt", &s(&pred)]);
+    assert_fails_saying(&out, 2, &["predictions.pkl", "STOP"]);
+    let pairs = s(&repo(
+        "tests/data/av2/tracker/log_prompt_pairs_fixture.json",
+    ));
+    let out = scenalog(&[
+        "mine",
+        "--log-prompts",
+        &pairs,
+        "--dataset-dir",
+        &s(&repo("tests/data/av2/logs")),
+        "--tracks",
+        &s(&pred),
+        "--out",
+        &s(&tmp.path().join("out")),
+    ]);
+    assert_fails_saying(&out, 2, &["predictions.pkl", "STOP"]);
+}

@@ -23,8 +23,12 @@ impl TrackerPickle {
     /// not a pickle, not `{log_id: [frame dict, …]}`, frames without the tracking fields).
     pub fn open(path: &Path) -> Result<TrackerPickle, TrackerError> {
         let file = path.display().to_string();
-        let data = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-            .map_err(|problem| TrackerError::file(&file, problem.to_string()))?;
+        let data = scenalog_input::read_file_checking_ends(
+            path,
+            scenalog_input::DATA_LIMIT,
+            &scenalog_input::ends::pickle_ends,
+        )
+        .map_err(|problem| TrackerError::file(&file, problem.to_string()))?;
         Self::from_bytes(&data, &file)
     }
 

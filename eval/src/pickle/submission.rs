@@ -13,8 +13,12 @@ pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalErro
 
 /// Reads a scenario-mining pickle file.
 pub fn read_pickle(path: &std::path::Path) -> Result<Submission, EvalError> {
-    let data = scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-        .map_err(|p| EvalError::File(path.display().to_string(), p))?;
+    let data = scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::DATA_LIMIT,
+        &scenalog_input::ends::pickle_ends,
+    )
+    .map_err(|p| EvalError::File(path.display().to_string(), p))?;
     read_pickle_bytes(&data, &path.display().to_string())
 }
 

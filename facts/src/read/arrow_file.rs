@@ -69,7 +69,18 @@ impl Table {
 /// The file must be a regular file; its framing and declared sizes are checked by
 /// [`scenalog_input::arrow`] before anything is decoded.
 pub(crate) fn read_table(path: &Path, wanted: &[ColumnWant]) -> Result<Table, LoadError> {
-    let bytes = read_file(path)?;
+    let bytes = scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::LOG_TABLE_LIMIT,
+        &scenalog_input::ends::arrow_ends,
+    )
+    .map_err(|problem| match problem {
+        FileProblem::NotFormat(reason) => LoadError::NotArrow {
+            path: path.to_path_buf(),
+            reason,
+        },
+        problem => file_error(path, problem),
+    })?;
     let not_arrow = |e: scenalog_input::Corrupt| LoadError::NotArrow {
         path: path.to_path_buf(),
         reason: e.reason,
@@ -113,12 +124,6 @@ pub(crate) fn read_table(path: &Path, wanted: &[ColumnWant]) -> Result<Table, Lo
     Ok(Table { batches })
 }
 
-/// Reads a whole input file, which must be a regular file (a FIFO would block the read).
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
-    scenalog_input::read_regular_file(path, scenalog_input::DATA_LIMIT)
-        .map_err(|problem| file_error(path, problem))
-}
-
 /// The error for a path that is not a readable regular file: missing, something else (a
 /// directory, a FIFO), or unreadable (permission denied, a symlink loop).
 pub(crate) fn file_error(path: &Path, problem: FileProblem) -> LoadError {
@@ -129,7 +134,8 @@ pub(crate) fn file_error(path: &Path, problem: FileProblem) -> LoadError {
         },
         wrong @ (FileProblem::WrongKind { .. }
         | FileProblem::TooLarge { .. }
-        | FileProblem::NotUtf8(_)) => LoadError::NotRegularFile {
+        | FileProblem::NotUtf8(_)
+        | FileProblem::NotFormat(_)) => LoadError::NotRegularFile {
             path: path.to_path_buf(),
             what: wrong.to_string(),
         },

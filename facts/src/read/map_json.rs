@@ -12,7 +12,7 @@ use serde::Deserialize;
 use crate::error::LoadError;
 use crate::map::{DrivableArea, LaneId, LaneSegment, LaneType, PedestrianCrossing, VectorMap};
 
-use super::arrow_file::{io_error, read_file};
+use super::arrow_file::{file_error, io_error};
 
 /// The prefix of the vector map's file name in a log's `map/` directory.
 pub const MAP_FILE_PREFIX: &str = "log_map_archive_";
@@ -114,7 +114,12 @@ pub fn city_from_map_name(name: &str) -> String {
 
 /// Reads and converts a vector map file.
 pub(crate) fn read_map(path: &Path) -> Result<VectorMap, LoadError> {
-    let bytes = read_file(path)?;
+    let bytes = scenalog_input::read_file_checking_ends(
+        path,
+        scenalog_input::MAP_LIMIT,
+        &scenalog_input::ends::json_object_ends,
+    )
+    .map_err(|problem| file_error(path, problem))?;
     parse_map(path, &bytes)
 }
 
