@@ -286,6 +286,60 @@ fn dictionary_column(
     Ok(Arc::new(array))
 }
 
+/// Record batches of the long table (every one written with the same [`TableDictionaries`],
+/// as a run's parts are) as one batch: their rows in order, the dictionary columns' keys joined
+/// over the first batch's dictionary (so the result still shares the run's dictionaries, as one
+/// Arrow IPC file needs).
+///
+/// # Errors
+/// The batches' schemas differ, or their dictionaries do (a part of another run).
+pub fn concat_sharing_dictionaries(batches: &[RecordBatch]) -> Result<RecordBatch, EvalError> {
+    let err = |e: arrow_schema::ArrowError| EvalError::Format(format!("joining parts: {e}"));
+    let Some(first) = batches.first() else {
+        return Err(EvalError::Format("joining parts: no batch".into()));
+    };
+    let schema = first.schema();
+    let mut columns: Vec<ArrayRef> = Vec::with_capacity(schema.fields().len());
+    for (c, field) in schema.fields().iter().enumerate() {
+        let parts: Vec<&ArrayRef> = batches.iter().map(|b| b.column(c)).collect();
+        if field.data_type() == &dictionary_type() {
+            let dicts = parts
+                .iter()
+                .map(|a| {
+                    a.as_any()
+                        .downcast_ref::<DictionaryArray<Int32Type>>()
+                        .ok_or_else(|| {
+                            EvalError::Format(format!(
+                                "joining parts: column {:?} is not a dictionary",
+                                field.name()
+                            ))
+                        })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let values = dicts[0].values();
+            if dicts.iter().any(|d| d.values().as_ref() != values.as_ref()) {
+                return Err(EvalError::Format(format!(
+                    "joining parts: column {:?} has different dictionaries",
+                    field.name()
+                )));
+            }
+            let keys: Vec<&dyn Array> = dicts.iter().map(|d| d.keys() as &dyn Array).collect();
+            let keys = arrow_select::concat::concat(&keys).map_err(err)?;
+            let keys = keys
+                .as_any()
+                .downcast_ref::<Int32Array>()
+                .cloned()
+                .ok_or_else(|| EvalError::Format("joining parts: keys are not Int32".into()))?;
+            let array = DictionaryArray::<Int32Type>::try_new(keys, values.clone()).map_err(err)?;
+            columns.push(Arc::new(array));
+        } else {
+            let arrays: Vec<&dyn Array> = parts.iter().map(|a| a.as_ref()).collect();
+            columns.push(arrow_select::concat::concat(&arrays).map_err(err)?);
+        }
+    }
+    RecordBatch::try_new(schema, columns).map_err(err)
+}
+
 /// The type of the dictionary-encoded string columns.
 fn dictionary_type() -> DataType {
     DataType::Dictionary(Box::new(DataType::Int32), Box::new(DataType::Utf8))

@@ -179,6 +179,10 @@ impl Default for OutputNames {
     }
 }
 
+/// The most rows of one record batch of a run's table (a log with more is written in several):
+/// the rows of a batch are held decoded while it is written, about 100 bytes a row.
+const ROWS_PER_BATCH: usize = 1 << 20;
+
 /// The codec of the per-log parts of the table (temporary: fast to write and read back).
 const PART_CODEC: Option<arrow_ipc::CompressionType> = Some(arrow_ipc::CompressionType::LZ4_FRAME);
 
@@ -260,6 +264,9 @@ static STAGING_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
 /// A run's generation directory: per-log parts and the outputs before they are published.
 /// Removed when dropped unless published.
+///
+/// Its parts are one a pair (a [`PartId`]), written as each pair finishes, so a run holds one
+/// pair's prediction frames per worker rather than a whole log's.
 pub struct Staging {
     out: PathBuf,
     dir: PathBuf,
@@ -268,11 +275,16 @@ pub struct Staging {
     lock: super::lock::OutputLock,
     /// The dictionaries of the table's string columns, the same for every log's part.
     dictionaries: scenalog_eval::arrow_table::TableDictionaries,
-    /// Whether the per-log pickle parts are written (and joined).
+    /// Whether the per-pair pickle parts are written (and joined).
     pickle: bool,
-    /// The keys of each log's pickle part written so far, by log index (the joiner checks them).
-    pickle_keys: std::sync::Mutex<std::collections::BTreeMap<usize, scenalog_eval::PartKeys>>,
+    /// The keys of each pickle part written so far (the joiner checks them).
+    pickle_keys: std::sync::Mutex<std::collections::BTreeMap<PartId, scenalog_eval::PartKeys>>,
+    /// The parts written so far.
+    written: std::sync::Mutex<Vec<PartId>>,
 }
+
+/// One part of a run's predictions: (the log's index, the program's index) in the run.
+pub type PartId = (usize, usize);
 
 impl Staging {
     /// Holds `out` ([`super::lock::OutputLock`]: a folder another run is writing is an error
@@ -292,6 +304,7 @@ impl Staging {
             dictionaries: Default::default(),
             pickle: true,
             pickle_keys: Default::default(),
+            written: Default::default(),
         })
     }
 
@@ -318,34 +331,47 @@ impl Staging {
         self.dir.join(name)
     }
 
-    fn part(&self, index: usize, ext: &str) -> PathBuf {
-        self.dir.join(format!("part-{index}.{ext}"))
+    fn part(&self, (log, program): PartId, ext: &str) -> PathBuf {
+        self.dir.join(format!("part-{log}-{program}.{ext}"))
     }
 
-    /// Writes log number `index`'s predictions: its Arrow table (LZ4, the run's dictionaries)
-    /// and, when the pickle is written, its sequences encoded for `eval`'s joiner
+    /// Writes part `id`'s predictions (one pair's): its Arrow table (LZ4, the run's
+    /// dictionaries) and, when the pickle is written, its sequences encoded for `eval`'s joiner
     /// ([`scenalog_eval::encode_part`]; their keys kept for the join).
-    pub fn write_part(&self, index: usize, part: &scenalog_eval::Submission) -> Result<(), String> {
+    pub fn write_part(&self, id: PartId, part: &scenalog_eval::Submission) -> Result<(), String> {
         if self.pickle {
             let (keys, bytes) = scenalog_eval::encode_part(part);
-            write_atomic(&self.part(index, "pkl"), &bytes, false)?;
+            write_atomic(&self.part(id, "pkl"), &bytes, false)?;
             self.pickle_keys
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
-                .insert(index, keys);
+                .insert(id, keys);
         }
-        let path = self.part(index, "feather");
+        let path = self.part(id, "feather");
         let bytes = scenalog_eval::arrow_table::table_bytes(part, &self.dictionaries, PART_CODEC)
             .map_err(|e| format!("`{}`: {e}", path.display()))?;
-        write_atomic(&path, &bytes, false)
+        write_atomic(&path, &bytes, false)?;
+        self.written
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(id);
+        Ok(())
     }
 
-    /// Joins the parts, in `order`, into the run's Arrow table (one record batch a log,
+    /// The parts written so far, in no particular order.
+    pub fn written_parts(&self) -> Vec<PartId> {
+        self.written
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// Joins the parts, in `order`, into the run's Arrow table (one record batch a pair,
     /// zstd-compressed) and, when asked for, its pickle (with `eval`'s joiner,
     /// [`scenalog_eval::PickleJoin`], which checks every part's keys: byte for byte the pickle of
-    /// the whole submission, `order` sorting the logs by id; the parts' bytes copied, not
-    /// decoded).
-    pub fn join_parts(&self, order: &[usize], names: &OutputNames) -> Result<(), String> {
+    /// the whole submission, `order` sorting the pairs by log id and description; the parts'
+    /// bytes copied, not decoded).
+    pub fn join_parts(&self, order: &[PartId], names: &OutputNames) -> Result<(), String> {
         let pickle = self.path(names.pickle);
         let io = |p: &Path, e: std::io::Error| format!("cannot write `{}`: {e}", p.display());
         if self.pickle {
@@ -358,7 +384,7 @@ impl Staging {
                 let part = self.part(i, "pkl");
                 let Some(keys) = keys.get(&i) else {
                     return Err(format!(
-                        "`{}`: part {i} was never written",
+                        "`{}`: part {i:?} was never written",
                         pickle.display()
                     ));
                 };
@@ -373,10 +399,35 @@ impl Staging {
         let arrow = |e: arrow_schema::ArrowError| format!("`{}`: {e}", table.display());
         let mut writer: Option<arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>> =
             None;
+        // A log's pairs' rows are gathered into one record batch (zstd compresses a log's
+        // repeated boxes well only within a batch), up to ROWS_PER_BATCH rows at a time.
+        let mut pending: Vec<arrow_array::RecordBatch> = Vec::new();
+        let mut pending_log = None;
+        let flush = |pending: &mut Vec<arrow_array::RecordBatch>,
+                     writer: &mut Option<
+            arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>,
+        >|
+         -> Result<(), String> {
+            if pending.is_empty() {
+                return Ok(());
+            }
+            let batch = scenalog_eval::arrow_table::concat_sharing_dictionaries(pending)
+                .map_err(|e| format!("`{}`: {e}", table.display()))?;
+            pending.clear();
+            if let Some(w) = writer.as_mut() {
+                w.write(&batch).map_err(arrow)?;
+            }
+            Ok(())
+        };
         for &i in order {
             let part = self.part(i, "feather");
             let file = std::fs::File::open(&part).map_err(|e| io(&part, e))?;
             let reader = arrow_ipc::reader::FileReader::try_new(file, None).map_err(arrow)?;
+            let rows: usize = pending.iter().map(|b| b.num_rows()).sum();
+            if pending_log != Some(i.0) || rows >= ROWS_PER_BATCH {
+                flush(&mut pending, &mut writer)?;
+                pending_log = Some(i.0);
+            }
             if writer.is_none() {
                 let f = scenalog_input::out_dir::create_new(&table).map_err(|e| io(&table, e))?;
                 let options = scenalog_eval::arrow_table::table_write_options(Some(
@@ -392,12 +443,11 @@ impl Staging {
                     .map_err(arrow)?,
                 );
             }
-            if let Some(w) = writer.as_mut() {
-                for batch in reader {
-                    w.write(&batch.map_err(arrow)?).map_err(arrow)?;
-                }
+            for batch in reader {
+                pending.push(batch.map_err(arrow)?);
             }
         }
+        flush(&mut pending, &mut writer)?;
         match writer {
             Some(mut w) => {
                 w.finish().map_err(arrow)?;

@@ -329,12 +329,14 @@ pub fn run_unpublished(
         logs.par_iter()
             .enumerate()
             .map(|(i, log)| {
-                let (mut pairs, failure, load) = mine_log(log, scenarios, options, &bar);
+                let sink = PartSink {
+                    staging: &staging,
+                    log: i,
+                };
+                let (pairs, failure, load, part) = mine_log(log, scenarios, options, &bar, &sink);
                 if let Ok(mut t) = load_time.lock() {
                     *t += load;
                 }
-                // The log's predictions go to its part file now and leave memory.
-                let part = staging.write_part(i, &log_part(log, scenarios, &mut pairs));
                 (pairs, failure, part)
             })
             .collect()
@@ -353,8 +355,11 @@ pub fn run_unpublished(
         }
     }
     let write_start = Instant::now();
-    let mut order: Vec<usize> = (0..logs.len()).collect();
-    order.sort_by(|&a, &b| logs[a].log_id.cmp(&logs[b].log_id));
+    let mut order = staging.written_parts();
+    order.sort_by(|&(la, sa), &(lb, sb)| {
+        (&logs[la].log_id, &scenarios[sa].description)
+            .cmp(&(&logs[lb].log_id, &scenarios[sb].description))
+    });
     staging.join_parts(&order, &options.names)?;
     let matches: Vec<&Match> = pairs.iter().flat_map(|p| &p.matches).collect();
     output::write_json(&staging.path(output::MATCHES_JSON), &matches, true)?;
@@ -518,20 +523,34 @@ fn table_dictionaries(
     }
 }
 
-fn log_part(log: &LogInput, scenarios: &[Scenario], pairs: &mut [PairResult]) -> Submission {
-    let mut part = Submission::default();
-    for p in pairs {
-        if !matches!(p.status, PairStatus::Failed(_)) {
-            part.sequences.insert(
-                (
-                    log.log_id.clone(),
-                    scenarios[p.scenario].description.clone(),
-                ),
-                std::mem::take(&mut p.frames),
-            );
+/// Where a log's pairs send their predictions: the run's staging folder, one part a pair.
+struct PartSink<'a> {
+    staging: &'a output::Staging,
+    /// The log's index in the run.
+    log: usize,
+}
+
+impl PartSink<'_> {
+    /// Writes a finished pair's predictions (its frames leave memory); a failed pair has none.
+    fn write(
+        &self,
+        log: &LogInput,
+        scenarios: &[Scenario],
+        p: &mut PairResult,
+    ) -> Result<(), String> {
+        if matches!(p.status, PairStatus::Failed(_)) {
+            return Ok(());
         }
+        let mut part = Submission::default();
+        part.sequences.insert(
+            (
+                log.log_id.clone(),
+                scenarios[p.scenario].description.clone(),
+            ),
+            std::mem::take(&mut p.frames),
+        );
+        self.staging.write_part((self.log, p.scenario), &part)
     }
-    part
 }
 
 fn failed(log: &LogInput, index: usize, reason: impl Into<Message>) -> PairResult {
@@ -548,14 +567,22 @@ fn failed(log: &LogInput, index: usize, reason: impl Into<Message>) -> PairResul
 }
 
 /// Mines one log with every scenario: the pairs (in scenario order), the log's own failure if it
-/// could not be read, and the time spent reading it. Resumed pairs are rebuilt from their
-/// records' tuples (which needs the scene, so the log is read even when every pair is resumed).
+/// could not be read, the time spent reading it, and whether every pair's predictions were
+/// written to `sink` as the pair finished (the first write error otherwise). Resumed pairs are
+/// rebuilt from their records' tuples (which needs the scene, so the log is read even when every
+/// pair is resumed).
 fn mine_log(
     log: &LogInput,
     scenarios: &[Scenario],
     options: &RunOptions,
     bar: &indicatif::ProgressBar,
-) -> (Vec<PairResult>, Option<Message>, Duration) {
+    sink: &PartSink,
+) -> (
+    Vec<PairResult>,
+    Option<Message>,
+    Duration,
+    Result<(), String>,
+) {
     let t0 = Instant::now();
     let indices = log.program_indices(scenarios.len());
     if cancelled(options) {
@@ -563,7 +590,7 @@ fn mine_log(
             .iter()
             .map(|&i| failed(log, i, CANCELLED.to_string()))
             .collect();
-        return (pairs, None, Duration::ZERO);
+        return (pairs, None, Duration::ZERO, Ok(()));
     }
     let scene = load_log(log).map_err(Message::text);
     let load = t0.elapsed();
@@ -579,7 +606,7 @@ fn mine_log(
             }
             bar.inc(indices.len() as u64);
             let pairs = indices.iter().map(|&i| failed(log, i, e.clone())).collect();
-            return (pairs, Some(e), load);
+            return (pairs, Some(e), load, Ok(()));
         }
     };
     let log_fp = log_fingerprint(log);
@@ -594,16 +621,16 @@ fn mine_log(
         frames: &frames,
         options,
     };
-    let pairs: Vec<PairResult> = indices
+    let pairs: Vec<(PairResult, Result<(), String>)> = indices
         .par_iter()
         .map(|&i| {
             let s = &scenarios[i];
             bar.set_message(format!("{} on {}", s.name, short_id(&log.log_id)));
             if cancelled(options) {
-                return failed(log, i, CANCELLED.to_string());
+                return (failed(log, i, CANCELLED.to_string()), Ok(()));
             }
             let fingerprint = pair_fingerprint(&log_fp, s, options.timestamps.get(&log.log_id));
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 let earlier = resumable(log, s, options, &fingerprint)
                     .and_then(|r| resume_pair(&ctx, s, i, r));
                 earlier.unwrap_or_else(|| mine_pair(&ctx, &extractor, s, i, &fingerprint))
@@ -621,8 +648,19 @@ fn mine_log(
                 }
             }
             bar.inc(1);
+            let written = sink.write(log, scenarios, &mut r);
+            (r, written)
+        })
+        .collect();
+    let mut written = Ok(());
+    let pairs = pairs
+        .into_iter()
+        .map(|(r, w)| {
+            if written.is_ok() {
+                written = w;
+            }
             r
         })
         .collect();
-    (pairs, None, load)
+    (pairs, None, load, written)
 }
