@@ -54,6 +54,8 @@ pub enum Field {
     PictureSize,
     /// The frames a picture shows (`--frames`, `frames`).
     Frames,
+    /// Candidate programs per description (`--candidates`, `candidates`).
+    Candidates,
 }
 
 impl Field {
@@ -80,6 +82,7 @@ impl Field {
             Field::Picture => "--picture",
             Field::PictureSize => "--picture-size",
             Field::Frames => "--frames",
+            Field::Candidates => "--candidates",
         }
     }
 
@@ -106,6 +109,7 @@ impl Field {
             Field::Picture => "picture",
             Field::PictureSize => "picture_size",
             Field::Frames => "frames",
+            Field::Candidates => "candidates",
         }
     }
 }

@@ -29,6 +29,7 @@ pub mod run;
 pub mod split;
 pub mod synth;
 mod synth_fixture;
+pub mod synth_search;
 
 pub use error::{Error, ErrorKind, Field, Message, Names};
 pub use limits::Limits;

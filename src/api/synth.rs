@@ -13,7 +13,7 @@ use std::time::Duration;
 use scenalog_synth::batch::{self, write_outputs};
 use scenalog_synth::{library, prompt, BatchOptions, LlmConfig};
 
-use crate::api::error::{Error, ErrorKind, Field, Message, Names};
+use crate::api::error::{invalid, Error, ErrorKind, Field, Message, Names};
 use crate::api::inputs::{bundled, SAMPLE_GT};
 use crate::api::limits::Limits;
 use crate::pipeline::lock::OutputLock;
@@ -73,6 +73,14 @@ pub struct SynthSettings {
     pub library: Option<PathBuf>,
     /// Leave out the description's own library program and its near-duplicates.
     pub held_out: bool,
+    /// Candidate programs per description (1 to 32; 1: one program, as before searches).
+    /// With more, each clean candidate is run on `match_logs` and the one whose matches agree
+    /// most with the others' is kept.
+    pub candidates: usize,
+    /// The logs candidates are run on (none: the bundled sample logs).
+    pub match_logs: Vec<PathBuf>,
+    /// The limits of one candidate's run on one log.
+    pub match_limits: Limits,
 }
 
 /// A configuration, and the library's examples left out because they do not check clean (for
@@ -116,6 +124,21 @@ pub fn config(
         None => library::embedded(),
     };
     let left_out = library::retain_clean(&mut examples);
+    if !(1..=32).contains(&settings.candidates) {
+        return Err(invalid(
+            Field::Candidates,
+            format!("expected 1 to 32, got {}", settings.candidates),
+        ));
+    }
+    let matcher = if settings.candidates > 1 {
+        settings.match_limits.check()?;
+        Some(crate::api::synth_search::matcher(
+            &settings.match_logs,
+            &settings.match_limits,
+        )?)
+    } else {
+        None
+    };
     Ok(Configured {
         config: SynthConfig {
             llm,
@@ -124,6 +147,9 @@ pub fn config(
             library: examples,
             examples: settings.examples,
             held_out: settings.held_out,
+            candidates: settings.candidates,
+            sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
+            matcher,
         },
         left_out,
     })

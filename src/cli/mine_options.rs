@@ -111,7 +111,7 @@ pub(crate) fn fail(message: impl std::fmt::Display) -> ExitCode {
 /// cached in `--cache-dir`, else in `OUT/.llm-cache`.
 pub(crate) fn synthesis(args: &Options) -> Result<Synthesis, String> {
     Ok(Synthesis {
-        config: synth_config(&args.synth, None)?,
+        config: synth_config(&args.synth, None, &args.logs)?,
         jobs: args.jobs as usize,
     })
 }

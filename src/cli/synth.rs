@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use crate::api::inputs::SAMPLE_LOGS;
 use crate::api::synth::{
     self as api, BatchRequest, EvalRequest, ItemStatus, OneRequest, Outcome, Price, SynthConfig,
     SynthSettings, Synthesizer, ENV_API_KEY, ENV_BASE_URL, ENV_MODEL,
@@ -129,6 +130,11 @@ pub struct SynthArgs {
     /// Read the example library from this directory instead of the one built in.
     #[arg(long, value_name = "DIR")]
     pub library: Option<PathBuf>,
+    /// Candidate programs per description (1 to 32): the first asked as with one, the others
+    /// sampled at temperature 0.7; each clean one is run on the logs (`--logs`, the sample logs by
+    /// default) and the one whose matches agree most with the others' is kept.
+    #[arg(long, default_value_t = 1, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=32))]
+    pub candidates: u32,
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -138,7 +144,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 
 /// The settings of the flags: `--temperature` a number from 0 to 2 or "default", `--examples` a
 /// number or "all".
-fn settings(args: &SynthArgs) -> Result<SynthSettings, String> {
+fn settings(args: &SynthArgs, match_logs: &[PathBuf]) -> Result<SynthSettings, String> {
     let temperature = match args.temperature.trim() {
         "default" => None,
         t => Some(
@@ -171,6 +177,9 @@ fn settings(args: &SynthArgs) -> Result<SynthSettings, String> {
         examples,
         library: args.library.clone(),
         held_out: false,
+        candidates: args.candidates as usize,
+        match_logs: match_logs.to_vec(),
+        match_limits: Limits::default(),
     })
 }
 
@@ -180,8 +189,10 @@ fn settings(args: &SynthArgs) -> Result<SynthSettings, String> {
 pub fn synth_config(
     args: &SynthArgs,
     default_cache: Option<PathBuf>,
+    match_logs: &[PathBuf],
 ) -> Result<SynthConfig, String> {
-    let configured = api::config(&settings(args)?, default_cache).map_err(|e| e.flags())?;
+    let configured =
+        api::config(&settings(args, match_logs)?, default_cache).map_err(|e| e.flags())?;
     if !configured.left_out.is_empty() {
         eprintln!(
             "scenalog synth: warning: examples left out because they do not check clean: {}",
@@ -195,7 +206,13 @@ pub fn synth_config(
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
     let default_cache = args.out.as_ref().map(|d| d.join(".llm-cache"));
-    let mut config = match synth_config(&args.synth, default_cache) {
+    // `--logs` left at its default outside the repository: the bundled sample logs.
+    let match_logs = if args.logs == std::path::Path::new(SAMPLE_LOGS) && !args.logs.is_dir() {
+        Vec::new()
+    } else {
+        vec![args.logs.clone()]
+    };
+    let mut config = match synth_config(&args.synth, default_cache, &match_logs) {
         Ok(c) => c,
         Err(e) => return fail(e),
     };
@@ -308,6 +325,13 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
     match &t.outcome {
         Outcome::Clean { round } => {
             eprintln!("scenalog synth: checked clean in round {round}");
+            if let Some(search) = &t.search {
+                eprintln!(
+                    "scenalog synth: {} candidates: {}",
+                    search.candidates.len(),
+                    search.reason
+                );
+            }
             ExitCode::SUCCESS
         }
         Outcome::Failed => {

@@ -32,7 +32,17 @@ impl Cache {
 
     /// The key of a request: hex SHA-256 of the JSON `{"model": …, "messages": […]}`.
     pub fn key(model: &str, messages: &[Message]) -> String {
-        let canonical = serde_json::json!({ "model": model, "messages": messages }).to_string();
+        Cache::sample_key(model, messages, 0)
+    }
+
+    /// The key of candidate `sample` of a search (sample 0 is [`Cache::key`]'s, so one candidate
+    /// reads the completions cached before searches existed; each other sample has its own).
+    pub fn sample_key(model: &str, messages: &[Message], sample: usize) -> String {
+        let mut canonical = serde_json::json!({ "model": model, "messages": messages });
+        if sample > 0 {
+            canonical["sample"] = serde_json::json!(sample);
+        }
+        let canonical = canonical.to_string();
         let digest = Sha256::digest(canonical.as_bytes());
         digest.iter().map(|b| format!("{b:02x}")).collect()
     }

@@ -214,13 +214,23 @@ impl Client {
 
     /// Asks for one completion of `messages`: the assistant's text and the server's `usage`.
     pub fn complete_with_usage(&self, messages: &[Message]) -> Result<Completion, ClientError> {
+        self.complete_at(messages, self.config.temperature)
+    }
+
+    /// [`Client::complete_with_usage`] at this sampling temperature (`None`: none sent) instead
+    /// of the configuration's: a candidate sampled for a search.
+    pub fn complete_at(
+        &self,
+        messages: &[Message],
+        temperature: Option<f64>,
+    ) -> Result<Completion, ClientError> {
         let url = self.config.endpoint();
         let mut body = serde_json::json!({
             "model": self.config.model,
             "messages": messages,
             "stream": false,
         });
-        if let Some(t) = self.config.temperature {
+        if let Some(t) = temperature {
             body["temperature"] = serde_json::json!(t);
         }
         let body = body.to_string();

@@ -25,6 +25,7 @@ pub mod extract;
 pub mod library;
 pub mod prompt;
 pub mod repair;
+pub mod search;
 pub mod slug;
 pub mod usage;
 
@@ -37,6 +38,7 @@ pub use cache::Cache;
 pub use client::{Client, ClientError, LlmConfig, Message};
 pub use library::Example;
 pub use repair::{Outcome, Round, Transcript};
+pub use search::{MatchKey, Matcher, Search};
 pub use usage::{Price, Usage};
 
 /// Errors of synthesis that are not the model's or the server's fault: files and directories.
@@ -105,6 +107,15 @@ pub struct SynthConfig {
     /// Held-out prompts: leave out the description's own library program and its
     /// near-duplicates ([`prompt::held_out`]), to measure synthesis without showing the answer.
     pub held_out: bool,
+    /// Candidate programs per description (at least 1): the first asked as today, the others
+    /// sampled at [`SynthConfig::sample_temperature`]; with more than one, the program kept is
+    /// the one whose matches agree most with the others' ([`search`]).
+    pub candidates: usize,
+    /// The temperature the candidates after the first are sampled at.
+    pub sample_temperature: f64,
+    /// What a candidate program matches on the logs (`None`: candidates are not run, and the
+    /// first clean one is kept).
+    pub matcher: Option<Matcher>,
 }
 
 impl SynthConfig {
@@ -120,6 +131,9 @@ impl SynthConfig {
             library: examples,
             examples: Some(prompt::DEFAULT_EXAMPLES),
             held_out: false,
+            candidates: 1,
+            sample_temperature: search::SAMPLE_TEMPERATURE,
+            matcher: None,
         }
     }
 }
@@ -180,9 +194,15 @@ impl Synthesizer {
     }
 
     /// Synthesizes one description: prompt, then up to `rounds` completions, each checked and
-    /// repaired on diagnostics. Never fails: an unreachable server is the transcript's outcome.
+    /// repaired on diagnostics; with several [`SynthConfig::candidates`], that for each
+    /// candidate and the one kept chosen by what they match ([`search::run`]). Never fails: an
+    /// unreachable server is the transcript's outcome.
     pub fn synthesize(&self, description: &str) -> Transcript {
-        repair::run(self, description)
+        if self.config.candidates > 1 {
+            search::run(self, description)
+        } else {
+            repair::run(self, description)
+        }
     }
 
     /// Completions so far, from the server and from the cache.
@@ -198,14 +218,30 @@ impl Synthesizer {
     /// before it is returned. Also returned: whether it came from the cache, and the tokens the
     /// server reported (zero from the cache; [`Usage::missing`] when the server reported none).
     pub fn complete(&self, messages: &[Message]) -> Result<(String, bool, Usage), ClientError> {
-        let key = Cache::key(&self.config.llm.model, messages);
+        self.complete_sample(messages, 0)
+    }
+
+    /// [`Synthesizer::complete`] for candidate `sample` of a search: sample 0 is the same
+    /// completion; the others are sampled at [`SynthConfig::sample_temperature`] and cached
+    /// under their own keys ([`Cache::sample_key`]).
+    pub fn complete_sample(
+        &self,
+        messages: &[Message],
+        sample: usize,
+    ) -> Result<(String, bool, Usage), ClientError> {
+        let key = Cache::sample_key(&self.config.llm.model, messages, sample);
         if let Some(cache) = &self.cache {
             if let Some(text) = cache.get(&key) {
                 self.cache_hits.fetch_add(1, Ordering::Relaxed);
                 return Ok((text, true, Usage::default()));
             }
         }
-        let answer = self.client.complete_with_usage(messages)?;
+        let answer = if sample == 0 {
+            self.client.complete_with_usage(messages)?
+        } else {
+            self.client
+                .complete_at(messages, Some(self.config.sample_temperature))?
+        };
         let usage = answer.usage.unwrap_or_else(Usage::missing);
         self.requests.fetch_add(1, Ordering::Relaxed);
         {

@@ -79,6 +79,10 @@ pub struct Transcript {
     pub rounds: Vec<Round>,
     /// How it ended.
     pub outcome: Outcome,
+    /// With several candidates: every candidate, what it matched, and why this one was kept
+    /// (absent with one candidate, so such a transcript reads as before searches existed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search: Option<crate::search::Search>,
 }
 
 impl Transcript {
@@ -101,11 +105,18 @@ impl Transcript {
             .map_or_else(|| serde_json::json!([]), |r| r.diagnostics.clone())
     }
 
-    /// The tokens the server reported over every round.
+    /// The tokens the server reported over every round (of every candidate, after a search).
     pub fn usage(&self) -> Usage {
-        self.rounds
-            .iter()
-            .fold(Usage::default(), |t, r| t.add(&r.usage))
+        match &self.search {
+            Some(search) => search
+                .candidates
+                .iter()
+                .fold(Usage::default(), |t, c| t.add(&c.transcript.usage())),
+            None => self
+                .rounds
+                .iter()
+                .fold(Usage::default(), |t, r| t.add(&r.usage)),
+        }
     }
 
     /// The transcript as pretty JSON.
@@ -155,6 +166,12 @@ pub fn warning_feedback(program: &str, diags: &[scenalog_rules::Diagnostic]) -> 
 
 /// Runs the loop for one description with `synth`'s client, cache and configuration.
 pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
+    run_sample(synth, description, 0)
+}
+
+/// [`run`] for candidate `sample` of a search (0: the same as [`run`]; others sampled, see
+/// [`Synthesizer::complete_sample`]).
+pub fn run_sample(synth: &Synthesizer, description: &str, sample: usize) -> Transcript {
     let description = one_line(description);
     let config = synth.config();
     let mut messages = synth.prompt(&description);
@@ -163,12 +180,13 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
         model: config.llm.model.clone(),
         rounds: Vec::new(),
         outcome: Outcome::Failed,
+        search: None,
     };
     let rounds = config.rounds.max(1);
     // Meaning-changing warnings are sent back once; a program that keeps them is then clean.
     let mut warned = false;
     for round in 1..=rounds {
-        let (completion, cached, usage) = match synth.complete(&messages) {
+        let (completion, cached, usage) = match synth.complete_sample(&messages, sample) {
             Ok(c) => c,
             Err(e) => {
                 transcript.outcome = Outcome::Unreachable {

@@ -45,6 +45,9 @@ fn config(server: &Server, cache: &std::path::Path) -> SynthConfig {
         library: Vec::new(),
         examples: None,
         held_out: false,
+        candidates: 1,
+        sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
+        matcher: None,
     }
 }
 

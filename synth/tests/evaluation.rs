@@ -44,6 +44,9 @@ fn config(server: &Server) -> SynthConfig {
         ],
         examples: None,
         held_out: true,
+        candidates: 1,
+        sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
+        matcher: None,
     }
 }
 

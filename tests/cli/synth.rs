@@ -891,3 +891,87 @@ fn usage_table_of_the_library_descriptions() {
     let uncached_all = (sum[0] as f64 * 2.0 + sum[2] as f64 * 8.0) / 1e6;
     eprintln!("without the prompt cache: {uncached_all:.4}");
 }
+
+fn read_json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&fs::read_to_string(path).expect("read")).expect("json")
+}
+
+/// `--candidates 4` against a server whose candidates mean two things: three mean "vehicle
+/// turning left" (written three ways, one only after a repair), one "regular vehicle turning
+/// right". Each clean candidate is run on the sample logs; the majority's meaning is kept, and
+/// of its programs the one of fewest rounds, then shortest. The first candidate is asked at the
+/// configured temperature, the others sampled; every candidate's tokens are counted.
+#[test]
+fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
+    let minority = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), turning(V, T, \"right\").";
+    let helper = "left(V, T) :- turning(V, T, \"left\").\nreferred(V, T) :- category(V, \"VEHICLE\"), left(V, T).";
+    let swapped = "referred(X, T) :- turning(X, T, \"left\"), category(X, \"VEHICLE\").";
+    let server = Server::scripted(vec![
+        with_usage(program(minority), 100, None, 10),
+        with_usage(program(GOOD), 100, None, 10),
+        with_usage(program(UNKNOWN), 100, None, 10),
+        with_usage(program(swapped), 100, None, 10),
+        with_usage(program(helper), 100, None, 10),
+    ]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let transcript = dir.path().join("t.json");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "--candidates",
+            "4",
+            "--logs",
+            logs,
+            "--base-url",
+            &server.base_url(),
+            "--transcript",
+            transcript.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!("// description: vehicle making a left turn\n{GOOD}\n"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("4 candidates"), "{}", stderr(&o));
+    let reqs = server.requests();
+    assert_eq!(reqs.len(), 5);
+    assert_eq!(reqs[0].json["temperature"], 0.0);
+    assert!(reqs[1..].iter().all(|r| r.json["temperature"] == 0.7));
+    let t = read_json(&transcript);
+    let search = &t["search"];
+    assert_eq!(search["chosen"], 1, "{search:#}");
+    let candidates = search["candidates"].as_array().expect("candidates");
+    assert_eq!(candidates.len(), 4);
+    assert_eq!(candidates[1]["group"], serde_json::json!([1, 2, 3]));
+    assert_eq!(candidates[0]["group"], serde_json::json!([0]));
+    assert_ne!(candidates[0]["matched"], candidates[1]["matched"]);
+    assert!(candidates[1]["matched"].as_u64().expect("matched") > 0);
+    assert!(candidates[0]["agreement"].as_f64() < candidates[1]["agreement"].as_f64());
+    // Every candidate's tokens: 5 completions of 100 in and 10 out.
+    assert!(
+        stderr(&o).contains("500 uncached input") && stderr(&o).contains("50 output"),
+        "{}",
+        stderr(&o)
+    );
+
+    // One candidate: today's transcript, with no search in it.
+    let server = Server::scripted(vec![program(GOOD)]);
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "--base-url",
+            &server.base_url(),
+            "--transcript",
+            transcript.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let t = read_json(&transcript);
+    assert!(t.get("search").is_none(), "{t:#}");
+}

@@ -38,6 +38,7 @@ use crate::message::{Message, Names};
 mod pair;
 mod resume;
 
+pub(crate) use pair::referred_tuples;
 pub use pair::short_id;
 use pair::*;
 use resume::*;

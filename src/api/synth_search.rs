@@ -1,0 +1,63 @@
+//! What a synthesis search runs its candidates on (`--candidates K`): the logs loaded once, and
+//! a [`Matcher`] that checks a candidate program and evaluates it on every one of them, as
+//! `mine` does, returning its `referred` (log, track, frame) tuples. The search itself (the
+//! candidates, the medoid) is the synthesis crate's (`scenalog_synth::search`).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use scenalog_extractors::cache::Extractor;
+use scenalog_synth::{MatchKey, Matcher};
+
+use crate::api::error::{Error, Field};
+use crate::api::inputs::{bundled, log_dirs, SAMPLE_LOGS};
+use crate::api::limits::Limits;
+use crate::pipeline::run::referred_tuples;
+use crate::pipeline::scenario::{evaluate_on, scenario_from_source};
+
+/// The matcher of a search over `logs` (log directories or directories of logs; none: the
+/// bundled sample logs), each candidate evaluated within `limits` on each log.
+///
+/// # Errors
+/// No logs are given and the sample logs are not bundled, or a log cannot be found or read.
+pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
+    let logs: Vec<PathBuf> = if logs.is_empty() {
+        vec![bundled(SAMPLE_LOGS).ok_or_else(|| {
+            Error::about(
+                Field::Logs,
+                "a search runs its candidates on logs: give some (the sample logs are not here)",
+            )
+        })?]
+    } else {
+        logs.to_vec()
+    };
+    let (inputs, _duplicates) = log_dirs(&logs)?;
+    let mut scenes = Vec::with_capacity(inputs.len());
+    for log in &inputs {
+        let scene = scenalog_facts::load_scene(&log.dir).map_err(|e| {
+            Error::about(
+                Field::Logs,
+                format!("cannot read log `{}`: {e}", log.dir.display()),
+            )
+        })?;
+        scenes.push(scene);
+    }
+    let scenes = Arc::new(scenes);
+    let options = limits.engine(1);
+    Ok(Matcher(Arc::new(move |program: &str| {
+        let scenario = scenario_from_source(Path::new("candidate.dl"), program.to_string())?;
+        let mut matched: BTreeSet<MatchKey> = BTreeSet::new();
+        for (l, scene) in scenes.iter().enumerate() {
+            let extractor = Extractor::new(scene);
+            let evaluation = evaluate_on(&extractor, &scenario.program, &options)
+                .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
+            matched.extend(
+                referred_tuples(&evaluation)
+                    .into_iter()
+                    .map(|(track, frame)| (l as u32, track.0, frame)),
+            );
+        }
+        Ok(matched)
+    })))
+}

@@ -1,0 +1,273 @@
+//! Synthesis as a search over candidates: several programs for one description (the first asked
+//! as a single synthesis asks, the others sampled), each through the check-and-repair loop, each
+//! clean one run on logs by a [`Matcher`], and the one kept that agrees most with the others on
+//! what they match (the medoid under Jaccard similarity of their matched (log, track, frame)
+//! sets). Programs that mean the same thing match the same boxes however they are written, so
+//! the majority's meaning wins over a minority's and over one that does not parse.
+//!
+//! Ties are broken by fewer rounds, then a shorter program, then the earlier candidate. Without a
+//! matcher, nothing is run and the first clean candidate is kept.
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use crate::repair::{self, Outcome, Transcript};
+use crate::Synthesizer;
+
+/// The temperature candidates after the first are sampled at, unless configured otherwise.
+pub const SAMPLE_TEMPERATURE: f64 = 0.7;
+
+/// One matched box: (log, track, frame), numbered by the matcher (the same numbering for every
+/// candidate of a search).
+pub type MatchKey = (u32, u32, u32);
+
+/// What a program matches on the logs of a search: its `referred` (log, track, frame) tuples,
+/// or why it could not be run. Made by the caller that has the logs (the command's library).
+#[derive(Clone)]
+pub struct Matcher(pub Arc<MatchFn>);
+
+/// The function inside a [`Matcher`]: a program's text to its matched boxes, or why it could not
+/// be run.
+pub type MatchFn = dyn Fn(&str) -> Result<BTreeSet<MatchKey>, String> + Send + Sync;
+
+impl std::fmt::Debug for Matcher {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Matcher(..)")
+    }
+}
+
+/// One candidate of a search as the transcript records it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Candidate {
+    /// Its number (0: asked as a single synthesis asks; others sampled).
+    pub sample: usize,
+    /// Its own check-and-repair transcript.
+    pub transcript: Transcript,
+    /// How many (log, track, frame) boxes it matched (`None`: not clean, or not run).
+    pub matched: Option<usize>,
+    /// Why it could not be run, when it could not.
+    pub match_error: Option<String>,
+    /// Its mean Jaccard similarity to the other clean candidates that ran (`None`: it did not
+    /// run).
+    pub agreement: Option<f64>,
+    /// The candidates that matched exactly the same boxes as it (itself included).
+    pub group: Vec<usize>,
+}
+
+/// Every candidate of a search, and which was kept and why.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Search {
+    /// The candidates, in sample order.
+    pub candidates: Vec<Candidate>,
+    /// The candidate kept (`None`: none checked clean).
+    pub chosen: Option<usize>,
+    /// Why it was kept, in words.
+    pub reason: String,
+}
+
+/// The Jaccard similarity of two sets (1 for two empty sets: both match nothing).
+pub fn jaccard(a: &BTreeSet<MatchKey>, b: &BTreeSet<MatchKey>) -> f64 {
+    let union = a.union(b).count();
+    if union == 0 {
+        return 1.0;
+    }
+    a.intersection(b).count() as f64 / union as f64
+}
+
+/// What [`select`] decided.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    /// The index kept (`None`: no candidate has a match set).
+    pub chosen: Option<usize>,
+    /// Each candidate's mean similarity to the others with a match set (`None` for those
+    /// without; 1 for a lone candidate).
+    pub agreement: Vec<Option<f64>>,
+    /// Each candidate's group: the candidates with exactly its match set.
+    pub groups: Vec<Vec<usize>>,
+    /// Why the chosen one won.
+    pub reason: String,
+}
+
+/// Picks the medoid of the candidates that have match sets (`None`: not clean or not run):
+/// the one with the highest mean Jaccard similarity to the others; ties go to fewer `rounds`,
+/// then a shorter program (`lengths`), then the lower index.
+pub fn select(
+    sets: &[Option<BTreeSet<MatchKey>>],
+    rounds: &[usize],
+    lengths: &[usize],
+) -> Selection {
+    let ran: Vec<usize> = (0..sets.len()).filter(|&i| sets[i].is_some()).collect();
+    let mut agreement = vec![None; sets.len()];
+    let mut groups = vec![Vec::new(); sets.len()];
+    for &i in &ran {
+        let Some(a) = &sets[i] else { continue };
+        let others: Vec<f64> = ran
+            .iter()
+            .filter(|&&j| j != i)
+            .filter_map(|&j| sets[j].as_ref().map(|b| jaccard(a, b)))
+            .collect();
+        agreement[i] = Some(if others.is_empty() {
+            1.0
+        } else {
+            others.iter().sum::<f64>() / others.len() as f64
+        });
+        groups[i] = ran
+            .iter()
+            .copied()
+            .filter(|&j| sets[j].as_ref() == Some(a))
+            .collect();
+    }
+    let key = |i: usize| {
+        (
+            agreement[i].unwrap_or(0.0),
+            std::cmp::Reverse(rounds.get(i).copied().unwrap_or(usize::MAX)),
+            std::cmp::Reverse(lengths.get(i).copied().unwrap_or(usize::MAX)),
+            std::cmp::Reverse(i),
+        )
+    };
+    let chosen = ran.iter().copied().max_by(|&a, &b| {
+        key(a)
+            .partial_cmp(&key(b))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let reason = match chosen {
+        None => "no candidate checked clean and ran on the logs".to_string(),
+        Some(c) => {
+            let tied: Vec<usize> = ran
+                .iter()
+                .copied()
+                .filter(|&j| j != c && agreement[j] == agreement[c])
+                .collect();
+            let mut r = format!(
+                "candidate {c} agrees most with the others (mean Jaccard similarity {:.3} over {} \
+                 candidate{} that ran); {} of them matched exactly what it matched",
+                agreement[c].unwrap_or(0.0),
+                ran.len(),
+                if ran.len() == 1 { "" } else { "s" },
+                groups[c].len(),
+            );
+            if !tied.is_empty() {
+                r.push_str(&format!(
+                    "; tied with {tied:?}, kept for fewer rounds, then a shorter program, then \
+                     the earlier sample"
+                ));
+            }
+            r
+        }
+    };
+    Selection {
+        chosen,
+        agreement,
+        groups,
+        reason,
+    }
+}
+
+/// Synthesizes [`crate::SynthConfig::candidates`] candidates for `description` and keeps one
+/// (see the module's documentation). The transcript is the kept candidate's, with the whole
+/// search in [`Transcript::search`]; when none checked clean, the first candidate's. A server
+/// that cannot be reached stops the search at that candidate.
+pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
+    let k = synth.config().candidates.max(1);
+    let mut transcripts: Vec<Transcript> = Vec::with_capacity(k);
+    for sample in 0..k {
+        let t = repair::run_sample(synth, description, sample);
+        let unreachable = matches!(t.outcome, Outcome::Unreachable { .. });
+        transcripts.push(t);
+        if unreachable {
+            break;
+        }
+    }
+    let mut errors: Vec<Option<String>> = vec![None; transcripts.len()];
+    let sets: Vec<Option<BTreeSet<MatchKey>>> = transcripts
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let program = t.program().filter(|_| t.is_clean())?;
+            let matcher = synth.config().matcher.as_ref()?;
+            match (matcher.0)(program) {
+                Ok(set) => Some(set),
+                Err(e) => {
+                    errors[i] = Some(e);
+                    None
+                }
+            }
+        })
+        .collect();
+    let rounds: Vec<usize> = transcripts.iter().map(|t| t.rounds.len()).collect();
+    let lengths: Vec<usize> = transcripts
+        .iter()
+        .map(|t| t.program().map_or(usize::MAX, str::len))
+        .collect();
+    let mut selection = select(&sets, &rounds, &lengths);
+    if selection.chosen.is_none() && synth.config().matcher.is_none() {
+        selection.chosen = transcripts.iter().position(Transcript::is_clean);
+        selection.reason = match selection.chosen {
+            Some(c) => format!("no logs to run candidates on: candidate {c}, the first clean one"),
+            None => "no candidate checked clean".to_string(),
+        };
+    }
+    let candidates: Vec<Candidate> = transcripts
+        .iter()
+        .enumerate()
+        .map(|(i, t)| Candidate {
+            sample: i,
+            transcript: t.clone(),
+            matched: sets[i].as_ref().map(BTreeSet::len),
+            match_error: errors[i].clone(),
+            agreement: selection.agreement[i],
+            group: selection.groups[i].clone(),
+        })
+        .collect();
+    // At least one candidate was asked for, so there is a transcript to keep.
+    let kept = selection.chosen.unwrap_or(0).min(transcripts.len() - 1);
+    let mut transcript = transcripts[kept].clone();
+    transcript.search = Some(Search {
+        candidates,
+        chosen: selection.chosen,
+        reason: selection.reason,
+    });
+    transcript
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set(keys: &[u32]) -> Option<BTreeSet<MatchKey>> {
+        Some(keys.iter().map(|&k| (0, k, 0)).collect())
+    }
+
+    #[test]
+    fn the_majority_meaning_is_chosen_and_ties_go_to_fewer_rounds_then_shorter() {
+        // Three candidates match {1,2,3}, one {7}, one did not check.
+        let sets = vec![
+            set(&[7]),
+            set(&[1, 2, 3]),
+            None,
+            set(&[1, 2, 3]),
+            set(&[1, 2, 3]),
+        ];
+        let s = select(&sets, &[1, 2, 1, 1, 1], &[10, 10, 10, 30, 20]);
+        // 1, 3 and 4 agree equally; 1 took two rounds; 4 is shorter than 3.
+        assert_eq!(s.chosen, Some(4), "{}", s.reason);
+        assert_eq!(s.groups[4], vec![1, 3, 4]);
+        assert_eq!(s.agreement[2], None);
+        assert!(s.agreement[0] < s.agreement[4]);
+        assert!(s.reason.contains("tied with"), "{}", s.reason);
+    }
+
+    #[test]
+    fn near_agreement_counts_and_nothing_clean_chooses_nothing() {
+        // 0 and 1 overlap mostly; 2 is apart: 0 or 1 wins, never 2.
+        let sets = vec![set(&[1, 2, 3, 4]), set(&[1, 2, 3]), set(&[9])];
+        let s = select(&sets, &[1, 1, 1], &[5, 5, 5]);
+        assert!(matches!(s.chosen, Some(0) | Some(1)), "{s:?}");
+        assert_eq!(select(&[None, None], &[1, 1], &[1, 1]).chosen, None);
+        // A lone candidate that ran is kept.
+        assert_eq!(select(&[None, set(&[])], &[1, 1], &[1, 1]).chosen, Some(1));
+        assert_eq!(jaccard(&BTreeSet::new(), &BTreeSet::new()), 1.0);
+    }
+}
