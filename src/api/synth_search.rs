@@ -7,6 +7,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use rayon::prelude::*;
 use scenalog_extractors::cache::Extractor;
 use scenalog_synth::{MatchKey, Matcher};
 
@@ -44,19 +45,27 @@ pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
         scenes.push(scene);
     }
     let scenes = Arc::new(scenes);
-    let options = limits.engine(1);
+    // The logs run at once share the machine's memory, as `mine`'s pairs do.
+    let options = limits.engine(rayon::current_num_threads());
     Ok(Matcher(Arc::new(move |program: &str| {
         let scenario = scenario_from_source(Path::new("candidate.dl"), program.to_string())?;
-        let mut matched: BTreeSet<MatchKey> = BTreeSet::new();
-        for (l, scene) in scenes.iter().enumerate() {
-            let extractor = Extractor::new(scene);
-            let evaluation = evaluate_on(&extractor, &scenario.program, &options)
-                .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
-            matched.extend(
-                referred_tuples(&evaluation)
+        // The logs in parallel, as `mine` runs them.
+        let per_log: Vec<Result<Vec<MatchKey>, String>> = scenes
+            .par_iter()
+            .enumerate()
+            .map(|(l, scene)| {
+                let extractor = Extractor::new(scene);
+                let evaluation = evaluate_on(&extractor, &scenario.program, &options)
+                    .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
+                Ok(referred_tuples(&evaluation)
                     .into_iter()
-                    .map(|(track, frame)| (l as u32, track.0, frame)),
-            );
+                    .map(|(track, frame)| (l as u32, track.0, frame))
+                    .collect())
+            })
+            .collect();
+        let mut matched: BTreeSet<MatchKey> = BTreeSet::new();
+        for keys in per_log {
+            matched.extend(keys?);
         }
         Ok(matched)
     })))

@@ -8,7 +8,7 @@
 //! Ties are broken by fewer rounds, then a shorter program, then the earlier candidate. Without a
 //! matcher, nothing is run and the first clean candidate is kept.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
 use serde::Serialize;
@@ -181,16 +181,19 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
         }
     }
     let mut errors: Vec<Option<String>> = vec![None; transcripts.len()];
+    // Candidates with the same text (sampling often repeats itself) are run once.
+    let mut ran: BTreeMap<&str, Result<BTreeSet<MatchKey>, String>> = BTreeMap::new();
     let sets: Vec<Option<BTreeSet<MatchKey>>> = transcripts
         .iter()
         .enumerate()
         .map(|(i, t)| {
             let program = t.program().filter(|_| t.is_clean())?;
             let matcher = synth.config().matcher.as_ref()?;
-            match (matcher.0)(program) {
-                Ok(set) => Some(set),
+            let result = ran.entry(program).or_insert_with(|| (matcher.0)(program));
+            match result {
+                Ok(set) => Some(set.clone()),
                 Err(e) => {
-                    errors[i] = Some(e);
+                    errors[i] = Some(e.clone());
                     None
                 }
             }
