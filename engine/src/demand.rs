@@ -188,7 +188,135 @@ pub(crate) fn stratum_requests(
         out.retain(|o| !subsumes(&request, o));
         out.push(request);
     }
-    out
+    hull_bounds(out)
+        .into_iter()
+        .map(|r| scan_if_repeated(r, sent))
+        .filter(|r| !sent.iter().any(|s| subsumes(s, r)))
+        .collect()
+}
+
+/// `r` without its bounds when a request sent before (for an earlier stratum) differs from it
+/// only in bounds: the relation is then loaded once more, unbounded, and every later variant is
+/// subsumed by that load, instead of each stratum's bounds loading, sorting and merging it again.
+fn scan_if_repeated(r: Request, sent: &[Request]) -> Request {
+    let rest = |q: &Request| -> Constraints {
+        q.constraints
+            .iter()
+            .filter(|(_, c)| !is_bound(c))
+            .cloned()
+            .collect()
+    };
+    let mine = rest(&r);
+    if mine.len() == r.constraints.len() {
+        return r;
+    }
+    let repeated = sent
+        .iter()
+        .any(|s| s.name == r.name && s.constraints.len() > rest(s).len() && rest(s) == mine);
+    if repeated {
+        Request {
+            name: r.name,
+            constraints: mine,
+        }
+    } else {
+        r
+    }
+}
+
+/// A request's `(column, constraint)` pairs.
+type Constraints = Vec<(usize, Constraint)>;
+
+/// Whether a constraint is a numeric bound (`<`, `<=`, `>`, `>=`).
+fn is_bound(c: &Constraint) -> bool {
+    matches!(
+        c,
+        Constraint::Lt(_) | Constraint::Le(_) | Constraint::Gt(_) | Constraint::Ge(_)
+    )
+}
+
+/// Requests that differ only in their numeric bounds become one, whose bounds on each column
+/// are the loosest that keep every one of them (a column one of them leaves unbounded is left
+/// unbounded): a program of a thousand rules `p_i(V, T) :- present(V, T), T > k_i.` loads
+/// `present` once, where each request was loaded, sorted and merged on its own (quadratic).
+/// The engine applies every rule's own bounds in its joins, so the wider answer means the same.
+fn hull_bounds(requests: Vec<Request>) -> Vec<Request> {
+    let mut groups: Vec<(Constraints, Vec<Request>)> = Vec::new();
+    for r in requests {
+        let rest: Constraints = r
+            .constraints
+            .iter()
+            .filter(|(_, c)| !is_bound(c))
+            .cloned()
+            .collect();
+        match groups.iter_mut().find(|(k, _)| *k == rest) {
+            Some((_, g)) => g.push(r),
+            None => groups.push((rest, vec![r])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(rest, mut group)| {
+            if group.len() == 1 {
+                return group.remove(0);
+            }
+            let name = group[0].name.clone();
+            let columns: BTreeSet<usize> = group
+                .iter()
+                .flat_map(|r| r.constraints.iter())
+                .filter(|(_, c)| is_bound(c))
+                .map(|&(i, _)| i)
+                .collect();
+            let mut constraints = rest;
+            for col in columns {
+                // Each request's loosest bound of a side on the column; `None` when it has none.
+                let side = |r: &Request, lower: bool| -> Option<(f64, bool)> {
+                    r.constraints
+                        .iter()
+                        .filter(|(i, _)| *i == col)
+                        .filter_map(|(_, c)| match (c, lower) {
+                            (Constraint::Gt(v), true) | (Constraint::Lt(v), false) => {
+                                Some((*v, false))
+                            }
+                            (Constraint::Ge(v), true) | (Constraint::Le(v), false) => {
+                                Some((*v, true))
+                            }
+                            _ => None,
+                        })
+                        .reduce(|a, b| loosest(a, b, lower))
+                };
+                for lower in [true, false] {
+                    let hull = group
+                        .iter()
+                        .map(|r| side(r, lower))
+                        .reduce(|a, b| Some(loosest(a?, b?, lower)))
+                        .flatten();
+                    if let Some((v, inclusive)) = hull {
+                        let c = match (lower, inclusive) {
+                            (true, true) => Constraint::Ge(v),
+                            (true, false) => Constraint::Gt(v),
+                            (false, true) => Constraint::Le(v),
+                            (false, false) => Constraint::Lt(v),
+                        };
+                        constraints.push((col, c));
+                    }
+                }
+            }
+            Request { name, constraints }
+        })
+        .collect()
+}
+
+/// Of two bounds of one side (`(value, inclusive)`), the one that lets more through: the lower
+/// value for a lower bound, the higher for an upper one; inclusive at a tie.
+fn loosest(a: (f64, bool), b: (f64, bool), lower: bool) -> (f64, bool) {
+    let looser = if lower { b.0 < a.0 } else { b.0 > a.0 };
+    if looser {
+        b
+    } else if a.0 == b.0 {
+        (a.0, a.1 || b.1)
+    } else {
+        a
+    }
 }
 
 /// Whether every tuple `r` asks for is asked for by `s` too (`s`'s constraints are among `r`'s).
