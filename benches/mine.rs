@@ -119,6 +119,7 @@ fn per_pair(scenarios: &[Scenario], logs: &[LogInput]) {
                     &s.description,
                     &labelled,
                     None,
+                    None,
                 ));
                 times.push(t.elapsed());
             }

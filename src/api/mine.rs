@@ -192,8 +192,12 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
     let mut synthesis_summary = None;
     if let Some(d) = &request.descriptions {
         let synthesized = synthesize(&d.file, &out, &d.synthesis, request.progress)?;
+        let candidates = synthesized.candidates;
         loaded.extend(synthesized.programs.into_iter().map(|(p, s)| {
-            let s = scenario_from_source(&p, s);
+            let s = scenario_from_source(&p, s).map(|mut scenario| {
+                scenario.candidates = checked_candidates(candidates.get(&p));
+                scenario
+            });
             (p, s)
         }));
         failures.extend(synthesized.problems);
@@ -210,6 +214,24 @@ pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
         out,
         synthesis_summary,
     })
+}
+
+/// The candidates of a search, checked (they checked clean when synthesized; one that no
+/// longer does is left out).
+fn checked_candidates(sources: Option<&Vec<String>>) -> Vec<scenalog_rules::CheckedProgram> {
+    sources
+        .into_iter()
+        .flatten()
+        .filter_map(|s| {
+            scenalog_rules::check(
+                s,
+                &scenalog_rules::CheckOptions {
+                    require_referred: true,
+                },
+            )
+            .program
+        })
+        .collect()
 }
 
 /// The run's options for a plan: resume, threads, the engine's limits, progress, the cancel

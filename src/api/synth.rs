@@ -409,6 +409,9 @@ pub fn evaluate(synth: &Synthesizer, request: &EvalRequest) -> Result<Evaluated,
 pub struct Synthesized {
     /// The programs that check clean: their file and text.
     pub programs: Vec<(PathBuf, String)>,
+    /// By program file, the clean candidates of the search it was kept from (`--candidates`;
+    /// absent for a program from one candidate).
+    pub candidates: std::collections::BTreeMap<PathBuf, Vec<String>>,
     /// A message per description that gave none.
     pub problems: Vec<String>,
     /// The batch's one-line summary.
@@ -434,9 +437,13 @@ pub fn synthesize(
             .map_err(|e| Error::about(Field::Descriptions, e))?;
     let mut programs = Vec::new();
     let mut problems = Vec::new();
+    let mut candidates = std::collections::BTreeMap::new();
     for item in report.items {
         match (&item.status, item.program) {
             (ItemStatus::Clean { .. } | ItemStatus::Resumed, Some(p)) => {
+                if !item.candidates.is_empty() {
+                    candidates.insert(item.path.clone(), item.candidates);
+                }
                 programs.push((item.path, p))
             }
             (ItemStatus::Failed, _) => problems.push(format!(
@@ -460,6 +467,7 @@ pub fn synthesize(
     }
     Ok(Synthesized {
         programs,
+        candidates,
         problems,
         summary: report.summary.to_string(),
     })

@@ -2,7 +2,7 @@
 //! data model (the official pickle's fields).
 
 use scenalog_eval::FrameData;
-use scenalog_facts::Scene;
+use scenalog_facts::{Frame, Scene, TrackId};
 
 use super::tracks::{Label, LabelledFrame};
 
@@ -19,6 +19,10 @@ pub fn label_name(label: Label) -> &'static str {
 /// confidence), or `None` for ground truth, whose boxes all score 1.0.
 pub type BoxScores<'a> = Option<&'a [Vec<f32>]>;
 
+/// Per (track, frame), the fraction of a synthesis search's candidates that refer to that box
+/// (see `Scenario::candidates`).
+pub type Agreement = std::collections::HashMap<(TrackId, Frame), f32>;
+
 /// One prediction frame per labelled frame: every annotated object with its city-frame box,
 /// label, track id (the scene's track index) and score: the tracker's score of that box at that
 /// frame when `scores` is given (whatever its label), else 1.0 (ground truth; rules give no
@@ -28,6 +32,7 @@ pub fn to_frames(
     description: &str,
     frames: &[LabelledFrame],
     scores: BoxScores<'_>,
+    agreement: Option<&Agreement>,
 ) -> Vec<FrameData> {
     frames
         .iter()
@@ -47,9 +52,14 @@ pub fn to_frames(
                     continue;
                 };
                 let b = &t.boxes[i];
-                let score = scores
+                let mut score = scores
                     .and_then(|s| s.get(track.index())?.get(i).copied())
                     .unwrap_or(1.0);
+                if let (Some(a), Label::Referred) = (agreement, label) {
+                    // The kept program is one of the candidates: a box it refers to has at
+                    // least its vote.
+                    score *= a.get(&(track, lf.frame)).copied().unwrap_or(1.0);
+                }
                 let c = b.city_center();
                 out.translation_m.push([c.x, c.y, c.z]);
                 out.size

@@ -29,6 +29,10 @@ pub struct Scenario {
     /// How long checking the program took: part of each of its pairs' time limit (see
     /// [`limits_after_check`]).
     pub check_time: Duration,
+    /// The clean candidates of the synthesis search this program was kept from, itself among
+    /// them (`synth --candidates K`): a referred box's score is multiplied by the fraction of
+    /// them that refer to it too. Empty (every program not from a search): scores as they are.
+    pub candidates: Vec<CheckedProgram>,
 }
 
 /// Reads and checks a scenario program. The error is printable as is: it names the file and,
@@ -58,6 +62,7 @@ pub fn scenario_from_source(path: &Path, source: String) -> Result<Scenario, Str
         .filter(|d| !d.is_empty())
         .unwrap_or_else(|| name.replace('_', " "));
     Ok(Scenario {
+        candidates: Vec::new(),
         path: path.to_path_buf(),
         name,
         description,

@@ -67,6 +67,10 @@ pub struct BatchItem {
     pub program: Option<String>,
     /// The tokens the server reported for this description's completions.
     pub usage: Usage,
+    /// After a search (`--candidates K`), every candidate program that checked clean, the kept
+    /// one included (their agreement becomes the boxes' scores when mined); empty otherwise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub candidates: Vec<String>,
 }
 
 /// Counts of a batch.
@@ -308,12 +312,14 @@ fn one(
     down: &AtomicBool,
 ) -> Result<BatchItem, SynthError> {
     if let Some(program) = checks_clean(&path) {
+        let candidates = search_candidates_on_disk(&path);
         return Ok(BatchItem {
             description: description.to_string(),
             path,
             status: ItemStatus::Resumed,
             program: Some(program),
             usage: Usage::default(),
+            candidates,
         });
     }
     if down.load(Ordering::Relaxed) {
@@ -323,6 +329,7 @@ fn one(
             status: ItemStatus::Skipped,
             program: None,
             usage: Usage::default(),
+            candidates: Vec::new(),
         });
     }
     let transcript = synth.synthesize(description);
@@ -343,5 +350,37 @@ fn one(
         program: transcript.program().map(str::to_string),
         status,
         usage: transcript.usage(),
+        candidates: transcript
+            .search
+            .as_ref()
+            .map(crate::search::Search::clean_programs)
+            .unwrap_or_default(),
     })
+}
+
+/// The clean candidates of the search recorded in the transcript beside `dl` (a resumed
+/// program's), read as JSON; none when there is no such transcript or it holds no search.
+fn search_candidates_on_disk(dl: &Path) -> Vec<String> {
+    let Ok(text) = scenalog_input::read_text_file(&transcript_path(dl), scenalog_input::TEXT_LIMIT)
+    else {
+        return Vec::new();
+    };
+    let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Vec::new();
+    };
+    let Some(candidates) = json["search"]["candidates"].as_array() else {
+        return Vec::new();
+    };
+    candidates
+        .iter()
+        .filter(|c| c["transcript"]["outcome"]["status"] == "clean")
+        .filter_map(|c| {
+            c["transcript"]["rounds"]
+                .as_array()?
+                .iter()
+                .rev()
+                .find_map(|r| r["program"].as_str())
+                .map(str::to_string)
+        })
+        .collect()
 }

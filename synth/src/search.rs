@@ -67,6 +67,17 @@ pub struct Search {
     pub reason: String,
 }
 
+impl Search {
+    /// The programs of the candidates that checked clean, in sample order.
+    pub fn clean_programs(&self) -> Vec<String> {
+        self.candidates
+            .iter()
+            .filter(|c| c.transcript.is_clean())
+            .filter_map(|c| c.transcript.program().map(str::to_string))
+            .collect()
+    }
+}
+
 /// The Jaccard similarity of two sets (1 for two empty sets: both match nothing).
 pub fn jaccard(a: &BTreeSet<MatchKey>, b: &BTreeSet<MatchKey>) -> f64 {
     let union = a.union(b).count();

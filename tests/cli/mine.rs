@@ -827,3 +827,72 @@ fn the_readme_mine_then_eval_pair_runs_and_agrees() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+/// `mine --descriptions --candidates 3` (issue #41, confidence): the kept program's referred
+/// boxes score the fraction of the search's clean candidates that refer to them too. Two of
+/// three candidates mean "vehicle turning left", one "regular vehicle turning left": boxes of
+/// regular vehicles (all three agree) keep score 1, boxes of other vehicles score 2/3. Related
+/// and other boxes keep theirs; the pickle stays readable. With one candidate every score is 1.
+#[test]
+fn candidates_agreement_becomes_the_referred_boxes_scores() {
+    use server::{program, Server};
+    let all = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
+    let regular = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), turning(V, T, \"left\").";
+    let swapped = "referred(X, T) :- turning(X, T, \"left\"), category(X, \"VEHICLE\").";
+    let answers = [all, regular, swapped];
+    let server = Server::start(move |i, _| program(answers[i % 3]));
+    let dir = tempfile::tempdir().expect("tempdir");
+    let list = dir.path().join("d.txt");
+    fs::write(&list, "vehicle turning left\n").expect("write");
+    let run = |out: &Path, candidates: &str| {
+        mine(&[
+            "--descriptions",
+            &s(&list),
+            "--logs",
+            &s(&logs_dir()),
+            "--out",
+            &s(out),
+            "--base-url",
+            &server.base_url(),
+            "--candidates",
+            candidates,
+            "--cache-dir",
+            &s(&dir.path().join("cache")),
+        ])
+    };
+    let out = dir.path().join("out");
+    let o = run(&out, "3");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let pred = read_table(&out.join("predictions.feather")).expect("table");
+    let mut referred: Vec<f32> = Vec::new();
+    for frames in pred.sequences.values() {
+        for f in frames {
+            let scores = f.score.as_ref().expect("scores");
+            for (k, name) in f.name.iter().enumerate() {
+                if name == "REFERRED_OBJECT" {
+                    referred.push(scores[k]);
+                } else {
+                    assert_eq!(scores[k], 1.0, "{name} keeps its score");
+                }
+            }
+        }
+    }
+    let full = referred.iter().filter(|&&x| x == 1.0).count();
+    let two_thirds = referred
+        .iter()
+        .filter(|&&x| (x - 2.0 / 3.0).abs() < 1e-6)
+        .count();
+    assert!(full > 0 && two_thirds > 0, "{referred:?}");
+    assert_eq!(full + two_thirds, referred.len(), "{referred:?}");
+    // One candidate (the first answer, from the cache): every score 1.
+    let one = dir.path().join("one");
+    let o = run(&one, "1");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let pred = read_table(&one.join("predictions.feather")).expect("table");
+    assert!(pred.sequences.values().flatten().all(|f| f
+        .score
+        .as_ref()
+        .expect("scores")
+        .iter()
+        .all(|&x| x == 1.0)));
+}

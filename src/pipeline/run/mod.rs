@@ -30,7 +30,7 @@ use scenalog_facts::relation::Value;
 use scenalog_facts::{Frame, Scene, TrackId};
 
 use super::output::{self, Match, PairRecord};
-use super::predictions::{to_frames, BoxScores};
+use super::predictions::{to_frames, Agreement, BoxScores};
 use super::scenario::{evaluate_on, limits_after_check, Scenario};
 use super::tracks::{eval_frames, label_frames};
 use crate::message::{Message, Names};
@@ -633,7 +633,7 @@ fn mine_log(
             let fingerprint = pair_fingerprint(&log_fp, s, options.timestamps.get(&log.log_id));
             let mut r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 let earlier = resumable(log, s, options, &fingerprint)
-                    .and_then(|r| resume_pair(&ctx, s, i, r));
+                    .and_then(|r| resume_pair(&ctx, &extractor, s, i, r));
                 earlier.unwrap_or_else(|| mine_pair(&ctx, &extractor, s, i, &fingerprint))
             }))
             .unwrap_or_else(|_| {

@@ -15,16 +15,59 @@ pub(crate) struct PairContext<'a> {
     pub(crate) options: &'a RunOptions,
 }
 
-/// The prediction frames and matches of a pair from its tuples.
+/// The prediction frames and matches of a pair from its tuples; a program kept from a search
+/// has its referred boxes' scores scaled by its candidates' agreement ([`agreement`]).
 pub(crate) fn build_pair(
     ctx: &PairContext<'_>,
+    extractor: &Extractor<'_>,
     scenario: &Scenario,
     referred: &[(TrackId, Frame)],
     related: &[(TrackId, TrackId, Frame)],
 ) -> (Vec<FrameData>, Vec<Match>) {
     let labelled = label_frames(ctx.scene, referred, related, ctx.frames);
-    let out = to_frames(ctx.scene, &scenario.description, &labelled, ctx.scores);
+    let agreement = agreement(ctx, extractor, scenario);
+    let out = to_frames(
+        ctx.scene,
+        &scenario.description,
+        &labelled,
+        ctx.scores,
+        agreement.as_ref(),
+    );
     (out, matches_of(ctx.scene, scenario, referred, related))
+}
+
+/// For a program kept from a synthesis search: per (track, output frame), the fraction of the
+/// search's clean candidates that label that box referred (each candidate evaluated on the log
+/// and labelled as the program is). `None` without candidates. A candidate that fails on the log
+/// counts as referring to nothing.
+pub(crate) fn agreement(
+    ctx: &PairContext<'_>,
+    extractor: &Extractor<'_>,
+    scenario: &Scenario,
+) -> Option<Agreement> {
+    if scenario.candidates.is_empty() {
+        return None;
+    }
+    let n = scenario.candidates.len() as f32;
+    let mut counts: Agreement = Agreement::new();
+    for program in &scenario.candidates {
+        let Ok(evaluation) = evaluate_on(extractor, program, &ctx.options.engine) else {
+            continue;
+        };
+        let referred = referred_tuples(&evaluation);
+        let related = related_tuples(&evaluation);
+        for lf in label_frames(ctx.scene, &referred, &related, ctx.frames) {
+            for &(track, label) in &lf.objects {
+                if label == super::super::tracks::Label::Referred {
+                    *counts.entry((track, lf.frame)).or_insert(0.0) += 1.0;
+                }
+            }
+        }
+    }
+    for v in counts.values_mut() {
+        *v /= n;
+    }
+    Some(counts)
 }
 
 /// The first 8 characters of a log id, for messages and tables.
@@ -84,7 +127,7 @@ pub(crate) fn mine_pair(
     let t1 = Instant::now();
     let referred = referred_tuples(&evaluation);
     let related = related_tuples(&evaluation);
-    let (frames, matches) = build_pair(ctx, scenario, &referred, &related);
+    let (frames, matches) = build_pair(ctx, extractor, scenario, &referred, &related);
     let tracks = t1.elapsed();
     let t2 = Instant::now();
     let written = write_pair(ctx, scenario, &referred, &related, fingerprint);

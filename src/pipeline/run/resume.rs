@@ -90,6 +90,7 @@ pub(crate) fn log_fingerprint(log: &LogInput) -> String {
 /// scene (the log changed), so the pair is mined again.
 pub(crate) fn resume_pair(
     ctx: &PairContext<'_>,
+    extractor: &Extractor<'_>,
     scenario: &Scenario,
     index: usize,
     record: PairRecord,
@@ -113,7 +114,7 @@ pub(crate) fn resume_pair(
     if record.tracks != n_tracks {
         return None;
     }
-    let (out, matches) = build_pair(ctx, scenario, &referred, &related);
+    let (out, matches) = build_pair(ctx, extractor, scenario, &referred, &related);
     Some(PairResult {
         log_id: scene.log_id.clone(),
         scenario: index,
