@@ -1,8 +1,8 @@
 //! How map indexing grows with the number of lanes: the map's R-trees, lane geometry, lane
 //! chains and road sides (`MapIndex::new`) of synthetic maps of 8,000 to 64,000 lanes
 //! (`support/grid_map.rs`): `grid` (rows of 1 m lanes, so each lane's chain holds 60 lanes each
-//! way), `hub` (every lane leading into one), `tiny` (one row of 1 mm lanes), the median of three
-//! builds each.
+//! way), `hub` (every lane leading into one), `tiny` (one row of 1 mm lanes), `overlap` (every
+//! lane over the same stretch of road), the median of three builds each.
 //!
 //! Run: `cargo run --release -p scenalog-extractors --example map_scale [-- SIZES…]` (figures in
 //! extractors/README.md).
@@ -31,10 +31,11 @@ fn main() {
         }
     };
     println!("map | lanes | MapIndex::new (median of 3) | µs per lane");
-    let shapes: [Shape; 3] = [
+    let shapes: [Shape; 4] = [
         ("grid", |n| grid_map::grid_scene(n, 1_000, 1.0)),
         ("hub", grid_map::hub_scene),
         ("tiny", grid_map::tiny_lanes_scene),
+        ("overlap", grid_map::overlapping_scene),
     ];
     for (shape, make) in shapes {
         for &n in &sizes {

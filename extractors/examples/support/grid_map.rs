@@ -97,3 +97,21 @@ pub fn tiny_lanes_scene(n: usize) -> Scene {
     }
     b.build()
 }
+
+/// A scene of `n` lanes all over the same 10 m × 3.5 m of road (a corrupt or hostile map):
+/// every lane's box overlaps every other's.
+pub fn overlapping_scene(n: usize) -> Scene {
+    let mut b = SceneBuilder::new(2);
+    for i in 0..n {
+        b = b.lane(
+            i as i64 + 1,
+            &[[0.0, 3.5], [10.0, 3.5]],
+            &[[0.0, 0.0], [10.0, 0.0]],
+            &[],
+            None,
+            None,
+            false,
+        );
+    }
+    b.build()
+}
