@@ -1,6 +1,6 @@
 //! Map indexing grows near-linearly with the number of lanes: doubling a synthetic map
 //! (`examples/support/grid_map.rs`: rows of 1 m lanes, one lane with thousands of predecessors, a
-//! row of 1 mm lanes) about doubles the time of `MapIndex::new`. The ratio is asserted, not the times: a pairwise step
+//! row of 1 mm lanes, lanes all over one stretch of road) about doubles the time of `MapIndex::new`. The ratio is asserted, not the times: a pairwise step
 //! makes it about 4, linear about 2, and the bound of 3 leaves room for a busy machine.
 
 use std::time::{Duration, Instant};
@@ -76,4 +76,8 @@ fn map_indexing_time_about_doubles_with_the_lanes() {
     let most = scenalog_extractors::thresholds::LANE_CHAIN_MAX_SEGMENTS;
     assert_eq!(tiny.chains.chain(4_000).len(), 2 * most + 1);
     assert_eq!(tiny.chains.ahead(4_000).len(), most);
+
+    // Every lane over the same stretch of road (issue #42): still linear.
+    let (ratio, _, _) = doubling(grid_map::overlapping_scene, 4_000);
+    assert_linear("overlap", ratio);
 }
