@@ -81,6 +81,8 @@ pub struct SynthSettings {
     pub match_logs: Vec<PathBuf>,
     /// The limits of one candidate's run on one log.
     pub match_limits: Limits,
+    /// Stop asking the server once this many tokens are spent (`None`: no budget).
+    pub max_tokens: Option<u64>,
 }
 
 /// A configuration, and the library's examples left out because they do not check clean (for
@@ -150,6 +152,7 @@ pub fn config(
             candidates: settings.candidates,
             sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
             matcher,
+            max_tokens: settings.max_tokens,
         },
         left_out,
     })
@@ -456,7 +459,8 @@ pub fn synthesize(
                 item.description
             )),
             (ItemStatus::Skipped, _) => problems.push(format!(
-                "synthesis of {:?}: not attempted, the LLM could not be reached",
+                "synthesis of {:?}: not attempted, an earlier description stopped the batch \
+                 (the LLM could not be reached, or the token budget was spent)",
                 item.description
             )),
             (_, None) => problems.push(format!(

@@ -135,6 +135,10 @@ pub struct SynthArgs {
     /// default) and the one whose matches agree most with the others' is kept.
     #[arg(long, default_value_t = 1, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=32))]
     pub candidates: u32,
+    /// Stop asking the server once this many tokens (prompt and completion, as it reports them)
+    /// are spent; what was not synthesized is reported, and cached answers cost nothing.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_tokens: Option<u64>,
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -180,6 +184,7 @@ fn settings(args: &SynthArgs, match_logs: &[PathBuf]) -> Result<SynthSettings, S
         candidates: args.candidates as usize,
         match_logs: match_logs.to_vec(),
         match_limits: Limits::default(),
+        max_tokens: args.max_tokens,
     })
 }
 
@@ -345,9 +350,11 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
         Outcome::Unreachable { error } => {
             report_last(&done, args.output.as_deref());
             eprintln!("scenalog synth: {error}");
-            eprintln!(
-                "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
-            );
+            if !error.starts_with("the token budget") {
+                eprintln!(
+                    "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
+                );
+            }
             ExitCode::from(2)
         }
     }

@@ -160,6 +160,17 @@ pub enum ClientError {
         /// What is wrong with it.
         message: String,
     },
+    /// The token budget (`--max-tokens`) was spent before this completion was asked for.
+    #[error(
+        "the token budget of {limit} is spent ({spent} tokens used so far); nothing more is asked \
+         (raise --max-tokens; completions already answered are in the cache)"
+    )]
+    Budget {
+        /// The budget, in prompt and completion tokens.
+        limit: u64,
+        /// The tokens the server reported so far.
+        spent: u64,
+    },
 }
 
 /// One answer: the assistant's text and the tokens the server says it used.

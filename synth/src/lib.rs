@@ -116,6 +116,9 @@ pub struct SynthConfig {
     /// What a candidate program matches on the logs (`None`: candidates are not run, and the
     /// first clean one is kept).
     pub matcher: Option<Matcher>,
+    /// Stop asking the server once this many tokens (prompt and completion, as it reports
+    /// them) are spent by this synthesizer (`None`: no budget). Cached answers cost nothing.
+    pub max_tokens: Option<u64>,
 }
 
 impl SynthConfig {
@@ -134,6 +137,7 @@ impl SynthConfig {
             candidates: 1,
             sample_temperature: search::SAMPLE_TEMPERATURE,
             matcher: None,
+            max_tokens: None,
         }
     }
 }
@@ -234,6 +238,13 @@ impl Synthesizer {
             if let Some(text) = cache.get(&key) {
                 self.cache_hits.fetch_add(1, Ordering::Relaxed);
                 return Ok((text, true, Usage::default()));
+            }
+        }
+        if let Some(limit) = self.config.max_tokens {
+            let used = *self.usage.lock().unwrap_or_else(|e| e.into_inner());
+            let spent = used.prompt_tokens + used.completion_tokens;
+            if spent >= limit {
+                return Err(ClientError::Budget { limit, spent });
             }
         }
         let answer = if sample == 0 {

@@ -48,6 +48,7 @@ fn config(server: &Server, cache: &std::path::Path) -> SynthConfig {
         candidates: 1,
         sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
         matcher: None,
+        max_tokens: None,
     }
 }
 

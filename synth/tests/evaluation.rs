@@ -47,6 +47,7 @@ fn config(server: &Server) -> SynthConfig {
         candidates: 1,
         sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
         matcher: None,
+        max_tokens: None,
     }
 }
 

@@ -975,3 +975,47 @@ fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
     let t = read_json(&transcript);
     assert!(t.get("search").is_none(), "{t:#}");
 }
+
+/// `--max-tokens` stops asking once the server's reported tokens reach it: a search of three
+/// candidates whose answers cost 110 tokens each stops after two under a budget of 150, keeps
+/// one of the two, and records why the third was not asked.
+#[test]
+fn max_tokens_stops_asking_once_spent() {
+    let server = Server::scripted(vec![
+        with_usage(program(GOOD), 100, None, 10),
+        with_usage(program(GOOD), 100, None, 10),
+        with_usage(program(GOOD), 100, None, 10),
+    ]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let transcript = dir.path().join("t.json");
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let o = scenalog(
+        &[
+            "vehicle making a left turn",
+            "--candidates",
+            "3",
+            "--max-tokens",
+            "150",
+            "--logs",
+            logs,
+            "--base-url",
+            &server.base_url(),
+            "--transcript",
+            transcript.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(server.count(), 2);
+    let t = read_json(&transcript);
+    let third = &t["search"]["candidates"][2]["transcript"]["outcome"];
+    assert_eq!(third["status"], "unreachable", "{t:#}");
+    assert!(
+        third["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("token budget of 150"),
+        "{third}"
+    );
+    assert!(stderr(&o).contains("200 uncached input"), "{}", stderr(&o));
+}
