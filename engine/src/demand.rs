@@ -199,20 +199,14 @@ pub(crate) fn stratum_requests(
 /// only in bounds: the relation is then loaded once more, unbounded, and every later variant is
 /// subsumed by that load, instead of each stratum's bounds loading, sorting and merging it again.
 fn scan_if_repeated(r: Request, sent: &[Request]) -> Request {
-    let rest = |q: &Request| -> Constraints {
-        q.constraints
-            .iter()
-            .filter(|(_, c)| !is_bound(c))
-            .cloned()
-            .collect()
-    };
-    let mine = rest(&r);
+    let mine = unbounded(&r);
     if mine.len() == r.constraints.len() {
         return r;
     }
-    let repeated = sent
-        .iter()
-        .any(|s| s.name == r.name && s.constraints.len() > rest(s).len() && rest(s) == mine);
+    let repeated = sent.iter().any(|s| {
+        let theirs = unbounded(s);
+        s.name == r.name && s.constraints.len() > theirs.len() && theirs == mine
+    });
     if repeated {
         Request {
             name: r.name,
@@ -225,6 +219,15 @@ fn scan_if_repeated(r: Request, sent: &[Request]) -> Request {
 
 /// A request's `(column, constraint)` pairs.
 type Constraints = Vec<(usize, Constraint)>;
+
+/// A request's constraints other than its numeric bounds, in order.
+fn unbounded(r: &Request) -> Constraints {
+    r.constraints
+        .iter()
+        .filter(|(_, c)| !is_bound(c))
+        .cloned()
+        .collect()
+}
 
 /// Whether a constraint is a numeric bound (`<`, `<=`, `>`, `>=`).
 fn is_bound(c: &Constraint) -> bool {
@@ -242,12 +245,7 @@ fn is_bound(c: &Constraint) -> bool {
 fn hull_bounds(requests: Vec<Request>) -> Vec<Request> {
     let mut groups: Vec<(Constraints, Vec<Request>)> = Vec::new();
     for r in requests {
-        let rest: Constraints = r
-            .constraints
-            .iter()
-            .filter(|(_, c)| !is_bound(c))
-            .cloned()
-            .collect();
+        let rest = unbounded(&r);
         match groups.iter_mut().find(|(k, _)| *k == rest) {
             Some((_, g)) => g.push(r),
             None => groups.push((rest, vec![r])),
