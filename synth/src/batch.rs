@@ -359,28 +359,12 @@ fn one(
 }
 
 /// The clean candidates of the search recorded in the transcript beside `dl` (a resumed
-/// program's), read as JSON; none when there is no such transcript or it holds no search.
+/// program's); none when there is no readable transcript or it holds no search.
 fn search_candidates_on_disk(dl: &Path) -> Vec<String> {
-    let Ok(text) = scenalog_input::read_text_file(&transcript_path(dl), scenalog_input::TEXT_LIMIT)
-    else {
-        return Vec::new();
-    };
-    let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else {
-        return Vec::new();
-    };
-    let Some(candidates) = json["search"]["candidates"].as_array() else {
-        return Vec::new();
-    };
-    candidates
-        .iter()
-        .filter(|c| c["transcript"]["outcome"]["status"] == "clean")
-        .filter_map(|c| {
-            c["transcript"]["rounds"]
-                .as_array()?
-                .iter()
-                .rev()
-                .find_map(|r| r["program"].as_str())
-                .map(str::to_string)
-        })
-        .collect()
+    scenalog_input::read_text_file(&transcript_path(dl), scenalog_input::TEXT_LIMIT)
+        .ok()
+        .and_then(|text| serde_json::from_str::<Transcript>(&text).ok())
+        .and_then(|t| t.search)
+        .map(|search| search.clean_programs())
+        .unwrap_or_default()
 }

@@ -3,7 +3,7 @@
 
 use scenalog_rules::diagnostics::MEANING_WARNINGS;
 use scenalog_rules::{check, CheckOptions};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::client::Message;
 use crate::diagnostics;
@@ -12,7 +12,7 @@ use crate::usage::Usage;
 use crate::Synthesizer;
 
 /// What one round produced.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RoundResult {
     /// The program checked with no error (warnings may remain).
@@ -27,7 +27,7 @@ pub enum RoundResult {
 }
 
 /// One completion and what the checker made of it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Round {
     /// 1-based round number.
     pub round: usize,
@@ -51,7 +51,7 @@ pub struct Round {
 }
 
 /// How synthesis of one description ended.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
 pub enum Outcome {
     /// A program checked clean in this round.
@@ -69,7 +69,7 @@ pub enum Outcome {
 }
 
 /// Everything that happened while synthesizing one description.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Transcript {
     /// The description (on one line).
     pub description: String,
@@ -81,7 +81,7 @@ pub struct Transcript {
     pub outcome: Outcome,
     /// With several candidates: every candidate, what it matched, and why this one was kept
     /// (absent with one candidate, so such a transcript reads as before searches existed).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub search: Option<crate::search::Search>,
 }
 

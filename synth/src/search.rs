@@ -11,7 +11,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::repair::{self, Outcome, Transcript};
 use crate::Synthesizer;
@@ -39,7 +39,7 @@ impl std::fmt::Debug for Matcher {
 }
 
 /// One candidate of a search as the transcript records it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Candidate {
     /// Its number (0: asked as a single synthesis asks; others sampled).
     pub sample: usize,
@@ -57,7 +57,7 @@ pub struct Candidate {
 }
 
 /// Every candidate of a search, and which was kept and why.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Search {
     /// The candidates, in sample order.
     pub candidates: Vec<Candidate>,
@@ -271,6 +271,63 @@ mod tests {
         assert_eq!(s.agreement[2], None);
         assert!(s.agreement[0] < s.agreement[4]);
         assert!(s.reason.contains("tied with"), "{}", s.reason);
+    }
+
+    /// A transcript with a search, as written beside a program, reads back with the same clean
+    /// candidates (how `--resume` gets them).
+    #[test]
+    fn a_search_reads_back_from_its_transcript_json() {
+        let round = |program: &str, result: repair::RoundResult| repair::Round {
+            round: 1,
+            cached: false,
+            usage: crate::Usage::default(),
+            completion: format!("```\n{program}\n```"),
+            program: Some(program.to_string()),
+            diagnostics: serde_json::json!([]),
+            errors: 0,
+            result,
+            feedback: None,
+        };
+        let transcript = |program: &str, clean: bool| Transcript {
+            description: "d".into(),
+            model: "m".into(),
+            rounds: vec![round(
+                program,
+                if clean {
+                    repair::RoundResult::Clean
+                } else {
+                    repair::RoundResult::Errors
+                },
+            )],
+            outcome: if clean {
+                Outcome::Clean { round: 1 }
+            } else {
+                Outcome::Failed
+            },
+            search: None,
+        };
+        let candidate = |sample: usize, t: Transcript| Candidate {
+            sample,
+            transcript: t,
+            matched: None,
+            match_error: None,
+            agreement: None,
+            group: Vec::new(),
+        };
+        let mut kept = transcript("a.", true);
+        kept.search = Some(Search {
+            candidates: vec![
+                candidate(0, transcript("a.", true)),
+                candidate(1, transcript("b(", false)),
+                candidate(2, transcript("c.", true)),
+            ],
+            chosen: Some(0),
+            reason: "r".into(),
+        });
+        let back: Transcript = serde_json::from_str(&kept.to_json()).expect("reads back");
+        assert_eq!(back, kept);
+        let search = back.search.expect("search");
+        assert_eq!(search.clean_programs(), vec!["a.", "c."]);
     }
 
     #[test]

@@ -6,10 +6,10 @@
 //! and count no tokens. A server answer without a usable `usage` is counted in
 //! [`Usage::without_usage`], so a total that misses some answers says so.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Token counts, summed over completions.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Usage {
     /// Prompt tokens, cached ones included.
     pub prompt_tokens: u64,

@@ -844,24 +844,33 @@ fn candidates_agreement_becomes_the_referred_boxes_scores() {
     let dir = tempfile::tempdir().expect("tempdir");
     let list = dir.path().join("d.txt");
     fs::write(&list, "vehicle turning left\n").expect("write");
-    let run = |out: &Path, candidates: &str| {
-        mine(&[
+    let run = |out: &Path, candidates: &str, extra: &[&str]| {
+        let (list, logs, out, url, cache) = (
+            s(&list),
+            s(&logs_dir()),
+            s(out),
+            server.base_url(),
+            s(&dir.path().join("cache")),
+        );
+        let mut args = vec![
             "--descriptions",
-            &s(&list),
+            &list,
             "--logs",
-            &s(&logs_dir()),
+            &logs,
             "--out",
-            &s(out),
+            &out,
             "--base-url",
-            &server.base_url(),
+            &url,
             "--candidates",
             candidates,
             "--cache-dir",
-            &s(&dir.path().join("cache")),
-        ])
+            &cache,
+        ];
+        args.extend_from_slice(extra);
+        mine(&args)
     };
     let out = dir.path().join("out");
-    let o = run(&out, "3");
+    let o = run(&out, "3", &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let pred = read_table(&out.join("predictions.feather")).expect("table");
     let mut referred: Vec<f32> = Vec::new();
@@ -884,9 +893,18 @@ fn candidates_agreement_becomes_the_referred_boxes_scores() {
         .count();
     assert!(full > 0 && two_thirds > 0, "{referred:?}");
     assert_eq!(full + two_thirds, referred.len(), "{referred:?}");
+    // Resumed: the program and its candidates come back from OUT/programs, the scores too.
+    let requests = server.count();
+    let o = run(&out, "3", &["--resume"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(server.count(), requests, "nothing asked again");
+    assert_eq!(
+        read_table(&out.join("predictions.feather")).expect("table"),
+        pred
+    );
     // One candidate (the first answer, from the cache): every score 1.
     let one = dir.path().join("one");
-    let o = run(&one, "1");
+    let o = run(&one, "1", &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let pred = read_table(&one.join("predictions.feather")).expect("table");
     assert!(pred.sequences.values().flatten().all(|f| f
