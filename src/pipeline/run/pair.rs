@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::message::Field;
+use crate::pipeline::tracks::{Label, LabelledFrame};
 
 /// What every pair of one log shares.
 pub(crate) struct PairContext<'a> {
@@ -25,7 +26,7 @@ pub(crate) fn build_pair(
     related: &[(TrackId, TrackId, Frame)],
 ) -> (Vec<FrameData>, Vec<Match>) {
     let labelled = label_frames(ctx.scene, referred, related, ctx.frames);
-    let agreement = agreement(ctx, extractor, scenario);
+    let agreement = agreement(ctx, extractor, scenario, &labelled);
     let out = to_frames(
         ctx.scene,
         &scenario.description,
@@ -38,31 +39,40 @@ pub(crate) fn build_pair(
 
 /// For a program kept from a synthesis search: per (track, output frame), the fraction of the
 /// search's clean candidates that label that box referred (each candidate evaluated on the log
-/// and labelled as the program is). `None` without candidates. A candidate that fails on the log
+/// and labelled as the program is; the kept program's own `labelled` frames are used as they
+/// are, not evaluated again). `None` without candidates. A candidate that fails on the log
 /// counts as referring to nothing.
 pub(crate) fn agreement(
     ctx: &PairContext<'_>,
     extractor: &Extractor<'_>,
     scenario: &Scenario,
+    labelled: &[LabelledFrame],
 ) -> Option<Agreement> {
     if scenario.candidates.is_empty() {
         return None;
     }
     let n = scenario.candidates.len() as f32;
     let mut counts: Agreement = Agreement::new();
+    let mut count = |frames: &[LabelledFrame]| {
+        for lf in frames {
+            for &(track, label) in &lf.objects {
+                if label == Label::Referred {
+                    *counts.entry((track, lf.frame)).or_insert(0.0) += 1.0;
+                }
+            }
+        }
+    };
     for program in &scenario.candidates {
+        if *program == scenario.program {
+            count(labelled);
+            continue;
+        }
         let Ok(evaluation) = evaluate_on(extractor, program, &ctx.options.engine) else {
             continue;
         };
         let referred = referred_tuples(&evaluation);
         let related = related_tuples(&evaluation);
-        for lf in label_frames(ctx.scene, &referred, &related, ctx.frames) {
-            for &(track, label) in &lf.objects {
-                if label == super::super::tracks::Label::Referred {
-                    *counts.entry((track, lf.frame)).or_insert(0.0) += 1.0;
-                }
-            }
-        }
+        count(&label_frames(ctx.scene, &referred, &related, ctx.frames));
     }
     for v in counts.values_mut() {
         *v /= n;
