@@ -10,6 +10,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use scenalog::api::inputs::rule_files;
 use scenalog::api::synth_search::matcher;
 use scenalog::api::Limits;
 use scenalog_synth::search::select;
@@ -19,13 +20,8 @@ fn root() -> PathBuf {
 }
 
 fn library() -> Vec<String> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("rules/library"))
+    rule_files(&[root().join("rules/library")])
         .expect("the scenario library")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "dl"))
-        .collect();
-    files.sort();
-    files
         .iter()
         .map(|f| std::fs::read_to_string(f).expect("a library program"))
         .collect()
