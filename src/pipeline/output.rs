@@ -18,7 +18,7 @@
 //!
 //! With `--log-prompts` the pickle and table are `submission.pkl` and `submission.feather`.
 //!
-//! **One generation.** A run writes its outputs (the pickle and table joined from per-log parts,
+//! **One generation.** A run writes its outputs (the pickle and table joined from per-pair parts,
 //! `matches.json`, `summary.json`, and `mine`'s `scored.pkl` and `report/`) into its own
 //! generation directory `OUT/.staging-<pid>-<n>/`, then publishes them all at once by switching one
 //! symbolic link, `OUT/.current`, to it (a rename, atomic). Each output's path in `OUT/` is a
@@ -183,7 +183,7 @@ impl Default for OutputNames {
 /// the rows of a batch are held decoded while it is written, about 100 bytes a row.
 const ROWS_PER_BATCH: usize = 1 << 20;
 
-/// The codec of the per-log parts of the table (temporary: fast to write and read back).
+/// The codec of the per-pair parts of the table (temporary: fast to write and read back).
 const PART_CODEC: Option<arrow_ipc::CompressionType> = Some(arrow_ipc::CompressionType::LZ4_FRAME);
 
 /// The submission pickle of `--log-prompts`.
@@ -262,7 +262,7 @@ pub fn clean_orphans(out: &Path) {
 
 static STAGING_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
-/// A run's generation directory: per-log parts and the outputs before they are published.
+/// A run's generation directory: per-pair parts and the outputs before they are published.
 /// Removed when dropped unless published.
 ///
 /// Its parts are one a pair (a [`PartId`]), written as each pair finishes, so a run holds one
@@ -273,7 +273,7 @@ pub struct Staging {
     published: std::sync::atomic::AtomicBool,
     /// `OUT/` held for this run from the generation's start until it is published or dropped.
     lock: super::lock::OutputLock,
-    /// The dictionaries of the table's string columns, the same for every log's part.
+    /// The dictionaries of the table's string columns, the same for every part.
     dictionaries: scenalog_eval::arrow_table::TableDictionaries,
     /// Whether the per-pair pickle parts are written (and joined).
     pickle: bool,
@@ -282,6 +282,9 @@ pub struct Staging {
     /// The parts written so far.
     written: std::sync::Mutex<Vec<PartId>>,
 }
+
+/// The writer of a run's Arrow table.
+type TableWriter = arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>;
 
 /// One part of a run's predictions: (the log's index, the program's index) in the run.
 pub type PartId = (usize, usize);
@@ -366,8 +369,8 @@ impl Staging {
             .clone()
     }
 
-    /// Joins the parts, in `order`, into the run's Arrow table (one record batch a pair,
-    /// zstd-compressed) and, when asked for, its pickle (with `eval`'s joiner,
+    /// Joins the parts, in `order`, into the run's Arrow table (zstd-compressed; a log's pairs
+    /// in one record batch, or in several of at most [`ROWS_PER_BATCH`] rows) and, when asked for, its pickle (with `eval`'s joiner,
     /// [`scenalog_eval::PickleJoin`], which checks every part's keys: byte for byte the pickle of
     /// the whole submission, `order` sorting the pairs by log id and description; the parts'
     /// bytes copied, not decoded).
@@ -397,16 +400,13 @@ impl Staging {
         }
         let table = self.path(names.table);
         let arrow = |e: arrow_schema::ArrowError| format!("`{}`: {e}", table.display());
-        let mut writer: Option<arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>> =
-            None;
+        let mut writer: Option<TableWriter> = None;
         // A log's pairs' rows are gathered into one record batch (zstd compresses a log's
         // repeated boxes well only within a batch), up to ROWS_PER_BATCH rows at a time.
         let mut pending: Vec<arrow_array::RecordBatch> = Vec::new();
         let mut pending_log = None;
         let flush = |pending: &mut Vec<arrow_array::RecordBatch>,
-                     writer: &mut Option<
-            arrow_ipc::writer::FileWriter<std::io::BufWriter<std::fs::File>>,
-        >|
+                     writer: &mut Option<TableWriter>|
          -> Result<(), String> {
             if pending.is_empty() {
                 return Ok(());
@@ -471,7 +471,7 @@ impl Staging {
         &self.dir
     }
 
-    /// Publishes the generation (after every one of its outputs is complete): the per-log parts
+    /// Publishes the generation (after every one of its outputs is complete): the per-pair parts
     /// are removed, every output's path in `OUT/` becomes a link through [`CURRENT`] (once), and
     /// `OUT/.current` is switched to this generation in one rename. Then the outputs this
     /// generation does not hold, and the generations replaced, are removed.
