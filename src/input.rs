@@ -22,7 +22,7 @@ pub fn read_pickle(path: &Path) -> Result<Vec<u8>, String> {
     scenalog_input::read_file_checking_ends(
         path,
         scenalog_input::DATA_LIMIT,
-        &scenalog_input::ends::pickle_ends,
+        &scenalog_eval::dict_pickle_ends,
     )
     .map_err(|problem| format!("cannot read `{}`: {problem}", path.display()))
 }

@@ -563,7 +563,7 @@ pub fn read_any(path: &Path) -> Result<Submission, EvalError> {
     let bytes = scenalog_input::read_file_checking_ends(
         path,
         scenalog_input::DATA_LIMIT,
-        &scenalog_input::ends::arrow_or_pickle_ends,
+        &crate::pickle::submission_ends,
     )
     .map_err(|p| EvalError::File(what.clone(), p))?;
     if bytes.starts_with(b"ARROW1") {

@@ -30,6 +30,9 @@ pub use pickle::write::{
     encode_value, pickle_bytes, sequences_bytes, write_pickle, PyValue, SUBMISSION_HEAD,
     SUBMISSION_TAIL,
 };
-pub use pickle::{parse_pickle, read_pickle, read_pickle_bytes, Node, NumArray, Pickle};
+pub use pickle::{
+    dict_pickle_ends, parse_pickle, parse_pickle_dict, read_pickle, read_pickle_bytes,
+    submission_ends, Node, NumArray, Pickle,
+};
 pub use roi::{RoiMaps, RoiRaster};
 pub use sampling::{parse_timestamps, read_timestamps, resample, Sampling};

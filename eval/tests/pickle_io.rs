@@ -236,3 +236,68 @@ fn a_memo_bomb_is_an_error_not_unbounded_memory() {
     assert!(msg.contains("bomb.pkl"), "{msg}");
     assert!(msg.contains("times the file's size"), "{msg}");
 }
+
+/// A top level other than a dict is said at the opcode that makes it, before the rest of the
+/// file is decoded: each of these is followed by bytes no pickle holds (opcode 0xff), so an
+/// error naming the top level proves the reader stopped there. A dict made every way Python
+/// writes one (empty then filled, `(dp0`, MARK items DICT, OrderedDict) still reads.
+#[test]
+fn the_wrong_top_level_is_said_before_the_rest_is_read() {
+    let rest = [0xffu8; 64];
+    for (head, kind) in [
+        (
+            &b"\x80\x04\x95\x00\x00\x00\x00\x00\x00\x00\x00]\x94("[..],
+            "a list",
+        ),
+        (&b"(lp0\n"[..], "a list"),
+        (&b"\x80\x02)"[..], "a tuple"),
+        (&b"\x80\x02K\x01"[..], "an int"),
+        (&b"\x80\x02N"[..], "a None"),
+    ] {
+        let bytes = [head, &rest[..]].concat();
+        let e = read_pickle_bytes(&bytes, "wrong.pkl").expect_err("not a dict");
+        let msg = e.to_string();
+        assert!(
+            msg.contains(&format!("the top level is {kind}, not a dict")),
+            "{msg}"
+        );
+        assert!(!msg.contains("0xff"), "decoded past the top level: {msg}");
+    }
+    let seq = b"X\x03\x00\x00\x00logX\x06\x00\x00\x00prompt\x86]";
+    for dict in [
+        [&b"\x80\x02}q\x00("[..], seq, b"u."].concat(),
+        [&b"(dp0\n("[..], seq, b"u."].concat(),
+        [&b"\x80\x02("[..], seq, b"d."].concat(),
+        [&b"\x80\x02ccollections\nOrderedDict\n)R("[..], seq, b"u."].concat(),
+    ] {
+        let sub = read_pickle_bytes(&dict, "dict.pkl").expect("a dict top level reads");
+        assert_eq!(sub.sequences.len(), 1);
+    }
+}
+
+/// The file check refuses from its first bytes a pickle whose top level is another type, and
+/// lets a dict (any protocol), an Arrow table and a head too short to judge through.
+#[test]
+fn the_file_check_judges_the_top_level_from_the_head() {
+    use scenalog_eval::{dict_pickle_ends, submission_ends};
+    let e = dict_pickle_ends(
+        b"\x80\x04\x95\x10\x00\x00\x00\x00\x00\x00\x00]\x94(K\x01K\x02",
+        b"e.",
+    )
+    .expect_err("a list");
+    assert!(e.contains("the top level is a list, not a dict"), "{e}");
+    for head in [
+        &b"\x80\x04\x95\x10\x00\x00\x00\x00\x00\x00\x00}\x94("[..],
+        b"(dp0\n",
+        b"\x80",
+        b"(",
+    ] {
+        assert!(dict_pickle_ends(head, b"s.").is_ok(), "{head:?}");
+    }
+    assert!(dict_pickle_ends(b"}", b"s").is_err(), "no STOP");
+    assert!(submission_ends(b"ARROW1\x00\x00", b"ARROW1").is_ok());
+    assert!(submission_ends(b"ARROW1", b".").is_err());
+    assert!(submission_ends(b"\x80\x02]", b".").is_err());
+    let bytes = std::fs::read(data("combined_gt_dev.pkl")).expect("read");
+    assert!(dict_pickle_ends(&bytes[..64], &bytes[bytes.len() - 64..]).is_ok());
+}

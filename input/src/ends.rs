@@ -36,15 +36,6 @@ pub fn pickle_ends(_head: &[u8], tail: &[u8]) -> Result<(), String> {
     }
 }
 
-/// An Arrow IPC file or a pickle, by its first bytes (as the evaluation reads a submission).
-pub fn arrow_or_pickle_ends(head: &[u8], tail: &[u8]) -> Result<(), String> {
-    if head.starts_with(ARROW_MAGIC) {
-        arrow_ends(head, tail)
-    } else {
-        pickle_ends(head, tail)
-    }
-}
-
 /// A JSON document whose top level is an object: its first non-blank byte is `{` (a head that is
 /// all blank is not judged), and its end holds no NUL byte (JSON text never does; a file padded
 /// with zeros does). A document merely cut short is left to the JSON parser, whose error says
@@ -81,8 +72,6 @@ mod tests {
         assert!(pickle_ends(b"(dp0", b"s.").is_ok(), "protocol 0");
         assert!(pickle_ends(b"\x80\x04", &[0; 64]).is_err());
         assert!(pickle_ends(b"", b"").is_err());
-        assert!(arrow_or_pickle_ends(b"\x80\x05", b".").is_ok());
-        assert!(arrow_or_pickle_ends(b"ARROW1", b".").is_err());
         assert!(json_object_ends(b"  {\"a\": 1", b"1}\n").is_ok());
         assert!(json_object_ends(b"   ", b"  ").is_ok());
         assert!(json_object_ends(b"[1]", b"]").is_err());

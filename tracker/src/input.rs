@@ -26,7 +26,7 @@ impl TrackerPickle {
         let data = scenalog_input::read_file_checking_ends(
             path,
             scenalog_input::DATA_LIMIT,
-            &scenalog_input::ends::pickle_ends,
+            &scenalog_eval::dict_pickle_ends,
         )
         .map_err(|problem| TrackerError::file(&file, problem.to_string()))?;
         Self::from_bytes(&data, &file)
@@ -34,7 +34,7 @@ impl TrackerPickle {
 
     /// Parses tracking-pickle bytes; `file` names them in errors.
     pub fn from_bytes(data: &[u8], file: &str) -> Result<TrackerPickle, TrackerError> {
-        let pickle = scenalog_eval::parse_pickle(data, file)
+        let pickle = scenalog_eval::parse_pickle_dict(data, file)
             .map_err(|e| TrackerError::file(file, format!("not a readable pickle: {e}")))?;
         let not_format = |m: String| {
             TrackerError::file(

@@ -11,6 +11,8 @@ pub(crate) struct Machine<'a> {
     pub(crate) stack: Vec<usize>,
     pub(crate) marks: Vec<usize>,
     pub(crate) memo: std::collections::HashMap<usize, usize>,
+    /// The top level must be a dict: checked at every opcode (see [`Machine::check_top`]).
+    pub(crate) top_dict: bool,
 }
 
 impl<'a> Machine<'a> {
@@ -123,9 +125,35 @@ impl<'a> Machine<'a> {
             .ok_or_else(|| perr(format!("stack underflow at byte {}", self.pos)))
     }
 
+    /// With no MARK open, the bottom of the stack is what the pickle returns (Python's pickler
+    /// writes the top-level object first and never pops it); when the top level must be a dict,
+    /// anything there but a dict or a global still to be called is the wrong top level, said
+    /// before the rest of the file is decoded.
+    pub(crate) fn check_top(&self, at: usize) -> Result<(), EvalError> {
+        if !self.top_dict || !self.marks.is_empty() {
+            return Ok(());
+        }
+        match self.stack.first().map(|&i| &self.arena[i]) {
+            None | Some(Obj::Dict(_) | Obj::Global(..)) => Ok(()),
+            Some(other) => {
+                let kind = other.kind();
+                let a = if kind.starts_with(['a', 'i', 'n']) && kind != "None" {
+                    "an"
+                } else {
+                    "a"
+                };
+                Err(perr(format!(
+                    "the top level is {a} {kind}, not a dict (seen at byte {at}, before \
+                     reading the rest)"
+                )))
+            }
+        }
+    }
+
     pub(crate) fn run(&mut self) -> Result<usize, EvalError> {
         loop {
             let at = self.pos;
+            self.check_top(at)?;
             let op = self.u8()?;
             match op {
                 0x80 => {

@@ -56,6 +56,27 @@ pub(crate) enum Obj {
     Scalar(Dtype, usize),
 }
 
+impl Obj {
+    /// A short name of the object's type, for error messages ("dict", "list", "ndarray", …).
+    pub(crate) fn kind(&self) -> &'static str {
+        match self {
+            Obj::None => "None",
+            Obj::Bool(_) => "bool",
+            Obj::Int(_) => "int",
+            Obj::Float(_) => "float",
+            Obj::Str(_) => "str",
+            Obj::Bytes(_) => "bytes",
+            Obj::Tuple(_) => "tuple",
+            Obj::List(_) => "list",
+            Obj::Dict(_) => "dict",
+            Obj::Global(..) => "global",
+            Obj::Dtype(_) => "dtype",
+            Obj::Array(..) => "ndarray",
+            Obj::Scalar(..) => "numpy scalar",
+        }
+    }
+}
+
 pub(crate) fn perr(msg: impl Into<String>) -> EvalError {
     EvalError::Pickle(msg.into())
 }
@@ -78,14 +99,54 @@ pub struct Pickle {
 
 /// Runs the pickle machine over `data`; `what` names the source in errors.
 pub fn parse_pickle(data: &[u8], what: &str) -> Result<Pickle, EvalError> {
-    let mut m = Machine {
+    parse(data, what, false)
+}
+
+/// Runs the pickle machine over `data`, whose top level must be a dict (a submission, a
+/// tracker's output): any other top level is an error as soon as the opcode that makes it is
+/// read, instead of after the whole file is decoded.
+pub fn parse_pickle_dict(data: &[u8], what: &str) -> Result<Pickle, EvalError> {
+    parse(data, what, true)
+}
+
+/// The ends of a pickle whose top level must be a dict, for
+/// [`scenalog_input::read_file_checking_ends`]: it ends with STOP, and its first bytes do not
+/// already make another top level (a 1 GB list is refused from its first 64 bytes, before it is
+/// read).
+pub fn dict_pickle_ends(head: &[u8], tail: &[u8]) -> Result<(), String> {
+    scenalog_input::ends::pickle_ends(head, tail)?;
+    let mut m = machine(head, true);
+    if m.run().is_err() {
+        if let Err(EvalError::Pickle(e)) = m.check_top(m.pos) {
+            return Err(format!("is not a pickle of a dict: {e}"));
+        }
+    }
+    Ok(())
+}
+
+/// The ends of a submission: an Arrow table's, else a dict pickle's ([`dict_pickle_ends`]).
+pub fn submission_ends(head: &[u8], tail: &[u8]) -> Result<(), String> {
+    if head.starts_with(b"ARROW1") {
+        scenalog_input::ends::arrow_ends(head, tail)
+    } else {
+        dict_pickle_ends(head, tail)
+    }
+}
+
+fn machine(data: &[u8], top_dict: bool) -> Machine<'_> {
+    Machine {
         data,
         pos: 0,
         arena: Vec::new(),
         stack: Vec::new(),
         marks: Vec::new(),
         memo: Default::default(),
-    };
+        top_dict,
+    }
+}
+
+fn parse(data: &[u8], what: &str, top_dict: bool) -> Result<Pickle, EvalError> {
+    let mut m = machine(data, top_dict);
     let root = m.run().map_err(|e| match e {
         EvalError::Pickle(s) => EvalError::Pickle(format!("{what}: {s}")),
         e => e,

@@ -28,21 +28,7 @@ impl<'a> Node<'a> {
 
     /// A short name of the object's type, for error messages ("dict", "list", "ndarray", …).
     pub fn kind(&self) -> &'static str {
-        match self.obj() {
-            Obj::None => "None",
-            Obj::Bool(_) => "bool",
-            Obj::Int(_) => "int",
-            Obj::Float(_) => "float",
-            Obj::Str(_) => "str",
-            Obj::Bytes(_) => "bytes",
-            Obj::Tuple(_) => "tuple",
-            Obj::List(_) => "list",
-            Obj::Dict(_) => "dict",
-            Obj::Global(..) => "global",
-            Obj::Dtype(_) => "dtype",
-            Obj::Array(..) => "ndarray",
-            Obj::Scalar(..) => "numpy scalar",
-        }
+        self.obj().kind()
     }
 
     /// The items of a dict, in the pickle's order.

@@ -5,7 +5,7 @@ use super::*;
 
 /// Reads a scenario-mining pickle from bytes; `what` names the source in errors.
 pub fn read_pickle_bytes(data: &[u8], what: &str) -> Result<Submission, EvalError> {
-    let pickle = parse_pickle(data, what)?;
+    let pickle = parse_pickle_dict(data, what)?;
     let sub = Conv { pickle: &pickle }.submission(pickle.root)?;
     sub.validate(what)?;
     Ok(sub)
@@ -16,7 +16,7 @@ pub fn read_pickle(path: &std::path::Path) -> Result<Submission, EvalError> {
     let data = scenalog_input::read_file_checking_ends(
         path,
         scenalog_input::DATA_LIMIT,
-        &scenalog_input::ends::pickle_ends,
+        &super::dict_pickle_ends,
     )
     .map_err(|p| EvalError::File(path.display().to_string(), p))?;
     read_pickle_bytes(&data, &path.display().to_string())
