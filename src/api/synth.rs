@@ -401,6 +401,19 @@ pub fn evaluate(synth: &Synthesizer, request: &EvalRequest) -> Result<Evaluated,
             Ok(f) => report.fixture = f,
             Err(e) => fixture_error = Some(e),
         }
+        // With candidates, the score the first candidates would have had, to compare.
+        if report.searched() > 0 && fixture_error.is_none() {
+            let mut firsts = report.clone();
+            for item in firsts.items.iter_mut().filter(|i| i.candidates > 1) {
+                item.program = item.first_program.clone();
+            }
+            match crate::api::synth_fixture::fixture_score(
+                &firsts, g, logs, &scratch, &limits, names,
+            ) {
+                Ok(f) => report.first_fixture = f,
+                Err(e) => fixture_error = Some(e),
+            }
+        }
     }
     Ok(Evaluated {
         report,

@@ -35,6 +35,24 @@ pub struct EvalItem {
     pub usage: Usage,
     /// The server could not be reached (or refused) for this description: `error` says why.
     pub unreachable: bool,
+    /// Candidates asked for in a search (`--candidates`; 1: no search, and the fields below
+    /// are empty).
+    pub candidates: usize,
+    /// Of those, how many checked clean.
+    pub clean_candidates: usize,
+    /// The first candidate's clean program (the one a single synthesis would have kept;
+    /// `None` without a search, or when it did not check clean).
+    pub first_program: Option<String>,
+    /// The kept candidate's mean Jaccard similarity to the others' matches (`None` without a
+    /// search, or when none ran).
+    pub agreement: Option<f64>,
+}
+
+impl EvalItem {
+    /// Whether a search chose a program other than its first candidate's.
+    pub fn selection_changed(&self) -> bool {
+        self.candidates > 1 && self.program.is_some() && self.first_program != self.program
+    }
 }
 
 /// One prompt's scores on the fixture.
@@ -125,6 +143,9 @@ pub struct EvalReport {
     pub fixture: Option<FixtureScore>,
     /// Prices per million tokens the cost is computed at (`None`: no cost reported).
     pub price: Option<Price>,
+    /// With candidates: the fixture score the first candidates would have had (each search's
+    /// first program in place of the one it kept), to compare with [`EvalReport::fixture`].
+    pub first_fixture: Option<FixtureScore>,
 }
 
 impl EvalReport {
@@ -173,6 +194,23 @@ impl EvalReport {
         self.items.iter().filter(|i| i.unreachable).count()
     }
 
+    /// Descriptions synthesized by a search over candidates.
+    pub fn searched(&self) -> usize {
+        self.items.iter().filter(|i| i.candidates > 1).count()
+    }
+
+    /// The mean agreement of the kept programs over the searches where candidates ran
+    /// (`None`: none did).
+    pub fn mean_agreement(&self) -> Option<f64> {
+        let a: Vec<f64> = self.items.iter().filter_map(|i| i.agreement).collect();
+        (!a.is_empty()).then(|| a.iter().sum::<f64>() / a.len() as f64)
+    }
+
+    /// Searches that kept another program than their first candidate's.
+    pub fn selection_changed(&self) -> usize {
+        self.items.iter().filter(|i| i.selection_changed()).count()
+    }
+
     /// Descriptions whose synthesis or run ended in an error.
     pub fn errors(&self) -> usize {
         self.items.iter().filter(|i| i.error.is_some()).count()
@@ -181,7 +219,9 @@ impl EvalReport {
     /// The report as one JSON object: the counts of [`EvalReport::render`] (`descriptions`,
     /// `clean_first_round`, `clean`, `max_rounds`, `mean_rounds`, `match_nothing`, `errors`), the
     /// `items` (with each clean program and its `usage`, with `cost` when priced), the total
-    /// `usage` (likewise), `price` (null without one) and `fixture` (null without one).
+    /// `usage` (likewise), `price` (null without one) and `fixture` (null without one); with
+    /// candidates also `searched`, `selection_changed`, `mean_agreement` and `first_fixture`
+    /// (each item with its `candidates`, `clean_candidates`, `first_program` and `agreement`).
     pub fn to_json(&self) -> serde_json::Value {
         let price = self.price.as_ref();
         let mut items = serde_json::to_value(&self.items).unwrap_or_default();
@@ -202,6 +242,10 @@ impl EvalReport {
             "usage": self.usage().to_json(price),
             "price": self.price,
             "fixture": self.fixture,
+            "searched": self.searched(),
+            "selection_changed": self.selection_changed(),
+            "mean_agreement": self.mean_agreement(),
+            "first_fixture": self.first_fixture,
         })
     }
 
@@ -236,6 +280,7 @@ impl EvalReport {
         if let Some(f) = &self.fixture {
             s.push_str(&f.render());
         }
+        s.push_str(&self.render_search());
         for d in nothing {
             s.push_str(&format!("  matches nothing: {d}\n"));
         }
@@ -254,6 +299,49 @@ impl EvalReport {
 }
 
 impl EvalReport {
+    /// The search lines of [`EvalReport::render`] (nothing without candidates): how many
+    /// searches kept another program than their first candidate, the mean agreement, and the
+    /// fixture score of the first candidates against the kept programs', in all and per prompt.
+    pub fn render_search(&self) -> String {
+        let searched = self.searched();
+        if searched == 0 {
+            return String::new();
+        }
+        let mut s = format!(
+            "searches over candidates          {searched} ({} kept another program than the first)\n",
+            self.selection_changed()
+        );
+        if let Some(a) = self.mean_agreement() {
+            s.push_str(&format!("mean agreement of kept programs   {a:.3}\n"));
+        }
+        if let (Some(first), Some(kept)) = (&self.first_fixture, &self.fixture) {
+            s.push_str(&format!(
+                "fixture HOTA-Temporal: first      {:.4}\n\
+                 fixture HOTA-Temporal: kept       {:.4}\n",
+                first.hota_temporal, kept.hota_temporal
+            ));
+            for p in &kept.by_prompt {
+                let before = first
+                    .by_prompt
+                    .iter()
+                    .find(|f| f.prompt == p.prompt)
+                    .map_or(f64::NAN, |f| f.hota_temporal);
+                let agreement = self
+                    .items
+                    .iter()
+                    .find(|i| i.description == p.prompt)
+                    .and_then(|i| i.agreement)
+                    .map(|a| format!(", agreement {a:.3}"))
+                    .unwrap_or_default();
+                s.push_str(&format!(
+                    "  {}: first {before:.4}, kept {:.4}{agreement}\n",
+                    p.prompt, p.hota_temporal
+                ));
+            }
+        }
+        s
+    }
+
     /// The token lines of [`EvalReport::render`]: the totals, then one line a description, with
     /// the cost when priced.
     pub fn render_usage(&self) -> String {
@@ -320,7 +408,29 @@ pub fn evaluate(
             program: None,
             usage: t.usage(),
             unreachable: false,
+            candidates: 1,
+            clean_candidates: 0,
+            first_program: None,
+            agreement: None,
         };
+        if let Some(search) = &t.search {
+            item.candidates = search.candidates.len();
+            item.clean_candidates = search
+                .candidates
+                .iter()
+                .filter(|c| c.transcript.is_clean())
+                .count();
+            item.first_program = search
+                .candidates
+                .first()
+                .filter(|c| c.transcript.is_clean())
+                .and_then(|c| c.transcript.program())
+                .map(str::to_string);
+            item.agreement = search
+                .chosen
+                .and_then(|c| search.candidates.get(c))
+                .and_then(|c| c.agreement);
+        }
         match &t.outcome {
             Outcome::Clean { round } => {
                 item.clean_round = Some(*round);
@@ -345,5 +455,6 @@ pub fn evaluate(
         items,
         fixture: None,
         price: None,
+        first_fixture: None,
     }
 }

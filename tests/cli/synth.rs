@@ -1019,3 +1019,73 @@ fn max_tokens_stops_asking_once_spent() {
     );
     assert!(stderr(&o).contains("200 uncached input"), "{}", stderr(&o));
 }
+
+/// `--eval --candidates 3`: the first candidate of "stopped car" leaves parked cars out (a
+/// minority meaning), the two others mean the library's program (written two ways). The report
+/// scores the first candidates and the kept programs on the fixture side by side, with the
+/// kept one's agreement; the kept program is the majority's and scores what `mine` scores
+/// with the library's program.
+#[test]
+fn eval_with_candidates_reports_the_first_and_the_kept_programs_scores() {
+    let moving_out =
+        "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T), !stationary(V).";
+    let library = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).";
+    let swapped = "referred(C, T) :- stopped(C, T), category(C, \"REGULAR_VEHICLE\").";
+    let replies = vec![program(moving_out), program(library), program(swapped)];
+    let report = eval_json("stopped car\n", replies.clone(), &["--candidates", "3"]);
+    assert_eq!(report["searched"], 1, "{report:#}");
+    assert_eq!(report["selection_changed"], 1);
+    let item = &report["items"][0];
+    assert_eq!(item["candidates"], 3);
+    assert_eq!(item["clean_candidates"], 3);
+    let described = |p: &str| format!("// description: stopped car\n{p}\n");
+    assert_eq!(
+        item["first_program"].as_str(),
+        Some(described(moving_out).as_str())
+    );
+    assert_eq!(
+        item["program"].as_str(),
+        Some(described(library).as_str()),
+        "{item:#}"
+    );
+    let agreement = item["agreement"].as_f64().expect("agreement");
+    assert!(agreement > 0.5 && agreement < 1.0, "{agreement}");
+    assert_eq!(report["mean_agreement"].as_f64(), Some(agreement));
+    let kept = report["fixture"]["hota_temporal"].as_f64().expect("kept");
+    let first = report["first_fixture"]["hota_temporal"]
+        .as_f64()
+        .expect("first");
+    // The library's stopped car scores 0.8527 on the fixture (README).
+    assert!((kept - 0.8527).abs() < 5e-5, "{kept}");
+    assert!(first < kept, "first {first}, kept {kept}");
+
+    // The text report shows both, per prompt.
+    let o = run_eval("stopped car\n", replies, &["--candidates", "3"]);
+    let text = stdout(&o);
+    assert!(
+        text.contains(
+            "searches over candidates          1 (1 kept another program than the first)"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("fixture HOTA-Temporal: first      {first:.4}")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("fixture HOTA-Temporal: kept       {kept:.4}")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "  stopped car: first {first:.4}, kept {kept:.4}, agreement {agreement:.3}"
+        )),
+        "{text}"
+    );
+
+    // One candidate: no search lines, no first score.
+    let report = eval_json("stopped car\n", vec![program(library)], &[]);
+    assert_eq!(report["searched"], 0);
+    assert!(report["first_fixture"].is_null(), "{report:#}");
+    assert_eq!(report["items"][0]["candidates"], 1);
+}
