@@ -28,6 +28,7 @@ pub mod outputs;
 pub mod run;
 pub mod split;
 pub mod synth;
+pub mod synth_evidence;
 mod synth_fixture;
 pub mod synth_search;
 
