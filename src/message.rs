@@ -56,6 +56,8 @@ pub enum Field {
     Frames,
     /// Candidate programs per description (`--candidates`, `candidates`).
     Candidates,
+    /// Evidence rounds after a synthesis search (`--evidence-rounds`, `evidence_rounds`).
+    EvidenceRounds,
 }
 
 impl Field {
@@ -83,6 +85,7 @@ impl Field {
             Field::PictureSize => "--picture-size",
             Field::Frames => "--frames",
             Field::Candidates => "--candidates",
+            Field::EvidenceRounds => "--evidence-rounds",
         }
     }
 
@@ -110,6 +113,7 @@ impl Field {
             Field::PictureSize => "picture_size",
             Field::Frames => "frames",
             Field::Candidates => "candidates",
+            Field::EvidenceRounds => "evidence_rounds",
         }
     }
 }

@@ -83,7 +83,13 @@ pub struct SynthSettings {
     pub match_limits: Limits,
     /// Stop asking the server once this many tokens are spent (`None`: no budget).
     pub max_tokens: Option<u64>,
+    /// Evidence rounds: the kept program's matches on `match_logs` shown to the model, which
+    /// keeps or revises it (0 to 5; `None`: 1 with several candidates, else 0).
+    pub evidence_rounds: Option<usize>,
 }
+
+/// The most evidence rounds a synthesis may have.
+pub const MAX_EVIDENCE_ROUNDS: usize = 5;
 
 /// A configuration, and the library's examples left out because they do not check clean (for
 /// the caller to warn about).
@@ -132,14 +138,22 @@ pub fn config(
             format!("expected 1 to 32, got {}", settings.candidates),
         ));
     }
-    let matcher = if settings.candidates > 1 {
+    let evidence_rounds = settings
+        .evidence_rounds
+        .unwrap_or(if settings.candidates > 1 { 1 } else { 0 });
+    if evidence_rounds > MAX_EVIDENCE_ROUNDS {
+        return Err(invalid(
+            Field::EvidenceRounds,
+            format!("expected 0 to {MAX_EVIDENCE_ROUNDS}, got {evidence_rounds}"),
+        ));
+    }
+    let (matcher, evidence) = if settings.candidates > 1 || evidence_rounds > 0 {
         settings.match_limits.check()?;
-        Some(crate::api::synth_search::matcher(
-            &settings.match_logs,
-            &settings.match_limits,
-        )?)
+        let (m, e) =
+            crate::api::synth_search::search_logs(&settings.match_logs, &settings.match_limits)?;
+        (Some(m), Some(e))
     } else {
-        None
+        (None, None)
     };
     Ok(Configured {
         config: SynthConfig {
@@ -153,6 +167,8 @@ pub fn config(
             sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
             matcher,
             max_tokens: settings.max_tokens,
+            evidence_rounds,
+            evidence,
         },
         left_out,
     })

@@ -1,7 +1,9 @@
-//! What a synthesis search runs its candidates on (`--candidates K`): the logs loaded once, and
-//! a [`Matcher`] that checks a candidate program and evaluates it on every one of them, as
-//! `mine` does, returning its `referred` (log, track, frame) tuples. The search itself (the
-//! candidates, the medoid) is the synthesis crate's (`scenalog_synth::search`).
+//! What a synthesis search runs its candidates on (`--candidates K`): the logs loaded once, a
+//! [`Matcher`] that checks a candidate program and evaluates it on every one of them, as
+//! `mine` does, returning its `referred` (log, track, frame) tuples, and the [`Evidence`] the
+//! evidence round shows the model ([`crate::api::synth_evidence`]). The search itself (the
+//! candidates, the medoid, the evidence rounds) is the synthesis crate's
+//! (`scenalog_synth::search`).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -9,7 +11,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use scenalog_extractors::cache::Extractor;
-use scenalog_synth::{MatchKey, Matcher};
+use scenalog_synth::{Evidence, MatchKey, Matcher};
 
 use crate::api::error::{Error, Field};
 use crate::api::inputs::{bundled, log_dirs, SAMPLE_LOGS};
@@ -23,6 +25,15 @@ use crate::pipeline::scenario::{evaluate_on, scenario_from_source};
 /// # Errors
 /// No logs are given and the sample logs are not bundled, or a log cannot be found or read.
 pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
+    Ok(search_logs(logs, limits)?.0)
+}
+
+/// The matcher of a search over `logs` (as [`matcher`]) and the evidence of a program on the
+/// same logs, loaded once for both.
+///
+/// # Errors
+/// As [`matcher`].
+pub fn search_logs(logs: &[PathBuf], limits: &Limits) -> Result<(Matcher, Evidence), Error> {
     let logs: Vec<PathBuf> = if logs.is_empty() {
         vec![bundled(SAMPLE_LOGS).ok_or_else(|| {
             Error::about(
@@ -47,7 +58,13 @@ pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
     let scenes = Arc::new(scenes);
     // The logs run at once share the machine's memory, as `mine`'s pairs do.
     let options = limits.engine(rayon::current_num_threads());
-    Ok(Matcher(Arc::new(move |program: &str| {
+    let evidence = {
+        let (scenes, options) = (Arc::clone(&scenes), options.clone());
+        Evidence(Arc::new(move |program: &str| {
+            crate::api::synth_evidence::evidence(&scenes, program, &options)
+        }))
+    };
+    let matcher = Matcher(Arc::new(move |program: &str| {
         let scenario = scenario_from_source(Path::new("candidate.dl"), program.to_string())?;
         // The logs in parallel, as `mine` runs them.
         let per_log: Vec<Result<Vec<MatchKey>, String>> = scenes
@@ -68,5 +85,6 @@ pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
             matched.extend(keys?);
         }
         Ok(matched)
-    })))
+    }));
+    Ok((matcher, evidence))
 }

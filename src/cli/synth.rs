@@ -139,6 +139,11 @@ pub struct SynthArgs {
     /// are spent; what was not synthesized is reported, and cached answers cost nothing.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub max_tokens: Option<u64>,
+    /// Evidence rounds (0 to 5): the kept program is run on the logs and the model is told what
+    /// it matches (tracks and frames per category, the longest match's proof, or the nearest
+    /// misses), then keeps it or revises it [default: 1 with --candidates above 1, else 0].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=5))]
+    pub evidence_rounds: Option<u32>,
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -185,6 +190,7 @@ fn settings(args: &SynthArgs, match_logs: &[PathBuf]) -> Result<SynthSettings, S
         match_logs: match_logs.to_vec(),
         match_limits: Limits::default(),
         max_tokens: args.max_tokens,
+        evidence_rounds: args.evidence_rounds.map(|n| n as usize),
     })
 }
 
@@ -336,6 +342,9 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
                     search.candidates.len(),
                     search.reason
                 );
+            }
+            for round in &t.evidence {
+                eprintln!("scenalog synth: {}", round.summary());
             }
             ExitCode::SUCCESS
         }

@@ -21,6 +21,7 @@ pub mod cache;
 pub mod client;
 pub mod diagnostics;
 pub mod evaluation;
+pub mod evidence;
 pub mod extract;
 pub mod library;
 pub mod prompt;
@@ -36,6 +37,7 @@ use std::sync::Mutex;
 pub use batch::{BatchItem, BatchOptions, BatchReport, ItemStatus};
 pub use cache::Cache;
 pub use client::{Client, ClientError, LlmConfig, Message};
+pub use evidence::{Evidence, EvidenceRound, Verdict};
 pub use library::Example;
 pub use repair::{Outcome, Round, Transcript};
 pub use search::{MatchKey, Matcher, Search};
@@ -119,6 +121,11 @@ pub struct SynthConfig {
     /// Stop asking the server once this many tokens (prompt and completion, as it reports
     /// them) are spent by this synthesizer (`None`: no budget). Cached answers cost nothing.
     pub max_tokens: Option<u64>,
+    /// Evidence rounds after the search: the kept program's matches shown to the model, which
+    /// keeps it or revises it ([`evidence`]); 0: none. Needs [`SynthConfig::evidence`].
+    pub evidence_rounds: usize,
+    /// What a program matches on the logs, in words (`None`: no evidence rounds).
+    pub evidence: Option<Evidence>,
 }
 
 impl SynthConfig {
@@ -138,6 +145,8 @@ impl SynthConfig {
             sample_temperature: search::SAMPLE_TEMPERATURE,
             matcher: None,
             max_tokens: None,
+            evidence_rounds: 0,
+            evidence: None,
         }
     }
 }
@@ -199,13 +208,23 @@ impl Synthesizer {
 
     /// Synthesizes one description: prompt, then up to `rounds` completions, each checked and
     /// repaired on diagnostics; with several [`SynthConfig::candidates`], that for each
-    /// candidate and the one kept chosen by what they match ([`search::run`]). Never fails: an
-    /// unreachable server is the transcript's outcome.
+    /// candidate and the one kept chosen by what they match ([`search::run`]), then shown its
+    /// matches in [`SynthConfig::evidence_rounds`] ([`evidence`]). Never fails: an unreachable
+    /// server is the transcript's outcome.
     pub fn synthesize(&self, description: &str) -> Transcript {
-        if self.config.candidates > 1 {
+        if self.config.candidates > 1 || self.evidence_rounds() > 0 {
             search::run(self, description)
         } else {
             repair::run(self, description)
+        }
+    }
+
+    /// The evidence rounds a synthesis has: the configured number when there is evidence to
+    /// show, else none.
+    pub fn evidence_rounds(&self) -> usize {
+        match self.config.evidence {
+            Some(_) => self.config.evidence_rounds,
+            None => 0,
         }
     }
 

@@ -83,6 +83,10 @@ pub struct Transcript {
     /// (absent with one candidate, so such a transcript reads as before searches existed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub search: Option<crate::search::Search>,
+    /// The evidence rounds after the search: what the kept program matched, shown to the model,
+    /// and its answer (absent when there were none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub evidence: Vec<crate::evidence::EvidenceRound>,
 }
 
 impl Transcript {
@@ -105,9 +109,14 @@ impl Transcript {
             .map_or_else(|| serde_json::json!([]), |r| r.diagnostics.clone())
     }
 
-    /// The tokens the server reported over every round (of every candidate, after a search).
+    /// The tokens the server reported over every round (of every candidate, after a search,
+    /// and of the evidence rounds).
     pub fn usage(&self) -> Usage {
-        match &self.search {
+        let evidence = self
+            .evidence
+            .iter()
+            .fold(Usage::default(), |t, e| t.add(&e.usage));
+        let rounds = match &self.search {
             Some(search) => search
                 .candidates
                 .iter()
@@ -116,7 +125,8 @@ impl Transcript {
                 .rounds
                 .iter()
                 .fold(Usage::default(), |t, r| t.add(&r.usage)),
-        }
+        };
+        rounds.add(&evidence)
     }
 
     /// The transcript as pretty JSON.
@@ -173,20 +183,40 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
 /// [`Synthesizer::complete_sample`]).
 pub fn run_sample(synth: &Synthesizer, description: &str, sample: usize) -> Transcript {
     let description = one_line(description);
+    let messages = synth.prompt(&description);
+    converse(synth, &description, messages, sample, None)
+}
+
+/// The loop from `messages` on (the conversation so far, ending with the user's request): up
+/// to the configured rounds of completions, each checked and repaired. `first`, when given, is
+/// the answer to `messages` already received (the completion, whether cached, its tokens),
+/// used as round 1 instead of asking again.
+pub fn converse(
+    synth: &Synthesizer,
+    description: &str,
+    mut messages: Vec<Message>,
+    sample: usize,
+    mut first: Option<(String, bool, Usage)>,
+) -> Transcript {
+    let description = description.to_string();
     let config = synth.config();
-    let mut messages = synth.prompt(&description);
     let mut transcript = Transcript {
         description: description.clone(),
         model: config.llm.model.clone(),
         rounds: Vec::new(),
         outcome: Outcome::Failed,
         search: None,
+        evidence: Vec::new(),
     };
     let rounds = config.rounds.max(1);
     // Meaning-changing warnings are sent back once; a program that keeps them is then clean.
     let mut warned = false;
     for round in 1..=rounds {
-        let (completion, cached, usage) = match synth.complete_sample(&messages, sample) {
+        let answer = match first.take() {
+            Some(answer) => Ok(answer),
+            None => synth.complete_sample(&messages, sample),
+        };
+        let (completion, cached, usage) = match answer {
             Ok(c) => c,
             Err(e) => {
                 transcript.outcome = Outcome::Unreachable {

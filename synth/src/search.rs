@@ -13,6 +13,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::evidence::Verdict;
+use crate::extract::one_line;
 use crate::repair::{self, Outcome, Transcript};
 use crate::Synthesizer;
 
@@ -177,45 +179,29 @@ pub fn select(
 }
 
 /// Synthesizes [`crate::SynthConfig::candidates`] candidates for `description` and keeps one
-/// (see the module's documentation). The transcript is the kept candidate's, with the whole
-/// search in [`Transcript::search`]; when none checked clean, the first candidate's. A server
-/// that cannot be reached stops the search at that candidate.
+/// (see the module's documentation), then shows the kept one its matches in
+/// [`crate::SynthConfig::evidence_rounds`] evidence rounds ([`crate::evidence`]): a revision
+/// that checks clean and runs is added to the candidates and kept. The transcript is the kept
+/// candidate's, with the whole search in [`Transcript::search`] and the evidence rounds in
+/// [`Transcript::evidence`]; when none checked clean, the first candidate's. A server that
+/// cannot be reached stops the search at that candidate.
 pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
+    let description = one_line(description);
     let k = synth.config().candidates.max(1);
     let mut transcripts: Vec<Transcript> = Vec::with_capacity(k);
     for sample in 0..k {
-        let t = repair::run_sample(synth, description, sample);
+        let t = repair::run_sample(synth, &description, sample);
         let unreachable = matches!(t.outcome, Outcome::Unreachable { .. });
         transcripts.push(t);
         if unreachable {
             break;
         }
     }
-    let mut errors: Vec<Option<String>> = vec![None; transcripts.len()];
     // Candidates with the same text (sampling often repeats itself) are run once.
-    let mut ran: BTreeMap<&str, Result<BTreeSet<MatchKey>, String>> = BTreeMap::new();
-    let sets: Vec<Option<BTreeSet<MatchKey>>> = transcripts
-        .iter()
-        .enumerate()
-        .map(|(i, t)| {
-            let program = t.program().filter(|_| t.is_clean())?;
-            let matcher = synth.config().matcher.as_ref()?;
-            let result = ran.entry(program).or_insert_with(|| (matcher.0)(program));
-            match result {
-                Ok(set) => Some(set.clone()),
-                Err(e) => {
-                    errors[i] = Some(e.clone());
-                    None
-                }
-            }
-        })
-        .collect();
-    let rounds: Vec<usize> = transcripts.iter().map(|t| t.rounds.len()).collect();
-    let lengths: Vec<usize> = transcripts
-        .iter()
-        .map(|t| t.program().map_or(usize::MAX, str::len))
-        .collect();
-    let mut selection = select(&sets, &rounds, &lengths);
+    let mut runs = Runs::default();
+    let (mut sets, mut errors): (Vec<_>, Vec<_>) =
+        transcripts.iter().map(|t| runs.run(synth, t)).unzip();
+    let mut selection = select(&sets, &rounds_of(&transcripts), &lengths_of(&transcripts));
     if selection.chosen.is_none() && synth.config().matcher.is_none() {
         selection.chosen = transcripts.iter().position(Transcript::is_clean);
         selection.reason = match selection.chosen {
@@ -223,6 +209,47 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
             None => "no candidate checked clean".to_string(),
         };
     }
+    let (mut chosen, mut reason) = (selection.chosen, selection.reason);
+    let mut evidence_rounds = Vec::new();
+    if let Some(evidence) = synth.config().evidence.as_ref() {
+        for round in 1..=synth.evidence_rounds() {
+            let Some(c) = chosen else { break };
+            let Some(shown) = transcripts[c]
+                .program()
+                .filter(|_| transcripts[c].is_clean())
+            else {
+                break;
+            };
+            let shown = shown.to_string();
+            let (mut record, revision) =
+                crate::evidence::ask(synth, evidence, &description, &shown, round);
+            if let Some(revised) = revision {
+                let index = transcripts.len();
+                record.candidate = Some(index);
+                let (set, error) = runs.run(synth, &revised);
+                if let (Verdict::Revised, Some(e)) = (&record.verdict, &error) {
+                    record.verdict = Verdict::RevisionFailed { error: e.clone() };
+                }
+                if record.verdict == Verdict::Revised {
+                    chosen = Some(index);
+                    reason = format!(
+                        "candidate {index}: candidate {c} as the model revised it after seeing \
+                         what it matches on the logs (evidence round {round}); before that, {reason}"
+                    );
+                }
+                transcripts.push(revised);
+                sets.push(set);
+                errors.push(error);
+            }
+            let revised = record.verdict == Verdict::Revised;
+            evidence_rounds.push(record);
+            if !revised {
+                break;
+            }
+        }
+    }
+    // Agreement and groups over every candidate, revisions included.
+    let selection = select(&sets, &rounds_of(&transcripts), &lengths_of(&transcripts));
     let candidates: Vec<Candidate> = transcripts
         .iter()
         .enumerate()
@@ -236,14 +263,54 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
         })
         .collect();
     // At least one candidate was asked for, so there is a transcript to keep.
-    let kept = selection.chosen.unwrap_or(0).min(transcripts.len() - 1);
+    let kept = chosen.unwrap_or(0).min(transcripts.len() - 1);
     let mut transcript = transcripts[kept].clone();
     transcript.search = Some(Search {
         candidates,
-        chosen: selection.chosen,
-        reason: selection.reason,
+        chosen,
+        reason,
     });
+    transcript.evidence = evidence_rounds;
     transcript
+}
+
+fn rounds_of(transcripts: &[Transcript]) -> Vec<usize> {
+    transcripts.iter().map(|t| t.rounds.len()).collect()
+}
+
+fn lengths_of(transcripts: &[Transcript]) -> Vec<usize> {
+    transcripts
+        .iter()
+        .map(|t| t.program().map_or(usize::MAX, str::len))
+        .collect()
+}
+
+/// The matcher's results by program text, so a program is run once however often it recurs.
+#[derive(Default)]
+struct Runs(BTreeMap<String, Result<BTreeSet<MatchKey>, String>>);
+
+impl Runs {
+    /// A candidate's match set (`None`: not clean, no matcher, or it failed) and why it failed.
+    fn run(
+        &mut self,
+        synth: &Synthesizer,
+        t: &Transcript,
+    ) -> (Option<BTreeSet<MatchKey>>, Option<String>) {
+        let Some(program) = t.program().filter(|_| t.is_clean()) else {
+            return (None, None);
+        };
+        let Some(matcher) = synth.config().matcher.as_ref() else {
+            return (None, None);
+        };
+        let result = self
+            .0
+            .entry(program.to_string())
+            .or_insert_with(|| (matcher.0)(program));
+        match result {
+            Ok(set) => (Some(set.clone()), None),
+            Err(e) => (None, Some(e.clone())),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -305,6 +372,7 @@ mod tests {
                 Outcome::Failed
             },
             search: None,
+            evidence: Vec::new(),
         };
         let candidate = |sample: usize, t: Transcript| Candidate {
             sample,

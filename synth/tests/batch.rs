@@ -49,6 +49,8 @@ fn config(server: &Server, cache: &std::path::Path) -> SynthConfig {
         sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
         matcher: None,
         max_tokens: None,
+        evidence_rounds: 0,
+        evidence: None,
     }
 }
 

@@ -48,6 +48,8 @@ fn config(server: &Server) -> SynthConfig {
         sample_temperature: scenalog_synth::search::SAMPLE_TEMPERATURE,
         matcher: None,
         max_tokens: None,
+        evidence_rounds: 0,
+        evidence: None,
     }
 }
 

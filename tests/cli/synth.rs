@@ -896,6 +896,22 @@ fn read_json(path: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&fs::read_to_string(path).expect("read")).expect("json")
 }
 
+/// `synth DESCRIPTION EXTRA…` on the sample logs against `server`, the transcript written to
+/// `transcript`.
+fn on_sample_logs(
+    description: &str,
+    extra: &[&str],
+    server: &Server,
+    transcript: &std::path::Path,
+) -> Output {
+    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let url = server.base_url();
+    let mut args = vec![description, "--logs", logs, "--base-url", &url];
+    args.extend_from_slice(&["--transcript", transcript.to_str().expect("utf8")]);
+    args.extend_from_slice(extra);
+    scenalog(&args, &[])
+}
+
 /// `--candidates 4` against a server whose candidates mean two things: three mean "vehicle
 /// turning left" (written three ways, one only after a repair), one "regular vehicle turning
 /// right". Each clean candidate is run on the sample logs; the majority's meaning is kept, and
@@ -912,23 +928,15 @@ fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
         with_usage(program(UNKNOWN), 100, None, 10),
         with_usage(program(swapped), 100, None, 10),
         with_usage(program(helper), 100, None, 10),
+        with_usage(Reply::Completion("KEEP".into()), 100, None, 1),
     ]);
     let dir = tempfile::tempdir().expect("tempdir");
     let transcript = dir.path().join("t.json");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
-    let o = scenalog(
-        &[
-            "vehicle making a left turn",
-            "--candidates",
-            "4",
-            "--logs",
-            logs,
-            "--base-url",
-            &server.base_url(),
-            "--transcript",
-            transcript.to_str().expect("utf8"),
-        ],
-        &[],
+    let o = on_sample_logs(
+        "vehicle making a left turn",
+        &["--candidates", "4"],
+        &server,
+        &transcript,
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(
@@ -939,10 +947,27 @@ fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
     );
     assert!(stderr(&o).contains("4 candidates"), "{}", stderr(&o));
     let reqs = server.requests();
-    assert_eq!(reqs.len(), 5);
+    assert_eq!(reqs.len(), 6);
     assert_eq!(reqs[0].json["temperature"], 0.0);
-    assert!(reqs[1..].iter().all(|r| r.json["temperature"] == 0.7));
+    assert!(reqs[1..5].iter().all(|r| r.json["temperature"] == 0.7));
+    // One evidence round by default with candidates: the kept program's matches, shown to the
+    // model at the configured temperature, which keeps it.
+    let shown = reqs[5].last_message();
+    assert!(
+        shown.starts_with(
+            "Your program was run on real driving logs. On the 3 logs your program matches "
+        ),
+        "{shown}"
+    );
+    assert!(shown.contains("The longest match: track "), "{shown}");
+    assert_eq!(reqs[5].json["temperature"], 0.0);
+    assert!(
+        stderr(&o).contains("evidence round 1: the model kept the program"),
+        "{}",
+        stderr(&o)
+    );
     let t = read_json(&transcript);
+    assert_eq!(t["evidence"][0]["verdict"], "keep", "{t:#}");
     let search = &t["search"];
     assert_eq!(search["chosen"], 1, "{search:#}");
     let candidates = search["candidates"].as_array().expect("candidates");
@@ -952,9 +977,9 @@ fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
     assert_ne!(candidates[0]["matched"], candidates[1]["matched"]);
     assert!(candidates[1]["matched"].as_u64().expect("matched") > 0);
     assert!(candidates[0]["agreement"].as_f64() < candidates[1]["agreement"].as_f64());
-    // Every candidate's tokens: 5 completions of 100 in and 10 out.
+    // Every candidate's tokens and the evidence round's: 6 completions of 100 in.
     assert!(
-        stderr(&o).contains("500 uncached input") && stderr(&o).contains("50 output"),
+        stderr(&o).contains("600 uncached input") && stderr(&o).contains("51 output"),
         "{}",
         stderr(&o)
     );
@@ -1031,7 +1056,13 @@ fn eval_with_candidates_reports_the_first_and_the_kept_programs_scores() {
         "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T), !stationary(V).";
     let library = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).";
     let swapped = "referred(C, T) :- stopped(C, T), category(C, \"REGULAR_VEHICLE\").";
-    let replies = vec![program(moving_out), program(library), program(swapped)];
+    let keep = Reply::Completion("KEEP".into());
+    let replies = vec![
+        program(moving_out),
+        program(library),
+        program(swapped),
+        keep,
+    ];
     let report = eval_json("stopped car\n", replies.clone(), &["--candidates", "3"]);
     assert_eq!(report["searched"], 1, "{report:#}");
     assert_eq!(report["selection_changed"], 1);
@@ -1088,4 +1119,87 @@ fn eval_with_candidates_reports_the_first_and_the_kept_programs_scores() {
     assert_eq!(report["searched"], 0);
     assert!(report["first_fixture"].is_null(), "{report:#}");
     assert_eq!(report["items"][0]["candidates"], 1);
+}
+
+/// The evidence round: a program that matches nothing on the sample logs is shown its nearest
+/// misses (the failing comparison with the values that failed it); the model revises it; the
+/// revision checks, runs, is kept, and the next round shows it its own matches (per category,
+/// the longest match's proof), which the model keeps.
+#[test]
+fn the_evidence_round_shows_the_model_its_matches_and_keeps_a_revision() {
+    let nothing = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 60.0.";
+    let revised = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 2.0.";
+    let server = Server::scripted(vec![
+        program(nothing),
+        program(revised),
+        Reply::Completion("KEEP".into()),
+    ]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let transcript = dir.path().join("t.json");
+    let o = on_sample_logs(
+        "bus moving faster than 2 m/s",
+        &["--evidence-rounds", "2"],
+        &server,
+        &transcript,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!("// description: bus moving faster than 2 m/s\n{revised}\n")
+    );
+    let reqs = server.requests();
+    assert_eq!(reqs.len(), 3);
+    let first = reqs[1].last_message();
+    assert!(
+        first.contains("your program matches nothing. The nearest misses"),
+        "{first}"
+    );
+    assert!(first.contains("(BUS) on log"), "{first}");
+    assert!(first.contains("✗ S > 60.0"), "{first}");
+    // The conversation shows the program it is about.
+    assert!(reqs[1].messages().iter().any(|m| m.contains("S > 60.0")));
+    let second = reqs[2].last_message();
+    assert!(second.contains("\n- BUS: "), "{second}");
+    assert!(second.contains("✓ S > 2.0"), "{second}");
+    let err = stderr(&o);
+    assert!(
+        err.contains("evidence round 1: the model revised the program; the revision (candidate 1)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("evidence round 2: the model kept the program"),
+        "{err}"
+    );
+    let t = read_json(&transcript);
+    let rounds = t["evidence"].as_array().expect("evidence rounds");
+    assert_eq!(rounds.len(), 2, "{t:#}");
+    assert_eq!(rounds[0]["verdict"], "revised");
+    assert_eq!(rounds[0]["candidate"], 1);
+    assert_eq!(rounds[1]["verdict"], "keep");
+    assert_eq!(t["search"]["chosen"], 1);
+    assert_eq!(t["search"]["candidates"][0]["matched"], 0);
+    assert!(t["search"]["candidates"][1]["matched"].as_u64() > Some(0));
+
+    // A revision that never checks clean leaves the program shown in place.
+    let server = Server::scripted(vec![
+        program(nothing),
+        program(UNKNOWN),
+        program(UNKNOWN),
+        program(UNKNOWN),
+    ]);
+    let o = on_sample_logs(
+        "bus moving faster than 2 m/s",
+        &["--evidence-rounds", "1"],
+        &server,
+        &transcript,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("S > 60.0"), "{}", stdout(&o));
+    assert!(
+        stderr(&o).contains(
+            "evidence round 1: the model's revision never checked clean; the program stays"
+        ),
+        "{}",
+        stderr(&o)
+    );
 }
