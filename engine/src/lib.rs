@@ -29,9 +29,9 @@ use scenalog_facts::relation::Value;
 
 pub use evaluate::evaluate;
 pub use explain::{
-    explain, why_not, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt, CmpValues,
-    Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError, MAX_BINDINGS,
-    MAX_DEPTH, MAX_EXAMPLES, MAX_NESTING,
+    explain, why_not, why_not_each, why_not_pattern, AggValues, Binding, BodyFact, ClauseAttempt,
+    CmpValues, Derivation, Failure, NearMiss, Outcome, Reason, Step, WhyNot, WhyNotError,
+    MAX_BINDINGS, MAX_DEPTH, MAX_EXAMPLES, MAX_NESTING,
 };
 pub use prove::{Proof, Stamp};
 

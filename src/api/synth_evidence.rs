@@ -11,7 +11,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use scenalog_engine::{explain as prove, why_not, Options, Outcome as Attempt, Reason, WhyNot};
+use rayon::prelude::*;
+
+use scenalog_engine::{
+    explain as prove, why_not_each, Options, Outcome as Attempt, Reason, WhyNot,
+};
 use scenalog_extractors::Extractor;
 use scenalog_facts::relation::Value;
 use scenalog_facts::scene::{Frame, Scene, Track, TrackId};
@@ -37,15 +41,22 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
     // (frames in the longest run, log index, track, the run's middle frame)
     let mut longest: Option<(usize, usize, TrackId, Frame)> = None;
     let mut total_frames = 0;
-    for (l, scene) in scenes.iter().enumerate() {
-        let extractor = Extractor::new(scene);
-        let ev = evaluate_for_explain(&extractor, &scenario.program, false, options)
-            .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
-        let mut by_track: BTreeMap<TrackId, Vec<Frame>> = BTreeMap::new();
-        for (track, frame) in referred_tuples(&ev) {
-            by_track.entry(track).or_default().push(frame);
-        }
-        for (track, mut frames) in by_track {
+    // Each log's referred frames by track, the logs in parallel as `mine` runs them.
+    let per_log: Vec<Result<BTreeMap<TrackId, Vec<Frame>>, String>> = scenes
+        .par_iter()
+        .map(|scene| {
+            let extractor = Extractor::new(scene);
+            let ev = evaluate_matches(&extractor, &scenario, options)
+                .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
+            let mut by_track: BTreeMap<TrackId, Vec<Frame>> = BTreeMap::new();
+            for (track, frame) in referred_tuples(&ev) {
+                by_track.entry(track).or_default().push(frame);
+            }
+            Ok(by_track)
+        })
+        .collect();
+    for (l, (scene, by_track)) in scenes.iter().zip(per_log).enumerate() {
+        for (track, mut frames) in by_track? {
             frames.sort_unstable();
             frames.dedup();
             total_frames += frames.len();
@@ -105,39 +116,26 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
     Ok(text)
 }
 
+/// The program's evaluation on one log as `mine` evaluates it (no provenance: only what it
+/// matches is wanted here).
+fn evaluate_matches(
+    extractor: &Extractor<'_>,
+    scenario: &Scenario,
+    options: &Options,
+) -> Result<scenalog_engine::Evaluation, crate::pipeline::scenario::EvaluationError> {
+    crate::pipeline::scenario::evaluate_on(extractor, &scenario.program, options)
+}
+
 /// The text for a program that matches nothing: its nearest misses over `scenes`.
 fn nearest_misses(scenes: &[Scene], scenario: &Scenario, options: &Options, logs: &str) -> String {
     let mut text = format!("On the {logs} your program matches nothing.");
     let mentioned: Vec<&str> = quoted(&scenario.source);
-    // (closeness, log, track, frame, report)
-    let mut misses: Vec<(usize, usize, TrackId, Frame, WhyNot)> = Vec::new();
-    for (l, scene) in scenes.iter().enumerate() {
-        let extractor = Extractor::new(scene);
-        let Ok(whole) = evaluate_for_explain(&extractor, &scenario.program, true, options) else {
-            continue;
-        };
-        let named: Vec<&Track> = scene
-            .tracks
-            .iter()
-            .filter(|t| mentioned.contains(&t.category.as_str()))
-            .collect();
-        let pool: Vec<&Track> = if named.is_empty() {
-            scene.tracks.iter().collect()
-        } else {
-            named
-        };
-        let step = pool.len().div_ceil(MISS_TRACKS_PER_LOG).max(1);
-        for t in pool.iter().step_by(step) {
-            let Some((a, b)) = t.frame_span() else {
-                continue;
-            };
-            let frame = a + (b - a) / 2;
-            let tuple = [Value::Track(t.id), Value::Time(frame)];
-            if let Ok(report) = why_not(&scenario.program, &whole, "referred", &tuple) {
-                misses.push((closeness(&report), l, t.id, frame, report));
-            }
-        }
-    }
+    // (closeness, log, track, frame, report), the logs in parallel as `mine` runs them.
+    let mut misses: Vec<(usize, usize, TrackId, Frame, WhyNot)> = scenes
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(l, scene)| log_misses(l, scene, scenario, options, &mentioned))
+        .collect();
     misses.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     if misses.is_empty() {
         return text;
@@ -163,6 +161,50 @@ fn nearest_misses(scenes: &[Scene], scenario: &Scenario, options: &Options, logs
         ));
     }
     text
+}
+
+/// The why-not reports of up to [`MISS_TRACKS_PER_LOG`] tracks of log `l` (of the categories
+/// the program names, when it names any present), each at its middle frame, with their
+/// closeness; none when the program cannot be evaluated whole there.
+fn log_misses(
+    l: usize,
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &Options,
+    mentioned: &[&str],
+) -> Vec<(usize, usize, TrackId, Frame, WhyNot)> {
+    let extractor = Extractor::new(scene);
+    let Ok(whole) = evaluate_for_explain(&extractor, &scenario.program, true, options) else {
+        return Vec::new();
+    };
+    let named: Vec<&Track> = scene
+        .tracks
+        .iter()
+        .filter(|t| mentioned.contains(&t.category.as_str()))
+        .collect();
+    let pool: Vec<&Track> = if named.is_empty() {
+        scene.tracks.iter().collect()
+    } else {
+        named
+    };
+    let step = pool.len().div_ceil(MISS_TRACKS_PER_LOG).max(1);
+    let asked: Vec<(TrackId, Frame)> = pool
+        .iter()
+        .step_by(step)
+        .filter_map(|t| t.frame_span().map(|(a, b)| (t.id, a + (b - a) / 2)))
+        .collect();
+    let tuples: Vec<Vec<Value>> = asked
+        .iter()
+        .map(|&(t, f)| vec![Value::Track(t), Value::Time(f)])
+        .collect();
+    let reports = why_not_each(&scenario.program, &whole, "referred", &tuples);
+    asked
+        .into_iter()
+        .zip(reports)
+        .filter_map(|((track, frame), report)| {
+            report.ok().map(|r| (closeness(&r), l, track, frame, r))
+        })
+        .collect()
 }
 
 /// How close a why-not report came: the literals its closest clause held, and in turn those of

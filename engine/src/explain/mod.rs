@@ -65,6 +65,26 @@ pub fn why_not(
     why_not_pattern(program, evaluation, relation, &pattern)
 }
 
+/// [`why_not`] for each of several tuples of one relation, sharing the indexes built over the
+/// evaluation's relations (one report costs about one index build over every relation it
+/// looks into, so asking many at once costs little more than asking one).
+pub fn why_not_each(
+    program: &CheckedProgram,
+    evaluation: &Evaluation,
+    relation: &str,
+    tuples: &[Vec<Value>],
+) -> Vec<Result<WhyNot, WhyNotError>> {
+    let mut cx = Cx::new(program, evaluation);
+    tuples
+        .iter()
+        .map(|tuple| {
+            let pattern: Vec<Option<Value>> = tuple.iter().cloned().map(Some).collect();
+            let pattern = cx.check_pattern(relation, &pattern)?;
+            Ok(cx.why_not(relation, &pattern, 0, &mut HashSet::new()))
+        })
+        .collect()
+}
+
 /// [`why_not`] for a pattern: `None` columns may take any value.
 pub fn why_not_pattern(
     program: &CheckedProgram,

@@ -254,7 +254,12 @@ impl<'a> Cx<'a> {
         type Score = (usize, u64, f64);
         let better =
             |a: &Score, b: &Score| b.0.cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.total_cmp(&b.2));
-        let mut scored: Vec<(Score, NearMiss)> = Vec::new();
+        // The best MAX_EXAMPLES so far, in order (a relation asked whole holds millions of
+        // tuples: only these are kept and cloned).
+        let mut top: Vec<(Score, &[Value], Vec<usize>)> = Vec::with_capacity(MAX_EXAMPLES + 1);
+        let order = |a: &(Score, &[Value], Vec<usize>), b: &(Score, &[Value], Vec<usize>)| {
+            better(&a.0, &b.0).then_with(|| cmp_tuple(a.1, b.1))
+        };
         for t in self.tuples(rel) {
             let mut best: Option<(Score, Vec<usize>)> = None;
             for p in patterns {
@@ -288,17 +293,25 @@ impl<'a> Cx<'a> {
                 }
             }
             if let Some((score, differs)) = best {
-                scored.push((
-                    score,
-                    NearMiss {
-                        tuple: t.clone(),
-                        differs,
-                    },
-                ));
+                let candidate = (score, t.as_slice(), differs);
+                let full = top.len() >= MAX_EXAMPLES;
+                if full
+                    && top
+                        .last()
+                        .is_some_and(|w| order(&candidate, w) != Ordering::Less)
+                {
+                    continue;
+                }
+                let at = top.partition_point(|x| order(x, &candidate) != Ordering::Greater);
+                top.insert(at, candidate);
+                top.truncate(MAX_EXAMPLES);
             }
         }
-        scored.sort_by(|a, b| better(&a.0, &b.0).then_with(|| cmp_tuple(&a.1.tuple, &b.1.tuple)));
-        scored.truncate(MAX_EXAMPLES);
-        scored.into_iter().map(|(_, m)| m).collect()
+        top.into_iter()
+            .map(|(_, tuple, differs)| NearMiss {
+                tuple: tuple.to_vec(),
+                differs,
+            })
+            .collect()
     }
 }
