@@ -52,6 +52,7 @@
 pub mod ast;
 pub mod check;
 pub mod diagnostics;
+pub mod grammar;
 mod habits;
 pub mod lexer;
 pub mod parser;

@@ -86,6 +86,15 @@ pub struct SynthSettings {
     /// Evidence rounds: the kept program's matches on `match_logs` shown to the model, which
     /// keeps or revises it (0 to 5; `None`: 1 with several candidates, else 0).
     pub evidence_rounds: Option<usize>,
+    /// Send the language's grammar in this server's field (`None`: unconstrained answers).
+    pub grammar: Option<scenalog_synth::GrammarField>,
+}
+
+pub use scenalog_synth::GrammarField;
+
+/// The grammar `--grammar` sends for a program (GBNF; the evidence round's also allows `KEEP`).
+pub fn grammar() -> String {
+    scenalog_rules::grammar::gbnf(scenalog_rules::grammar::Answer::Program)
 }
 
 /// The most evidence rounds a synthesis may have.
@@ -116,6 +125,7 @@ pub fn config(
     }
     let mut llm = LlmConfig::from_env();
     llm.temperature = settings.temperature;
+    llm.grammar = settings.grammar;
     if let Some(v) = &settings.base_url {
         llm.base_url = v.clone();
     }

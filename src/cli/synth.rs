@@ -32,7 +32,7 @@ pub struct Args {
 pub struct Options {
     /// The scenario description, e.g. "vehicle making a left turn".
     #[arg(
-        required_unless_present_any = ["descriptions", "eval"],
+        required_unless_present_any = ["descriptions", "eval", "print_grammar"],
         conflicts_with_all = ["descriptions", "eval"]
     )]
     pub description: Option<String>,
@@ -84,6 +84,9 @@ pub struct Options {
     /// Print the prompt the description would be sent with, and ask nothing.
     #[arg(long)]
     pub print_prompt: bool,
+    /// Print the grammar (GBNF) `--grammar` sends, and ask nothing.
+    #[arg(long)]
+    pub print_grammar: bool,
     /// Descriptions synthesized at once with `--descriptions`.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub jobs: u32,
@@ -144,6 +147,32 @@ pub struct SynthArgs {
     /// misses), then keeps it or revises it [default: 1 with --candidates above 1, else 0].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=5))]
     pub evidence_rounds: Option<u32>,
+    /// Send the language's grammar (GBNF) so an answer cannot fail to parse, in the field this
+    /// server reads: `llama-cpp` (`grammar`), `vllm` (`structured_outputs.grammar`) or
+    /// `sglang` (`ebnf`). `scenalog synth --print-grammar` prints it.
+    #[arg(long, value_name = "SERVER")]
+    pub grammar: Option<GrammarServer>,
+}
+
+/// The servers whose grammar field `--grammar` knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GrammarServer {
+    /// llama.cpp's server: the `grammar` field.
+    LlamaCpp,
+    /// vLLM: `structured_outputs: {"grammar": …}`.
+    Vllm,
+    /// SGLang: the `ebnf` field.
+    Sglang,
+}
+
+impl GrammarServer {
+    fn field(self) -> crate::api::synth::GrammarField {
+        match self {
+            GrammarServer::LlamaCpp => crate::api::synth::GrammarField::LlamaCpp,
+            GrammarServer::Vllm => crate::api::synth::GrammarField::Vllm,
+            GrammarServer::Sglang => crate::api::synth::GrammarField::Sglang,
+        }
+    }
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -191,6 +220,7 @@ fn settings(args: &SynthArgs, match_logs: &[PathBuf]) -> Result<SynthSettings, S
         match_limits: Limits::default(),
         max_tokens: args.max_tokens,
         evidence_rounds: args.evidence_rounds.map(|n| n as usize),
+        grammar: args.grammar.map(GrammarServer::field),
     })
 }
 
@@ -216,6 +246,10 @@ pub fn synth_config(
 /// Runs the subcommand.
 pub fn run(args: Args) -> ExitCode {
     let args = *args.options;
+    if args.print_grammar {
+        out!("{}", api::grammar());
+        return ExitCode::SUCCESS;
+    }
     let default_cache = args.out.as_ref().map(|d| d.join(".llm-cache"));
     // `--logs` left at its default outside the repository: the bundled sample logs.
     let match_logs = if args.logs == std::path::Path::new(SAMPLE_LOGS) && !args.logs.is_dir() {

@@ -8,6 +8,8 @@
 
 use std::time::Duration;
 
+use scenalog_rules::grammar::Answer;
+
 use serde::{Deserialize, Serialize};
 
 use crate::usage::Usage;
@@ -81,6 +83,33 @@ pub struct LlmConfig {
     /// Sampling temperature (0: as deterministic as the server allows; `None`: not sent, for
     /// models that accept only their default, such as OpenAI's reasoning models).
     pub temperature: Option<f64>,
+    /// Send the language's grammar in this server's field, so an answer cannot fail to parse
+    /// (`None`: unconstrained).
+    pub grammar: Option<GrammarField>,
+}
+
+/// Where a server takes a grammar to constrain decoding to (GBNF in each case).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GrammarField {
+    /// llama.cpp's server: `grammar`.
+    LlamaCpp,
+    /// vLLM: `structured_outputs: {"grammar": …}`.
+    Vllm,
+    /// SGLang: `ebnf`.
+    Sglang,
+}
+
+impl GrammarField {
+    /// Puts `grammar` into a request body.
+    pub fn put(self, body: &mut serde_json::Value, grammar: String) {
+        match self {
+            GrammarField::LlamaCpp => body["grammar"] = serde_json::json!(grammar),
+            GrammarField::Vllm => {
+                body["structured_outputs"] = serde_json::json!({ "grammar": grammar })
+            }
+            GrammarField::Sglang => body["ebnf"] = serde_json::json!(grammar),
+        }
+    }
 }
 
 impl Default for LlmConfig {
@@ -95,6 +124,7 @@ impl Default for LlmConfig {
             backoff: Duration::from_secs(1),
             max_backoff: Duration::from_secs(60),
             temperature: Some(0.0),
+            grammar: None,
         }
     }
 }
@@ -235,6 +265,17 @@ impl Client {
         messages: &[Message],
         temperature: Option<f64>,
     ) -> Result<Completion, ClientError> {
+        self.complete_as(messages, temperature, Answer::Program)
+    }
+
+    /// [`Client::complete_at`] for an answer of this kind: with a configured
+    /// [`LlmConfig::grammar`], the grammar of `answer` is sent with the request.
+    pub fn complete_as(
+        &self,
+        messages: &[Message],
+        temperature: Option<f64>,
+        answer: Answer,
+    ) -> Result<Completion, ClientError> {
         let url = self.config.endpoint();
         let mut body = serde_json::json!({
             "model": self.config.model,
@@ -243,6 +284,9 @@ impl Client {
         });
         if let Some(t) = temperature {
             body["temperature"] = serde_json::json!(t);
+        }
+        if let Some(field) = self.config.grammar {
+            field.put(&mut body, scenalog_rules::grammar::gbnf(answer));
         }
         let body = body.to_string();
         let mut attempts = 0u32;

@@ -15,6 +15,7 @@ use crate::extract::{extract, with_description, Extracted};
 use crate::repair::{self, Transcript};
 use crate::usage::Usage;
 use crate::Synthesizer;
+use scenalog_rules::grammar::Answer;
 
 /// What a program matches on the logs of a search, in words for the model, or why it could not
 /// be run. Made by the caller that has the logs (the command's library).
@@ -126,20 +127,20 @@ pub fn evidence_message(description: &str, evidence: &str) -> String {
 
 /// The verdict on an answer, before any revision is checked: keep (`KEEP` and no program, or
 /// the same program), a revision (its program), or unclear.
-pub(crate) enum Answer {
+pub(crate) enum Reading {
     Keep,
     Revision,
     Unclear,
 }
 
 /// Reads the model's answer to the evidence about `shown` (for `description`).
-pub(crate) fn read_answer(answer: &str, shown: &str, description: &str) -> Answer {
+pub(crate) fn read_answer(answer: &str, shown: &str, description: &str) -> Reading {
     match extract(answer) {
         Extracted::Program(code) => {
             if with_description(&code, description).trim() == shown.trim() {
-                Answer::Keep
+                Reading::Keep
             } else {
-                Answer::Revision
+                Reading::Revision
             }
         }
         Extracted::NoCode => {
@@ -150,9 +151,9 @@ pub(crate) fn read_answer(answer: &str, shown: &str, description: &str) -> Answe
                     .split(|c: char| !c.is_ascii_alphabetic())
                     .any(|w| w == KEEP);
             if keep {
-                Answer::Keep
+                Reading::Keep
             } else {
-                Answer::Unclear
+                Reading::Unclear
             }
         }
     }
@@ -195,7 +196,7 @@ pub(crate) fn ask(
         shown.trim()
     )));
     messages.push(Message::user(evidence_message(description, &told)));
-    let (answer, cached, usage) = match synth.complete_sample(&messages, 0) {
+    let (answer, cached, usage) = match synth.complete_answer(&messages, 0, Answer::ProgramOrKeep) {
         Ok(a) => a,
         Err(e) => {
             record.verdict = Verdict::Unreachable {
@@ -208,12 +209,12 @@ pub(crate) fn ask(
     record.cached = cached;
     record.usage = usage;
     match read_answer(&answer, shown, description) {
-        Answer::Keep => (record, None),
-        Answer::Unclear => {
+        Reading::Keep => (record, None),
+        Reading::Unclear => {
             record.verdict = Verdict::Unclear;
             (record, None)
         }
-        Answer::Revision => {
+        Reading::Revision => {
             // Round 1 of the revision is this answer; its tokens are counted in this round.
             let first = Some((answer, cached, Usage::default()));
             let revision = repair::converse(synth, description, messages, 0, first);
@@ -234,7 +235,7 @@ mod tests {
     #[test]
     fn answers_are_read_as_keep_revision_or_unclear() {
         let shown = "// description: d\nreferred(V, T) :- present(V, T).\n";
-        let keep = |a: &str| matches!(read_answer(a, shown, "d"), Answer::Keep);
+        let keep = |a: &str| matches!(read_answer(a, shown, "d"), Reading::Keep);
         assert!(keep("KEEP"));
         assert!(keep("  Keep. "));
         assert!(keep("The matches look right. KEEP"));
@@ -248,12 +249,12 @@ mod tests {
                 shown,
                 "d"
             ),
-            Answer::Revision
+            Reading::Revision
         ));
         assert!(matches!(
             read_answer("I would not keep it as is", shown, "d"),
-            Answer::Unclear
+            Reading::Unclear
         ));
-        assert!(matches!(read_answer("", shown, "d"), Answer::Unclear));
+        assert!(matches!(read_answer("", shown, "d"), Reading::Unclear));
     }
 }

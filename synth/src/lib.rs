@@ -36,10 +36,11 @@ use std::sync::Mutex;
 
 pub use batch::{BatchItem, BatchOptions, BatchReport, ItemStatus};
 pub use cache::Cache;
-pub use client::{Client, ClientError, LlmConfig, Message};
+pub use client::{Client, ClientError, GrammarField, LlmConfig, Message};
 pub use evidence::{Evidence, EvidenceRound, Verdict};
 pub use library::Example;
 pub use repair::{Outcome, Round, Transcript};
+pub use scenalog_rules::grammar::Answer;
 pub use search::{MatchKey, Matcher, Search};
 pub use usage::{Price, Usage};
 
@@ -252,7 +253,23 @@ impl Synthesizer {
         messages: &[Message],
         sample: usize,
     ) -> Result<(String, bool, Usage), ClientError> {
-        let key = Cache::sample_key(&self.config.llm.model, messages, sample);
+        self.complete_answer(messages, sample, Answer::Program)
+    }
+
+    /// [`Synthesizer::complete_sample`] for an answer of this kind (a program, or a program or
+    /// `KEEP`): what grammar is sent when [`LlmConfig::grammar`] is set. A constrained answer is
+    /// cached apart from an unconstrained one.
+    pub fn complete_answer(
+        &self,
+        messages: &[Message],
+        sample: usize,
+        answer: Answer,
+    ) -> Result<(String, bool, Usage), ClientError> {
+        let model = match self.config.llm.grammar {
+            Some(_) => format!("{} (grammar {answer:?})", self.config.llm.model),
+            None => self.config.llm.model.clone(),
+        };
+        let key = Cache::sample_key(&model, messages, sample);
         if let Some(cache) = &self.cache {
             if let Some(text) = cache.get(&key) {
                 self.cache_hits.fetch_add(1, Ordering::Relaxed);
@@ -266,12 +283,12 @@ impl Synthesizer {
                 return Err(ClientError::Budget { limit, spent });
             }
         }
-        let answer = if sample == 0 {
-            self.client.complete_with_usage(messages)?
+        let temperature = if sample == 0 {
+            self.config.llm.temperature
         } else {
-            self.client
-                .complete_at(messages, Some(self.config.sample_temperature))?
+            Some(self.config.sample_temperature)
         };
+        let answer = self.client.complete_as(messages, temperature, answer)?;
         let usage = answer.usage.unwrap_or_else(Usage::missing);
         self.requests.fetch_add(1, Ordering::Relaxed);
         {

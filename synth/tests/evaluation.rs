@@ -25,6 +25,7 @@ fn config(server: &Server) -> SynthConfig {
             backoff: Duration::from_millis(10),
             max_backoff: Duration::from_millis(50),
             temperature: Some(0.0),
+            grammar: None,
         },
         cache_dir: None,
         rounds: 3,

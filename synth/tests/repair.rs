@@ -26,6 +26,7 @@ fn llm(server: &Server) -> LlmConfig {
         backoff: Duration::from_millis(10),
         max_backoff: Duration::from_millis(200),
         temperature: Some(0.0),
+        grammar: None,
     }
 }
 

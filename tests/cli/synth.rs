@@ -1203,3 +1203,61 @@ fn the_evidence_round_shows_the_model_its_matches_and_keeps_a_revision() {
         stderr(&o)
     );
 }
+
+/// `--grammar SERVER` sends the language's grammar in that server's field (the evidence round's
+/// grammar also allows `KEEP`), and `--print-grammar` prints the one sent for a program;
+/// without it no grammar is sent.
+#[test]
+fn grammar_is_sent_in_the_servers_field() {
+    let printed = scenalog(&["--print-grammar"], &[]);
+    assert_eq!(printed.status.code(), Some(0), "{}", stderr(&printed));
+    let grammar = stdout(&printed);
+    assert!(grammar.contains("\nroot ::= "), "{grammar}");
+    for (server, path) in [
+        ("llama-cpp", "/grammar"),
+        ("vllm", "/structured_outputs/grammar"),
+        ("sglang", "/ebnf"),
+    ] {
+        let s = Server::scripted(vec![program(GOOD), Reply::Completion("KEEP".into())]);
+        let dir = tempfile::tempdir().expect("tempdir");
+        let transcript = dir.path().join("t.json");
+        let o = on_sample_logs(
+            "vehicle making a left turn",
+            &["--grammar", server, "--evidence-rounds", "1"],
+            &s,
+            &transcript,
+        );
+        assert_eq!(o.status.code(), Some(0), "{server}: {}", stderr(&o));
+        let reqs = s.requests();
+        assert_eq!(reqs.len(), 2, "{server}");
+        let sent = reqs[0].json.pointer(path).and_then(|g| g.as_str());
+        assert_eq!(
+            sent,
+            Some(grammar.trim_end())
+                .map(|g| format!("{g}\n"))
+                .as_deref(),
+            "{server}"
+        );
+        let keep = reqs[1]
+            .json
+            .pointer(path)
+            .and_then(|g| g.as_str())
+            .unwrap_or_default();
+        assert!(keep.contains("root ::= \"KEEP\" ws | "), "{server}: {keep}");
+    }
+    let s = Server::scripted(vec![program(GOOD)]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let o = on_sample_logs(
+        "vehicle making a left turn",
+        &[],
+        &s,
+        &dir.path().join("t.json"),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let body = &s.requests()[0].json;
+    assert!(
+        body.get("grammar").is_none()
+            && body.get("structured_outputs").is_none()
+            && body.get("ebnf").is_none()
+    );
+}
