@@ -58,6 +58,8 @@ pub enum Field {
     Candidates,
     /// Evidence rounds after a synthesis search (`--evidence-rounds`, `evidence_rounds`).
     EvidenceRounds,
+    /// The server whose grammar field synthesis fills (`--grammar`, `grammar`).
+    Grammar,
 }
 
 impl Field {
@@ -86,6 +88,7 @@ impl Field {
             Field::Frames => "--frames",
             Field::Candidates => "--candidates",
             Field::EvidenceRounds => "--evidence-rounds",
+            Field::Grammar => "--grammar",
         }
     }
 
@@ -114,6 +117,7 @@ impl Field {
             Field::Frames => "frames",
             Field::Candidates => "candidates",
             Field::EvidenceRounds => "evidence_rounds",
+            Field::Grammar => "grammar",
         }
     }
 }

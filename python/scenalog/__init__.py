@@ -9,6 +9,8 @@ other threads run meanwhile, and Ctrl-C interrupts a call):
 - ``mine(rules, logs, ...)`` -> ``MineResult`` (matches, predictions as a ``pyarrow.Table``, ...)
 - ``explain(rules, log, track, at)`` -> the proof / why-not report as a dict
 - ``evaluate(predictions, ground_truth, dataset_dir=None)`` -> the official metrics as a dict
+- ``synthesize(description, candidates=K, ...)`` -> ``Synthesis`` (a program written by an LLM
+  server, checked, repaired, and with candidates chosen by what they match on logs)
 
 Errors are raised as ``ScenalogError`` carrying the message the command prints, naming this
 package's keyword arguments (``max_tuples``) where the command names its flags
@@ -59,6 +61,8 @@ __all__ = [
     "mine",
     "explain",
     "evaluate",
+    "Synthesis",
+    "synthesize",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -385,3 +389,83 @@ def evaluate(
     ts = None if timestamps is None else json.dumps({str(k): [int(t) for t in v] for k, v in timestamps.items()})
     r = None if rate is None else int(rate)
     return json.loads(_native.evaluate(pk, pv, gk, gv, float(max_range_m), ds, r, ts))
+
+
+@dataclass
+class Synthesis:
+    """What ``synthesize`` returns.
+
+    ``program``: the kept program's text (with its ``// description:`` line), or the last
+    attempt's when none checked clean (``clean`` False); ``transcript``: every round as
+    ``scenalog synth --transcript`` writes it (``rounds``, ``outcome``, and with candidates
+    ``search``: every candidate, what it matched, why the kept one won; ``evidence``: what the
+    model was shown of the kept program's matches and its answer); ``usage``: the tokens the
+    server reported over everything asked."""
+
+    description: str
+    program: Optional[str]
+    clean: bool
+    transcript: Dict[str, Any]
+    usage: Dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def candidates(self) -> List[Dict[str, Any]]:
+        """The search's candidates (empty with one candidate)."""
+        return list((self.transcript.get("search") or {}).get("candidates", []))
+
+
+def synthesize(
+    description: str,
+    *,
+    candidates: int = 1,
+    logs: Union[PathLike, Iterable[PathLike], None] = None,
+    evidence_rounds: Optional[int] = None,
+    grammar: Optional[str] = None,
+    rounds: int = 3,
+    base_url: Optional[str] = None,
+    model: Optional[str] = None,
+    api_key: Optional[str] = None,
+    temperature: Optional[float] = 0.0,
+    timeout_s: int = 300,
+    retries: int = 4,
+    examples: Optional[int] = 8,
+    held_out: bool = False,
+    max_tokens: Optional[int] = None,
+    cache_dir: Optional[PathLike] = None,
+) -> Synthesis:
+    """Writes a program for ``description`` with an OpenAI-compatible LLM server, as
+    ``scenalog synth`` does: the checker's diagnostics sent back for up to ``rounds`` rounds;
+    with ``candidates`` above 1, that many candidates, each clean one run on ``logs`` (default:
+    the sample logs) and the one whose matches agree most with the others' kept; then
+    ``evidence_rounds`` rounds (default 1 with candidates, else 0) showing the model what the
+    kept program matches, which it keeps or revises. ``grammar`` (``"llama-cpp"``, ``"vllm"``
+    or ``"sglang"``) sends the language's grammar in that server's field. The server, model and
+    key default to ``SCENALOG_LLM_BASE_URL``, ``SCENALOG_LLM_MODEL`` and
+    ``SCENALOG_LLM_API_KEY``; ``temperature=None`` sends none. Answers are cached in
+    ``cache_dir`` when given. An unreachable server is a ``ScenalogError``."""
+    text = _native.synthesize(
+        description,
+        candidates=candidates,
+        logs=_paths("logs", logs),
+        evidence_rounds=evidence_rounds,
+        grammar=grammar,
+        rounds=rounds,
+        base_url=base_url,
+        model=model,
+        api_key=api_key,
+        temperature=None if temperature is None else float(temperature),
+        timeout_s=timeout_s,
+        retries=retries,
+        examples=examples,
+        held_out=held_out,
+        max_tokens=max_tokens,
+        cache_dir=None if cache_dir is None else os.fspath(cache_dir),
+    )
+    t = json.loads(text)
+    return Synthesis(
+        description=t.get("description", description),
+        program=t.get("program"),
+        clean=bool(t.get("clean")),
+        transcript=t,
+        usage=t.get("usage") or {},
+    )

@@ -29,6 +29,7 @@ use scenalog::api::explain::ExplainRequest;
 use scenalog::api::facts::{Facts, FactsRequest};
 use scenalog::api::mine::MineRequest;
 use scenalog::api::split::SplitRequest;
+use scenalog::api::synth::{OneRequest, SynthSettings};
 use scenalog::api::{Error, ErrorKind, Limits, Message, Names};
 
 pyo3::create_exception!(
@@ -409,6 +410,86 @@ fn log_dirs(logs: Vec<PathBuf>) -> PyResult<FoundLogs> {
     ))
 }
 
+/// Synthesizes a program for `description` with the LLM server (as `scenalog synth`), with
+/// `candidates` candidates run on `logs` (none: the sample logs) and `evidence_rounds`; returns
+/// the transcript as JSON (`rounds`, `outcome`, and with candidates `search` and `evidence`)
+/// with the kept `program` and whether it is `clean`. An unreachable server, or a budget spent
+/// before any answer, is a `ScenalogError`.
+#[pyfunction]
+#[pyo3(signature = (description, candidates=1, logs=Vec::new(), evidence_rounds=None, grammar=None, rounds=3, base_url=None, model=None, api_key=None, temperature=Some(0.0), timeout_s=300, retries=4, examples=Some(8), held_out=false, max_tokens=None, cache_dir=None))]
+#[allow(clippy::too_many_arguments)]
+fn synthesize(
+    py: Python<'_>,
+    description: String,
+    candidates: i64,
+    logs: Vec<PathBuf>,
+    evidence_rounds: Option<i64>,
+    grammar: Option<String>,
+    rounds: i64,
+    base_url: Option<String>,
+    model: Option<String>,
+    api_key: Option<String>,
+    temperature: Option<f64>,
+    timeout_s: i64,
+    retries: i64,
+    examples: Option<i64>,
+    held_out: bool,
+    max_tokens: Option<i64>,
+    cache_dir: Option<PathBuf>,
+) -> PyResult<String> {
+    let whole = |name: &str, v: i64| -> PyResult<usize> {
+        usize::try_from(v)
+            .map_err(|_| PyValueError::new_err(format!("{name}: expected 0 or more, got {v}")))
+    };
+    let grammar = grammar
+        .map(|g| scenalog::api::synth::grammar_field(&g))
+        .transpose()
+        .map_err(|e| api_err(e, None))?;
+    let settings = SynthSettings {
+        cache_dir,
+        rounds: whole("rounds", rounds)?.max(1),
+        base_url,
+        model,
+        api_key,
+        temperature,
+        timeout: std::time::Duration::from_secs(whole("timeout_s", timeout_s)? as u64),
+        retries: whole("retries", retries)? as u32,
+        examples: examples.map(|e| whole("examples", e)).transpose()?,
+        library: None,
+        held_out,
+        candidates: whole("candidates", candidates)?,
+        match_logs: logs,
+        match_limits: Limits::default(),
+        max_tokens: count("max_tokens", max_tokens)?,
+        evidence_rounds: evidence_rounds
+            .map(|n| whole("evidence_rounds", n))
+            .transpose()?,
+        grammar,
+    };
+    let work = move || -> Result<String, Error> {
+        let configured = scenalog::api::synth::config(&settings, None)?;
+        let synth = scenalog::api::synth::synthesizer(configured.config)?;
+        let done = scenalog::api::synth::synthesize_one(
+            &synth,
+            &OneRequest {
+                description,
+                output: None,
+                transcript: None,
+            },
+        )?;
+        let t = &done.transcript;
+        if let scenalog::api::synth::Outcome::Unreachable { error } = &t.outcome {
+            return Err(Error::plain(error.clone()));
+        }
+        let mut json: serde_json::Value = serde_json::from_str(&t.to_json()).unwrap_or_default();
+        json["program"] = serde_json::json!(t.program());
+        json["clean"] = serde_json::json!(t.is_clean());
+        json["usage"] = serde_json::json!(t.usage());
+        Ok(json.to_string())
+    };
+    interruptible(py, work)?.map_err(|e| api_err(e, None))
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -425,5 +506,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(join_pickles, m)?)?;
     m.add_function(wrap_pyfunction!(rule_files, m)?)?;
     m.add_function(wrap_pyfunction!(log_dirs, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesize, m)?)?;
     Ok(())
 }

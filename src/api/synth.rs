@@ -97,6 +97,22 @@ pub fn grammar() -> String {
     scenalog_rules::grammar::gbnf(scenalog_rules::grammar::Answer::Program)
 }
 
+/// The server a grammar is sent to, by name: `llama-cpp`, `vllm` or `sglang`.
+///
+/// # Errors
+/// Another name: an invalid value naming the choices.
+pub fn grammar_field(name: &str) -> Result<GrammarField, Error> {
+    match name {
+        "llama-cpp" => Ok(GrammarField::LlamaCpp),
+        "vllm" => Ok(GrammarField::Vllm),
+        "sglang" => Ok(GrammarField::Sglang),
+        other => Err(invalid(
+            Field::Grammar,
+            format!("expected llama-cpp, vllm or sglang, got {other:?}"),
+        )),
+    }
+}
+
 /// The most evidence rounds a synthesis may have.
 pub const MAX_EVIDENCE_ROUNDS: usize = 5;
 
