@@ -53,6 +53,11 @@ pub const AGGREGATE_OVER_TIME: &str = "W0507";
 /// A `related` rule that is not tied to `referred`: pairs whose first object is not referred at
 /// that frame.
 pub const RELATED_NOT_REFERRED: &str = "W0508";
+/// A program defines a relation of a prelude concept's name, with the prelude's arity: its
+/// definition replaces the prelude's everywhere in the program.
+pub const REDEFINED_PRELUDE: &str = "W0509";
+/// A program defines a relation of a prelude concept's name with another number of columns.
+pub const PRELUDE_ARITY: &str = "E0407";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -66,6 +71,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     CROSS_PRODUCT,
     AGGREGATE_OVER_TIME,
     RELATED_NOT_REFERRED,
+    REDEFINED_PRELUDE,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -114,6 +120,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         Severity::Error,
         "too many variables in one rule",
     ),
+    (
+        PRELUDE_ARITY,
+        Severity::Error,
+        "prelude concept redefined with another arity",
+    ),
     (SINGLETON, Severity::Warning, "variable used once"),
     (
         EMPTY_PREDICATE,
@@ -149,6 +160,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         RELATED_NOT_REFERRED,
         Severity::Warning,
         "related not tied to referred",
+    ),
+    (
+        REDEFINED_PRELUDE,
+        Severity::Warning,
+        "prelude concept redefined",
     ),
 ];
 

@@ -239,6 +239,70 @@ fn needed(program: &Program) -> (Vec<&'static PreludeRelation>, BTreeMap<String,
     (chosen, shadowed)
 }
 
+/// The program's own definitions of prelude concepts: a warning ([`diagnostics::REDEFINED_PRELUDE`])
+/// for each relation the program defines under a prelude name with the prelude's arity (its
+/// definition replaces the prelude's, which the warning quotes), an error
+/// ([`diagnostics::PRELUDE_ARITY`]) where the arity differs. Names a used prelude relation
+/// depends on are [`extend`]'s error instead.
+pub fn redefinitions(program: &Program) -> Vec<Diagnostic> {
+    let (_, shadowed) = needed(program);
+    let mut seen: BTreeSet<&str> = BTreeSet::new();
+    let mut out = Vec::new();
+    let heads = program
+        .clauses
+        .iter()
+        .map(|c| (c.head.pred.as_str(), c.head.pred_span, c.head.args.len()));
+    let decls = program
+        .decls
+        .iter()
+        .map(|d| (d.name.as_str(), d.name_span, d.columns.len()));
+    for (name, span, arity) in decls.chain(heads) {
+        let Some(r) = relation(name) else { continue };
+        if shadowed.contains_key(name) || !seen.insert(name) {
+            continue;
+        }
+        let line = parsed()
+            .program
+            .clauses
+            .iter()
+            .find(|c| c.head.pred == name)
+            .map_or(0, |c| SOURCE[..c.span.start].matches('\n').count() + 1);
+        let prelude = format!(
+            "{} ({PATH}:{line}: `{}`)",
+            r.signature(),
+            r.definition.first().map_or("", String::as_str)
+        );
+        let d = if arity != r.columns.len() {
+            error(
+                diagnostics::PRELUDE_ARITY,
+                span,
+                format!(
+                    "`{name}` is a prelude concept with {} columns, {prelude}; this program defines a `{name}` of {arity}",
+                    r.columns.len()
+                ),
+            )
+            .with_hint(format!(
+                "name your relation differently (e.g. `my_{name}`), or use the prelude's `{}`",
+                r.signature()
+            ))
+        } else {
+            diagnostics::warning(
+                diagnostics::REDEFINED_PRELUDE,
+                span,
+                format!(
+                    "`{name}` is a prelude concept, {prelude}; this program's definition replaces it"
+                ),
+            )
+            .with_hint(format!(
+                "to mean the prelude's `{name}`, delete these clauses and use it; for a variant, \
+                 give it its own name (e.g. `{name}_here`)"
+            ))
+        };
+        out.push(d);
+    }
+    out
+}
+
 /// Adds to `program` the declarations and clauses of the prelude relations it needs, their spans
 /// moved to start at `offset` (past the program's own text, so a span tells whose text it is),
 /// and returns their names with an error for each program relation that shadows a name a needed
@@ -509,6 +573,8 @@ mod tests {
             .diagnostics
             .iter()
             .filter(|d| d.span.start < SOURCE.len())
+            // The prelude defines its own concepts, of course.
+            .filter(|d| d.code != diagnostics::REDEFINED_PRELUDE)
             .map(|d| {
                 format!(
                     "{}: {} at {:?}",

@@ -416,9 +416,45 @@ fn e0405_a_helper_named_like_what_a_used_prelude_relation_needs() {
     let src = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- waiting(X, T).\n";
     let d = expect(src, "E0405", "stopped", "another name");
     assert!(d.message.contains("`waiting`"), "{}", d.message);
-    // Its own variant of a concept it uses directly is its right.
+    // Its own variant of a concept it uses directly is allowed, with W0509 saying so.
     let own = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- stopped(X, T).\n";
-    assert!(diags(own).is_empty(), "{:#?}", diags(own));
+    let codes: Vec<&str> = diags(own).iter().map(|d| d.code).collect();
+    assert_eq!(codes, vec!["W0509"], "{:#?}", diags(own));
+}
+
+#[test]
+fn w0509_a_prelude_concept_redefined_is_said_with_the_prelude_s_definition() {
+    // Parked cars are stopped in the prelude; this local `stopped` leaves them out in silence.
+    let src = "stopped(X, T) :- speed(X, T, V), V < 0.5, !stationary(X).\n\
+               referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).\n";
+    let d = expect(src, "W0509", "stopped", "delete these clauses");
+    assert!(
+        d.message
+            .contains("rules/prelude.dl:15: `stopped(X, T) :- speed(X, T, V), V < 0.5.`"),
+        "{}",
+        d.message
+    );
+    // A variant under its own name is no warning.
+    let variant = src.replace("stopped(", "stopped_active(");
+    assert!(diags(&variant).is_empty(), "{:#?}", diags(&variant));
+    // Declared and defined: one warning, at the declaration.
+    let declared = format!(".decl stopped(X: track, T: time)\n{src}");
+    let w: Vec<Diagnostic> = diags(&declared)
+        .into_iter()
+        .filter(|d| d.code == "W0509")
+        .collect();
+    assert_eq!(w.len(), 1, "{w:#?}");
+    assert_eq!(&declared[w[0].span.start..w[0].span.end], "stopped");
+    assert!(w[0].span.start < 20);
+}
+
+#[test]
+fn e0407_a_prelude_concept_redefined_with_another_arity() {
+    let src = "nearby(A, B) :- category(A, \"BUS\"), category(B, \"PEDESTRIAN\").\n\
+               referred(V, T) :- nearby(V, _), present(V, T).\n";
+    let d = expect(src, "E0407", "nearby", "my_nearby");
+    assert!(d.message.contains("3 columns"), "{}", d.message);
+    assert!(d.message.contains("of 2"), "{}", d.message);
 }
 
 #[test]

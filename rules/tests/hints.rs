@@ -193,18 +193,18 @@ fn souffle_directives_are_deleted_and_souffle_types_renamed() {
         "referred(X, T) :- present(X, T).\n",
     );
     fixes_to(
-        ".decl fast(X: symbol, N: number)\nfast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+        ".decl swift(X: symbol, N: number)\nswift(\"a\", 1).\nreferred(X, T) :- present(X, T), swift(\"a\", N), N > 0.\n",
         "E0001",
         "symbol",
-        "drop the line `.decl fast(X: symbol, N: number)`",
-        "fast(\"a\", 1).\nreferred(X, T) :- present(X, T), fast(\"a\", N), N > 0.\n",
+        "drop the line `.decl swift(X: symbol, N: number)`",
+        "swift(\"a\", 1).\nreferred(X, T) :- present(X, T), swift(\"a\", N), N > 0.\n",
     );
     fixes_to(
-        ".decl fast(X: symbol)\nfast(\"a\").\nreferred(X, T) :- present(X, T), fast(\"a\").\n",
+        ".decl swift(X: symbol)\nswift(\"a\").\nreferred(X, T) :- present(X, T), swift(\"a\").\n",
         "E0001",
         "symbol",
-        "`.decl fast(X: str)`",
-        ".decl fast(X: str)\nfast(\"a\").\nreferred(X, T) :- present(X, T), fast(\"a\").\n",
+        "`.decl swift(X: str)`",
+        ".decl swift(X: str)\nswift(\"a\").\nreferred(X, T) :- present(X, T), swift(\"a\").\n",
     );
     fixes_to(
         ".decl referred(X: symbol, T: number)\nreferred(X, T) :- present(X, T).\n",

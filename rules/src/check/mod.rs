@@ -137,6 +137,11 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let prelude = if diags.iter().any(|d| d.is_error()) {
         Vec::new()
     } else {
+        // Prelude names are the scenario vocabulary; a general Datalog program (`run`) is free
+        // to use them for its own relations.
+        if options.require_referred {
+            diags.extend(crate::prelude::redefinitions(&program));
+        }
         let (names, shadowed) = crate::prelude::extend(&mut program, prelude_at);
         diags.extend(shadowed);
         names
