@@ -53,6 +53,9 @@ pub const AGGREGATE_OVER_TIME: &str = "W0507";
 /// A `related` rule that is not tied to `referred`: pairs whose first object is not referred at
 /// that frame.
 pub const RELATED_NOT_REFERRED: &str = "W0508";
+/// An aggregate whose braces share no variable with the rest of its clause: the same value
+/// for every object and frame.
+pub const UNTIED_AGGREGATE: &str = "W0510";
 /// A program defines a relation of a prelude concept's name, with the prelude's arity: its
 /// definition replaces the prelude's everywhere in the program.
 pub const REDEFINED_PRELUDE: &str = "W0509";
@@ -72,6 +75,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     AGGREGATE_OVER_TIME,
     RELATED_NOT_REFERRED,
     REDEFINED_PRELUDE,
+    UNTIED_AGGREGATE,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -165,6 +169,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         REDEFINED_PRELUDE,
         Severity::Warning,
         "prelude concept redefined",
+    ),
+    (
+        UNTIED_AGGREGATE,
+        Severity::Warning,
+        "aggregate tied to nothing",
     ),
 ];
 

@@ -560,3 +560,46 @@ fn e0002_nesting_limit_is_64_levels_for_every_construct() {
         assert!(too_deep(65), "{what}: 65 levels must be E0002");
     }
 }
+
+#[test]
+fn w0510_an_aggregate_tied_to_nothing_folds_over_the_whole_log() {
+    let src = "referred(V, T) :- category(V, \"BUS\"), present(V, T), N = count : { category(P, \"PEDESTRIAN\") }, N >= 3.\n";
+    let d = expect(
+        src,
+        "W0510",
+        "N = count : { category(P, \"PEDESTRIAN\") }",
+        "`present(P, T)`",
+    );
+    assert!(
+        d.message.contains("the same for every V, T"),
+        "{}",
+        d.message
+    );
+    // Either tie the hint names checks without it.
+    for tied in [
+        src.replace("\"PEDESTRIAN\") }", "\"PEDESTRIAN\"), present(P, T) }"),
+        src.replace(
+            "\"PEDESTRIAN\") }",
+            "\"PEDESTRIAN\"), near(V, P, T, D), D < 10.0 }",
+        ),
+    ] {
+        assert!(
+            diags(&tied).iter().all(|x| x.code != "W0510"),
+            "{tied}: {:#?}",
+            diags(&tied)
+        );
+    }
+    // A general Datalog program may count everything on purpose.
+    let run = "total(N) :- N = count : { e(_, _) }.\nper(X, N) :- e(X, _), N = count : { e(_, _) }.\ne(1, 2).\n";
+    let general = check(
+        run,
+        &CheckOptions {
+            require_referred: false,
+        },
+    );
+    assert!(
+        general.diagnostics.iter().all(|x| x.code != "W0510"),
+        "{:#?}",
+        general.diagnostics
+    );
+}

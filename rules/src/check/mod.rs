@@ -7,6 +7,7 @@ pub mod meaning;
 pub mod preds;
 pub mod safety;
 pub mod types;
+pub mod untied;
 
 use std::collections::BTreeMap;
 
@@ -152,6 +153,10 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     for c in &program.clauses {
         safety::check_clause(c, &mut diags);
         counts::check_clause(c, &mut diags);
+        // A general Datalog program (`run`) may fold over everything on purpose.
+        if options.require_referred {
+            untied::check_clause(c, &mut diags);
+        }
     }
     binders::refine(source, &program, &inferred, &mut diags[first_safety..]);
     let (strata, cycle_diags) = strata::stratify(&program);
