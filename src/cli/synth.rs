@@ -376,6 +376,22 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
                     search.candidates.len(),
                     search.reason
                 );
+                for c in &search.candidates {
+                    let matched = match (&c.matched, &c.match_error) {
+                        (Some(n), _) => format!("matched {n} boxes"),
+                        (None, Some(e)) => format!("could not run ({e})"),
+                        (None, None) => "not clean".to_string(),
+                    };
+                    let agreement = c
+                        .agreement
+                        .map(|a| format!(", agreement {a:.3}"))
+                        .unwrap_or_default();
+                    eprintln!(
+                        "scenalog synth:   candidate {}: {matched}{agreement}; {}",
+                        c.sample,
+                        api::tokens_line(&c.transcript.usage(), args.price.as_ref())
+                    );
+                }
             }
             for round in &t.evidence {
                 eprintln!("scenalog synth: {}", round.summary());

@@ -977,6 +977,16 @@ fn candidates_run_on_the_logs_and_the_majoritys_meaning_is_kept() {
     assert_ne!(candidates[0]["matched"], candidates[1]["matched"]);
     assert!(candidates[1]["matched"].as_u64().expect("matched") > 0);
     assert!(candidates[0]["agreement"].as_f64() < candidates[1]["agreement"].as_f64());
+    // Each candidate's line: what it matched, its agreement, its tokens.
+    let err = stderr(&o);
+    assert!(
+        err.contains("  candidate 2: matched 633 boxes, agreement 0.667; tokens: 200 uncached input, 0 cached input, 20 output"),
+        "two rounds: {err}"
+    );
+    assert!(
+        err.contains("  candidate 0: matched 654 boxes, agreement 0.000;"),
+        "{err}"
+    );
     // Every candidate's tokens and the evidence round's: 6 completions of 100 in.
     assert!(
         stderr(&o).contains("600 uncached input") && stderr(&o).contains("51 output"),
