@@ -1,8 +1,8 @@
 //! The evidence a synthesis search shows the model about its chosen program (`synth
 //! --candidates K`, the evidence round): what the program matches on the search's logs, in
-//! words. How many tracks and frames it matches per category; the longest match (the track
-//! referred in the longest run of frames) with the proof `scenalog explain` gives at its middle
-//! frame; and for a program that matches nothing, its nearest misses: the tracks whose why-not
+//! words. How many tracks and frames it matches per category and on how many of the logs; the
+//! longest match (the track referred in the longest run of frames) with the proof `scenalog
+//! explain` gives at its middle frame; and for a program that matches nothing, its nearest misses: the tracks whose why-not
 //! report holds the most literals before one fails, with the literal that fails and the values
 //! that failed it (as `scenalog explain --why-not` prints them).
 //!
@@ -41,6 +41,7 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
     // (frames in the longest run, log index, track, the run's middle frame)
     let mut longest: Option<(usize, usize, TrackId, Frame)> = None;
     let mut total_frames = 0;
+    let mut logs_matched = 0;
     // Each log's referred frames by track, the logs in parallel as `mine` runs them.
     let per_log: Vec<Result<BTreeMap<TrackId, Vec<Frame>>, String>> = scenes
         .par_iter()
@@ -56,7 +57,9 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
         })
         .collect();
     for (l, (scene, by_track)) in scenes.iter().zip(per_log).enumerate() {
-        for (track, mut frames) in by_track? {
+        let by_track = by_track?;
+        logs_matched += usize::from(!by_track.is_empty());
+        for (track, mut frames) in by_track {
             frames.sort_unstable();
             frames.dedup();
             total_frames += frames.len();
@@ -76,9 +79,11 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
     };
     let tracks: usize = per_category.values().map(|c| c.0).sum();
     let mut text = format!(
-        "On the {logs} your program matches {} over {} in all:\n",
+        "On the {logs} your program matches {} over {} in all, on {} of the {}:\n",
         plural(tracks, "track"),
-        plural(total_frames, "frame")
+        plural(total_frames, "frame"),
+        logs_matched,
+        plural(scenes.len(), "log"),
     );
     for (category, (t, f)) in &per_category {
         text.push_str(&format!(
@@ -325,6 +330,7 @@ mod tests {
             text.starts_with("On the 3 logs your program matches "),
             "{text}"
         );
+        assert!(text.contains(", on 3 of the 3 logs:\n"), "{text}");
         assert!(text.contains("\n- REGULAR_VEHICLE: "), "{text}");
         assert_eq!(text.matches("\n- ").count(), 1, "one category: {text}");
         assert!(text.contains("The longest match: track "), "{text}");
