@@ -478,7 +478,9 @@ fn synthesize(
             },
         )?;
         let t = &done.transcript;
-        if let scenalog::api::synth::Outcome::Unreachable { error } = &t.outcome {
+        if let scenalog::api::synth::Outcome::Unreachable { error }
+        | scenalog::api::synth::Outcome::OverBudget { error } = &t.outcome
+        {
             return Err(Error::plain(error.clone()));
         }
         let mut json: serde_json::Value = serde_json::from_str(&t.to_json()).unwrap_or_default();

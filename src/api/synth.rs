@@ -271,9 +271,10 @@ pub fn synthesize_one(synth: &Synthesizer, request: &OneRequest) -> Result<OneOu
             .map(|e| e.to_string())
     });
     let diagnostics_file = match (&request.output, &transcript.outcome) {
-        (Some(path), Outcome::Failed | Outcome::Unreachable { .. }) => {
-            Some(batch::diagnostics_path(path))
-        }
+        (
+            Some(path),
+            Outcome::Failed | Outcome::Unreachable { .. } | Outcome::OverBudget { .. },
+        ) => Some(batch::diagnostics_path(path)),
         _ => None,
     };
     Ok(OneOutcome {
@@ -513,6 +514,9 @@ pub fn synthesize(
                 "synthesis of {:?}: the LLM could not be reached: {error}",
                 item.description
             )),
+            (ItemStatus::OverBudget { error }, _) => {
+                problems.push(format!("synthesis of {:?}: {error}", item.description))
+            }
             (ItemStatus::Skipped, _) => problems.push(format!(
                 "synthesis of {:?}: not attempted, an earlier description stopped the batch \
                  (the LLM could not be reached, or the token budget was spent)",

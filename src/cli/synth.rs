@@ -409,11 +409,14 @@ fn one(synth: &Synthesizer, description: &str, args: &Options) -> ExitCode {
         Outcome::Unreachable { error } => {
             report_last(&done, args.output.as_deref());
             eprintln!("scenalog synth: {error}");
-            if !error.starts_with("the token budget") {
-                eprintln!(
-                    "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
-                );
-            }
+            eprintln!(
+                "scenalog synth: set the server with --base-url or {ENV_BASE_URL} (and {ENV_MODEL}, {ENV_API_KEY})"
+            );
+            ExitCode::from(2)
+        }
+        Outcome::OverBudget { error } => {
+            report_last(&done, args.output.as_deref());
+            eprintln!("scenalog synth: {error}");
             ExitCode::from(2)
         }
     }
@@ -464,6 +467,7 @@ fn many(
             ItemStatus::Clean { round } => format!("clean in round {round}"),
             ItemStatus::Failed => "FAILED".to_string(),
             ItemStatus::Unreachable { error } => format!("UNREACHABLE: {error}"),
+            ItemStatus::OverBudget { error } => format!("OVER BUDGET: {error}"),
             ItemStatus::Skipped => "not attempted".to_string(),
         };
         outln!("{}\t{status}\t{}", item.path.display(), item.description);

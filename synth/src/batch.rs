@@ -50,7 +50,13 @@ pub enum ItemStatus {
         /// The client's error.
         error: String,
     },
-    /// Not attempted because the server had already proved unreachable in this batch.
+    /// The token budget was spent before a program checked clean.
+    OverBudget {
+        /// What was spent.
+        error: String,
+    },
+    /// Not attempted: the server had already proved unreachable in this batch, or the token
+    /// budget was spent.
     Skipped,
 }
 
@@ -86,8 +92,10 @@ pub struct Summary {
     pub failed: usize,
     /// The server could not be reached.
     pub unreachable: usize,
-    /// Not attempted after the server proved unreachable.
+    /// Not attempted after the server proved unreachable or the token budget was spent.
     pub skipped: usize,
+    /// Stopped by the token budget before a program checked clean.
+    pub over_budget: usize,
     /// Completions the server answered.
     pub requests: usize,
     /// Completions the cache answered.
@@ -119,6 +127,9 @@ impl std::fmt::Display for Summary {
                 ", {} unreachable, {} not attempted",
                 self.unreachable, self.skipped
             )?;
+        }
+        if self.over_budget > 0 {
+            write!(f, ", {} stopped by the token budget", self.over_budget)?;
         }
         write!(
             f,
@@ -296,6 +307,7 @@ pub fn run(
             }
             ItemStatus::Failed => summary.failed += 1,
             ItemStatus::Unreachable { .. } => summary.unreachable += 1,
+            ItemStatus::OverBudget { .. } => summary.over_budget += 1,
             ItemStatus::Skipped => summary.skipped += 1,
         }
     }
@@ -340,6 +352,12 @@ fn one(
         Outcome::Unreachable { error } => {
             down.store(true, Ordering::Relaxed);
             ItemStatus::Unreachable {
+                error: error.clone(),
+            }
+        }
+        Outcome::OverBudget { error } => {
+            down.store(true, Ordering::Relaxed);
+            ItemStatus::OverBudget {
                 error: error.clone(),
             }
         }

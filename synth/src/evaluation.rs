@@ -447,6 +447,7 @@ pub fn evaluate(
                 item.error = Some(error.clone());
                 item.unreachable = true;
             }
+            Outcome::OverBudget { error } => item.error = Some(error.clone()),
         }
         items.push(item);
     }

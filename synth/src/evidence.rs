@@ -56,9 +56,14 @@ pub enum Verdict {
         /// Why.
         error: String,
     },
-    /// The server could not be reached, or the token budget was spent: the program stays.
+    /// The server could not be reached: the program stays.
     Unreachable {
         /// The client's error.
+        error: String,
+    },
+    /// The token budget was spent: nothing was asked, the program stays.
+    OverBudget {
+        /// What was spent.
         error: String,
     },
 }
@@ -109,7 +114,9 @@ impl EvidenceRound {
             Verdict::NoEvidence { error } => {
                 format!("the program could not be run for its evidence ({error})")
             }
-            Verdict::Unreachable { error } => format!("no answer ({error}); the program stays"),
+            Verdict::Unreachable { error } | Verdict::OverBudget { error } => {
+                format!("no answer ({error}); the program stays")
+            }
         };
         format!("evidence round {}: {what}", self.round)
     }
@@ -199,8 +206,10 @@ pub(crate) fn ask(
     let (answer, cached, usage) = match synth.complete_answer(&messages, 0, Answer::ProgramOrKeep) {
         Ok(a) => a,
         Err(e) => {
-            record.verdict = Verdict::Unreachable {
-                error: e.to_string(),
+            let error = e.to_string();
+            record.verdict = match e {
+                crate::ClientError::Budget { .. } => Verdict::OverBudget { error },
+                _ => Verdict::Unreachable { error },
             };
             return (record, None);
         }

@@ -66,6 +66,22 @@ pub enum Outcome {
         /// The client's error.
         error: String,
     },
+    /// The token budget (`max_tokens`) was spent before a program checked clean.
+    OverBudget {
+        /// What was spent, in words.
+        error: String,
+    },
+}
+
+impl Outcome {
+    /// Whether nothing more may be asked of the server: it could not be reached, or the
+    /// token budget is spent.
+    pub fn stops_asking(&self) -> bool {
+        matches!(
+            self,
+            Outcome::Unreachable { .. } | Outcome::OverBudget { .. }
+        )
+    }
 }
 
 /// Everything that happened while synthesizing one description.
@@ -219,8 +235,10 @@ pub fn converse(
         let (completion, cached, usage) = match answer {
             Ok(c) => c,
             Err(e) => {
-                transcript.outcome = Outcome::Unreachable {
-                    error: e.to_string(),
+                let error = e.to_string();
+                transcript.outcome = match e {
+                    crate::ClientError::Budget { .. } => Outcome::OverBudget { error },
+                    _ => Outcome::Unreachable { error },
                 };
                 return transcript;
             }

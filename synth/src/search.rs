@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::evidence::Verdict;
 use crate::extract::one_line;
-use crate::repair::{self, Outcome, Transcript};
+use crate::repair::{self, Transcript};
 use crate::Synthesizer;
 
 /// The temperature candidates after the first are sampled at, unless configured otherwise.
@@ -191,9 +191,9 @@ pub fn run(synth: &Synthesizer, description: &str) -> Transcript {
     let mut transcripts: Vec<Transcript> = Vec::with_capacity(k);
     for sample in 0..k {
         let t = repair::run_sample(synth, &description, sample);
-        let unreachable = matches!(t.outcome, Outcome::Unreachable { .. });
+        let stop = t.outcome.stops_asking();
         transcripts.push(t);
-        if unreachable {
+        if stop {
             break;
         }
     }
@@ -367,9 +367,9 @@ mod tests {
                 },
             )],
             outcome: if clean {
-                Outcome::Clean { round: 1 }
+                repair::Outcome::Clean { round: 1 }
             } else {
-                Outcome::Failed
+                repair::Outcome::Failed
             },
             search: None,
             evidence: Vec::new(),

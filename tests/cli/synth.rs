@@ -1023,28 +1023,19 @@ fn max_tokens_stops_asking_once_spent() {
     ]);
     let dir = tempfile::tempdir().expect("tempdir");
     let transcript = dir.path().join("t.json");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
-    let o = scenalog(
-        &[
-            "vehicle making a left turn",
-            "--candidates",
-            "3",
-            "--max-tokens",
-            "150",
-            "--logs",
-            logs,
-            "--base-url",
-            &server.base_url(),
-            "--transcript",
-            transcript.to_str().expect("utf8"),
-        ],
-        &[],
+    let o = on_sample_logs(
+        "vehicle making a left turn",
+        &["--candidates", "3", "--max-tokens", "150"],
+        &server,
+        &transcript,
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(server.count(), 2);
     let t = read_json(&transcript);
     let third = &t["search"]["candidates"][2]["transcript"]["outcome"];
-    assert_eq!(third["status"], "unreachable", "{t:#}");
+    assert_eq!(third["status"], "over_budget", "{t:#}");
+    // The evidence round is not asked either, and says why.
+    assert_eq!(t["evidence"][0]["verdict"], "over_budget", "{t:#}");
     assert!(
         third["error"]
             .as_str()
