@@ -503,6 +503,17 @@ fn w0506_to_w0508_programs_that_check_but_mean_something_else() {
         "related(P, B, T)",
         "add `referred(P, T)`",
     );
+    // The referred object written second: the hint swaps the columns, and the fixed program
+    // checks clean (adding `referred(B, T)` instead would empty `related`).
+    let swapped = "referred(P, T) :- near(P, B, T, D), D < 2.0, category(P, \"PEDESTRIAN\"), category(B, \"BUS\").\nrelated(B, P, T) :- referred(P, T), near(P, B, T, D), D < 5.0, category(B, \"BUS\").\n";
+    let d = expect(swapped, "W0508", "related(B, P, T)", "`related(P, B, T)`");
+    assert!(d.message.contains("columns swapped"), "{}", d.message);
+    let fixed = scenalog_rules::apply_fix(swapped, &d).expect("a fix");
+    assert!(
+        fixed.contains("related(P, B, T) :- referred(P, T)"),
+        "{fixed}"
+    );
+    assert!(diags(&fixed).is_empty(), "{fixed}: {:#?}", diags(&fixed));
     // Tied to referred by the same helper, or by `referred` itself: no warning.
     for clean in [
         "h(P, B, T) :- near(P, B, T, D), D < 2.0.\nreferred(P, T) :- h(P, _, T).\nrelated(P, B, T) :- h(P, B, T).\n",

@@ -914,3 +914,49 @@ fn candidates_agreement_becomes_the_referred_boxes_scores() {
         .iter()
         .all(|&x| x == 1.0)));
 }
+
+/// W0508 on a `related` rule whose columns are swapped: its fix, applied literally, swaps them,
+/// and the fixed program relates pedestrians to the cars it refers; the old fix (adding
+/// `referred(P, T)` for the pedestrian) would have emptied `related`, which the test shows too.
+#[test]
+fn w0508_on_swapped_columns_is_fixed_by_swapping_them_and_the_fix_mines_related_objects() {
+    let swapped = "// description: car near a pedestrian\n\
+        referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), near(V, P, T, D), D < 10.0, category(P, \"PEDESTRIAN\").\n\
+        related(P, V, T) :- referred(V, T), near(V, P, T, D), D < 10.0, category(P, \"PEDESTRIAN\").\n";
+    let checked = scenalog_rules::check(swapped, &scenalog_rules::CheckOptions::default());
+    let w = checked
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "W0508")
+        .expect("W0508");
+    let fixed = scenalog_rules::apply_fix(swapped, w).expect("a fix");
+    let wrong = swapped.replace(
+        "related(P, V, T) :- referred(V, T),",
+        "related(P, V, T) :- referred(P, T), referred(V, T),",
+    );
+    let dir = tempfile::tempdir().expect("tempdir");
+    let related = |name: &str, text: &str| -> usize {
+        let file = dir.path().join(format!("{name}.dl"));
+        fs::write(&file, text).expect("write");
+        let o = mine(&[
+            "--rules",
+            &s(&file),
+            "--logs",
+            &s(&logs_dir()),
+            "--out",
+            &s(&dir.path().join(name)),
+            "--format",
+            "json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        v["matches"]
+            .as_array()
+            .expect("matches")
+            .iter()
+            .map(|m| m["related"].as_array().map_or(0, Vec::len))
+            .sum()
+    };
+    assert!(related("fixed", &fixed) > 0, "{fixed}");
+    assert_eq!(related("wrong", &wrong), 0);
+}

@@ -670,6 +670,31 @@ fn related_not_referred(program: &Program, diags: &mut Vec<Diagnostic>) {
         ) else {
             continue;
         };
+        // The referred object written second: the fix swaps the columns (adding
+        // `referred(B, T)` would tie the rule to an object never referred, and empty it).
+        let mut swapped = r.clone();
+        swapped.head.args.swap(0, 1);
+        if tied(&swapped, &referred) {
+            let b = r
+                .head
+                .args
+                .get(1)
+                .map(crate::printer::print_expr)
+                .unwrap_or_default();
+            let fixed = crate::printer::print_atom(&swapped.head);
+            diags.push(
+                warning(
+                    diagnostics::RELATED_NOT_REFERRED,
+                    r.head.span,
+                    format!(
+                        "this `related` rule has its columns swapped: its body requires `referred({b}, {t})`, so the referred object is {b}, and `related` takes it first"
+                    ),
+                )
+                .with_hint(format!("write the head as `{fixed}`"))
+                .with_edit(r.head.span, fixed),
+            );
+            continue;
+        }
         let at = r.body.first().map_or(r.span, |l| l.span());
         diags.push(
             warning(
