@@ -6,7 +6,7 @@
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::query::ExtractError;
+use crate::error::ExtractError;
 
 /// The limits one request is computed under.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

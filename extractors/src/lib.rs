@@ -26,6 +26,7 @@
 
 pub mod budget;
 pub mod cache;
+pub mod error;
 pub mod events;
 pub mod extract;
 pub mod json;

@@ -14,7 +14,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::scene::TrackId;
+use crate::ids::TrackId;
 
 /// The colours RefAV's classifier chooses from (`possible_colors`), in its order.
 pub const REFAV_COLORS: &[&str] = &["white", "silver", "black", "red", "yellow", "blue"];

@@ -14,6 +14,7 @@ pub mod catalog;
 pub mod color;
 pub mod conventions;
 pub mod error;
+pub mod ids;
 pub mod intern;
 pub mod map;
 pub mod read;

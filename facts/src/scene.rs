@@ -9,19 +9,7 @@ use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use crate::map::VectorMap;
 use crate::time::Timeline;
 
-/// Compact id of a track inside one [`Scene`]: the index into [`Scene::tracks`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct TrackId(pub u32);
-
-impl TrackId {
-    /// The index into [`Scene::tracks`].
-    pub fn index(self) -> usize {
-        self.0 as usize
-    }
-}
-
-/// A frame index of a log: 0..N over the annotation timestamps (10 Hz), in time order.
-pub type Frame = u32;
+pub use crate::ids::{Frame, TrackId};
 
 /// The category AV2 gives the ego vehicle.
 pub const EGO_CATEGORY: &str = "EGO_VEHICLE";

@@ -7,7 +7,7 @@
 //! are 0, 5, 10, …, so `T + 10` is one second later in both. Frames between two timestamps hold
 //! no data: [`Timeline::frames`] lists the ones that do.
 
-use crate::scene::Frame;
+use crate::ids::Frame;
 
 /// One frame on the grid, in nanoseconds.
 pub const FRAME_NS: i64 = 100_000_000;

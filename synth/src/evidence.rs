@@ -8,11 +8,10 @@
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
 use crate::client::Message;
 use crate::extract::{extract, with_description, Extracted};
 use crate::repair::{self, Transcript};
+pub use crate::transcript::{EvidenceRound, Verdict, KEEP};
 use crate::usage::Usage;
 use crate::Synthesizer;
 use scenalog_rules::grammar::Answer;
@@ -28,97 +27,6 @@ pub type EvidenceFn = dyn Fn(&str) -> Result<String, String> + Send + Sync;
 impl std::fmt::Debug for Evidence {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("Evidence(..)")
-    }
-}
-
-/// The word the model answers to keep its program.
-pub const KEEP: &str = "KEEP";
-
-/// What came of one evidence round.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "verdict", rename_all = "snake_case")]
-pub enum Verdict {
-    /// The model kept the program (answered `KEEP`, or the same program again).
-    Keep,
-    /// The model revised the program; the revision checked clean, ran, and is kept.
-    Revised,
-    /// The model's revision never checked clean: the program shown stays.
-    RevisionNotClean,
-    /// The revision checked clean but could not be run on the logs: the program shown stays.
-    RevisionFailed {
-        /// Why it could not be run.
-        error: String,
-    },
-    /// The answer held neither `KEEP` nor a program: the program shown stays.
-    Unclear,
-    /// The program shown could not be run for its evidence: no question was asked.
-    NoEvidence {
-        /// Why.
-        error: String,
-    },
-    /// The server could not be reached: the program stays.
-    Unreachable {
-        /// The client's error.
-        error: String,
-    },
-    /// The token budget was spent: nothing was asked, the program stays.
-    OverBudget {
-        /// What was spent.
-        error: String,
-    },
-}
-
-/// One evidence round as the transcript records it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct EvidenceRound {
-    /// 1-based round number.
-    pub round: usize,
-    /// The program shown.
-    pub program: String,
-    /// What the model was told about it (the evidence, or why there is none).
-    pub evidence: String,
-    /// The model's answer (`None`: none was asked for, or none came).
-    pub answer: Option<String>,
-    /// Whether the answer came from the cache.
-    pub cached: bool,
-    /// The tokens the server reported for the answer (a revision's later repair rounds are
-    /// counted in its candidate's transcript).
-    pub usage: Usage,
-    /// What came of it.
-    #[serde(flatten)]
-    pub verdict: Verdict,
-    /// The candidate of the search that holds the revision, with its check-and-repair rounds
-    /// (whose round 1 is `answer`); `None` when there was no revision.
-    pub candidate: Option<usize>,
-}
-
-impl EvidenceRound {
-    /// One line saying what came of the round ("evidence round 1: the model kept the program").
-    pub fn summary(&self) -> String {
-        let what = match &self.verdict {
-            Verdict::Keep => "the model kept the program".to_string(),
-            Verdict::Revised => format!(
-                "the model revised the program; the revision (candidate {}) checked clean, ran \
-                 and is kept",
-                self.candidate.unwrap_or_default()
-            ),
-            Verdict::RevisionNotClean => {
-                "the model's revision never checked clean; the program stays".to_string()
-            }
-            Verdict::RevisionFailed { error } => {
-                format!("the model's revision could not be run ({error}); the program stays")
-            }
-            Verdict::Unclear => {
-                format!("the answer held neither {KEEP} nor a program; the program stays")
-            }
-            Verdict::NoEvidence { error } => {
-                format!("the program could not be run for its evidence ({error})")
-            }
-            Verdict::Unreachable { error } | Verdict::OverBudget { error } => {
-                format!("no answer ({error}); the program stays")
-            }
-        };
-        format!("evidence round {}: {what}", self.round)
     }
 }
 

@@ -28,6 +28,7 @@ pub mod prompt;
 pub mod repair;
 pub mod search;
 pub mod slug;
+pub mod transcript;
 pub mod usage;
 
 use std::path::PathBuf;

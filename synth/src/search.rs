@@ -11,11 +11,10 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
 use crate::evidence::Verdict;
 use crate::extract::one_line;
 use crate::repair::{self, Transcript};
+pub use crate::transcript::{Candidate, Search};
 use crate::Synthesizer;
 
 /// The temperature candidates after the first are sampled at, unless configured otherwise.
@@ -37,46 +36,6 @@ pub type MatchFn = dyn Fn(&str) -> Result<BTreeSet<MatchKey>, String> + Send + S
 impl std::fmt::Debug for Matcher {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("Matcher(..)")
-    }
-}
-
-/// One candidate of a search as the transcript records it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Candidate {
-    /// Its number (0: asked as a single synthesis asks; others sampled).
-    pub sample: usize,
-    /// Its own check-and-repair transcript.
-    pub transcript: Transcript,
-    /// How many (log, track, frame) boxes it matched (`None`: not clean, or not run).
-    pub matched: Option<usize>,
-    /// Why it could not be run, when it could not.
-    pub match_error: Option<String>,
-    /// Its mean Jaccard similarity to the other clean candidates that ran (`None`: it did not
-    /// run).
-    pub agreement: Option<f64>,
-    /// The candidates that matched exactly the same boxes as it (itself included).
-    pub group: Vec<usize>,
-}
-
-/// Every candidate of a search, and which was kept and why.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Search {
-    /// The candidates, in sample order.
-    pub candidates: Vec<Candidate>,
-    /// The candidate kept (`None`: none checked clean).
-    pub chosen: Option<usize>,
-    /// Why it was kept, in words.
-    pub reason: String,
-}
-
-impl Search {
-    /// The programs of the candidates that checked clean, in sample order.
-    pub fn clean_programs(&self) -> Vec<String> {
-        self.candidates
-            .iter()
-            .filter(|c| c.transcript.is_clean())
-            .filter_map(|c| c.transcript.program().map(str::to_string))
-            .collect()
     }
 }
 

@@ -11,7 +11,7 @@
 
 use scenalog_facts::LaneId;
 
-use super::index::LaneGeom;
+use super::lane_geom::LaneGeom;
 use crate::kinematics::wrap_angle;
 use crate::thresholds::{LANE_CHAIN_MAX_SEGMENTS, LANE_CHAIN_REACH_M, LANE_CHAIN_STRAIGHT_MAX_DEG};
 

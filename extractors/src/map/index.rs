@@ -4,44 +4,15 @@
 use rstar::primitives::{GeomWithData, Line, Rectangle};
 use rstar::{RTree, AABB};
 use scenalog_facts::map::VectorMap;
-use scenalog_facts::LaneId;
 
 use super::chain::{self, LaneChains};
 use super::geometry::{heading, point_segment_distance, polyline_length, resample, Polygon, Pt};
+pub use super::lane_geom::LaneGeom;
 use super::sides::{self, RoadSides};
 use crate::kinematics::wrap_angle;
 
 /// An R-tree entry: a polygon's bounding box and the polygon's index in its list.
 pub type BoxEntry = GeomWithData<Rectangle<Pt>, u32>;
-
-/// Geometry of one lane segment, in the order of [`VectorMap::lanes`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct LaneGeom {
-    /// The map id.
-    pub id: LaneId,
-    /// Right boundary followed by the reversed left boundary.
-    pub polygon: Polygon,
-    /// Centreline (mean of the two boundaries resampled alike), in the direction of travel.
-    pub centerline: Vec<Pt>,
-    /// Left boundary, in the direction of travel.
-    pub left: Vec<Pt>,
-    /// Right boundary, in the direction of travel.
-    pub right: Vec<Pt>,
-    /// Centreline length, metres.
-    pub length: f64,
-    /// Mean width (distance between the resampled boundaries), metres.
-    pub width: f64,
-    /// Heading of the centreline's first and last segment, radians.
-    pub start_heading: f64,
-    /// Heading of the centreline's last segment, radians.
-    pub end_heading: f64,
-    /// Signed heading change from start to end, degrees (+ left).
-    pub turn_deg: f64,
-    /// Successors present in the map (dangling ids dropped), as lane indices.
-    pub successors: Vec<usize>,
-    /// Predecessors present in the map: the file's plus every lane naming this one a successor.
-    pub predecessors: Vec<usize>,
-}
 
 /// A vector map prepared for geometric queries. Built once per scene.
 #[derive(Debug)]

@@ -2,12 +2,14 @@
 //!
 //! - [`geometry`]: polygons and polylines in the ground plane.
 //! - [`index`]: [`MapIndex`], lane/crossing/drivable-area polygons in R-trees.
+//! - [`lane_geom`]: [`LaneGeom`], one lane segment's geometry.
 //! - [`chain`]: the lane as a driver sees it (straight predecessors and successors).
 //! - [`sides`]: same and opposite road sides through lane neighbours.
 
 pub mod chain;
 pub mod geometry;
 pub mod index;
+pub mod lane_geom;
 pub mod sides;
 pub mod stop_signs;
 

@@ -13,7 +13,7 @@ use scenalog_facts::map::VectorMap;
 use scenalog_facts::LaneId;
 
 use super::geometry::Pt;
-use super::index::LaneGeom;
+use super::lane_geom::LaneGeom;
 
 /// A road side relative to a lane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
