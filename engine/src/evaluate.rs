@@ -10,7 +10,9 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::demand;
+pub(crate) use crate::limits::Limits;
 use crate::plan::{body_lits, plan, plan_first, BodyLit, Ctx, Plan};
+pub(crate) use crate::prove::Origins;
 use crate::prove::{Provenance, Stamps};
 use crate::rows::Rows;
 use crate::value::{cmp_value, encode_value, Symbols, WIDTH};
@@ -352,11 +354,6 @@ fn keep_stamps(
     }
 }
 
-/// Per derived relation, aligned with its sorted tuples: the round and plan index that first
-/// derived each tuple (with provenance on), packed by [`crate::prove::pack`], or what computes
-/// them when they are first read.
-pub(crate) type Origins = HashMap<String, crate::prove::Packed>;
-
 /// Encodes a provided relation into sorted, deduplicated rows.
 fn load(
     data: &RelationData,
@@ -398,43 +395,6 @@ fn load(
     }
     out.sort_dedup();
     Ok(out)
-}
-
-/// What a rule evaluation checks as it produces tuples: [`Options::max_tuples`] counts the
-/// tuples every relation of the evaluation holds (`held`, inputs included) plus those produced,
-/// and [`Options::timeout`] the time since `start`.
-pub(crate) struct Limits<'a> {
-    pub(crate) relation: &'a str,
-    pub(crate) options: &'a Options,
-    pub(crate) start: Instant,
-    pub(crate) held: usize,
-}
-
-impl Limits<'_> {
-    /// The error for a `sum` that overflowed in a rule deriving this relation.
-    pub(crate) fn sum_overflow(&self) -> EngineError {
-        EngineError::Overflow {
-            relation: self.relation.to_string(),
-        }
-    }
-
-    pub(crate) fn check(&self, produced: usize) -> Result<(), EngineError> {
-        if self.held.saturating_add(produced) > self.options.max_tuples {
-            return Err(EngineError::TooManyTuples {
-                relation: self.relation.to_string(),
-                limit: self.options.max_tuples,
-            });
-        }
-        if let Some(limit) = self.options.timeout {
-            if self.start.elapsed() > limit {
-                return Err(EngineError::Timeout {
-                    relation: self.relation.to_string(),
-                    limit,
-                });
-            }
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]

@@ -11,10 +11,11 @@ use scenalog_facts::catalog::ColType;
 
 use scenalog_rules::ast::Clause;
 
-use crate::evaluate::{Limits, Origins};
+use crate::limits::Limits;
 use crate::plan::{apply, ground_head, Plan};
+use crate::prove::Origins;
+use crate::rows::stored_width;
 use crate::rows::Rows;
-use crate::stratum::stored_width;
 use crate::value::{Row, Symbols, WIDTH};
 use crate::{EngineError, Options};
 

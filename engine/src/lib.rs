@@ -13,6 +13,7 @@ mod demand;
 mod evaluate;
 mod explain;
 mod ground;
+mod limits;
 mod plan;
 mod prove;
 mod rows;

@@ -12,6 +12,11 @@ use crate::rows::Rows;
 use crate::stratum::access::Access;
 use crate::value::{encode, Row, V, WIDTH};
 
+/// Per derived relation, aligned with its sorted tuples: the round and plan index that first
+/// derived each tuple (with provenance on), packed by [`pack`], or what computes
+/// them when they are first read.
+pub(crate) type Origins = HashMap<String, crate::prove::Packed>;
+
 /// When and how a derived tuple was first derived.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Stamp {
@@ -297,7 +302,7 @@ impl Provenance {
         for a in &plan.atoms {
             let acc = Access::of(
                 a,
-                crate::stratum::stored_width(&self.encoded.types, &a.pred),
+                crate::rows::stored_width(&self.encoded.types, &a.pred),
             );
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {

@@ -372,6 +372,15 @@ impl Rows {
     }
 }
 
+/// Words a stored tuple of relation `name` takes, as [`Rows`] stores it: its arity, or one for
+/// a nullary (or unknown) relation.
+pub(crate) fn stored_width(
+    types: &std::collections::HashMap<String, Vec<scenalog_facts::catalog::ColType>>,
+    name: &str,
+) -> usize {
+    types.get(name).map_or(0, |t| t.len()).max(1)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,7 +12,7 @@ use scenalog_rules::ast::{
     AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Span,
 };
 
-use crate::evaluate::Limits;
+use crate::limits::Limits;
 use crate::rows::Rows;
 use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
 use crate::EngineError;

@@ -4,7 +4,7 @@
 //! that binds their last variable is joined, and the head projected into fixed-width tuples.
 //! Depth-first, so no intermediate bindings are materialised.
 
-use crate::evaluate::Limits;
+use crate::limits::Limits;
 use std::cmp::Ordering;
 
 use crate::plan::{apply_mut, diff_holds, raw_holds, Arg, AtomStep, CExpr, Filter, Plan, Raw};

@@ -58,8 +58,10 @@ use std::time::Instant;
 use datafrog::{Iteration, Relation, Variable};
 use scenalog_facts::catalog::ColType;
 
-use crate::evaluate::{Limits, Origins};
+use crate::limits::Limits;
 use crate::plan::Plan;
+use crate::prove::Origins;
+pub(crate) use crate::rows::stored_width;
 use crate::rows::Rows;
 use crate::value::WIDTH;
 use crate::{EngineError, Options};
@@ -108,12 +110,6 @@ pub(crate) fn run_stratum(
         limits,
     };
     with_width!(width, W => s.run::<W>())
-}
-
-/// Words a stored tuple of relation `name` takes, as [`Rows`] stores it: its arity, or one for
-/// a nullary (or unknown) relation.
-pub(crate) fn stored_width(types: &HashMap<String, Vec<ColType>>, name: &str) -> usize {
-    types.get(name).map_or(0, |t| t.len()).max(1)
 }
 
 /// The inputs of one stratum's run.

@@ -9,9 +9,9 @@ use scenalog_facts::catalog::ColType;
 
 use super::access::{Access, Tup};
 use super::join::Join;
-use super::stored_width;
-use crate::evaluate::Limits;
+use crate::limits::Limits;
 use crate::plan::Plan;
+use crate::rows::stored_width;
 use crate::rows::Rows;
 use crate::value::WIDTH;
 use crate::EngineError;
