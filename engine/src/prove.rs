@@ -300,10 +300,7 @@ impl Provenance {
             .unwrap_or_default();
         let mut accesses = Vec::new();
         for a in &plan.atoms {
-            let acc = Access::of(
-                a,
-                crate::rows::stored_width(&self.encoded.types, &a.pred),
-            );
+            let acc = Access::of(a, crate::rows::stored_width(&self.encoded.types, &a.pred));
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {
                 let mut copy: Vec<(Row, u32)> = Vec::new();

@@ -17,8 +17,9 @@
 //! disagree the two give different values, so every such file gets a warning
 //! ([`label_name_mismatches`]).
 
-use crate::mining::{pick, tune, Filter, Pick, PromptHota};
+use crate::filters::{pick, Filter, Pick};
 use crate::model::{FrameData, Submission};
+use crate::tuning::{tune, PromptHota};
 use std::collections::BTreeMap;
 
 /// One class's HOTA: pooled over every sequence, and per prompt. `None` where the ground truth

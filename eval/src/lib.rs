@@ -10,6 +10,7 @@
 pub mod arrow_table;
 pub mod classes;
 pub mod error;
+mod filters;
 pub mod hota;
 pub mod mining;
 pub mod model;
@@ -19,6 +20,7 @@ mod pickle_text;
 
 pub mod roi;
 pub mod sampling;
+mod tuning;
 
 pub use arrow_table::{read_any, read_table, table_from_bytes, write_table};
 pub use classes::{ClassHota, Further};
