@@ -9,6 +9,10 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
+/// The symbolic link to the published generation (see `super::output`'s documentation): a
+/// run's own link, which [`refuse_foreign_links`] accepts.
+pub const CURRENT: &str = ".current";
+
 /// The lock file's name in an output folder.
 pub const LOCK_FILE: &str = ".lock";
 
@@ -110,7 +114,7 @@ fn published_link(rel: &Path, target: &Path) -> bool {
     let parts: Vec<Component> = target.components().collect();
     match parts.as_slice() {
         [Component::Normal(g)] => g.to_string_lossy().starts_with(".staging-"),
-        [Component::Normal(c), n] => c.to_str() == Some(super::output::CURRENT) && plain(Some(*n)),
+        [Component::Normal(c), n] => c.to_str() == Some(CURRENT) && plain(Some(*n)),
         _ => false,
     }
 }

@@ -54,8 +54,7 @@ pub const SUMMARY_JSON: &str = "summary.json";
 pub const PAIRS_DIR: &str = "pairs";
 /// The report's directory (`scenalog mine --report`).
 pub const REPORT_DIR: &str = "report";
-/// The symbolic link to the published generation (see the module documentation).
-pub const CURRENT: &str = ".current";
+pub use super::lock::CURRENT;
 
 /// Every output a generation may hold: its path in `OUT/` is a link through [`CURRENT`].
 pub const GENERATION_NAMES: &[&str] = &[

@@ -27,6 +27,7 @@ pub mod view;
 
 pub use error::ViewError;
 pub use mark::{Annotation, Mark, Side};
+pub use output::write_animation;
 pub use output::{write_picture, Format};
 pub use picture::{draw_scene, layout, scene_svg, Drawn, Layout, Picture, Reference};
 pub use raster::{decode_png, render_png, render_rgba};
@@ -35,4 +36,4 @@ pub use report::{write_report, Report, ReportFrame, ReportMatch};
 pub use resvg::tiny_skia;
 /// The parsed SVG tree ([`raster::parse`]), for callers that inspect where things are drawn.
 pub use resvg::usvg;
-pub use track_path::{path_svg, write_animation, PathPicture};
+pub use track_path::{path_svg, PathPicture};

@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use rayon::prelude::*;
+
 use crate::error::ViewError;
 
 /// A picture file format.
@@ -48,6 +50,23 @@ pub fn write_picture(path: &Path, svg: &str) -> Result<(), ViewError> {
     match Format::of(path)? {
         Format::Svg => write_file(path, svg.as_bytes()),
         Format::Png => write_file(path, &crate::raster::render_png(svg)?),
-        Format::Gif => crate::track_path::write_animation(path, &[svg.to_string()], 100),
+        Format::Gif => write_animation(path, &[svg.to_string()], 100),
     }
+}
+
+/// Writes SVG pictures (all of one size) as an animated GIF, `delay_cs` hundredths of a second
+/// per picture, looping, one palette for all of them (see [`crate::animation`]).
+pub fn write_animation(path: &Path, frames: &[String], delay_cs: u16) -> Result<(), ViewError> {
+    // Shapes without anti-aliasing: an object whose box moves by less than a pixel (the
+    // annotations of parked cars jitter by centimetres) then leaves its pixels as they were,
+    // so frames differ only where something really moved, and compress.
+    let rasters = frames
+        .par_iter()
+        .map(|svg| {
+            let crisp = svg.replacen("<svg ", "<svg shape-rendering=\"crispEdges\" ", 1);
+            crate::raster::render_rgba(&crisp)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let bytes = crate::animation::encode(&rasters, delay_cs)?;
+    write_file(path, &bytes)
 }

@@ -2,15 +2,12 @@
 //! frames where it is referred marked, as one picture or as an animated GIF (one picture per
 //! frame, the view held still, each frame with its own proof, one palette for all).
 
-use std::path::Path;
-
 use scenalog_facts::scene::{Frame, TrackId};
 
 use rayon::prelude::*;
 
 use crate::error::ViewError;
 use crate::label::Label;
-use crate::output::write_file;
 use crate::picture::{box_at, check_frame, draw_with, priority, Picture, Reference};
 use crate::style;
 use crate::svg::{path_data, Svg};
@@ -223,21 +220,4 @@ pub fn animation_frames(p: &PathPicture<'_>) -> Result<Vec<String>, ViewError> {
         .into_par_iter()
         .map(|f| frame_svg(p, &picture_at(p, f), &points, &view, f))
         .collect())
-}
-
-/// Writes SVG pictures (all of one size) as an animated GIF, `delay_cs` hundredths of a second
-/// per picture, looping, one palette for all of them (see [`crate::animation`]).
-pub fn write_animation(path: &Path, frames: &[String], delay_cs: u16) -> Result<(), ViewError> {
-    // Shapes without anti-aliasing: an object whose box moves by less than a pixel (the
-    // annotations of parked cars jitter by centimetres) then leaves its pixels as they were,
-    // so frames differ only where something really moved, and compress.
-    let rasters = frames
-        .par_iter()
-        .map(|svg| {
-            let crisp = svg.replacen("<svg ", "<svg shape-rendering=\"crispEdges\" ", 1);
-            crate::raster::render_rgba(&crisp)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let bytes = crate::animation::encode(&rasters, delay_cs)?;
-    write_file(path, &bytes)
 }
