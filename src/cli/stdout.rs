@@ -1,5 +1,5 @@
 //! Standard output for every subcommand. `println!` panics when the reader has gone
-//! (`scenalog facts LOG | head`); writing through [`write_with`] (or the [`out!`] and [`outln!`]
+//! (`scenalog facts LOG | head`); writing through [`write_with`] (or the `out!` and `outln!`
 //! macros) instead ends the output quietly on a closed pipe and lets the command finish. Any other
 //! write error (a full disk under `> file`) is reported once on standard error, and [`exit_code`]
 //! turns the command's exit code into 2.

@@ -369,7 +369,7 @@ impl Staging {
     }
 
     /// Joins the parts, in `order`, into the run's Arrow table (zstd-compressed; a log's pairs
-    /// in one record batch, or in several of at most [`ROWS_PER_BATCH`] rows) and, when asked for, its pickle (with `eval`'s joiner,
+    /// in one record batch, or in several of at most 2^20 (`ROWS_PER_BATCH`) rows) and, when asked for, its pickle (with `eval`'s joiner,
     /// [`scenalog_eval::PickleJoin`], which checks every part's keys: byte for byte the pickle of
     /// the whole submission, `order` sorting the pairs by log id and description; the parts'
     /// bytes copied, not decoded).
