@@ -16,8 +16,8 @@ use std::sync::OnceLock;
 use scenalog_facts::catalog::{self, ColType};
 
 use crate::ast::{Aggregate, Atom, Clause, Decl, Expr, ExprKind, Literal, Program, Span};
-use crate::check::body_atoms;
 use crate::diagnostics::{self, error};
+use crate::walk::body_atoms;
 use crate::Diagnostic;
 
 /// The prelude's source text.

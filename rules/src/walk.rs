@@ -1,10 +1,11 @@
-//! Which variables an expression, a literal or an aggregate holds: the AST walks that the
-//! checker, the engine's planner and its explanations all ask, written once.
+//! Which variables an expression, a literal or an aggregate holds, and which atoms a body holds
+//! ([`body_atoms`]): the AST walks that the checker, the prelude, the engine's planner and its
+//! explanations all ask, written once.
 //!
 //! Every walk visits named variables only (never `_`) in source order, repeats included; the
 //! `*_spanned` forms keep each occurrence's span for diagnostics.
 
-use crate::ast::{Aggregate, Expr, ExprKind, Literal, Span};
+use crate::ast::{Aggregate, Atom, Expr, ExprKind, Literal, Span};
 
 /// Calls `f` with each named variable of `e` and its span, in order.
 pub fn each_var<'a>(e: &'a Expr, f: &mut dyn FnMut(&'a str, Span)) {
@@ -105,6 +106,20 @@ pub fn aggregate_vars(g: &Aggregate) -> Vec<&str> {
     let mut seen = std::collections::HashSet::new();
     vs.retain(|v| seen.insert(*v));
     vs
+}
+
+/// Every atom of a clause's body, including inside aggregates, with whether it is negated.
+pub fn body_atoms(body: &[Literal]) -> Vec<(&Atom, bool)> {
+    let mut out = Vec::new();
+    for l in body {
+        match l {
+            Literal::Pos(a) => out.push((a, false)),
+            Literal::Neg(a, _) => out.push((a, true)),
+            Literal::Cmp(_) => {}
+            Literal::Agg(g) => out.extend(body_atoms(&g.body)),
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 
 use scenalog_facts::catalog::{self, ColType};
 
-use crate::ast::{Atom, Literal, Span};
+use crate::ast::Span;
 use crate::parser::parse_detailed;
 use crate::{
     strata, CheckOptions, CheckOutcome, CheckedProgram, Diagnostic, Edit, PredKind, PredicateInfo,
@@ -213,18 +213,4 @@ fn within_source(diags: &mut Vec<Diagnostic>, len: usize, prelude_at: usize) {
         }
         d.related.retain(|(s, _)| s.start < prelude_at);
     }
-}
-
-/// Every atom of a clause's body, including inside aggregates, with whether it is negated.
-pub(crate) fn body_atoms(body: &[Literal]) -> Vec<(&Atom, bool)> {
-    let mut out = Vec::new();
-    for l in body {
-        match l {
-            Literal::Pos(a) => out.push((a, false)),
-            Literal::Neg(a, _) => out.push((a, true)),
-            Literal::Cmp(_) => {}
-            Literal::Agg(g) => out.extend(body_atoms(&g.body)),
-        }
-    }
-    out
 }

@@ -6,9 +6,9 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use scenalog_facts::catalog::{self, ColType};
 
-use super::body_atoms;
 use crate::ast::{Atom, Program, Span};
 use crate::diagnostics::{self, closest, error, warning};
+use crate::walk::body_atoms;
 use crate::{CheckOptions, Diagnostic, PredKind};
 
 /// The required signature of `referred`.
