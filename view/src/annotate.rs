@@ -7,7 +7,7 @@ use scenalog_facts::scene::{Frame, Scene, TrackBox, TrackId};
 
 use crate::label::Label;
 use crate::mark::Mark;
-use crate::picture::{centre_px, Picture};
+use crate::request::{centre_px, Picture};
 use crate::style;
 use crate::svg::{path_data, Svg};
 use crate::view::View;

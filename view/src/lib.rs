@@ -20,6 +20,7 @@ pub mod panel;
 pub mod picture;
 pub mod raster;
 pub mod report;
+pub mod request;
 pub mod style;
 pub mod svg;
 pub mod track_path;

@@ -5,7 +5,7 @@
 use crate::label::Rect;
 use crate::map::MapKinds;
 use crate::measure::{text_width, wrap};
-use crate::picture::{Picture, Reference};
+use crate::request::{Picture, Reference};
 use crate::style;
 use crate::svg::{path_data, Svg};
 use crate::view::View;
