@@ -47,7 +47,8 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
         .par_iter()
         .map(|scene| {
             let extractor = Extractor::new(scene);
-            let ev = evaluate_matches(&extractor, &scenario, options)
+            // As `mine` evaluates it: no provenance, only what it matches is wanted here.
+            let ev = crate::pipeline::scenario::evaluate_on(&extractor, &scenario.program, options)
                 .map_err(|e| format!("on log {}: {e}", scene.log_id))?;
             let mut by_track: BTreeMap<TrackId, Vec<Frame>> = BTreeMap::new();
             for (track, frame) in referred_tuples(&ev) {
@@ -110,25 +111,14 @@ pub fn evidence(scenes: &[Scene], program: &str, options: &Options) -> Result<St
         scenario: &scenario,
     };
     text.push_str(&format!(
-        "\nThe longest match: track {} ({}) on log {}, {} in a row; why it matches at {}:\n{}",
-        short(track_of(scene, track)),
-        category(scene, track),
+        "\nThe longest match: track {} on log {}, {} in a row; why it matches at {}:\n{}",
+        renderer.track(track),
         scene.log_id,
         plural(run, "frame"),
         renderer.frame(frame),
         body(&explanation_text(&renderer, &explanation)),
     ));
     Ok(text)
-}
-
-/// The program's evaluation on one log as `mine` evaluates it (no provenance: only what it
-/// matches is wanted here).
-fn evaluate_matches(
-    extractor: &Extractor<'_>,
-    scenario: &Scenario,
-    options: &Options,
-) -> Result<scenalog_engine::Evaluation, crate::pipeline::scenario::EvaluationError> {
-    crate::pipeline::scenario::evaluate_on(extractor, &scenario.program, options)
 }
 
 /// The text for a program that matches nothing: its nearest misses over `scenes`.
@@ -157,9 +147,8 @@ fn nearest_misses(scenes: &[Scene], scenario: &Scenario, options: &Options, logs
             why_not: Some(report),
         };
         text.push_str(&format!(
-            "\nTrack {} ({}) on log {} at {}:\n{}",
-            short(track_of(scene, track)),
-            category(scene, track),
+            "\nTrack {} on log {} at {}:\n{}",
+            renderer.track(track),
             scene.log_id,
             renderer.frame(frame),
             body(&explanation_text(&renderer, &explanation)),
@@ -279,23 +268,11 @@ fn quoted(source: &str) -> Vec<&str> {
     source.split('"').skip(1).step_by(2).collect()
 }
 
-fn track_of(scene: &Scene, track: TrackId) -> &str {
-    scene
-        .tracks
-        .get(track.index())
-        .map_or("?", |t| t.uuid.as_str())
-}
-
 fn category(scene: &Scene, track: TrackId) -> &str {
     scene
         .tracks
         .get(track.index())
         .map_or("?", |t| t.category.as_str())
-}
-
-/// The first 8 characters of a uuid (as `explain --track` accepts).
-fn short(uuid: &str) -> &str {
-    uuid.get(..8).unwrap_or(uuid)
 }
 
 fn plural(n: usize, word: &str) -> String {

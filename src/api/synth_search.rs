@@ -20,19 +20,11 @@ use crate::pipeline::run::referred_tuples;
 use crate::pipeline::scenario::{evaluate_on, scenario_from_source};
 
 /// The matcher of a search over `logs` (log directories or directories of logs; none: the
-/// bundled sample logs), each candidate evaluated within `limits` on each log.
+/// bundled sample logs), each candidate evaluated within `limits` on each log, and the evidence
+/// of a program on the same logs, the logs loaded once for both.
 ///
 /// # Errors
 /// No logs are given and the sample logs are not bundled, or a log cannot be found or read.
-pub fn matcher(logs: &[PathBuf], limits: &Limits) -> Result<Matcher, Error> {
-    Ok(search_logs(logs, limits)?.0)
-}
-
-/// The matcher of a search over `logs` (as [`matcher`]) and the evidence of a program on the
-/// same logs, loaded once for both.
-///
-/// # Errors
-/// As [`matcher`].
 pub fn search_logs(logs: &[PathBuf], limits: &Limits) -> Result<(Matcher, Evidence), Error> {
     let logs: Vec<PathBuf> = if logs.is_empty() {
         vec![bundled(SAMPLE_LOGS).ok_or_else(|| {

@@ -79,8 +79,7 @@ pub fn why_not_each(
         .iter()
         .map(|tuple| {
             let pattern: Vec<Option<Value>> = tuple.iter().cloned().map(Some).collect();
-            let pattern = cx.check_pattern(relation, &pattern)?;
-            Ok(cx.why_not(relation, &pattern, 0, &mut HashSet::new()))
+            cx.report(relation, &pattern)
         })
         .collect()
 }
@@ -92,9 +91,15 @@ pub fn why_not_pattern(
     relation: &str,
     pattern: &[Option<Value>],
 ) -> Result<WhyNot, WhyNotError> {
-    let mut cx = Cx::new(program, evaluation);
-    let pattern = cx.check_pattern(relation, pattern)?;
-    Ok(cx.why_not(relation, &pattern, 0, &mut HashSet::new()))
+    Cx::new(program, evaluation).report(relation, pattern)
+}
+
+impl Cx<'_> {
+    /// The why-not report of one pattern, checked against the relation's columns first.
+    fn report(&mut self, relation: &str, pattern: &[Option<Value>]) -> Result<WhyNot, WhyNotError> {
+        let pattern = self.check_pattern(relation, pattern)?;
+        Ok(self.why_not(relation, &pattern, 0, &mut HashSet::new()))
+    }
 }
 
 /// The proof of a derived tuple with every body literal grounded: the matched tuples, the
