@@ -258,7 +258,9 @@ fn the_wrong_top_level_is_said_before_the_rest_is_read() {
         let e = read_pickle_bytes(&bytes, "wrong.pkl").expect_err("not a dict");
         let msg = e.to_string();
         assert!(
-            msg.contains(&format!("the top level is {kind}, not a dict")),
+            msg.contains(&format!(
+                "the top level is not a dict: it starts with {kind}"
+            )),
             "{msg}"
         );
         assert!(!msg.contains("0xff"), "decoded past the top level: {msg}");
@@ -285,7 +287,10 @@ fn the_file_check_judges_the_top_level_from_the_head() {
         b"e.",
     )
     .expect_err("a list");
-    assert!(e.contains("the top level is a list, not a dict"), "{e}");
+    assert!(
+        e.contains("the top level is not a dict: it starts with a list"),
+        "{e}"
+    );
     for head in [
         &b"\x80\x04\x95\x10\x00\x00\x00\x00\x00\x00\x00}\x94("[..],
         b"(dp0\n",
@@ -300,4 +305,58 @@ fn the_file_check_judges_the_top_level_from_the_head() {
     assert!(submission_ends(b"\x80\x02]", b".").is_err());
     let bytes = std::fs::read(data("combined_gt_dev.pkl")).expect("read");
     assert!(dict_pickle_ends(&bytes[..64], &bytes[bytes.len() - 64..]).is_ok());
+}
+
+/// Wrong top levels as Python's `pickle.dumps` writes them, in every protocol (0-5): a list of
+/// ten thousand ints, a tuple, a string, None. Each is refused naming the top level, before the
+/// rest is decoded, by the reader and, for the list, already by the file check of its first 64
+/// bytes. Skipped (with a note) when python3 is not available.
+#[test]
+fn python_pickles_of_another_top_level_are_refused_early_in_every_protocol() {
+    let script = "import pickle, sys\n\
+        for p in range(6):\n\
+        \x20   for obj in (list(range(10000)), ('a', 'b'), 'x', None):\n\
+        \x20       b = pickle.dumps(obj, protocol=p)\n\
+        \x20       sys.stdout.write(b.hex() + '\\n')\n";
+    let Ok(out) = Command::new("python3").args(["-c", script]).output() else {
+        eprintln!("note: python3 not available; skipped");
+        return;
+    };
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).expect("hex");
+    let pickles: Vec<Vec<u8>> = text
+        .lines()
+        .map(|l| {
+            (0..l.len())
+                .step_by(2)
+                .map(|i| u8::from_str_radix(&l[i..i + 2], 16).expect("hex"))
+                .collect()
+        })
+        .collect();
+    assert_eq!(pickles.len(), 24);
+    for (i, bytes) in pickles.iter().enumerate() {
+        // From protocol 2 a small tuple's items come first, then TUPLE2 packs them.
+        let tuple = if i / 4 < 2 { "a tuple" } else { "a str" };
+        let (protocol, kind) = (i / 4, ["a list", tuple, "a str", "a None"][i % 4]);
+        let e = read_pickle_bytes(bytes, "python.pkl").expect_err("not a dict");
+        assert!(
+            e.to_string().contains(&format!(
+                "the top level is not a dict: it starts with {kind}"
+            )),
+            "protocol {protocol}: {e}"
+        );
+        if i % 4 == 0 {
+            let head = &bytes[..64.min(bytes.len())];
+            let tail = &bytes[bytes.len() - 64..];
+            let e = scenalog_eval::dict_pickle_ends(head, tail).expect_err("refused from the head");
+            assert!(
+                e.contains("the top level is not a dict: it starts with a list"),
+                "protocol {protocol}: {e}"
+            );
+        }
+    }
 }

@@ -125,10 +125,11 @@ impl<'a> Machine<'a> {
             .ok_or_else(|| perr(format!("stack underflow at byte {}", self.pos)))
     }
 
-    /// With no MARK open, the bottom of the stack is what the pickle returns (Python's pickler
-    /// writes the top-level object first and never pops it); when the top level must be a dict,
-    /// anything there but a dict or a global still to be called is the wrong top level, said
-    /// before the rest of the file is decoded.
+    /// With no MARK open, the bottom of the stack is what the pickle returns, or the first item
+    /// of the top-level tuple a `TUPLE1`-`TUPLE3` will make (Python's pickler writes the
+    /// top-level object first and never pops it). When the top level must be a dict, anything
+    /// there but a dict or a global still to be called means it is not one, said before the rest
+    /// of the file is decoded, naming what the pickle starts with.
     pub(crate) fn check_top(&self, at: usize) -> Result<(), EvalError> {
         if !self.top_dict || !self.marks.is_empty() {
             return Ok(());
@@ -143,8 +144,8 @@ impl<'a> Machine<'a> {
                     "a"
                 };
                 Err(perr(format!(
-                    "the top level is {a} {kind}, not a dict (seen at byte {at}, before \
-                     reading the rest)"
+                    "the top level is not a dict: it starts with {a} {kind} (seen at byte \
+                     {at}, before reading the rest)"
                 )))
             }
         }

@@ -118,7 +118,7 @@ pub fn dict_pickle_ends(head: &[u8], tail: &[u8]) -> Result<(), String> {
     let mut m = machine(head, true);
     if m.run().is_err() {
         if let Err(EvalError::Pickle(e)) = m.check_top(m.pos) {
-            return Err(format!("is not a pickle of a dict: {e}"));
+            return Err(format!("is a pickle, but {e}"));
         }
     }
     Ok(())
