@@ -4,6 +4,7 @@
 //! documentation an LLM sees is the one the checker enforces.
 
 use crate::scene::{ALL_CATEGORIES, SUPER_CATEGORIES};
+pub use crate::units::Unit;
 use std::fmt;
 
 /// The type of a relation column.
@@ -70,6 +71,8 @@ pub struct ColumnSpec {
     pub ty: ColType,
     /// For string columns with a closed set of values, the values; empty otherwise.
     pub values: &'static [&'static str],
+    /// What a numeric column measures ([`Unit::None`] for the others).
+    pub unit: Unit,
 }
 
 /// The part of the catalog a relation belongs to.
@@ -147,7 +150,8 @@ impl RelationSpec {
         self.to_string()
     }
 
-    /// The relation as a JSON object: `name`, `columns` (`name`, `type`, optional `values`), `doc`, `group`.
+    /// The relation as a JSON object: `name`, `columns` (`name`, `type`, optional `values` and
+    /// `unit`), `doc`, `group`.
     pub fn to_json(&self) -> serde_json::Value {
         let columns: Vec<serde_json::Value> = self
             .columns
@@ -156,6 +160,9 @@ impl RelationSpec {
                 let mut o = serde_json::json!({ "name": c.name, "type": c.ty.as_str() });
                 if !c.values.is_empty() {
                     o["values"] = serde_json::json!(c.values);
+                }
+                if !c.unit.symbol().is_empty() {
+                    o["unit"] = serde_json::json!(c.unit.symbol());
                 }
                 o
             })
@@ -177,6 +184,9 @@ impl fmt::Display for RelationSpec {
                 f.write_str(", ")?;
             }
             write!(f, "{}: {}", c.name, c.ty)?;
+            if !matches!(c.unit, Unit::None | Unit::Count | Unit::Frame) {
+                write!(f, "<{}>", c.unit)?;
+            }
         }
         f.write_str(")")
     }
@@ -187,6 +197,30 @@ const fn col(name: &'static str, ty: ColType) -> ColumnSpec {
         name,
         ty,
         values: &[],
+        unit: match ty {
+            ColType::Time => Unit::Frame,
+            _ => Unit::None,
+        },
+    }
+}
+
+/// A float column measured in `unit`.
+const fn qty(name: &'static str, unit: Unit) -> ColumnSpec {
+    ColumnSpec {
+        name,
+        ty: ColType::Float,
+        values: &[],
+        unit,
+    }
+}
+
+/// An integer column measured in `unit`.
+const fn int_col(name: &'static str, unit: Unit) -> ColumnSpec {
+    ColumnSpec {
+        name,
+        ty: ColType::Int,
+        values: &[],
+        unit,
     }
 }
 
@@ -195,6 +229,7 @@ const fn enum_col(name: &'static str, values: &'static [&'static str]) -> Column
         name,
         ty: ColType::Str,
         values,
+        unit: Unit::None,
     }
 }
 
@@ -208,8 +243,8 @@ const CROSSING_DETAIL_COLUMNS: &[ColumnSpec] = &[
     T,
     enum_col("Dir", DIRECTIONS),
     enum_col("Sense", SENSES),
-    col("Reach", ColType::Float),
-    col("Off", ColType::Float),
+    qty("Reach", Unit::Metre),
+    qty("Off", Unit::Metre),
 ];
 /// The columns of `direction` and `refav_direction`.
 const DIRECTION_COLUMNS: &[ColumnSpec] = &[
@@ -217,8 +252,8 @@ const DIRECTION_COLUMNS: &[ColumnSpec] = &[
     Y,
     T,
     enum_col("Dir", DIRECTIONS),
-    col("Dist", ColType::Float),
-    col("Lat", ColType::Float),
+    qty("Dist", Unit::Metre),
+    qty("Lat", Unit::Metre),
 ];
 const L: ColumnSpec = col("L", ColType::Lane);
 
@@ -357,38 +392,38 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "frame_ns",
-        columns: &[T, col("Ns", ColType::Int)],
+        columns: &[T, int_col("Ns", Unit::Nanoseconds)],
         doc: "frame T's timestamp in nanoseconds",
         group: Group::Objects,
     },
     RelationSpec {
         name: "seconds",
-        columns: &[T, col("S", ColType::Float)],
+        columns: &[T, qty("S", Unit::SecondsFromStart)],
         doc: "frame T's time in seconds from the log's start",
         group: Group::Objects,
     },
     // Kinematics
     RelationSpec {
         name: "speed",
-        columns: &[X, T, col("V", ColType::Float)],
+        columns: &[X, T, qty("V", Unit::MetrePerSecond)],
         doc: "X's speed in m/s (city frame, smoothed); the concepts stopped, moving and fast are the prelude's `stopped`, `moving`, `fast`",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "accel",
-        columns: &[X, T, col("A", ColType::Float)],
+        columns: &[X, T, qty("A", Unit::MetrePerSecond2)],
         doc: "X's forward acceleration in m/s² in its own frame; the concepts are the prelude's `accelerating`, `braking`, `braking_hard`",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "lat_accel",
-        columns: &[X, T, col("A", ColType::Float)],
+        columns: &[X, T, qty("A", Unit::MetrePerSecond2)],
         doc: "X's lateral acceleration in m/s² in its own frame, + is to the left",
         group: Group::Kinematics,
     },
     RelationSpec {
         name: "yaw_rate",
-        columns: &[X, T, col("W", ColType::Float)],
+        columns: &[X, T, qty("W", Unit::DegreePerSecond)],
         doc: "X's yaw rate in deg/s, + is counter-clockwise (left), unsmoothed",
         group: Group::Kinematics,
     },
@@ -461,13 +496,13 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "near_intersection",
-        columns: &[X, T, col("D", ColType::Float)],
+        columns: &[X, T, qty("D", Unit::Metre)],
         doc: "distance in m from X's centre to the nearest intersection lane at T, 0 inside",
         group: Group::Map,
     },
     RelationSpec {
         name: "at_crosswalk",
-        columns: &[X, T, col("D", ColType::Float)],
+        columns: &[X, T, qty("D", Unit::Metre)],
         doc: "distance in m from X's box to the nearest pedestrian crossing at T, 0 when overlapping",
         group: Group::Map,
     },
@@ -486,7 +521,7 @@ const CATALOG: &[RelationSpec] = &[
     // Pairs
     RelationSpec {
         name: "near",
-        columns: &[X, Y, T, col("D", ColType::Float)],
+        columns: &[X, Y, T, qty("D", Unit::Metre)],
         doc: "D is the distance in m between X's and Y's ground rectangles at T (0 if they overlap)",
         group: Group::Pairs,
     },
@@ -582,7 +617,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_near",
-        columns: &[X, Y, T, col("D", ColType::Float)],
+        columns: &[X, Y, T, qty("D", Unit::Metre)],
         doc: "RefAV's definition of `near` (the distance of its near_objects): as `near`, but the ego's ground rectangle is where RefAV places it, centred on the rear axle (1.44 m behind its body's centre)",
         group: Group::Refav,
     },
@@ -594,13 +629,13 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_crossing_event",
-        columns: &[X, Y, T, enum_col("Dir", DIRECTIONS), col("Reach", ColType::Float)],
+        columns: &[X, Y, T, enum_col("Dir", DIRECTIONS), qty("Reach", Unit::Metre)],
         doc: "a crossing RefAV's being_crossed_by(X, Y, direction=Dir) finds, whatever its sense and span: Y's median-filtered centre passes one of X's side lines extended in direction Dir between the frame before T and T, Reach m beyond half X's length, moving across faster than 0.2 m/s (after its first one RefAV overwrites its direction argument)",
         group: Group::Refav,
     },
     RelationSpec {
         name: "refav_crosswalk",
-        columns: &[X, T, col("C", ColType::Int), col("D", ColType::Float)],
+        columns: &[X, T, int_col("C", Unit::None), qty("D", Unit::Metre)],
         doc: "RefAV's definition of `at_crosswalk` (its at_pedestrian_crossing): X's box as RefAV has it (the ego's at its rear axle) touches pedestrian crossing C (its map id) dilated by D m with mitred corners (the polygon's edges moved out by D), 0 when they overlap",
         group: Group::Refav,
     },
@@ -624,7 +659,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_order",
-        columns: &[X, enum_col("Cat", CATEGORY_VALUES), col("R", ColType::Int)],
+        columns: &[X, enum_col("Cat", CATEGORY_VALUES), int_col("R", Unit::Count)],
         doc: "X is the R-th (0 first) of the objects RefAV's get_objects_of_category(Cat) returns, for Cat X's category, \"VEHICLE\" (a vehicle) and \"ANY\": the annotation file's order of first rows, for \"VEHICLE\" category by category (RefAV's loops over candidates follow it)",
         group: Group::Refav,
     },
@@ -732,6 +767,37 @@ mod tests {
     }
 
     #[test]
+    fn every_number_has_a_unit_and_every_time_is_a_frame() {
+        for r in catalog() {
+            for c in r.columns {
+                match c.ty {
+                    ColType::Float => assert!(
+                        c.unit
+                            .measure()
+                            .is_some_and(|m| m.dims != crate::units::Dims::NONE),
+                        "{}'s {} has no unit",
+                        r.name,
+                        c.name
+                    ),
+                    ColType::Time => assert_eq!(c.unit, Unit::Frame, "{}", r.name),
+                    ColType::Int => {}
+                    _ => assert_eq!(c.unit, Unit::None, "{}'s {}", r.name, c.name),
+                }
+            }
+        }
+        let speed = relation("speed").map(|r| r.columns[2].unit);
+        assert_eq!(speed, Some(Unit::MetrePerSecond));
+        assert_eq!(
+            relation("yaw_rate").map(|r| r.columns[2].unit),
+            Some(Unit::DegreePerSecond)
+        );
+        assert_eq!(
+            relation("refav_order").map(|r| r.columns[2].unit),
+            Some(Unit::Count)
+        );
+    }
+
+    #[test]
     fn names_are_unique_and_lookup_works() {
         let mut names: Vec<_> = catalog().iter().map(|r| r.name).collect();
         names.sort_unstable();
@@ -742,7 +808,8 @@ mod tests {
         assert_eq!(
             relation("direction").map(|r| r.signature()),
             Some(
-                "direction(X: track, Y: track, T: time, Dir: str, Dist: float, Lat: float)".into()
+                "direction(X: track, Y: track, T: time, Dir: str, Dist: float<m>, Lat: float<m>)"
+                    .into()
             )
         );
         assert!(relation("nope").is_none());

@@ -22,6 +22,7 @@ pub mod relation;
 pub mod scene;
 pub mod summary;
 pub mod time;
+pub mod units;
 
 pub use color::ColorCache;
 pub use error::LoadError;

@@ -136,7 +136,7 @@ fn e0101_unknown_predicate_suggests_catalog_and_program_names() {
         .hint
         .as_deref()
         .unwrap_or("")
-        .contains("near(X: track, Y: track, T: time, D: float)"));
+        .contains("near(X: track, Y: track, T: time, D: float<m>)"));
 }
 
 #[test]
@@ -146,7 +146,7 @@ fn e0102_wrong_arity_shows_signature() {
         src,
         "E0102",
         "near(X, Y, T)",
-        "near(X: track, Y: track, T: time, D: float)",
+        "near(X: track, Y: track, T: time, D: float<m>)",
     );
     assert!(d.message.contains("takes 4 arguments, found 3"));
 }
@@ -166,7 +166,7 @@ fn e0103_type_mismatch_time_where_track_goes() {
         src,
         "E0103",
         "T",
-        "near(X: track, Y: track, T: time, D: float)",
+        "near(X: track, Y: track, T: time, D: float<m>)",
     );
     assert!(
         d.message
@@ -188,7 +188,7 @@ fn e0103_string_where_number_goes() {
         src,
         "E0103",
         "\"fast\"",
-        "speed(X: track, T: time, V: float)",
+        "speed(X: track, T: time, V: float<m/s>)",
     );
     assert!(d.message.contains("found the string"));
 }
@@ -349,7 +349,7 @@ fn e0403_catalog_relation_in_a_head() {
         src,
         "E0403",
         "near",
-        "near(X: track, Y: track, T: time, D: float)",
+        "near(X: track, Y: track, T: time, D: float<m>)",
     );
 }
 

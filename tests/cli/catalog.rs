@@ -24,7 +24,7 @@ fn text_lists_every_relation_with_its_signature_and_doc() {
     for title in ["Objects and time", "Kinematics", "Map", "Pairs"] {
         assert!(text.contains(title), "missing group {title}");
     }
-    assert!(text.contains("near(X: track, Y: track, T: time, D: float)"));
+    assert!(text.contains("near(X: track, Y: track, T: time, D: float<m>)"));
 }
 
 #[test]
@@ -93,8 +93,9 @@ fn one_relation_by_name_and_unknown_names() {
     let out = scenalog(&["catalog", "direction"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text
-        .starts_with("direction(X: track, Y: track, T: time, Dir: str, Dist: float, Lat: float)"));
+    assert!(text.starts_with(
+        "direction(X: track, Y: track, T: time, Dir: str, Dist: float<m>, Lat: float<m>)"
+    ));
     assert!(text.contains("Dir: str, one of \"forward\""), "{text}");
 
     let out = scenalog(&["catalog", "--json", "speed"]);
@@ -102,6 +103,7 @@ fn one_relation_by_name_and_unknown_names() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     assert_eq!(v["name"], "speed");
     assert_eq!(v["columns"][2]["type"], "float");
+    assert_eq!(v["columns"][2]["unit"], "m/s");
 
     let out = scenalog(&["catalog", "sped"]);
     assert_eq!(out.status.code(), Some(2));
