@@ -25,7 +25,7 @@ use std::collections::{BTreeSet, HashMap};
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::relation::{Constraint, Request, Value};
 use scenalog_facts::{Frame, TrackId};
-use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal};
+use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal, Number};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::plan::flipped;
@@ -499,6 +499,12 @@ fn constant(e: &ExprKind, ty: ColType) -> Option<Value> {
         (ExprKind::Int(v), ColType::Float) => Some(Value::Float(*v as f64)),
         (ExprKind::Float(v), ColType::Float) => Some(Value::Float(*v)),
         (ExprKind::Int(v), ColType::Time) => u32::try_from(*v).ok().map(Value::Time),
+        (ExprKind::Quantity(q), ColType::Float) => Some(Value::Float(q.number().as_f64())),
+        (ExprKind::Quantity(q), ColType::Int | ColType::Time) => match q.number() {
+            Number::Int(v) if ty == ColType::Int => Some(Value::Int(v)),
+            Number::Int(v) => u32::try_from(v).ok().map(Value::Time),
+            Number::Float(_) => None,
+        },
         _ => None,
     }
 }
@@ -507,6 +513,7 @@ fn number(e: &ExprKind) -> Option<f64> {
     match e {
         ExprKind::Int(v) => Some(*v as f64),
         ExprKind::Float(v) => Some(*v),
+        ExprKind::Quantity(q) => Some(q.number().as_f64()),
         _ => None,
     }
 }

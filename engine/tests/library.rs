@@ -301,7 +301,7 @@ fn moving_vehicles_not_on_road_are_outside_the_drivable_area_and_moving() {
     );
     let prelude = read("rules/prelude.dl");
     for clause in [
-        "moving(X, T) :- speed(X, T, V), V >= 0.5.",
+        "moving(X, T) :- speed(X, T, V), V >= 0.5 m/s.",
         "on_sidewalk(X, T) :- present(X, T), !in_drivable_area(X, T).",
     ] {
         assert!(

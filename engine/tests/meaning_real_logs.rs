@@ -76,25 +76,25 @@ struct Case {
 const CASES: &[Case] = &[
     Case {
         name: "`_` expected to join in a count (a cross product)",
-        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { near(V, _, T, D), category(_, \"PEDESTRIAN\"), D < 10.0 }, N >= 2.",
+        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { near(V, _, T, D), category(_, \"PEDESTRIAN\"), D < 10.0 m }, N >= 2.",
         code: "W0506",
-        meant: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, P, T) }, N >= 2.",
+        meant: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0 m, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, P, T) }, N >= 2.",
         relation: "referred",
         runs: true,
     },
     Case {
         name: "`_` over the time column of a count",
-        wrong: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, _, _) }, N >= 2.",
+        wrong: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0 m, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, _, _) }, N >= 2.",
         code: "W0507",
-        meant: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, P, T) }, N >= 2.",
+        meant: "ped_near(V, P, T) :- near(V, P, T, D), D < 10.0 m, category(P, \"PEDESTRIAN\").\nreferred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { ped_near(V, P, T) }, N >= 2.",
         relation: "referred",
         runs: true,
     },
     Case {
         name: "`related` on a wider condition than `referred`",
-        wrong: "referred(P, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 3.0, category(B, \"VEHICLE\").\nrelated(P, B, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 10.0, category(B, \"VEHICLE\").",
+        wrong: "referred(P, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 3.0 m, category(B, \"VEHICLE\").\nrelated(P, B, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 10.0 m, category(B, \"VEHICLE\").",
         code: "W0508",
-        meant: "close(P, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 3.0, category(B, \"VEHICLE\").\nreferred(P, T) :- close(P, T).\nrelated(P, B, T) :- close(P, T), near(P, B, T, D), D < 10.0, category(B, \"VEHICLE\").",
+        meant: "close(P, T) :- category(P, \"PEDESTRIAN\"), near(P, B, T, D), D < 3.0 m, category(B, \"VEHICLE\").\nreferred(P, T) :- close(P, T).\nrelated(P, B, T) :- close(P, T), near(P, B, T, D), D < 10.0 m, category(B, \"VEHICLE\").",
         relation: "related",
         runs: true,
     },
@@ -108,17 +108,17 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "a `max` over every frame instead of the rule's",
-        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), present(V, T), M = max S : { speed(V, _, S) }, M > 5.0.",
+        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), present(V, T), M = max S : { speed(V, _, S) }, M > 5.0 m/s.",
         code: "W0507",
-        meant: "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S > 5.0.",
+        meant: "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S > 5.0 m/s.",
         relation: "referred",
         runs: true,
     },
     Case {
         name: "`ego` written as a value in `near`",
-        wrong: "referred(X, T) :- category(X, \"VEHICLE\"), near(ego, X, T, D), D < 10.0.",
+        wrong: "referred(X, T) :- category(X, \"VEHICLE\"), near(ego, X, T, D), D < 10.0 m.",
         code: "E0001",
-        meant: "referred(X, T) :- ego(E), category(X, \"VEHICLE\"), near(E, X, T, D), D < 10.0.",
+        meant: "referred(X, T) :- ego(E), category(X, \"VEHICLE\"), near(E, X, T, D), D < 10.0 m.",
         relation: "referred",
         runs: false,
     },
@@ -132,31 +132,31 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "a negation testing its own variable: no vehicle within 5 m",
-        wrong: "referred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T), !near(X, V, T, D), D < 5.0, category(V, \"VEHICLE\").",
+        wrong: "referred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T), !near(X, V, T, D), D < 5.0 m, category(V, \"VEHICLE\").",
         code: "E0201",
-        meant: "close_vehicle(X, T) :- near(X, V, T, D), D < 5.0, category(V, \"VEHICLE\").\nreferred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T), !close_vehicle(X, T).",
+        meant: "close_vehicle(X, T) :- near(X, V, T, D), D < 5.0 m, category(V, \"VEHICLE\").\nreferred(X, T) :- category(X, \"PEDESTRIAN\"), present(X, T), !close_vehicle(X, T).",
         relation: "referred",
         runs: false,
     },
     Case {
         name: "a negation testing its own variable: not moving faster than the lead",
-        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), moving(V, T), !speed(V, T, S), S > 15.0.",
+        wrong: "referred(V, T) :- category(V, \"VEHICLE\"), moving(V, T), !speed(V, T, S), S > 15.0 m/s.",
         code: "E0201",
-        meant: "fast15(V, T) :- speed(V, T, S), S > 15.0.\nreferred(V, T) :- category(V, \"VEHICLE\"), moving(V, T), !fast15(V, T).",
+        meant: "fast15(V, T) :- speed(V, T, S), S > 15.0 m/s.\nreferred(V, T) :- category(V, \"VEHICLE\"), moving(V, T), !fast15(V, T).",
         relation: "referred",
         runs: false,
     },
     Case {
         name: "Souffle's `number` for a frame column",
-        wrong: ".decl slow(X: track, T: number)\nslow(X, T) :- speed(X, T, V), V < 1.0.\nreferred(X, T) :- category(X, \"VEHICLE\"), slow(X, T).",
+        wrong: ".decl slow(X: track, T: number)\nslow(X, T) :- speed(X, T, V), V < 1.0 m/s.\nreferred(X, T) :- category(X, \"VEHICLE\"), slow(X, T).",
         code: "E0001",
-        meant: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V < 1.0.",
+        meant: "referred(X, T) :- category(X, \"VEHICLE\"), speed(X, T, V), V < 1.0 m/s.",
         relation: "referred",
         runs: false,
     },
     Case {
         name: "a prelude concept used with the meaning of its one definition",
-        wrong: "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- category(X, \"VEHICLE\"), waiting(X, T).",
+        wrong: "stopped(X, T) :- speed(X, T, V), V < 2.0 m/s.\nreferred(X, T) :- category(X, \"VEHICLE\"), waiting(X, T).",
         code: "E0405",
         meant: "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), !stationary(X), at_an_intersection(X, T).\nreferred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), !stationary(X), at_a_crosswalk(X, T).\nreferred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), !stationary(X), at_stop_sign(X, _, T).\nreferred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), !stationary(X), lead(X, Y, T), stopped(Y, T).",
         relation: "referred",
@@ -180,7 +180,7 @@ fn each_fix_applied_literally_gives_the_program_that_was_meant() {
                 case.name
             );
             let renamed = case.wrong.replace("stopped(X, T) :-", "slow2(X, T) :-");
-            let renamed = renamed.replace("slow2(X, T) :- speed(X, T, V), V < 2.0.\n", "");
+            let renamed = renamed.replace("slow2(X, T) :- speed(X, T, V), V < 2.0 m/s.\n", "");
             assert_eq!(
                 mine(&renamed, &scenes, case.relation),
                 mine(case.meant, &scenes, case.relation),

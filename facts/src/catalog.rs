@@ -12,7 +12,7 @@ use std::fmt;
 pub enum ColType {
     /// An object of the log (the ego is one).
     Track,
-    /// A frame index of the log (10 Hz, 0-based).
+    /// A moment of the log: stored as the frame of a 0.1 s grid (a 10 Hz log's frames are 0..N).
     Time,
     /// A lane segment id of the vector map.
     Lane,
@@ -387,19 +387,19 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "present",
         columns: &[X, T],
-        doc: "X is annotated at frame T",
+        doc: "X is annotated at T (a sample of its track)",
         group: Group::Objects,
     },
     RelationSpec {
         name: "frame_ns",
         columns: &[T, int_col("Ns", Unit::Nanoseconds)],
-        doc: "frame T's timestamp in nanoseconds",
+        doc: "T's timestamp in nanoseconds",
         group: Group::Objects,
     },
     RelationSpec {
         name: "seconds",
         columns: &[T, qty("S", Unit::SecondsFromStart)],
-        doc: "frame T's time in seconds from the log's start",
+        doc: "T's time in seconds from the log's start",
         group: Group::Objects,
     },
     // Kinematics
@@ -449,7 +449,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "in_lane",
         columns: &[X, T, L],
-        doc: "X's centre is in lane segment L at T (one lane per object and frame)",
+        doc: "X's centre is in lane segment L at T (one lane per object and time)",
         group: Group::Map,
     },
     RelationSpec {
@@ -692,8 +692,9 @@ pub fn render_rules_text() -> String {
 fn render_text_of(keep: impl Fn(&RelationSpec) -> bool) -> String {
     let kept: Vec<&RelationSpec> = CATALOG.iter().filter(|r| keep(r)).collect();
     let mut out = format!(
-        "{} relations. Column types: track (an object; the ego is one), time (frame, 10 Hz), \
-         lane (lane segment id), str, float, int. Metres, m/s, degrees, frames.\n\n",
+        "{} relations. Column types: track (an object; the ego is one), time (a moment of the \
+         log), lane (lane segment id), str, float, int; a float's unit follows its type \
+         (`float<m/s>`).\n\n",
         kept.len()
     );
     let mut group = None;

@@ -31,20 +31,20 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "concepts: stopped, moving, fast, accelerating, braking, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, against traffic, a group",
-        idiom: "use the prelude relation listed under Concepts (`stopped(X, T)`, `nearby(X, Y, T)`, `group_size(P, T, N)`, …): it is already defined, so never define it again or re-derive it from the catalog. Parked vehicles are stopped; \"stopped but not parked\" adds `!parked(X)`; an object of any kind that stays put over its whole track is `stationary(X)`. A number the description gives is written with the catalog relation itself: \"within 5 m\" is `near(X, Y, T, D), D <= 5.0`",
+        idiom: "use the prelude relation listed under Concepts (`stopped(X, T)`, `nearby(X, Y, T)`, `group_size(P, T, N)`, …): it is already defined, so never define it again or re-derive it from the catalog. Parked vehicles are stopped; \"stopped but not parked\" adds `!parked(X)`; an object of any kind that stays put over its whole track is `stationary(X)`. A number the description gives is written with the catalog relation itself: \"within 5 m\" is `near(X, Y, T, D), D <= 5 m`",
         example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), stopped(X, T).",
         library: &[("stopped_car", "stopped(V, T)")],
     },
     Convention {
         phrase: "in front of, behind, beside",
-        idiom: "`direction(X, Y, T, \"forward\", Dist, Lat)`: Y's centre is ahead of X's front. A diagonal Y holds in two directions (ahead and to the left is both \"forward\" and \"left\"). `Lat` is unsigned: how far Y's centre lies beyond X's sides (0 when within them), so \"directly in front\" adds `Lat < 1`; within a distance: `Dist < 25`",
-        example: "referred(X, T) :- ego(E), direction(E, X, T, \"forward\", Dist, Lat), Dist < 25.0, Lat < 1.0.",
+        idiom: "`direction(X, Y, T, \"forward\", Dist, Lat)`: Y's centre is ahead of X's front. A diagonal Y holds in two directions (ahead and to the left is both \"forward\" and \"left\"). `Lat` is unsigned: how far Y's centre lies beyond X's sides (0 when within them), so \"directly in front\" adds `Lat < 1 m`; within a distance: `Dist < 25 m`",
+        example: "referred(X, T) :- ego(E), direction(E, X, T, \"forward\", Dist, Lat), Dist < 25 m, Lat < 1 m.",
         library: &[],
     },
     Convention {
         phrase: "no reference object (\"within 5 m to the right\", \"ahead\", \"behind\")",
-        idiom: "a position or distance with no object to measure from is measured from the ego vehicle: `ego(E), direction(E, X, T, \"right\", D, _), D <= 5.0`; the ego is then the related object",
-        example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), ego(E), direction(E, X, T, \"right\", D, _), D <= 5.0.",
+        idiom: "a position or distance with no object to measure from is measured from the ego vehicle: `ego(E), direction(E, X, T, \"right\", D, _), D <= 5 m`; the ego is then the related object",
+        example: "referred(X, T) :- category(X, \"PEDESTRIAN\"), ego(E), direction(E, X, T, \"right\", D, _), D <= 5 m.",
         library: &[("pedestrian_within_5_meters_to_the_right", "ego(E), direction(E, P, T, \"right\"")],
     },
     Convention {
@@ -79,9 +79,9 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "swerving",
-        idiom: "a sudden sideways move that is neither a turn nor a lane change: `lat_accel(X, T, A), A >= 2` (left; `A <= -2` right), `speed(X, T, V), V > 3`, `!turning(X, T, _), !lane_change(X, T, _)`",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), lat_accel(X, T, A), A <= -2.0, speed(X, T, V), V > 3.0, !turning(X, T, _), !lane_change(X, T, _).",
-        library: &[("passenger_vehicle_swerving_left", "A >= 2.0")],
+        idiom: "a sudden sideways move that is neither a turn nor a lane change: `lat_accel(X, T, A), A >= 2 m/s2` (left; `A <= -2 m/s2` right), `speed(X, T, V), V > 3 m/s`, `!turning(X, T, _), !lane_change(X, T, _)`",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), lat_accel(X, T, A), A <= -2 m/s2, speed(X, T, V), V > 3 m/s, !turning(X, T, _), !lane_change(X, T, _).",
+        library: &[("passenger_vehicle_swerving_left", "A >= 2.0 m/s2")],
     },
     Convention {
         phrase: "towing, with a trailer",
@@ -92,25 +92,25 @@ pub const CONVENTIONS: &[Convention] = &[
     Convention {
         phrase: "construction objects, a construction zone",
         idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is a cluster: link objects within 10 m and close the links by recursion, then count, as the prelude's `in_group` does for people",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10.0, category(C, \"CONSTRUCTION\").",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10 m, category(C, \"CONSTRUCTION\").",
         library: &[("construction_zone", "category(C, \"CONSTRUCTION\")")],
     },
     Convention {
-        phrase: "time",
-        idiom: "a time is in tenths of a second from the log's start, whatever the tracker's rate (at 2 Hz only every fifth value has data): `T + 10` is one second later, 2 s is 20; compare times with integers, never floats (`seconds(T, S)` gives seconds). Never count samples to measure a duration",
-        example: "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 > T1, T2 - T1 <= 20.",
+        phrase: "numbers and time",
+        idiom: "write every number with its unit: `50 km/h`, `3 m`, `2 m/s2`, `0.3 rad/s`, `90 deg`, `2 s`, `500 ms` (a bare number is read in the column's unit, with a warning). A time is a moment of the log, whatever the tracker's rate: `T2 - T1` is a duration and `T + 1 s` one second later (`T + 1` is an error); never count samples to measure a duration",
+        example: "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 > T1, T2 - T1 <= 2 s.",
         library: &[],
     },
     Convention {
         phrase: "for at least 2 s",
-        idiom: "it holds at every sample from 2 s before T to T: `p(X, T), T0 = T - 20, p(X, T0), N = count : { p(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M` (the same at any tracker rate; the prelude's `against_traffic` is written so)",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), T0 = T - 20, stopped(X, T0), N = count : { stopped(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M.",
+        idiom: "it holds at every sample from 2 s before T to T: `p(X, T), T0 = T - 2 s, p(X, T0), N = count : { p(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M` (the same at any tracker rate; the prelude's `against_traffic` is written so)",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), T0 = T - 2 s, stopped(X, T0), N = count : { stopped(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M.",
         library: &[],
     },
     Convention {
         phrase: "A then B, after A, before B",
-        idiom: "join the two moments and order them: `a(X, T1), b(X, T2), T2 > T1, T2 - T1 <= 30` (B within 3 s after A); \"after stopping\" is `stopped(X, T1), T > T1`",
-        example: "referred(X, T2) :- stopped(X, T1), accelerating(X, T2), T2 > T1, T2 - T1 <= 30.",
+        idiom: "join the two moments and order them: `a(X, T1), b(X, T2), T2 > T1, T2 - T1 <= 3 s` (B within 3 s after A); \"after stopping\" is `stopped(X, T1), T > T1`",
+        example: "referred(X, T2) :- stopped(X, T1), accelerating(X, T2), T2 > T1, T2 - T1 <= 3 s.",
         library: &[],
     },
     Convention {

@@ -241,6 +241,54 @@ impl Func {
     }
 }
 
+/// A number written with a unit, `50 km/h`: the checker reads it in the unit of what it is
+/// compared with, added to or stored in (`speed`'s m/s: 13.89; a frame's 0.1 s: `3 s` is 30).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Quantity {
+    /// The number as written.
+    pub value: f64,
+    /// The unit as written: one unit name or a quotient of two (`km/h`).
+    pub unit: String,
+    /// The number in the unit of its place, set by the checker (`None` before it ran).
+    pub read_as: Option<Number>,
+}
+
+/// A plain number.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Number {
+    /// An integer (a count of frames, for a duration added to a frame).
+    Int(i64),
+    /// A float.
+    Float(f64),
+}
+
+impl Number {
+    /// The number as a float.
+    pub fn as_f64(self) -> f64 {
+        match self {
+            Number::Int(i) => i as f64,
+            Number::Float(f) => f,
+        }
+    }
+}
+
+impl Quantity {
+    /// The measure its unit names.
+    pub fn measure(&self) -> Option<scenalog_facts::units::Measure> {
+        let mut parts = self.unit.splitn(2, '/');
+        let num = parts.next().unwrap_or_default();
+        scenalog_facts::units::literal_measure(num, parts.next())
+    }
+
+    /// The number the engine uses: as the checker read it, else in base units (m, s, deg).
+    pub fn number(&self) -> Number {
+        match self.read_as {
+            Some(n) => n,
+            None => Number::Float(self.value * self.measure().map_or(1.0, |m| m.factor)),
+        }
+    }
+}
+
 /// An expression (a term): a variable, a constant or arithmetic over them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expr {
@@ -263,6 +311,8 @@ pub enum ExprKind {
     Int(i64),
     /// A floating-point constant.
     Float(f64),
+    /// A number with a unit (`50 km/h`, `3 s`).
+    Quantity(Quantity),
     /// Unary minus.
     Neg(Box<Expr>),
     /// Binary arithmetic.

@@ -61,6 +61,12 @@ pub const UNTIED_AGGREGATE: &str = "W0510";
 pub const REDEFINED_PRELUDE: &str = "W0509";
 /// A program defines a relation of a prelude concept's name with another number of columns.
 pub const PRELUDE_ARITY: &str = "E0407";
+/// Two units that cannot meet: a speed compared with a distance, two instants added.
+pub const UNIT_MISMATCH: &str = "E0105";
+/// A bare number added to a time (an instant): `T + 1` is a frame, not a duration.
+pub const INSTANT_PLUS_NUMBER: &str = "E0106";
+/// A bare number compared with or added to a quantity with a unit: read in that unit.
+pub const BARE_NUMBER: &str = "W0511";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -76,6 +82,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     RELATED_NOT_REFERRED,
     REDEFINED_PRELUDE,
     UNTIED_AGGREGATE,
+    BARE_NUMBER,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -90,6 +97,12 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         BAD_VALUE,
         Severity::Error,
         "string outside the column's values",
+    ),
+    (UNIT_MISMATCH, Severity::Error, "units that cannot meet"),
+    (
+        INSTANT_PLUS_NUMBER,
+        Severity::Error,
+        "bare number added to a time",
     ),
     (UNSAFE_VARIABLE, Severity::Error, "unsafe variable"),
     (
@@ -174,6 +187,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         UNTIED_AGGREGATE,
         Severity::Warning,
         "aggregate tied to nothing",
+    ),
+    (
+        BARE_NUMBER,
+        Severity::Warning,
+        "number with no unit read in a unit",
     ),
 ];
 

@@ -4,12 +4,14 @@
 //!
 //! The grammar follows the parser ([`crate::parser`]): clauses and `.decl` lines, comments
 //! (`//`, `%`, `/* */`), atoms, negation (`!` or `not`), comparisons, aggregates, arithmetic with
-//! `abs`/`min`/`max`, strings with the parser's escapes and numbers as the lexer reads them. It
-//! is a little wider than the parser where a context-free grammar cannot say more (an atom named
-//! like a built-in function, a call with the wrong number of arguments): those still reach the
-//! checker and its diagnostics. An answer may be wrapped in one Markdown code fence, as the
+//! `abs`/`min`/`max`, strings with the parser's escapes and numbers as the lexer reads them, with
+//! a unit or none (`50 km/h`). It is a little wider than the parser where a context-free grammar
+//! cannot say more (an atom named like a built-in function, a call with the wrong number of
+//! arguments, `m2` as a unit): those still reach the checker and its diagnostics. An answer may be wrapped in one Markdown code fence, as the
 //! prompt asks; with [`Answer::ProgramOrKeep`] it may instead be the word `KEEP` (the evidence
 //! round's answer).
+
+use scenalog_facts::units;
 
 /// A grammar expression.
 #[derive(Debug, Clone, PartialEq)]
@@ -233,7 +235,14 @@ pub fn rules(answer: Answer) -> Vec<(&'static str, G)> {
                 r("var"),
                 lit("_"),
                 r("string"),
-                r("number"),
+                seq(vec![
+                    r("number"),
+                    opt(seq(vec![
+                        r("ws"),
+                        r("unit"),
+                        opt(seq(vec![r("ws"), lit("/"), r("ws"), r("unit")])),
+                    ])),
+                ]),
                 seq(vec![
                     alt(vec![lit("abs"), lit("min"), lit("max")]),
                     r("ws"),
@@ -271,6 +280,13 @@ pub fn rules(answer: Answer) -> Vec<(&'static str, G)> {
                 plus(class("0-9")),
                 opt(seq(vec![lit("."), plus(class("0-9"))])),
                 opt(seq(vec![class("eE"), opt(class("-+")), plus(class("0-9"))])),
+            ]),
+        ),
+        (
+            "unit",
+            seq(vec![
+                alt(units::LITERAL_UNITS.iter().map(|u| lit(u.name)).collect()),
+                opt(lit("2")),
             ]),
         ),
         ("ws", star(alt(vec![class(" \\t\\r\\n"), r("comment")]))),

@@ -132,6 +132,41 @@ pub fn apply_fix(source: &str, d: &Diagnostic) -> Option<String> {
     Some(out)
 }
 
+/// `source` with the fixes of every diagnostic applied whose edits overlap no earlier one's
+/// (in source order), and how many diagnostics were fixed.
+pub fn apply_fixes(source: &str, diags: &[Diagnostic]) -> (String, usize) {
+    let mut taken: Vec<&Edit> = Vec::new();
+    let mut fixed = 0;
+    for d in diags {
+        if d.fix.is_empty() {
+            continue;
+        }
+        let valid = d.fix.iter().all(|e| {
+            e.span.start <= e.span.end
+                && e.span.end <= source.len()
+                && source.is_char_boundary(e.span.start)
+                && source.is_char_boundary(e.span.end)
+        });
+        let clear = d.fix.iter().all(|e| {
+            taken.iter().all(|t| {
+                let touch = e.span.start == e.span.end || t.span.start == t.span.end;
+                e.span.end <= t.span.start && !(touch && e.span.end == t.span.start)
+                    || t.span.end <= e.span.start && !(touch && t.span.end == e.span.start)
+            })
+        });
+        if valid && clear {
+            taken.extend(d.fix.iter());
+            fixed += 1;
+        }
+    }
+    taken.sort_by_key(|e| std::cmp::Reverse((e.span.start, e.span.end)));
+    let mut out = source.to_string();
+    for e in taken {
+        out.replace_range(e.span.start..e.span.end, &e.text);
+    }
+    (out, fixed)
+}
+
 /// Where a predicate's tuples come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum PredKind {

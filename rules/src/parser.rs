@@ -4,6 +4,7 @@
 //! run reports every broken clause.
 
 use scenalog_facts::catalog::ColType;
+use scenalog_facts::units;
 
 use crate::ast::*;
 use crate::diagnostics::{self, error};
@@ -563,11 +564,13 @@ impl<'a> Parser<'a> {
             match self.peek().clone() {
                 Tok::Int(text) if self.span().start == start.end => {
                     let span = start.to(self.bump());
-                    return int_literal(&format!("-{text}"), span);
+                    let e = int_literal(&format!("-{text}"), span)?;
+                    return self.unit_suffix(e);
                 }
                 Tok::Float(text) if self.span().start == start.end => {
                     let span = start.to(self.bump());
-                    return float_literal(&format!("-{text}"), span);
+                    let e = float_literal(&format!("-{text}"), span)?;
+                    return self.unit_suffix(e);
                 }
                 _ => {}
             }
@@ -594,11 +597,13 @@ impl<'a> Parser<'a> {
             Tok::Str(s) => ExprKind::Str(s),
             Tok::Int(text) => {
                 self.bump();
-                return int_literal(text, span);
+                let e = int_literal(text, span)?;
+                return self.unit_suffix(e);
             }
             Tok::Float(text) => {
                 self.bump();
-                return float_literal(text, span);
+                let e = float_literal(text, span)?;
+                return self.unit_suffix(e);
             }
             Tok::LParen => {
                 self.bump();
@@ -657,6 +662,64 @@ impl<'a> Parser<'a> {
         self.bump();
         Ok(Expr { kind, span })
     }
+}
+
+impl Parser<'_> {
+    /// A number followed by a unit (`50 km/h`, `3 s`, `0.3 rad/s`) becomes a quantity; a
+    /// lowercase word after a number that is not a unit is an error listing the units.
+    fn unit_suffix(&mut self, number: Expr) -> PResult<Expr> {
+        let value = match number.kind {
+            ExprKind::Int(i) => i as f64,
+            ExprKind::Float(f) => f,
+            _ => return Ok(number),
+        };
+        let Tok::Ident(first) = self.peek().clone() else {
+            return Ok(number);
+        };
+        if matches!(self.peek_at(1), Tok::LParen) {
+            return Ok(number);
+        }
+        if units::literal_unit(first).is_none() {
+            return Err(Box::new(unknown_unit(first, self.span())));
+        }
+        let mut unit = first.to_string();
+        self.bump();
+        if matches!(self.peek(), Tok::Slash) {
+            if let Tok::Ident(den) = self.peek_at(1).clone() {
+                if !matches!(self.peek_at(2), Tok::LParen) {
+                    self.bump();
+                    if units::literal_unit(den).is_none() {
+                        return Err(Box::new(unknown_unit(den, self.span())));
+                    }
+                    self.bump();
+                    unit = format!("{unit}/{den}");
+                }
+            }
+        }
+        let end = self.prev_span();
+        Ok(Expr {
+            span: number.span.to(end),
+            kind: ExprKind::Quantity(Quantity {
+                value,
+                unit,
+                read_as: None,
+            }),
+        })
+    }
+}
+
+/// E0001 for a word after a number that is not a unit.
+fn unknown_unit(word: &str, span: Span) -> Diagnostic {
+    let names: Vec<&str> = units::LITERAL_UNITS.iter().map(|u| u.name).collect();
+    error(
+        diagnostics::SYNTAX,
+        span,
+        format!("syntax error: `{word}` after a number is not a unit"),
+    )
+    .with_hint(format!(
+        "a number may carry a unit: {}, or a quotient of two (`km/h`, `rad/s`, `m/s2`)",
+        names.join(", ")
+    ))
 }
 
 fn int_literal(text: &str, span: Span) -> PResult<Expr> {

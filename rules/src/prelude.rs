@@ -509,7 +509,8 @@ fn shift_expr(e: &mut Expr, by: usize) {
         | ExprKind::Wildcard
         | ExprKind::Str(_)
         | ExprKind::Int(_)
-        | ExprKind::Float(_) => {}
+        | ExprKind::Float(_)
+        | ExprKind::Quantity(_) => {}
     }
 }
 

@@ -117,6 +117,18 @@ fn write_expr(out: &mut String, e: &Expr, min: u8) {
                 out.push_str(&text);
             }
         }
+        ExprKind::Quantity(q) => {
+            let text = if q.value.fract() == 0.0 && q.value.abs() < 1e15 {
+                format!("{:.0}", q.value)
+            } else {
+                float_text(q.value)
+            };
+            if text.starts_with('-') && min > 0 {
+                let _ = write!(out, "({text} {})", q.unit);
+            } else {
+                let _ = write!(out, "{text} {}", q.unit);
+            }
+        }
         ExprKind::Neg(inner) => {
             let paren = min > 3;
             if paren {

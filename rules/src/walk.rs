@@ -17,7 +17,11 @@ pub fn each_var<'a>(e: &'a Expr, f: &mut dyn FnMut(&'a str, Span)) {
             each_var(b, f);
         }
         ExprKind::Call(_, args) => args.iter().for_each(|a| each_var(a, f)),
-        ExprKind::Wildcard | ExprKind::Str(_) | ExprKind::Int(_) | ExprKind::Float(_) => {}
+        ExprKind::Wildcard
+        | ExprKind::Str(_)
+        | ExprKind::Int(_)
+        | ExprKind::Float(_)
+        | ExprKind::Quantity(_) => {}
     }
 }
 
@@ -48,7 +52,11 @@ pub fn wildcards(e: &Expr, out: &mut Vec<Span>) {
             wildcards(b, out);
         }
         ExprKind::Call(_, args) => args.iter().for_each(|a| wildcards(a, out)),
-        ExprKind::Var(_) | ExprKind::Str(_) | ExprKind::Int(_) | ExprKind::Float(_) => {}
+        ExprKind::Var(_)
+        | ExprKind::Str(_)
+        | ExprKind::Int(_)
+        | ExprKind::Float(_)
+        | ExprKind::Quantity(_) => {}
     }
 }
 

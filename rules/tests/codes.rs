@@ -1,5 +1,6 @@
 //! One small program per diagnostic code: the code, the exact text under the span, and the hint.
 
+use scenalog_rules::ast::{Expr, ExprKind, Literal, Number};
 use scenalog_rules::{check, CheckOptions, Diagnostic, Severity};
 
 fn diags(src: &str) -> Vec<Diagnostic> {
@@ -75,15 +76,15 @@ fn e0001_unterminated_string_and_bad_character() {
 fn e0002_long_operator_chain_is_too_deep() {
     // 128 operators fit, the 129th does not; the span covers the chain up to it.
     let fits = format!(
-        "referred(X, T) :- present(X, T), S = T{}, S > 0.\n",
-        " + T".repeat(128)
+        "referred(X, T) :- speed(X, T, V), S = V{}, S > 0.\n",
+        " + V".repeat(128)
     );
     assert!(check(&fits, &CheckOptions::default()).program.is_some());
     let src = format!(
-        "referred(X, T) :- present(X, T), S = T{}, S > 0.\n",
-        " + T".repeat(129)
+        "referred(X, T) :- speed(X, T, V), S = V{}, S > 0.\n",
+        " + V".repeat(129)
     );
-    let under = format!("T{}", " + T".repeat(129));
+    let under = format!("V{}", " + V".repeat(129));
     let d = expect(&src, "E0002", &under, "intermediate bindings");
     assert!(d.message.contains("128 operators"), "{}", d.message);
 }
@@ -118,7 +119,7 @@ fn e0002_deep_parentheses_are_too_deep() {
 
 #[test]
 fn e0101_unknown_predicate_suggests_catalog_and_program_names() {
-    let src = "stopped_car(X, T) :- speed(X, T, S), S < 0.5.\nreferred(X, T) :- stoped_car(X, T), nearr(X, _, T, _).\n";
+    let src = "stopped_car(X, T) :- speed(X, T, S), S < 0.5 m/s.\nreferred(X, T) :- stoped_car(X, T), nearr(X, _, T, _).\n";
     let all = diags(src);
     let unknown: Vec<&Diagnostic> = all.iter().filter(|d| d.code == "E0101").collect();
     assert_eq!(unknown.len(), 2, "{all:#?}");
@@ -153,7 +154,7 @@ fn e0102_wrong_arity_shows_signature() {
 
 #[test]
 fn e0102_helper_arity_points_at_its_definition() {
-    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\nreferred(X, T) :- slow(X, T, 3).\n";
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0 m/s.\nreferred(X, T) :- slow(X, T, 3).\n";
     let d = expect(src, "E0102", "slow(X, T, 3)", "with 2 arguments");
     assert_eq!(d.related.len(), 1);
     assert_eq!(&src[d.related[0].0.start..d.related[0].0.end], "slow(X, T)");
@@ -207,7 +208,7 @@ fn e0103_inferred_helper_types_by_unification() {
 
 #[test]
 fn e0103_decl_wins_over_uses() {
-    let src = ".decl fast(X: track, T: time, V: int)\nfast(X, T, V) :- speed(X, T, V), V > 10.0.\nreferred(X, T) :- fast(X, T, _).\n";
+    let src = ".decl fast(X: track, T: time, V: int)\nfast(X, T, V) :- speed(X, T, V), V > 10.0 m/s.\nreferred(X, T) :- fast(X, T, _).\n";
     let d = expect(src, "E0103", "V", "");
     assert!(
         d.message
@@ -257,7 +258,7 @@ fn e0201_unsafe_head_variable() {
 fn e0201_unsafe_in_negation_comparison_and_aggregate() {
     let src = "referred(X, T) :- present(X, T), !near(X, Y, T, _).\n";
     expect(src, "E0201", "Y", "write `_` if any value will do");
-    let src = "referred(X, T) :- present(X, T), S > 3.0.\n";
+    let src = "referred(X, T) :- present(X, T), S > 3.0 m/s.\n";
     expect(src, "E0201", "S", "bind `S`");
     let src = "referred(X, T) :- present(X, T), M = max S : { speed(X, T, V) }, M > 1.0.\n";
     expect(src, "E0201", "S", "bind `S`");
@@ -306,7 +307,7 @@ fn e0302_aggregation_through_recursion() {
 
 #[test]
 fn e0401_no_referred_unless_not_required() {
-    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\n";
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0 m/s.\n";
     expect(src, "E0401", "slow(X, T)", "referred(X, T) :-");
     let out = check(
         src,
@@ -382,7 +383,7 @@ fn w0502_declared_but_never_defined() {
 
 #[test]
 fn w0503_helper_never_used() {
-    let src = "slow(X, T) :- speed(X, T, S), S < 1.0.\nreferred(X, T) :- present(X, T).\n";
+    let src = "slow(X, T) :- speed(X, T, S), S < 1.0 m/s.\nreferred(X, T) :- present(X, T).\n";
     expect(src, "W0503", "slow", "use `slow`");
 }
 
@@ -413,11 +414,11 @@ fn every_code_is_documented() {
 
 #[test]
 fn e0405_a_helper_named_like_what_a_used_prelude_relation_needs() {
-    let src = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- waiting(X, T).\n";
+    let src = "stopped(X, T) :- speed(X, T, V), V < 2.0 m/s.\nreferred(X, T) :- waiting(X, T).\n";
     let d = expect(src, "E0405", "stopped", "another name");
     assert!(d.message.contains("`waiting`"), "{}", d.message);
     // Its own variant of a concept it uses directly is allowed, with W0509 saying so.
-    let own = "stopped(X, T) :- speed(X, T, V), V < 2.0.\nreferred(X, T) :- stopped(X, T).\n";
+    let own = "stopped(X, T) :- speed(X, T, V), V < 2.0 m/s.\nreferred(X, T) :- stopped(X, T).\n";
     let codes: Vec<&str> = diags(own).iter().map(|d| d.code).collect();
     assert_eq!(codes, vec!["W0509"], "{:#?}", diags(own));
 }
@@ -425,12 +426,12 @@ fn e0405_a_helper_named_like_what_a_used_prelude_relation_needs() {
 #[test]
 fn w0509_a_prelude_concept_redefined_is_said_with_the_prelude_s_definition() {
     // Parked cars are stopped in the prelude; this local `stopped` leaves them out in silence.
-    let src = "stopped(X, T) :- speed(X, T, V), V < 0.5, !stationary(X).\n\
+    let src = "stopped(X, T) :- speed(X, T, V), V < 0.5 m/s, !stationary(X).\n\
                referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).\n";
     let d = expect(src, "W0509", "stopped", "delete these clauses");
     assert!(
         d.message
-            .contains("rules/prelude.dl:15: `stopped(X, T) :- speed(X, T, V), V < 0.5.`"),
+            .contains("rules/prelude.dl:15: `stopped(X, T) :- speed(X, T, V), V < 0.5 m/s.`"),
         "{}",
         d.message
     );
@@ -492,20 +493,20 @@ fn w0506_to_w0508_programs_that_check_but_mean_something_else() {
         "joins nothing",
     );
     expect(
-        "p(V, P, T) :- near(V, P, T, D), D < 10.0.\nreferred(V, T) :- present(V, T), N = count : { p(V, _, _) }, N >= 3.\n",
+        "p(V, P, T) :- near(V, P, T, D), D < 10.0 m.\nreferred(V, T) :- present(V, T), N = count : { p(V, _, _) }, N >= 3.\n",
         "W0507",
         "_",
         "write `T` here",
     );
     expect(
-        "referred(P, T) :- near(P, B, T, D), D < 2.0, category(B, \"BUS\").\nrelated(P, B, T) :- near(P, B, T, D), D < 10.0, category(B, \"BUS\").\n",
+        "referred(P, T) :- near(P, B, T, D), D < 2.0 m, category(B, \"BUS\").\nrelated(P, B, T) :- near(P, B, T, D), D < 10.0 m, category(B, \"BUS\").\n",
         "W0508",
         "related(P, B, T)",
         "add `referred(P, T)`",
     );
     // The referred object written second: the hint swaps the columns, and the fixed program
     // checks clean (adding `referred(B, T)` instead would empty `related`).
-    let swapped = "referred(P, T) :- near(P, B, T, D), D < 2.0, category(P, \"PEDESTRIAN\"), category(B, \"BUS\").\nrelated(B, P, T) :- referred(P, T), near(P, B, T, D), D < 5.0, category(B, \"BUS\").\n";
+    let swapped = "referred(P, T) :- near(P, B, T, D), D < 2.0 m, category(P, \"PEDESTRIAN\"), category(B, \"BUS\").\nrelated(B, P, T) :- referred(P, T), near(P, B, T, D), D < 5.0 m, category(B, \"BUS\").\n";
     let d = expect(swapped, "W0508", "related(B, P, T)", "`related(P, B, T)`");
     assert!(d.message.contains("columns swapped"), "{}", d.message);
     let fixed = scenalog_rules::apply_fix(swapped, &d).expect("a fix");
@@ -516,8 +517,8 @@ fn w0506_to_w0508_programs_that_check_but_mean_something_else() {
     assert!(diags(&fixed).is_empty(), "{fixed}: {:#?}", diags(&fixed));
     // Tied to referred by the same helper, or by `referred` itself: no warning.
     for clean in [
-        "h(P, B, T) :- near(P, B, T, D), D < 2.0.\nreferred(P, T) :- h(P, _, T).\nrelated(P, B, T) :- h(P, B, T).\n",
-        "referred(P, T) :- near(P, B, T, D), D < 2.0, category(B, \"BUS\").\nrelated(P, B, T) :- referred(P, T), near(P, B, T, D), D < 10.0.\n",
+        "h(P, B, T) :- near(P, B, T, D), D < 2.0 m.\nreferred(P, T) :- h(P, _, T).\nrelated(P, B, T) :- h(P, B, T).\n",
+        "referred(P, T) :- near(P, B, T, D), D < 2.0 m, category(B, \"BUS\").\nrelated(P, B, T) :- referred(P, T), near(P, B, T, D), D < 10.0 m.\n",
     ] {
         assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
     }
@@ -613,4 +614,164 @@ fn w0510_an_aggregate_tied_to_nothing_folds_over_the_whole_log() {
         "{:#?}",
         general.diagnostics
     );
+}
+
+/// Every quantity of a checked program with the number the checker read it as.
+fn readings(src: &str) -> Vec<(String, Number)> {
+    let checked = check(src, &CheckOptions::default())
+        .program
+        .unwrap_or_else(|| panic!("{src}: {:#?}", diags(src)));
+    let mut out = Vec::new();
+    fn walk(e: &Expr, out: &mut Vec<(String, Number)>) {
+        match &e.kind {
+            ExprKind::Quantity(q) => {
+                let n = q.read_as.expect("the checker reads every quantity");
+                out.push((format!("{} {}", q.value, q.unit), n));
+            }
+            ExprKind::Neg(x) => walk(x, out),
+            ExprKind::Binary(_, a, b) => {
+                walk(a, out);
+                walk(b, out);
+            }
+            ExprKind::Call(_, args) => args.iter().for_each(|a| walk(a, out)),
+            _ => {}
+        }
+    }
+    fn lits(body: &[Literal], out: &mut Vec<(String, Number)>) {
+        for l in body {
+            match l {
+                Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter().for_each(|e| walk(e, out)),
+                Literal::Cmp(c) => {
+                    walk(&c.lhs, out);
+                    walk(&c.rhs, out);
+                }
+                Literal::Agg(g) => lits(&g.body, out),
+            }
+        }
+    }
+    let own = src.len();
+    for c in checked
+        .program
+        .clauses
+        .iter()
+        .filter(|c| c.span.start < own)
+    {
+        lits(&c.body, &mut out);
+    }
+    out
+}
+
+#[test]
+fn e0105_w0511_numbers_are_read_in_the_unit_of_their_place() {
+    // "Faster than 50 km/h" written bare is read as 50 m/s (180 km/h): a warning whose fix
+    // writes that reading's unit, so no km/h threshold checks clean.
+    let bare = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S > 50.0.\n";
+    let d = expect(
+        bare,
+        "W0511",
+        "50.0",
+        "`50 m/s` (this reading) or `50 km/h`",
+    );
+    assert!(
+        d.message.contains("read as 50 m/s = 180 km/h"),
+        "{}",
+        d.message
+    );
+    let fixed = scenalog_rules::apply_fix(bare, &d).expect("a fix");
+    assert!(fixed.contains("S > 50.0 m/s."), "{fixed}");
+    assert!(diags(&fixed).is_empty(), "{:#?}", diags(&fixed));
+    // With its unit it is converted at check time.
+    let kmh = bare.replace("50.0", "50 km/h");
+    let r = readings(&kmh);
+    assert_eq!(r.len(), 1);
+    assert!(
+        matches!(r[0].1, Number::Float(v) if (v - 50.0 / 3.6).abs() < 1e-9),
+        "{r:?}"
+    );
+    // A yaw rate in rad/s on a deg/s column.
+    let yaw = "referred(V, T) :- yaw_rate(V, T, W), W > 0.3.\n";
+    let d = expect(yaw, "W0511", "0.3", "`0.3 rad/s`");
+    assert!(
+        d.message.contains("0.3 deg/s = 0.005 rad/s"),
+        "{}",
+        d.message
+    );
+    let r = readings(&yaw.replace("0.3", "0.3 rad/s"));
+    assert!(
+        matches!(r[0].1, Number::Float(v) if (v - 17.188733853924695).abs() < 1e-9),
+        "{r:?}"
+    );
+    // 0 and counts need no unit.
+    for clean in [
+        "referred(V, T) :- speed(V, T, S), S > 0.0.\n",
+        "referred(V, T) :- present(V, T), N = count : { near(V, P, T, D), D < 5 m }, N >= 3.\n",
+        "referred(V, T) :- present(V, T), T >= 0.\n",
+    ] {
+        assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
+    }
+    // Units that cannot meet.
+    let d = expect(
+        "referred(V, T) :- speed(V, T, S), near(V, Y, T, D), D < S.\n",
+        "E0105",
+        "D < S",
+        "measure the same thing",
+    );
+    assert!(
+        d.message.contains("a distance (m) with a speed (m/s)"),
+        "{}",
+        d.message
+    );
+    expect(
+        "referred(V, T) :- speed(V, T, S), S > 3 s.\n",
+        "E0105",
+        "S > 3 s",
+        "same thing",
+    );
+    expect(
+        "referred(V, T) :- present(V, T), present(V, T2), X = T + T2, X > 0.\n",
+        "E0105",
+        "T + T2",
+        "same thing",
+    );
+    // A helper's column carries the unit its rule put there.
+    expect(
+        "fast(V, T, S) :- speed(V, T, S).\nreferred(V, T) :- fast(V, T, S), S > 2 m.\n",
+        "E0105",
+        "S > 2 m",
+        "same thing",
+    );
+    // Arithmetic keeps units: a speed times a time is a distance.
+    let headway = "referred(V, T) :- speed(V, T, S), near(V, Y, T, Gap), Gap < S * 1.0.\n";
+    let d = expect(headway, "W0511", "1.0", "`1 s`");
+    let fixed = scenalog_rules::apply_fix(headway, &d).expect("a fix");
+    assert!(diags(&fixed).is_empty(), "{fixed}: {:#?}", diags(&fixed));
+}
+
+#[test]
+fn e0106_time_is_a_moment_and_durations_carry_seconds() {
+    // `T + 1` is a tenth of a second: an error whose fix writes that reading in seconds.
+    let next = "referred(V, T) :- stopped(V, T), T2 = T + 1, stopped(V, T2).\n";
+    let d = expect(next, "E0106", "1", "`T + 1 s`");
+    assert!(
+        d.message.contains("1 frames of 0.1 s = 0.1 s"),
+        "{}",
+        d.message
+    );
+    let fixed = scenalog_rules::apply_fix(next, &d).expect("a fix");
+    assert!(fixed.contains("T2 = T + 0.1 s,"), "{fixed}");
+    assert_eq!(
+        readings(&fixed),
+        vec![("0.1 s".to_string(), Number::Int(1))]
+    );
+    // A duration compared with a bare number: read as frames, fixed in seconds.
+    let within = "referred(V, T2) :- stopped(V, T1), moving(V, T2), T2 > T1, T2 - T1 <= 30.\n";
+    let d = expect(within, "W0511", "30", "`3 s`");
+    let fixed = scenalog_rules::apply_fix(within, &d).expect("a fix");
+    assert!(fixed.contains("T2 - T1 <= 3 s."), "{fixed}");
+    assert_eq!(readings(&fixed), vec![("3 s".to_string(), Number::Int(30))]);
+    // Seconds and milliseconds become frames where a time is; elsewhere seconds.
+    let r = readings("referred(V, T) :- present(V, T), T0 = T - 500 ms, present(V, T0).\n");
+    assert_eq!(r, vec![("500 ms".to_string(), Number::Int(5))]);
+    let r = readings("referred(V, T) :- seconds(T, S), S >= 2 min, present(V, T).\n");
+    assert_eq!(r, vec![("2 min".to_string(), Number::Float(120.0))]);
 }

@@ -79,6 +79,7 @@ fn what_does_not_parse_is_refused() {
         "referred(V, T) :- X = count(V) : { p(V, T) }.",
         "referred(V, T) :- p(V, T), .",
         "referred(V, T) :- \"unterminated.",
+        "referred(V, T) :- speed(V, T, S), S > 50 furlongs.",
     ] {
         assert!(accepts(&grammar, bad).is_err(), "accepted: {bad}");
         let (_, diags) = scenalog_rules::parser::parse(bad);
@@ -90,6 +91,7 @@ fn what_does_not_parse_is_refused() {
         ".decl h(X: track, T: time)\nh(X, T) :- present(X, T), not ego(X).",
         "/* block * comment */ p(1). % prolog comment\n",
         "referred(V, T) :- !stationary(V), c(V, \"a \\\"b\\\" \\\\ c\").",
+        "referred(V, T) :- speed(V, T, S), S > 50 km/h, S < 30m/s, T2 - T < 3 s.",
     ] {
         accepts(&grammar, good).unwrap_or_else(|e| panic!("{good}: {e}"));
         let (_, diags) = scenalog_rules::parser::parse(good);

@@ -89,6 +89,21 @@ fn expr() -> impl Strategy<Value = Expr> {
         any::<f64>()
             .prop_filter("finite", |f| f.is_finite())
             .prop_map(|f| ex(ExprKind::Float(f))),
+        (
+            -1.0e6..1.0e6f64,
+            prop_oneof![
+                Just("m"),
+                Just("km/h"),
+                Just("rad/s"),
+                Just("s"),
+                Just("m/s2")
+            ]
+        )
+            .prop_map(|(value, unit)| ex(ExprKind::Quantity(Quantity {
+                value,
+                unit: unit.to_string(),
+                read_as: None,
+            }))),
     ];
     leaf.prop_recursive(4, 24, 3, |inner| {
         let op = prop_oneof![

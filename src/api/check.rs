@@ -76,6 +76,66 @@ pub fn read_program(path: &Path) -> Result<String, Error> {
     })
 }
 
+/// Most rounds of [`fix`]: a fix may let the checker see what the next one fixes.
+const FIX_ROUNDS: usize = 4;
+
+/// A program with the checker's fixes applied.
+pub struct Fixed {
+    /// The program as it was read.
+    pub original: String,
+    /// How many diagnostics were fixed, in all rounds.
+    pub applied: usize,
+    /// The fixed program checked: its text and what is left to say about it.
+    pub checked: Checked,
+}
+
+/// Checks the request's program and applies every machine-applicable fix (`check --fix`): the
+/// units written where a bare number was read in one, Soufflé habits, the hints that carry a
+/// fix; again on the result, until nothing is left to fix.
+pub fn fix(request: &CheckRequest) -> Result<Fixed, Error> {
+    let mut checked = check(request)?;
+    let original = checked.text.clone();
+    let mut applied = 0;
+    for _ in 0..FIX_ROUNDS {
+        let (text, n) = scenalog_rules::apply_fixes(&checked.text, &checked.outcome.diagnostics);
+        if n == 0 || text == checked.text {
+            break;
+        }
+        applied += n;
+        checked = check(&CheckRequest {
+            source: ProgramSource::Text(text),
+            require_referred: request.require_referred,
+        })?;
+    }
+    Ok(Fixed {
+        original,
+        applied,
+        checked,
+    })
+}
+
+/// Writes a fixed program over its file (a temporary file renamed over it); a link is refused,
+/// not written through or replaced.
+pub fn write_fixed(path: &Path, text: &str) -> Result<(), Error> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            return Err(Error::plain(format!(
+                "`{}` is a symbolic link: not rewritten; run `--fix` on the file it points to",
+                path.display()
+            )))
+        }
+        Ok(_) => {}
+        Err(e) => {
+            return Err(Error::plain(format!(
+                "cannot write `{}`: {e}",
+                path.display()
+            )))
+        }
+    }
+    scenalog_input::out_dir::write_atomic(path, text.as_bytes(), true)
+        .map_err(|e| Error::plain(format!("cannot write `{}`: {e}", path.display())))
+}
+
 /// Checks the request's program; an error only when its file cannot be read.
 pub fn check(request: &CheckRequest) -> Result<Checked, Error> {
     let text = match &request.source {

@@ -6,7 +6,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::api::check::{check, CheckRequest, ProgramSource};
+use crate::api::check::{check, fix, write_fixed, CheckRequest, ProgramSource};
 
 /// Arguments of `scenalog check`.
 #[derive(clap::Args)]
@@ -20,6 +20,10 @@ pub struct Args {
     /// Do not require a `referred` rule (for programs run with `scenalog run`).
     #[arg(long)]
     pub no_referred: bool,
+    /// Apply every fix the diagnostics carry (units written where a bare number was read in
+    /// one, Soufflé habits, …) and write each file back; with `-`, print the fixed program.
+    #[arg(long)]
+    pub fix: bool,
 }
 
 /// Checks every file and prints the diagnostics.
@@ -38,7 +42,22 @@ pub fn run(args: Args) -> ExitCode {
             source: ProgramSource::File(PathBuf::from(file)),
             require_referred: !args.no_referred,
         };
-        let checked = match check(&request) {
+        let result = if args.fix {
+            fix(&request).and_then(|f| {
+                if f.applied > 0 && file != "-" {
+                    write_fixed(std::path::Path::new(file), &f.checked.text)?;
+                }
+                if file == "-" {
+                    out!("{}", f.checked.text);
+                } else if !args.json {
+                    outln!("{display}: {} fix(es) applied", f.applied);
+                }
+                Ok(f.checked)
+            })
+        } else {
+            check(&request)
+        };
+        let checked = match result {
             Ok(c) => c,
             Err(e) => {
                 eprintln!("scenalog check: {}", e.flags());
@@ -52,6 +71,11 @@ pub fn run(args: Args) -> ExitCode {
                 "file": display,
                 "diagnostics": checked.diagnostics_json(),
             }));
+        } else if args.fix && file == "-" {
+            // The fixed program is on standard output.
+            eprint!("{}", checked.diagnostics_text(display, false));
+            let (n_err, n_warn) = checked.counts();
+            eprintln!("{display}: {n_err} error(s), {n_warn} warning(s)");
         } else {
             out!("{}", checked.diagnostics_text(display, color));
             let (n_err, n_warn) = checked.counts();

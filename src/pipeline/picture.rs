@@ -211,6 +211,7 @@ fn ground(atom: &scenalog_rules::ast::Atom, binding: &[(String, Value)]) -> Vec<
             ExprKind::Str(s) => Some(Value::Str(s.as_str().into())),
             ExprKind::Int(i) => Some(Value::Int(*i)),
             ExprKind::Float(x) => Some(Value::Float(*x)),
+            ExprKind::Quantity(q) => Some(Value::Float(q.number().as_f64())),
             _ => None,
         })
         .collect()

@@ -42,7 +42,7 @@ fn json_is_an_array_of_relations_with_typed_columns() {
     assert_eq!(stopped["prelude"], true);
     assert_eq!(
         stopped["definition"],
-        serde_json::json!(["stopped(X, T) :- speed(X, T, V), V < 0.5."])
+        serde_json::json!(["stopped(X, T) :- speed(X, T, V), V < 0.5 m/s."])
     );
     let near = arr.iter().find(|r| r["name"] == "near").expect("near");
     let types: Vec<&str> = near["columns"]
@@ -83,7 +83,7 @@ fn the_prelude_concepts_are_listed_with_their_definitions() {
         "{text}"
     );
     assert!(
-        text.contains("nearby(X, Y, T) :- near(X, Y, T, D), D <= 10.0, X != Y."),
+        text.contains("nearby(X, Y, T) :- near(X, Y, T, D), D <= 10.0 m, X != Y."),
         "{text}"
     );
 }

@@ -82,3 +82,49 @@ fn unreadable_input_exits_two() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/nope.dl"));
 }
+
+#[test]
+fn fix_writes_the_units_a_program_was_read_in_and_keeps_its_answer() {
+    // A program of bare numbers as the library was written before units: `--fix` writes each
+    // reading's unit (and a duration of frames in seconds) and the program checks clean.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("bare.dl");
+    let bare = "referred(V, T2) :- category(V, \"VEHICLE\"), speed(V, T2, S), S > 5.0,\n    \
+                stopped(V, T1), T2 > T1, T2 - T1 <= 30, T0 = T2 - 10, present(V, T0).\n";
+    std::fs::write(&path, bare).expect("write");
+    let p = path.to_str().unwrap_or("");
+    let out = scenalog(&["check", p], None);
+    assert_eq!(out.status.code(), Some(1), "E0106 on `T2 - 10`");
+    let out = scenalog(&["check", "--fix", p], None);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("bare.dl: 3 fix(es) applied"), "{text}");
+    assert!(text.contains("bare.dl: 0 error(s), 0 warning(s)"), "{text}");
+    let fixed = std::fs::read_to_string(&path).expect("read");
+    assert_eq!(
+        fixed,
+        "referred(V, T2) :- category(V, \"VEHICLE\"), speed(V, T2, S), S > 5.0 m/s,\n    \
+         stopped(V, T1), T2 > T1, T2 - T1 <= 3 s, T0 = T2 - 1 s, present(V, T0).\n"
+    );
+    // From standard input the fixed program goes to standard output, diagnostics to stderr.
+    let out = scenalog(&["check", "--fix", "-"], Some(bare));
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&out.stdout), fixed);
+    // A link is not rewritten (nor replaced by a file).
+    #[cfg(unix)]
+    {
+        let link = dir.path().join("link.dl");
+        let target = dir.path().join("target.dl");
+        std::fs::write(&target, bare).expect("write");
+        std::os::unix::fs::symlink(&target, &link).expect("symlink");
+        let out = scenalog(&["check", "--fix", link.to_str().unwrap_or("")], None);
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("symbolic link"), "{err}");
+        assert_eq!(std::fs::read_to_string(&target).expect("read"), bare);
+        assert!(std::fs::symlink_metadata(&link)
+            .expect("link")
+            .file_type()
+            .is_symlink());
+    }
+}

@@ -395,7 +395,7 @@ fn helper_relations_are_proved_and_followed_in_why_not() {
         assert!(
             dists
                 .iter()
-                .any(|d| out.contains(&format!("Dist = {d:.2} m <= 3.0"))),
+                .any(|d| out.contains(&format!("Dist = {d:.2} m <= 3 m"))),
             "expected one of {dists:?}:\n{out}"
         );
         // A vehicle never referred: the report follows bicycle_right into its rule.
@@ -472,10 +472,10 @@ fn a_proof_descends_into_the_prelude() {
         "{out}"
     );
     assert!(
-        out.contains("| stopped(X, T) :- speed(X, T, V), V < 0.5."),
+        out.contains("| stopped(X, T) :- speed(X, T, V), V < 0.5 m/s."),
         "{out}"
     );
-    assert!(out.contains("✓ V < 0.5"), "{out}");
+    assert!(out.contains("✓ V < 0.5 m/s"), "{out}");
 }
 
 /// Why-not on a prelude relation with two rules (`at_an_intersection`): the rule not chosen as

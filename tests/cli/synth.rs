@@ -321,7 +321,7 @@ fn bad_arguments_are_refused() {
 #[test]
 fn eval_reports_a_description_set_with_held_out_prompts_on_the_sample_logs() {
     const STOPPED: &str =
-        "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), speed(V, T, S), S < 0.5.";
+        "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), speed(V, T, S), S < 0.5 m/s.";
     const TRAIN: &str = "referred(V, T) :- category(V, \"RAILED_VEHICLE\"), present(V, T).";
     let server = Server::scripted(vec![program(STOPPED), program(UNKNOWN), program(TRAIN)]);
     let url = server.base_url();
@@ -683,7 +683,7 @@ fn held_out_synthesis_scores_the_same_whichever_part_of_the_prompt_a_model_follo
     // one fixture score, because the examples use the prelude's relations rather than their own
     // meanings of them.
     let stopped = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).";
-    let bike = "answer_right(V, B, T) :- category(V, \"VEHICLE\"), {BIKE}, direction(V, B, T, \"right\", Dist, Lat), Dist <= 3.0, Lat <= 5.0.\nreferred(V, T) :- answer_right(V, _, T).\nrelated(V, B, T) :- answer_right(V, B, T).";
+    let bike = "answer_right(V, B, T) :- category(V, \"VEHICLE\"), {BIKE}, direction(V, B, T, \"right\", Dist, Lat), Dist <= 3.0 m, Lat <= 5.0 m.\nreferred(V, T) :- answer_right(V, _, T).\nrelated(V, B, T) :- answer_right(V, B, T).";
     let set = "stopped car\nvehicle with a bicycle to its right\n";
     let by_conventions = eval_json(
         set,
@@ -1128,8 +1128,8 @@ fn eval_with_candidates_reports_the_first_and_the_kept_programs_scores() {
 /// the longest match's proof), which the model keeps.
 #[test]
 fn the_evidence_round_shows_the_model_its_matches_and_keeps_a_revision() {
-    let nothing = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 60.0.";
-    let revised = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 2.0.";
+    let nothing = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 60.0 m/s.";
+    let revised = "referred(V, T) :- category(V, \"BUS\"), speed(V, T, S), S > 2.0 m/s.";
     let server = Server::scripted(vec![
         program(nothing),
         program(revised),
@@ -1156,12 +1156,12 @@ fn the_evidence_round_shows_the_model_its_matches_and_keeps_a_revision() {
         "{first}"
     );
     assert!(first.contains("(BUS) on log"), "{first}");
-    assert!(first.contains("✗ S > 60.0"), "{first}");
+    assert!(first.contains("✗ S > 60 m/s"), "{first}");
     // The conversation shows the program it is about.
     assert!(reqs[1].messages().iter().any(|m| m.contains("S > 60.0")));
     let second = reqs[2].last_message();
     assert!(second.contains("\n- BUS: "), "{second}");
-    assert!(second.contains("✓ S > 2.0"), "{second}");
+    assert!(second.contains("✓ S > 2 m/s"), "{second}");
     let err = stderr(&o);
     assert!(
         err.contains("evidence round 1: the model revised the program; the revision (candidate 1)"),

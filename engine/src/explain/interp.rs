@@ -203,6 +203,10 @@ impl<'a> Cx<'a> {
             ExprKind::Str(s) => Some(Value::Str(Arc::from(s.as_str()))),
             ExprKind::Int(i) => Some(Value::Int(*i)),
             ExprKind::Float(x) => Some(Value::Float(*x)),
+            ExprKind::Quantity(q) => Some(match q.number() {
+                scenalog_rules::ast::Number::Int(i) => Value::Int(i),
+                scenalog_rules::ast::Number::Float(x) => Value::Float(x),
+            }),
             ExprKind::Neg(a) => match num(&self.eval_expr(vars, a, b)?)? {
                 Num::I(i) => i.checked_neg().map(Value::Int),
                 Num::F(x) => Some(Value::Float(-x)),

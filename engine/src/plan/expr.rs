@@ -190,6 +190,10 @@ pub(crate) fn compile_expr(
         ExprKind::Str(s) => CExpr::Const(V::Sym(symbols.intern(s))),
         ExprKind::Int(i) => CExpr::Const(V::Int(*i)),
         ExprKind::Float(f) => CExpr::Const(V::Float(*f)),
+        ExprKind::Quantity(q) => CExpr::Const(match q.number() {
+            Number::Int(i) => V::Int(i),
+            Number::Float(f) => V::Float(f),
+        }),
         ExprKind::Neg(a) => CExpr::Neg(Box::new(compile_expr(a, scope, symbols)?)),
         ExprKind::Binary(op, a, b) => CExpr::Bin(
             *op,

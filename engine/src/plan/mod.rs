@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use scenalog_facts::catalog::ColType;
 use scenalog_rules::ast::{
-    AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Span,
+    AggFunc, Aggregate, Atom, BinOp, CmpOp, Expr, ExprKind, Func, Literal, Number, Span,
 };
 
 use crate::limits::Limits;
@@ -198,6 +198,10 @@ pub(crate) fn literal(e: &Expr, symbols: &mut Symbols) -> Option<V> {
     match &e.kind {
         ExprKind::Int(i) => Some(V::Int(*i)),
         ExprKind::Float(f) => Some(V::Float(*f)),
+        ExprKind::Quantity(q) => Some(match q.number() {
+            Number::Int(i) => V::Int(i),
+            Number::Float(f) => V::Float(f),
+        }),
         ExprKind::Str(s) => Some(V::Sym(symbols.intern(s))),
         ExprKind::Neg(a) => match &a.kind {
             ExprKind::Int(i) => i.checked_neg().map(V::Int),

@@ -6,7 +6,7 @@ pub fn chain_program(n: usize) -> String {
     let mut src = String::new();
     for i in 0..n {
         src.push_str(&format!(
-            "h{i}(V, T) :- h{}(V, T), speed(V, T, S), S > 0.5.\n",
+            "h{i}(V, T) :- h{}(V, T), speed(V, T, S), S > 0.5 m/s.\n",
             i + 1
         ));
     }

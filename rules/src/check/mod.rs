@@ -7,6 +7,7 @@ pub mod meaning;
 pub mod preds;
 pub mod safety;
 pub mod types;
+pub mod units;
 pub mod untied;
 
 use std::collections::BTreeMap;
@@ -149,6 +150,7 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     };
     let table = preds::collect(&program, &parsed.broken_heads, options, &mut diags);
     let inferred = types::infer(&program, &table, &mut diags);
+    units::check_program(&mut program, &mut diags);
     let first_safety = diags.len();
     for c in &program.clauses {
         safety::check_clause(c, &mut diags);

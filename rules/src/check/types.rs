@@ -497,6 +497,7 @@ impl Infer<'_> {
             ExprKind::Str(_) => Ty::Known(ColType::Str),
             ExprKind::Int(_) => Ty::Num,
             ExprKind::Float(_) => Ty::Known(ColType::Float),
+            ExprKind::Quantity(_) => Ty::Num,
             ExprKind::Neg(x) => self.numeric(x, scope, "`-`"),
             ExprKind::Binary(op, a, b) => {
                 let what = format!("`{}`", op.as_str());
@@ -563,15 +564,16 @@ impl Infer<'_> {
                         && (cmp.lhs.as_var().is_some() != cmp.rhs.as_var().is_some());
                     let (message, hint) = if binding {
                         (
-                            "a time (a frame number, 10 frames a second) computed with a float",
-                            "times count frames: 0.5 s is 5 frames (`T2 = T + 5`); to work in \
-                             seconds, bind them with `seconds(T, S)`",
+                            "a time computed with a bare float: a time is a moment of the log, \
+                             stored as tenths of a second",
+                            "write the duration with its unit: `T2 = T + 0.5 s`",
                         )
                     } else {
                         (
-                            "a time (a frame number, 10 frames a second) compared with a float",
-                            "times count frames: 2 s is 20 frames (`T2 - T1 >= 20`); to compare \
-                             seconds, bind them with `seconds(T, S)`",
+                            "a time compared with a bare float: a time is a moment of the log, \
+                             stored as tenths of a second",
+                            "write durations with their unit (`T2 - T1 >= 2 s`); to compare \
+                             seconds from the log's start, bind them with `seconds(T, S)`",
                         )
                     };
                     self.push(
