@@ -254,9 +254,28 @@ pub fn import_checked_with(
     path: &str,
     semantics: Semantics,
 ) -> Result<Imported, Vec<ImportError>> {
-    let imported = translate_with(source, path, semantics)?;
-    let outcome =
+    let mut imported = translate_with(source, path, semantics)?;
+    let mut outcome =
         scenalog_rules::check(&imported.program, &scenalog_rules::CheckOptions::default());
+    // Every threshold carries its unit: the checker reads each bare number in its column's
+    // unit, and its fix writes that unit, so the meaning is the translation's.
+    if outcome.program.is_some() {
+        let units: Vec<scenalog_rules::Diagnostic> = outcome
+            .diagnostics
+            .iter()
+            .filter(|d| d.code == scenalog_rules::diagnostics::BARE_NUMBER)
+            .cloned()
+            .collect();
+        let (with_units, n) = scenalog_rules::apply_fixes(&imported.program, &units);
+        if n > 0 {
+            let again =
+                scenalog_rules::check(&with_units, &scenalog_rules::CheckOptions::default());
+            if again.program.is_some() {
+                imported.program = with_units;
+                outcome = again;
+            }
+        }
+    }
     let errors: Vec<ImportError> = outcome
         .diagnostics
         .iter()

@@ -327,7 +327,7 @@ fn at_pedestrian_crossing_at_the_default_distance_is_the_prelude_concept() {
     let prelude = scenalog_rules::prelude::relation("at_a_crosswalk").expect("prelude relation");
     assert_eq!(
         prelude.definition,
-        ["at_a_crosswalk(X, T) :- at_crosswalk(X, T, D), D <= 1.0."]
+        ["at_a_crosswalk(X, T) :- at_crosswalk(X, T, D), D <= 1.0 m."]
     );
     let default = imported("result = at_pedestrian_crossing(peds, log_dir)");
     assert!(default.contains("at_a_crosswalk(X, T)"), "{default}");
@@ -426,7 +426,7 @@ fn scenario_not_of_a_reversed_relation() {
 fn first_api_accelerating_thresh() {
     let first = imported("result = accelerating(vehicles, log_dir, thresh=1.0)");
     assert!(first.contains("// RefAV API: first"), "{first}");
-    assert!(first.contains("accel(X, T, V), V >= 1.0."), "{first}");
+    assert!(first.contains("accel(X, T, V), V >= 1.0 m/s2."), "{first}");
     let current = imported("result = accelerating(vehicles, log_dir, min_accel=1.0)");
     assert!(current.contains("// RefAV API: current"), "{current}");
     let (old, _) = run("result = accelerating(objects, log_dir, thresh=-1.0)");

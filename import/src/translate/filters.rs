@@ -216,13 +216,13 @@ impl Translator<'_> {
         for part in ["prev", "gap", "later", "first", "live"] {
             self.used_names.insert(format!("{h}_{part}"));
         }
-        // The frame before T in X's track: T - 1 at 10 Hz, else (a gap, a slower rate, the first
+        // The frame before T in X's track: T - 0.1 s at 10 Hz, else (a gap, a slower rate, the first
         // frame) the latest earlier one, if any.
         self.emit(format!(
-            "{h}_prev(X, T, P) :- present(X, T), P = T - 1, present(X, P)."
+            "{h}_prev(X, T, P) :- present(X, T), P = T - 0.1 s, present(X, P)."
         ));
         self.emit(format!(
-            "{h}_gap(X, T) :- present(X, T), P = T - 1, !present(X, P)."
+            "{h}_gap(X, T) :- present(X, T), P = T - 0.1 s, !present(X, P)."
         ));
         self.emit(format!(
             "{h}_prev(X, T, P) :- {h}_gap(X, T), P = max U : {{ present(X, U), U < T }}."
