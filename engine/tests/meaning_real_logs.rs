@@ -224,3 +224,69 @@ fn writing_an_underscore_in_the_negation_would_have_meant_something_else() {
         mine(meant, &scenes, "referred")
     );
 }
+
+/// The scene as a 2 Hz tracker sees it: only the boxes of every fifth frame (0, 5, 10, …).
+fn at_two_hertz(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    for t in &mut s.tracks {
+        t.boxes.retain(|b| b.frame % 5 == 0);
+    }
+    s
+}
+
+/// The (log, object, frame) triples of `referred` on frames a 2 Hz tracker has.
+fn on_two_hertz_frames(found: &BTreeSet<(usize, Vec<String>)>) -> BTreeSet<(usize, Vec<String>)> {
+    found
+        .iter()
+        .filter(|(_, t)| {
+            t[1].trim_start_matches("Time(")
+                .trim_end_matches(')')
+                .parse::<u32>()
+                .is_ok_and(|f| f % 5 == 0)
+        })
+        .cloned()
+        .collect()
+}
+
+fn jaccard(a: &BTreeSet<(usize, Vec<String>)>, b: &BTreeSet<(usize, Vec<String>)>) -> f64 {
+    let union = a.union(b).count();
+    if union == 0 {
+        return 1.0;
+    }
+    a.intersection(b).count() as f64 / union as f64
+}
+
+/// The time idioms mean the same at 2 Hz and 10 Hz: "the next moment" is `next_sample`, a
+/// duration is written in seconds. Written as frames (`T + 1`, now E0106, fixed here to what it
+/// read as, `T + 0.1 s`) the same description finds nothing at 2 Hz.
+#[test]
+fn time_idioms_mean_the_same_at_two_and_ten_hertz() {
+    let ten: Vec<Scene> = logs().iter().map(|l| load_scene(l).expect("log")).collect();
+    let two: Vec<Scene> = ten.iter().map(at_two_hertz).collect();
+    let next = "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), next_sample(X, T, T2), stopped(X, T2).";
+    let (by_frames, fixed) = fixed(
+        "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), T2 = T + 1, stopped(X, T2).",
+        "E0106",
+    );
+    assert!(by_frames.message.contains("0.1 s"), "{}", by_frames.message);
+    let held = "referred(X, T) :- category(X, \"VEHICLE\"), stopped(X, T), T0 = T - 2 s, stopped(X, T0), \
+                N = count : { stopped(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M.";
+    for (name, src) in [("next sample", next), ("for at least 2 s", held)] {
+        let at_ten = on_two_hertz_frames(&mine(src, &ten, "referred"));
+        let at_two = mine(src, &two, "referred");
+        let j = jaccard(&at_ten, &at_two);
+        eprintln!(
+            "{name}: 10 Hz {} on the 2 Hz frames, 2 Hz {}, Jaccard {j:.3}",
+            at_ten.len(),
+            at_two.len()
+        );
+        assert!(!at_two.is_empty() && at_ten.len() > 100, "{name}");
+        assert!(j > 0.9, "{name}: Jaccard {j}");
+    }
+    // The frame idiom fixed literally keeps its meaning, a tenth of a second: at 10 Hz it is the
+    // next sample (where the track has no gap), at 2 Hz there is none.
+    let (frames_ten, next_ten) = (mine(&fixed, &ten, "referred"), mine(next, &ten, "referred"));
+    assert!(frames_ten.is_subset(&next_ten));
+    assert!(jaccard(&frames_ten, &next_ten) > 0.99);
+    assert!(mine(&fixed, &two, "referred").is_empty());
+}

@@ -15,6 +15,7 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         "category" => objects::category(ex, q),
         "ego" => objects::ego(ex, q),
         "present" => objects::present(ex, q),
+        "next_sample" => objects::next_sample(ex, q),
         "frame_ns" => objects::frame_ns(ex, q),
         "seconds" => objects::seconds(ex, q),
         "speed" => motion::per_box(ex, q, |k| &k.speed),

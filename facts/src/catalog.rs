@@ -391,6 +391,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Objects,
     },
     RelationSpec {
+        name: "next_sample",
+        columns: &[X, T, col("T2", ColType::Time)],
+        doc: "T2 is X's next sample after T: the next moment its track has a box (0.1 s later at 10 Hz, 0.5 s at 2 Hz, later across a gap); \"the next moment\" whatever the rate",
+        group: Group::Objects,
+    },
+    RelationSpec {
         name: "frame_ns",
         columns: &[T, int_col("Ns", Unit::Nanoseconds)],
         doc: "T's timestamp in nanoseconds",
@@ -821,8 +827,9 @@ mod tests {
         // The 32 relations of the original catalog, crossing_detail (crossing with its
         // extents and sense as columns, for RefAV's being_crossed_by arguments), and the
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
-        // imported programs and the relations its defects need (issue #30).
-        assert_eq!(catalog().len(), 48);
+        // imported programs and the relations its defects need (issue #30); next_sample (the
+        // next moment of a track whatever its rate, issue #39).
+        assert_eq!(catalog().len(), 49);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -844,9 +851,9 @@ mod tests {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(48));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(49));
         let text = render_text();
-        assert!(text.starts_with("48 relations."));
+        assert!(text.starts_with("49 relations."));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

@@ -97,7 +97,7 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "numbers and time",
-        idiom: "write every number with its unit: `50 km/h`, `3 m`, `2 m/s2`, `0.3 rad/s`, `90 deg`, `2 s`, `500 ms` (a bare number is read in the column's unit, with a warning). A time is a moment of the log, whatever the tracker's rate: `T2 - T1` is a duration and `T + 1 s` one second later (`T + 1` is an error); never count samples to measure a duration",
+        idiom: "write every number with its unit: `50 km/h`, `3 m`, `2 m/s2`, `0.3 rad/s`, `90 deg`, `2 s`, `500 ms` (a bare number is read in the column's unit, with a warning). A time is a moment of the log, whatever the tracker's rate: `T2 - T1` is a duration, `T + 1 s` one second later (`T + 1` is an error) and X's next moment `next_sample(X, T, T2)`; never count samples to measure a duration",
         example: "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 > T1, T2 - T1 <= 2 s.",
         library: &[],
     },

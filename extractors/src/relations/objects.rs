@@ -70,6 +70,30 @@ pub fn present(ex: &Extractor, q: &Query) -> RelationData {
     }
 }
 
+/// `next_sample(X, T, T2)`: each box of X's track and the next one, whatever the rate and gaps.
+pub fn next_sample(ex: &Extractor, q: &Query) -> RelationData {
+    let scene = ex.scene();
+    let (mut xs, mut ts, mut nexts) = (Vec::new(), Vec::new(), Vec::new());
+    let r = q.frames(1, scene.num_frames());
+    for t in q.tracks(scene, 0) {
+        let boxes = &scene.track(t).boxes;
+        let a = boxes.partition_point(|b| b.frame < r.start);
+        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
+        for pair in boxes[a..boxes.len().min(z + 1)].windows(2) {
+            if pair[0].frame >= r.end {
+                break;
+            }
+            xs.push(t);
+            ts.push(pair[0].frame);
+            nexts.push(pair[1].frame);
+        }
+    }
+    RelationData {
+        name: q.spec.name.into(),
+        columns: vec![Column::Track(xs), Column::Time(ts), Column::Time(nexts)],
+    }
+}
+
 /// `frame_ns(T, Ns)`.
 pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
     let tl = &ex.scene().timeline;
