@@ -75,6 +75,14 @@ struct Case {
 
 const CASES: &[Case] = &[
     Case {
+        name: "a one-sided `in_between`: the second object left as anything",
+        wrong: "referred(P, T) :- category(P, \"PEDESTRIAN\"), in_between(P, V1, V2, T), category(V1, \"VEHICLE\").",
+        code: "W0501",
+        meant: "referred(P, T) :- category(P, \"PEDESTRIAN\"), category(V1, \"VEHICLE\"), category(V2, \"VEHICLE\"), in_between(P, V1, V2, T).",
+        relation: "referred",
+        runs: true,
+    },
+    Case {
         name: "`_` expected to join in a count (a cross product)",
         wrong: "referred(V, T) :- category(V, \"VEHICLE\"), present(V, T), N = count : { near(V, _, T, D), category(_, \"PEDESTRIAN\"), D < 10.0 m }, N >= 2.",
         code: "W0506",

@@ -67,6 +67,9 @@ pub const UNIT_MISMATCH: &str = "E0105";
 pub const INSTANT_PLUS_NUMBER: &str = "E0106";
 /// A bare number compared with or added to a quantity with a unit: read in that unit.
 pub const BARE_NUMBER: &str = "W0511";
+/// A duration measured by counting samples (`N = count : { p(X, U), … }, N >= 31`): the
+/// tracker's rate decides what it means.
+pub const COUNTED_SAMPLES: &str = "W0512";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -83,6 +86,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     REDEFINED_PRELUDE,
     UNTIED_AGGREGATE,
     BARE_NUMBER,
+    COUNTED_SAMPLES,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -192,6 +196,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         BARE_NUMBER,
         Severity::Warning,
         "number with no unit read in a unit",
+    ),
+    (
+        COUNTED_SAMPLES,
+        Severity::Warning,
+        "duration measured by counting samples",
     ),
 ];
 

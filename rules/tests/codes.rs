@@ -741,7 +741,7 @@ fn e0105_w0511_numbers_are_read_in_the_unit_of_their_place() {
         "same thing",
     );
     // Arithmetic keeps units: a speed times a time is a distance.
-    let headway = "referred(V, T) :- speed(V, T, S), near(V, Y, T, Gap), Gap < S * 1.0.\n";
+    let headway = "referred(V, T) :- speed(V, T, S), near(V, Y, T, Gap), category(Y, \"BUS\"), Gap < S * 1.0.\n";
     let d = expect(headway, "W0511", "1.0", "`1 s`");
     let fixed = scenalog_rules::apply_fix(headway, &d).expect("a fix");
     assert!(diags(&fixed).is_empty(), "{fixed}: {:#?}", diags(&fixed));
@@ -774,4 +774,22 @@ fn e0106_time_is_a_moment_and_durations_carry_seconds() {
     assert_eq!(r, vec![("500 ms".to_string(), Number::Int(5))]);
     let r = readings("referred(V, T) :- seconds(T, S), S >= 2 min, present(V, T).\n");
     assert_eq!(r, vec![("2 min".to_string(), Number::Float(120.0))]);
+}
+
+#[test]
+fn w0512_a_duration_measured_by_counting_samples() {
+    let src = "referred(X, T) :- stopped(X, T), T0 = T - 3 s, N = count : { stopped(X, U), U >= T0, U <= T }, N >= 31.\n";
+    let d = expect(src, "W0512", "N >= 31", "M = count : { present(X, W)");
+    assert!(
+        d.message.contains("3 s at 10 Hz and 15 s at 2 Hz"),
+        "{}",
+        d.message
+    );
+    // The idiom of the hint, and counting objects, are not counting samples.
+    for clean in [
+        "referred(X, T) :- stopped(X, T), T0 = T - 3 s, stopped(X, T0), N = count : { stopped(X, U), U >= T0, U <= T }, M = count : { present(X, W), W >= T0, W <= T }, N = M.\n",
+        "referred(X, T) :- category(X, \"BUS\"), present(X, T), N = count : { near(X, P, T, D), D < 5 m, category(P, \"PEDESTRIAN\") }, N >= 3.\n",
+    ] {
+        assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
+    }
 }

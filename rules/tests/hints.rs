@@ -312,18 +312,20 @@ fn a_wildcard_in_a_head_is_named_after_a_body_variable() {
 
 #[test]
 fn warnings_that_change_meaning_are_reported() {
-    // A time compared with a float: 2.0 is two frames, not two seconds.
+    // A time compared with a float: 2.0 is two tenths of a second, not two seconds.
     let src =
         "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 - T1 >= 2.0.\n";
     let all = diags(src);
     let d = all.iter().find(|d| d.code == "W0504");
     assert!(
-        d.is_some_and(|d| !d.is_error() && d.hint.as_deref().unwrap_or("").contains("20 frames")),
+        d.is_some_and(
+            |d| !d.is_error() && d.hint.as_deref().unwrap_or("").contains("`T2 - T1 >= 2 s`")
+        ),
         "{all:#?}"
     );
     assert!(check(src, &CheckOptions::default()).program.is_some());
     assert!(diags(
-        "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 - T1 >= 20.\n"
+        "referred(X, T2) :- turning(X, T1, \"left\"), turning(X, T2, \"left\"), T2 - T1 >= 2 s.\n"
     )
     .iter()
     .all(|d| d.code != "W0504"));
@@ -332,9 +334,9 @@ fn warnings_that_change_meaning_are_reported() {
     let all = diags(src);
     let d = all.iter().find(|d| d.code == "W0504");
     assert!(
-        d.is_some_and(|d| d.message.contains("computed with a float")
+        d.is_some_and(|d| d.message.contains("computed with a bare float")
             && !d.message.contains("compared")
-            && d.hint.as_deref().unwrap_or("").contains("5 frames")),
+            && d.hint.as_deref().unwrap_or("").contains("`T2 = T + 0.5 s`")),
         "{all:#?}"
     );
     // A count whose every variable also occurs outside: always 0 or 1.

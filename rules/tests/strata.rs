@@ -8,7 +8,7 @@ referred(V, T) :- chain(V, T), !blocked(V, T), N = count : { slow(W, T) }, N > 0
 chain(V, T) :- ego(E), following(E, V, T).
 chain(V, T) :- chain(A, T), following(A, V, T).
 blocked(V, T) :- slow(V, T), !stationary(V).
-slow(V, T) :- speed(V, T, S), S < 1.0.
+slow(V, T) :- speed(V, T, S), S < 1.0 m/s.
 ";
 
 #[test]

@@ -546,7 +546,7 @@ fn aggregates_over_time(
                         ),
                     )
                     .with_hint(format!(
-                        "write `{frame}` here to {} at the rule's frame (or bound it with a window, e.g. `T2 > {frame} - 20, T2 <= {frame}`)",
+                        "write `{frame}` here to {} at the rule's time (or, over a window of time, bound it in seconds, e.g. `U >= {frame} - 2 s, U <= {frame}`, and compare a count with the window's `present` count, never with a number of samples)",
                         g.func.as_str()
                     ))
                     .with_edit(e.span, frame.to_string()),

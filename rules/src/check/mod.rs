@@ -6,6 +6,7 @@ pub mod counts;
 pub mod meaning;
 pub mod preds;
 pub mod safety;
+pub mod samples;
 pub mod types;
 pub mod units;
 pub mod untied;
@@ -155,6 +156,7 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     for c in &program.clauses {
         safety::check_clause(c, &mut diags);
         counts::check_clause(c, &mut diags);
+        samples::check_clause(c, &inferred, &mut diags);
         // A general Datalog program (`run`) may fold over everything on purpose.
         if options.require_referred {
             untied::check_clause(c, &mut diags);

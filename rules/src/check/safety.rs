@@ -222,16 +222,19 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
     let mut counted = Vec::new();
     count_vars(&c.body, false, &mut counted);
     let counted: HashSet<&str> = counted.into_iter().collect();
+    let mut places: Option<Places> = None;
     for (v, (n, sp)) in count {
         if n == 1 && !v.starts_with('_') && !s.reported.contains(v) && !counted.contains(v) {
-            s.diags.push(
-                warning(
-                    diagnostics::SINGLETON,
-                    sp,
-                    format!("variable `{v}` is used only once"),
-                )
-                .with_hint(singleton_hint(v)),
+            let d = warning(
+                diagnostics::SINGLETON,
+                sp,
+                format!("variable `{v}` is used only once"),
             );
+            let places = places.get_or_insert_with(|| Places::of(c));
+            s.diags.push(match places.other_object(v) {
+                Some(o) => o.hint(d, v),
+                None => d.with_hint(singleton_hint(v)),
+            });
         }
     }
     diags.append(&mut s.diags);
@@ -251,6 +254,99 @@ fn count_vars<'a>(body: &'a [Literal], in_count: bool, out: &mut Vec<&'a str>) {
             ),
             _ => {}
         }
+    }
+}
+
+/// A singleton that is an object a catalog relation relates to another: the relation, and the
+/// category another object of the same atom is given, if any.
+struct OtherObject<'a> {
+    pred: &'a str,
+    /// The atom's end, where a `category` for the singleton goes.
+    end: usize,
+    /// The category a sibling object of the atom has (`in_between(X, P1, P2, T)` with
+    /// `category(P1, "PEDESTRIAN")`).
+    sibling: Option<&'a str>,
+}
+
+impl OtherObject<'_> {
+    fn hint(&self, d: Diagnostic, v: &str) -> Diagnostic {
+        let pred = self.pred;
+        match self.sibling {
+            Some(cat) => d
+                .with_hint(format!(
+                    "`{v}` is an object `{pred}` relates: with `_` any object would do; the \
+                     other one is a {cat:?}, so say what `{v}` is too: `category({v}, {cat:?})`"
+                ))
+                .with_edit(
+                    Span::new(self.end, self.end),
+                    format!(", category({v}, {cat:?})"),
+                ),
+            None => d.with_hint(format!(
+                "`{v}` is an object `{pred}` relates: say what it is (e.g. `category({v}, \
+                 \"VEHICLE\")`), or write `_` if any object will do"
+            )),
+        }
+    }
+}
+
+/// Where each variable first occurs in a positive atom, and the category each variable is
+/// given, built once a clause with singletons: each singleton's lookup is then a few steps,
+/// not a scan of a body that may hold thousands of atoms.
+struct Places<'a> {
+    first: HashMap<&'a str, (&'a crate::ast::Atom, usize)>,
+    category: HashMap<&'a str, &'a str>,
+}
+
+impl<'a> Places<'a> {
+    fn of(c: &'a Clause) -> Places<'a> {
+        let mut first = HashMap::new();
+        let mut category = HashMap::new();
+        for l in &c.body {
+            let Literal::Pos(a) = l else { continue };
+            for (i, e) in a.args.iter().enumerate() {
+                if let Some(v) = e.as_var() {
+                    first.entry(v).or_insert((a, i));
+                }
+            }
+            if a.pred == "category" {
+                if let (
+                    Some(x),
+                    Some(Expr {
+                        kind: ExprKind::Str(k),
+                        ..
+                    }),
+                ) = (a.args.first().and_then(|e| e.as_var()), a.args.get(1))
+                {
+                    category.entry(x).or_insert(k.as_str());
+                }
+            }
+        }
+        Places { first, category }
+    }
+
+    /// Where singleton `v` is a track column of a catalog atom other than its first.
+    fn other_object(&self, v: &str) -> Option<OtherObject<'a>> {
+        let &(a, at) = self.first.get(v)?;
+        let rel = scenalog_facts::catalog::relation(&a.pred)?;
+        let track = |i: usize| {
+            rel.columns
+                .get(i)
+                .is_some_and(|col| col.ty == scenalog_facts::catalog::ColType::Track)
+        };
+        if at == 0 || !track(at) {
+            return None;
+        }
+        let sibling = a
+            .args
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != 0 && i != at && track(i))
+            .find_map(|(_, e)| self.category.get(e.as_var()?).copied());
+        Some(OtherObject {
+            pred: &a.pred,
+            end: a.span.end,
+            sibling,
+        })
     }
 }
 
