@@ -139,18 +139,34 @@ fn accelerating_vehicle_changing_lanes_right() {
 #[test]
 fn braking_vehicle() {
     let name = "braking_vehicle";
-    // A bus braking at -1.5 m/s² at frame 5; the ego braking as hard.
+    // A bus braking at -1.5 m/s² at frame 5; the ego braking as hard, a vehicle too (the
+    // description does not leave it out).
     let base = r#"
         category(0, "EGO_VEHICLE"). accel(0, 5, -1.5).
         category(1, "BUS"). accel(1, 5, -1.5). accel(1, 6, -0.3).
     "#;
-    finds(name, base, &[(1, 5)], &[]);
+    finds(name, base, &[(0, 5), (1, 5)], &[]);
     // Decelerating gently (-0.9 m/s²) is not reliably braking.
-    nothing(name, &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, -0.9)"));
+    finds(
+        name,
+        &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, -0.9)"),
+        &[(0, 5)],
+        &[],
+    );
     // Accelerating is not braking.
-    nothing(name, &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, 1.5)"));
+    finds(
+        name,
+        &swap(base, "accel(1, 5, -1.5)", "accel(1, 5, 1.5)"),
+        &[(0, 5)],
+        &[],
+    );
     // A braking cyclist is not a vehicle.
-    nothing(name, &swap(base, "\"BUS\"", "\"BICYCLIST\""));
+    finds(
+        name,
+        &swap(base, "\"BUS\"", "\"BICYCLIST\""),
+        &[(0, 5)],
+        &[],
+    );
 }
 
 #[test]
@@ -298,20 +314,22 @@ fn bus_changing_lanes() {
 #[test]
 fn vehicle_changing_lanes_to_the_right() {
     let name = "vehicle_changing_lanes_to_the_right";
-    // A car moving right at frame 40, the ego moving right at frame 40 too.
+    // A car moving right at frame 40, the ego (a vehicle too) moving right at frame 40 as well.
     let base = r#"
         category(0, "EGO_VEHICLE"). lane_change(0, 40, "right").
         category(1, "REGULAR_VEHICLE"). lane_change(1, 40, "right").
     "#;
-    finds(name, base, &[(1, 40)], &[]);
+    finds(name, base, &[(0, 40), (1, 40)], &[]);
     // The car moving left instead.
-    nothing(
+    finds(
         name,
         &swap(
             base,
             "lane_change(1, 40, \"right\")",
             "lane_change(1, 40, \"left\")",
         ),
+        &[(0, 40)],
+        &[],
     );
 }
 
@@ -509,23 +527,25 @@ fn passenger_vehicle_turning_left_at_intersection() {
 #[test]
 fn vehicle_making_a_right_turn() {
     let name = "vehicle_making_a_right_turn";
-    // A truck turning right at frame 15; the ego turning right at the same time.
+    // A truck turning right at frame 15; the ego (a vehicle too) turning right at the same time.
     let base = r#"
         category(0, "EGO_VEHICLE"). turning(0, 15, "right").
         category(1, "TRUCK"). turning(1, 15, "right").
     "#;
-    finds(name, base, &[(1, 15)], &[]);
+    finds(name, base, &[(0, 15), (1, 15)], &[]);
     // The truck turns left.
-    nothing(
+    finds(
         name,
         &swap(
             base,
             "turning(1, 15, \"right\")",
             "turning(1, 15, \"left\")",
         ),
+        &[(0, 15)],
+        &[],
     );
     // A cyclist turning right is not a vehicle.
-    nothing(name, &swap(base, "TRUCK", "BICYCLIST"));
+    finds(name, &swap(base, "TRUCK", "BICYCLIST"), &[(0, 15)], &[]);
 }
 
 #[test]
@@ -619,14 +639,14 @@ fn vehicle_turning_left_while_pedestrian_crosses_at_crosswalk() {
 fn any_object_within_5_meters_of_an_intersection() {
     let name = "any_object_within_5_meters_of_an_intersection";
     // A pedestrian 4 m from an intersection (frame 1), a car on it (frame 1), a cone 7 m away;
-    // the ego on it too.
+    // the ego, an object too, on it as well.
     let base = r#"
         category(0, "EGO_VEHICLE"). near_intersection(0, 1, 0.0).
         category(1, "PEDESTRIAN"). near_intersection(1, 1, 4.0).
         category(2, "REGULAR_VEHICLE"). near_intersection(2, 1, 0.0).
         category(3, "CONSTRUCTION_CONE"). near_intersection(3, 1, 7.0).
     "#;
-    finds(name, base, &[(1, 1), (2, 1)], &[]);
+    finds(name, base, &[(0, 1), (1, 1), (2, 1)], &[]);
     // The pedestrian 5.5 m away.
     finds(
         name,
@@ -635,7 +655,7 @@ fn any_object_within_5_meters_of_an_intersection() {
             "near_intersection(1, 1, 4.0)",
             "near_intersection(1, 1, 5.5)",
         ),
-        &[(2, 1)],
+        &[(0, 1), (2, 1)],
         &[],
     );
 }

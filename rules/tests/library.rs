@@ -79,3 +79,111 @@ fn no_library_program_writes_out_a_prelude_relation() {
     }
     assert!(found.is_empty(), "{}", found.join("\n"));
 }
+
+/// The predicates that mean "X stays put" in `program`: `stationary`, the prelude's `parked`, and
+/// the program's helpers that hold only where one of them does (derived positively from one).
+fn parked_meanings(program: &scenalog_rules::Program) -> std::collections::BTreeSet<String> {
+    use scenalog_rules::ast::Literal;
+    let mut out: std::collections::BTreeSet<String> =
+        ["stationary", "parked"].map(String::from).into();
+    loop {
+        let before = out.len();
+        for c in &program.clauses {
+            let from_parked = c
+                .body
+                .iter()
+                .any(|l| matches!(l, Literal::Pos(a) if out.contains(&a.pred)));
+            if from_parked {
+                out.insert(c.head.pred.clone());
+            }
+        }
+        if out.len() == before {
+            return out;
+        }
+    }
+}
+
+/// One meaning per concept, by what the programs do rather than what they are named: a program
+/// that leaves out parked objects (a negation of `stationary`, `parked` or a helper built on them)
+/// says so in its description ("active", "not parked", "moving"; overtaking is of a vehicle under
+/// way); one that leaves out the ego says
+/// so; "at an intersection" is the prelude's `at_an_intersection`, never `on_intersection` alone;
+/// "stopped" is the prelude's `stopped` (where parked cars are stopped too); no comment cites a
+/// file the model reading the examples cannot see.
+#[test]
+fn library_programs_mean_what_the_prelude_means() {
+    use scenalog_rules::ast::Literal;
+    let mut wrong = Vec::new();
+    let cites_file = |text: &str| {
+        text.split(|c: char| c.is_whitespace() || "`()[],;:'\"".contains(c))
+            .any(|w| {
+                let w = w.trim_end_matches('.');
+                [".dl", ".rs", ".md", ".py", ".json"]
+                    .iter()
+                    .any(|ext| w.len() > ext.len() && w.ends_with(ext))
+            })
+    };
+    for (path, text) in library() {
+        let (program, _) = scenalog_rules::parse(&text);
+        let description = program
+            .description
+            .clone()
+            .unwrap_or_default()
+            .to_lowercase();
+        let parked = parked_meanings(&program);
+        let negated = |names: &dyn Fn(&str) -> bool| {
+            program.clauses.iter().any(|c| {
+                c.body
+                    .iter()
+                    .any(|l| matches!(l, Literal::Neg(a, _) if names(&a.pred)))
+            })
+        };
+        let uses = |name: &str| {
+            program.clauses.iter().any(|c| {
+                scenalog_rules::walk::body_atoms(&c.body)
+                    .iter()
+                    .any(|(a, _)| a.pred == name)
+            })
+        };
+        let says = |words: &[&str]| words.iter().any(|w| description.contains(w));
+        if negated(&|p| parked.contains(p))
+            && !says(&["active", "not parked", "moving", "non-parked", "overtak"])
+        {
+            wrong.push(format!(
+                "{path}: leaves out parked objects, which \"{description}\" does not"
+            ));
+        }
+        if negated(&|p| p == "ego") && !says(&["ego", "other than"]) {
+            wrong.push(format!(
+                "{path}: leaves out the ego, which \"{description}\" does not"
+            ));
+        }
+        if says(&[
+            "at intersection",
+            "at an intersection",
+            "at the intersection",
+        ]) && (!uses("at_an_intersection") || uses("on_intersection"))
+        {
+            wrong.push(format!(
+                "{path}: \"at an intersection\" is the prelude's `at_an_intersection`"
+            ));
+        }
+        if says(&["stopped"]) && !says(&["nearly stopped"]) && !uses("stopped") {
+            wrong.push(format!("{path}: \"stopped\" is the prelude's `stopped`"));
+        }
+        let comments: String = text
+            .lines()
+            .filter(|l| l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        if cites_file(&comments) {
+            wrong.push(format!("{path}: a comment cites a file"));
+        }
+    }
+    for c in scenalog_facts::conventions::CONVENTIONS {
+        if cites_file(c.idiom) || cites_file(c.example) {
+            wrong.push(format!("convention \"{}\" cites a file", c.phrase));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}

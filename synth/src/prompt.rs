@@ -32,14 +32,14 @@ const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (clo
 # Syntax
 - A rule is `head(Args) :- literal, literal, ... .` and a ground fact is `head(Args).` Every clause ends with a period.
 - Comments: `// ...`, `% ...`, `/* ... */`. The first line of a program is `// description: <the description>`.
-- Variables start with an upper-case letter or `_` (`X`, `Ped`, `_t`); `_` alone is an anonymous variable, fresh at each use. Strings are double-quoted (`"VEHICLE"`); numbers are integers (`3`) or floats (`0.5`, `-1.0`).
+- Variables start with an upper-case letter or `_` (`X`, `Ped`, `_t`); `_` alone is an anonymous variable, fresh at each use. Strings are double-quoted (`"VEHICLE"`); numbers are integers (`3`) or floats (`0.5`, `-1.0`), and a number may carry a unit: `5 m`, `50 km/h`, `3 m/s`, `2 m/s2`, `90 deg`, `0.3 rad/s`, `2 s`, `500 ms` (converted to the column's unit; write every threshold with its unit).
 - Arithmetic: `+ - * /`, `abs(E)`, `min(E1, E2)`, `max(E1, E2)`. Comparisons: `<  <=  >  >=  =  !=`. `X = expr` binds X when X is not bound yet.
 - Negation: `!p(...)` or `not p(...)`. It means "no such fact"; every named variable in it must also occur in a positive atom of the same body (use `_` for columns you do not care about).
-- Aggregates: `N = count : { body }`, `M = min E : { body }`, `M = max E : { body }`, `S = sum E : { body }`. Variables of the body that also occur outside the braces (in the head or the other literals) group the aggregate; the others are local to it. An aggregate folds over the matching tuples of its body, as in Soufflé: each `_` is a fresh variable, so `N = count : { near(X, _, T, _) }` counts X's neighbours at T. Example: `N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 }, N >= 3`.
+- Aggregates: `N = count : { body }`, `M = min E : { body }`, `M = max E : { body }`, `S = sum E : { body }`. Variables of the body that also occur outside the braces (in the head or the other literals) group the aggregate; the others are local to it. An aggregate folds over the matching tuples of its body, as in Soufflé: each `_` is a fresh variable, so `N = count : { near(X, _, T, _) }` counts X's neighbours at T. Example: `N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 m }, N >= 3`.
 - Helper predicates may be declared, `.decl name(X: track, T: time)`, but their types are inferred when they are not.
 - Recursion is allowed (e.g. a chain over `following`), but not through negation or aggregates.
 - Safety: every variable of the head, of a negation and of a comparison must occur in a positive atom of the body or be bound by `X = expr`.
-- Types: track (an object; the ego is one), time (tenths of a second from the log's start: T + 10 is one second later), lane, str, float, int. Each column has one type: never put a track where a lane goes, or a string where a number goes. A string column with listed values takes only those values.
+- Types: track (an object; the ego is one), time (a moment of the log: `T2 - T1` is a duration, `T + 1 s` one second later, X's next sample `next_sample(X, T, T2)`), lane, str, float, int; a float column's unit follows its type (`float<m/s>`). Each column has one type: never put a track where a lane goes, or a string where a number goes. A string column with listed values takes only those values.
 
 {CONVENTIONS}
 # Answer format
@@ -241,13 +241,13 @@ mod tests {
     fn the_conventions_check_clean() {
         let program = r#"// description: conventions
 .decl peds_near(X: track, T: time, N: int)
-peds_near(X, T, N) :- category(X, "VEHICLE"), present(X, T), N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 }.
-close(X, Y, T) :- category(X, "VEHICLE"), near(X, Y, T, D), D < 10, X != Y.
-later_fast(X, T) :- speed(X, T, V), V < 0.5, !stationary(X), speed(X, T2, V2), T2 >= T, T2 <= T + 20, V2 > 0.5.
-ahead(X, Y, T) :- direction(X, Y, T, "forward", Dist, Lat), Lat < 1, Dist < 25.
+peds_near(X, T, N) :- category(X, "VEHICLE"), present(X, T), N = count : { near(X, P, T, D), category(P, "PEDESTRIAN"), D < 10 m }.
+close(X, Y, T) :- category(X, "VEHICLE"), near(X, Y, T, D), D < 10 m, X != Y.
+later_fast(X, T) :- speed(X, T, V), V < 0.5 m/s, !parked(X), speed(X, T2, V2), T2 >= T, T2 <= T + 2 s, V2 > 0.5 m/s.
+ahead(X, Y, T) :- direction(X, Y, T, "forward", Dist, Lat), Lat < 1 m, Dist < 25 m.
 referred(X, T) :- peds_near(X, T, N), N >= 3, close(X, _, T), later_fast(X, T), ahead(X, _, T),
-    accel(X, T, A), A >= 1, near_intersection(X, T, D), D < 10, at_crosswalk(X, T, C), C < 1,
-    turning(X, T, "left"), on_intersection(X, T).
+    accel(X, T, A), A >= 1 m/s2, near_intersection(X, T, D), D < 10 m, at_crosswalk(X, T, C), C < 1 m,
+    turning(X, T, "left"), at_an_intersection(X, T), next_sample(X, T, T3), moving(X, T3).
 related(X, Y, T) :- referred(X, T), close(X, Y, T), following(X, Y, T), crossing(X, Y, T, "forward").
 "#;
         let outcome = scenalog_rules::check(program, &scenalog_rules::CheckOptions::default());

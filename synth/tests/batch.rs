@@ -11,7 +11,7 @@ use scenalog_synth::{BatchOptions, ItemStatus, LlmConfig, SynthConfig, Synthesiz
 use support::server::{program, Reply, Request, Server};
 
 const GOOD_TURN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
-const GOOD_STOP: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.";
+const GOOD_STOP: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5 m/s.";
 const BAD: &str = "referred(V, T) :- category(V, \"VEHICLE\"), stopped_somehow(V, T).";
 
 /// Answers by description: turning is right at once, stopped is repaired in round 2 (the

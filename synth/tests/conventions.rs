@@ -131,7 +131,7 @@ fn held_out_fixture_prompts_show_one_meaning_per_concept() {
         }
         // "Stopped" has one meaning in the prompt: the prelude's, parked objects included.
         let system = &prompt[0].content;
-        assert!(system.contains("stopped(X, T) :- speed(X, T, V), V < 0.5."));
+        assert!(system.contains("stopped(X, T) :- speed(X, T, V), V < 0.5 m/s."));
         assert!(!system.contains("(not parked)"));
     }
 }

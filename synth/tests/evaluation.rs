@@ -10,7 +10,7 @@ use scenalog_synth::{Example, LlmConfig, SynthConfig, Synthesizer};
 use support::server::{program, with_usage, Reply, Server};
 
 const LEFT: &str = "referred(V, T) :- category(V, \"VEHICLE\"), turning(V, T, \"left\").";
-const STOPPED: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.";
+const STOPPED: &str = "referred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5 m/s.";
 const UNKNOWN: &str = "referred(V, T) :- category(V, \"VEHICLE\"), halted(V, T).";
 
 fn config(server: &Server) -> SynthConfig {

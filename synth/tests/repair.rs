@@ -37,7 +37,7 @@ fn config(server: &Server) -> SynthConfig {
         rounds: 3,
         library: vec![Example::new(
             "stopped_vehicle.dl",
-            "// description: stopped vehicle\nreferred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5.\n",
+            "// description: stopped vehicle\nreferred(V, T) :- category(V, \"VEHICLE\"), speed(V, T, S), S < 0.5 m/s.\n",
         )],
         examples: None,
         held_out: false,
@@ -380,9 +380,9 @@ fn a_completion_is_cached_before_a_later_failure() {
 
 #[test]
 fn a_warning_that_changes_meaning_is_sent_back_once() {
-    // `>= 2.0` compares frames with a float: two frames, not two seconds (W0504).
+    // `>= 2.0` compares a time with a bare float: 0.2 s, not two seconds (W0504).
     const FRAMES: &str = "referred(V, T2) :- category(V, \"VEHICLE\"), turning(V, T1, \"left\"), turning(V, T2, \"left\"), T2 - T1 >= 2.0.";
-    const FIXED: &str = "referred(V, T2) :- category(V, \"VEHICLE\"), turning(V, T1, \"left\"), turning(V, T2, \"left\"), T2 - T1 >= 20.";
+    const FIXED: &str = "referred(V, T2) :- category(V, \"VEHICLE\"), turning(V, T1, \"left\"), turning(V, T2, \"left\"), T2 - T1 >= 2 s.";
     let server = Server::scripted(vec![program(FRAMES), program(FIXED)]);
     let s = synth(config(&server));
     let t = s.synthesize(DESCRIPTION);
@@ -391,10 +391,10 @@ fn a_warning_that_changes_meaning_is_sent_back_once() {
     assert_eq!(t.rounds[0].errors, 0);
     let feedback = t.rounds[0].feedback.as_deref().expect("feedback");
     assert!(
-        feedback.contains("W0504") && feedback.contains("20 frames"),
+        feedback.contains("W0504") && feedback.contains("`T2 - T1 >= 2 s`"),
         "{feedback}"
     );
-    assert!(t.program().is_some_and(|p| p.contains(">= 20.")));
+    assert!(t.program().is_some_and(|p| p.contains(">= 2 s.")));
     // Kept as it is after the warning: clean, not sent back again.
     let server = Server::scripted(vec![program(FRAMES), program(FRAMES), program(GOOD)]);
     let t = synth(config(&server)).synthesize(DESCRIPTION);

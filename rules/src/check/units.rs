@@ -101,6 +101,11 @@ type Columns = HashMap<String, Vec<Option<Measure>>>;
 /// Reads every number of `program` in its place's unit (setting each quantity's `read_as`) and
 /// reports E0105, E0106 and W0511.
 pub fn check_program(program: &mut Program, diags: &mut Vec<Diagnostic>) {
+    let w0504: Vec<Span> = diags
+        .iter()
+        .filter(|d| d.code == diagnostics::TIME_VS_FLOAT)
+        .map(|d| d.span)
+        .collect();
     let mut cols: Columns = HashMap::new();
     for _ in 0..ROUNDS {
         let mut changed = false;
@@ -160,7 +165,12 @@ pub fn check_program(program: &mut Program, diags: &mut Vec<Diagnostic>) {
             at.literal(l);
         }
         for (span, f) in found {
-            diags.push(report(span, f));
+            // A bare float next to a time is W0504's already.
+            let said = matches!(f, Finding::BareRead(_, at, m) if m.dims == Dims::TIME
+                && w0504.iter().any(|s| s.start <= at.start && at.end <= s.end));
+            if !said {
+                diags.push(report(span, f));
+            }
         }
     }
 }
