@@ -298,3 +298,45 @@ fn time_idioms_mean_the_same_at_two_and_ten_hertz() {
     assert!(jaccard(&frames_ten, &next_ten) > 0.99);
     assert!(mine(&fixed, &two, "referred").is_empty());
 }
+
+/// A car stopped 3 m before an intersection in 3bffdcff (track 928d31ca at 9.5 s) is at the
+/// intersection, although the map lacks the lane it drives in: its centre falls in the lane of
+/// the other direction, whose successor leads away, and it moves against that lane toward the
+/// intersection the lane comes from. The clause for that adds this car's 20 frames and nothing
+/// else on the three logs.
+#[test]
+fn a_car_in_a_lane_the_map_lacks_is_at_the_intersection_it_approaches() {
+    let scenes: Vec<Scene> = logs().iter().map(|l| load_scene(l).expect("log")).collect();
+    let at = "referred(X, T) :- category(X, \"VEHICLE\"), at_an_intersection(X, T).";
+    let found = mine(at, &scenes, "referred");
+    let log = scenes
+        .iter()
+        .position(|s| s.log_id.starts_with("3bffdcff"))
+        .expect("the 3bffdcff log");
+    let car = scenes[log]
+        .tracks
+        .iter()
+        .find(|t| t.uuid.starts_with("928d31ca"))
+        .expect("track 928d31ca");
+    let tuple = |f: u32| {
+        (
+            log,
+            vec![
+                format!("{:?}", Value::Track(car.id)),
+                format!("{:?}", Value::Time(f)),
+            ],
+        )
+    };
+    assert!(found.contains(&tuple(95)), "928d31ca at 9.5 s");
+    // Without the direction-of-travel clause: the same answer less this car's frames.
+    let by_successor = "at2(X, T) :- on_intersection(X, T).\n\
+        at2(X, T) :- near_intersection(X, T, D), D <= 5.0 m, in_lane(X, T, L), lane_successor(L, L2), intersection_lane(L2).\n\
+        referred(X, T) :- category(X, \"VEHICLE\"), at2(X, T).";
+    let before = mine(by_successor, &scenes, "referred");
+    let added: Vec<_> = found.difference(&before).collect();
+    assert!(before.is_subset(&found));
+    assert_eq!(added.len(), 20, "{added:?}");
+    assert!(added
+        .iter()
+        .all(|(l, t)| *l == log && t[0] == format!("{:?}", Value::Track(car.id))));
+}

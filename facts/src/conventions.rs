@@ -114,6 +114,12 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[],
     },
     Convention {
+        phrase: "a person waiting",
+        idiom: "the prelude's `waiting(P, T)` is a person stopped at a crosswalk, an intersection or a stop sign; waiting beside a bus (for it) is `stopped(P, T)` within 3 m of it: `stopped(P, T), near(P, B, T, D), D <= 3 m, category(B, \"BUS\")`; the map has no kerb, so \"at the kerb\" is `stopped(P, T), on_sidewalk(P, T)` and within 3 m of the road's vehicles or a crosswalk, said as an approximation",
+        example: "referred(P, T) :- category(P, \"PEDESTRIAN\"), stopped(P, T), near(P, B, T, D), D <= 3 m, category(B, \"BUS\").",
+        library: &[],
+    },
+    Convention {
         phrase: "something the catalog cannot express",
         idiom: "write the closest program you can and say in a `//` comment what it approximates and why; use only catalog relations, the prelude's concepts, categories and your own helpers, never invented ones",
         example: "referred(X, T) :- category(X, \"LARGE_VEHICLE\"), present(X, T).",
