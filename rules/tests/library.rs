@@ -187,3 +187,39 @@ fn library_programs_mean_what_the_prelude_means() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+/// Mirror programs mirror each other: where the library has a description and its left/right
+/// mirror, the programs are the same with the sides swapped (the same thresholds on both sides).
+#[test]
+fn mirror_programs_use_the_same_thresholds() {
+    let swap = |s: &str| {
+        s.replace("left", "\u{0}")
+            .replace("right", "left")
+            .replace('\u{0}', "right")
+    };
+    let code = |t: &str| {
+        t.lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let progs = library();
+    let by_description: std::collections::BTreeMap<String, String> = progs
+        .iter()
+        .map(|(_, t)| {
+            let d = scenalog_rules::parse(t).0.description.unwrap_or_default();
+            (d, code(t))
+        })
+        .collect();
+    let mut pairs = 0;
+    for (d, program) in &by_description {
+        if !d.contains("left") {
+            continue;
+        }
+        if let Some(mirror) = by_description.get(&swap(d)) {
+            pairs += 1;
+            assert_eq!(&swap(program), mirror, "{d:?} and its mirror differ");
+        }
+    }
+    assert!(pairs >= 1, "no mirrored pair in the library");
+}
