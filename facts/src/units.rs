@@ -77,7 +77,7 @@ impl Dims {
     }
 }
 
-/// The dimensions written in base units, e.g. `m/s^2`, `m*deg`.
+/// The dimensions written in base units, e.g. `m/s2`, `m*deg`.
 fn base_symbol(d: Dims) -> String {
     let mut num = Vec::new();
     let mut den = Vec::new();
@@ -86,7 +86,7 @@ fn base_symbol(d: Dims) -> String {
             if p == 1 {
                 sym.to_string()
             } else {
-                format!("{sym}^{p}")
+                format!("{sym}{p}")
             }
         };
         match p.cmp(&0) {
@@ -207,7 +207,7 @@ impl Unit {
             Unit::None | Unit::Count => "",
             Unit::Metre => "m",
             Unit::MetrePerSecond => "m/s",
-            Unit::MetrePerSecond2 => "m/s^2",
+            Unit::MetrePerSecond2 => "m/s2",
             Unit::Degree => "deg",
             Unit::DegreePerSecond => "deg/s",
             Unit::Frame => "frame",

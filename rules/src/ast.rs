@@ -49,6 +49,9 @@ pub struct Decl {
     pub name_span: Span,
     /// Column names and types.
     pub columns: Vec<(String, ColType)>,
+    /// The unit written after a column's type (`V: float<m/s>`, as `scenalog catalog` prints
+    /// signatures), one entry per column.
+    pub units: Vec<Option<String>>,
     /// Span of the whole declaration.
     pub span: Span,
 }

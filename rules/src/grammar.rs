@@ -102,6 +102,16 @@ pub fn rules(answer: Answer) -> Vec<(&'static str, G)> {
         lit(":"),
         r("ws"),
         r("coltype"),
+        // The unit of a number column, as `scenalog catalog` prints it: `float<m/s>`.
+        opt(seq(vec![
+            r("ws"),
+            lit("<"),
+            r("ws"),
+            r("unit"),
+            opt(seq(vec![r("ws"), lit("/"), r("ws"), r("unit")])),
+            r("ws"),
+            lit(">"),
+        ])),
     ]);
     vec![
         ("root", root),

@@ -248,6 +248,7 @@ impl<'a> Parser<'a> {
         };
         self.expect(&Tok::LParen, "`(`")?;
         let mut columns = Vec::new();
+        let mut units = Vec::new();
         if !self.eat(&Tok::RParen) {
             loop {
                 let col = match self.peek().clone() {
@@ -277,6 +278,7 @@ impl<'a> Parser<'a> {
                     }
                 };
                 self.bump();
+                units.push(self.decl_unit()?);
                 columns.push((col.to_string(), ty));
                 if self.eat(&Tok::Comma) {
                     continue;
@@ -295,6 +297,7 @@ impl<'a> Parser<'a> {
             name: name.to_string(),
             name_span,
             columns,
+            units,
             span: start.to(self.prev_span()),
         })
     }
@@ -665,6 +668,48 @@ impl<'a> Parser<'a> {
 }
 
 impl Parser<'_> {
+    /// The unit after a `.decl` column's type, `<m/s>`, if any: one unit name or a quotient of
+    /// two, as a literal's.
+    fn decl_unit(&mut self) -> PResult<Option<String>> {
+        if !matches!(self.peek(), Tok::Lt) {
+            return Ok(None);
+        }
+        let start = self.bump();
+        let mut text = String::new();
+        loop {
+            match self.peek().clone() {
+                Tok::Ident(w) => text.push_str(w),
+                Tok::Slash => text.push('/'),
+                Tok::Gt => break,
+                _ => return Err(self.unexpected("a unit and `>` (e.g. `float<m/s>`)")),
+            }
+            self.bump();
+        }
+        let end = self.bump();
+        let mut parts = text.splitn(2, '/');
+        let num = parts.next().unwrap_or_default();
+        match units::literal_measure(num, parts.next()) {
+            // A column holds its numbers in the base unit of their kind, as the catalog does.
+            Some(m) if (m.factor - 1.0).abs() < 1e-12 => Ok(Some(text)),
+            found => Err(Box::new(
+                error(
+                    diagnostics::SYNTAX,
+                    start.to(end),
+                    match found {
+                        Some(_) => format!(
+                            "syntax error: a column's unit is the base unit of its kind, not `{text}`"
+                        ),
+                        None => format!("syntax error: `{text}` is not a unit"),
+                    },
+                )
+                .with_hint(
+                    "a column holds m, m/s, m/s2, deg, deg/s or s (`float<m/s>`); write other \
+                     units in the numbers compared with it (`S > 50 km/h`)",
+                ),
+            )),
+        }
+    }
+
     /// A number followed by a unit (`50 km/h`, `3 s`, `0.3 rad/s`) becomes a quantity; a
     /// lowercase word after a number that is not a unit is an error listing the units.
     fn unit_suffix(&mut self, number: Expr) -> PResult<Expr> {

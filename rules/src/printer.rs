@@ -24,7 +24,15 @@ pub fn print_program(program: &Program) -> String {
 
 /// `.decl name(Col: type, …)`.
 pub fn print_decl(d: &Decl) -> String {
-    let cols: Vec<String> = d.columns.iter().map(|(n, t)| format!("{n}: {t}")).collect();
+    let cols: Vec<String> = d
+        .columns
+        .iter()
+        .enumerate()
+        .map(|(i, (n, t))| match d.units.get(i).cloned().flatten() {
+            Some(u) => format!("{n}: {t}<{u}>"),
+            None => format!("{n}: {t}"),
+        })
+        .collect();
     format!(".decl {}({})", d.name, cols.join(", "))
 }
 

@@ -793,3 +793,34 @@ fn w0512_a_duration_measured_by_counting_samples() {
         assert!(diags(clean).is_empty(), "{clean}: {:#?}", diags(clean));
     }
 }
+
+#[test]
+fn a_declared_column_carries_its_unit_as_the_catalog_prints_it() {
+    // A signature copied from `scenalog catalog` is a declaration: `float<m/s>`.
+    let src = ".decl quick(V: track, T: time, S: float<m/s>)\nquick(V, T, S) :- speed(V, T, S).\n\
+               referred(V, T) :- quick(V, T, S), S > 50 km/h.\n";
+    let r = readings(src);
+    assert!(
+        matches!(r[..], [(_, Number::Float(v))] if (v - 50.0 / 3.6).abs() < 1e-9),
+        "{r:?}"
+    );
+    let printed = scenalog_rules::print_program(&scenalog_rules::parse(src).0);
+    assert!(
+        printed.contains(".decl quick(V: track, T: time, S: float<m/s>)"),
+        "{printed}"
+    );
+    expect(
+        &src.replace("50 km/h", "2 m"),
+        "E0105",
+        "S > 2 m",
+        "same thing",
+    );
+    // A column holds base units: km/h there would rescale nothing, so it is refused.
+    let d = expect(
+        &src.replace("float<m/s>", "float<km/h>"),
+        "E0001",
+        "<km/h>",
+        "`S > 50 km/h`",
+    );
+    assert!(d.message.contains("base unit"), "{}", d.message);
+}

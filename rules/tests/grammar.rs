@@ -92,6 +92,7 @@ fn what_does_not_parse_is_refused() {
         "/* block * comment */ p(1). % prolog comment\n",
         "referred(V, T) :- !stationary(V), c(V, \"a \\\"b\\\" \\\\ c\").",
         "referred(V, T) :- speed(V, T, S), S > 50 km/h, S < 30m/s, T2 - T < 3 s.",
+        ".decl q(V: track, S: float<m/s>)\nq(V, S) :- speed(V, _, S).",
     ] {
         accepts(&grammar, good).unwrap_or_else(|e| panic!("{good}: {e}"));
         let (_, diags) = scenalog_rules::parser::parse(good);

@@ -203,6 +203,10 @@ fn program() -> impl Strategy<Value = Program> {
         .prop_map(|(name, columns)| Decl {
             name,
             name_span: Span::default(),
+            units: columns
+                .iter()
+                .map(|(_, t)| (*t == ColType::Float).then(|| "m/s".to_string()))
+                .collect(),
             columns,
             span: Span::default(),
         });

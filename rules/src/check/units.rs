@@ -106,7 +106,21 @@ pub fn check_program(program: &mut Program, diags: &mut Vec<Diagnostic>) {
         .filter(|d| d.code == diagnostics::TIME_VS_FLOAT)
         .map(|d| d.span)
         .collect();
+    // A `.decl`'s units (`V: float<m/s>`) first: they win over what the rules put there.
     let mut cols: Columns = HashMap::new();
+    for d in &program.decls {
+        let measures = d
+            .units
+            .iter()
+            .map(|u| {
+                let u = u.as_deref()?;
+                let mut parts = u.splitn(2, '/');
+                let num = parts.next().unwrap_or_default();
+                scenalog_facts::units::literal_measure(num, parts.next())
+            })
+            .collect();
+        cols.insert(d.name.clone(), measures);
+    }
     for _ in 0..ROUNDS {
         let mut changed = false;
         for c in &program.clauses {
