@@ -314,7 +314,11 @@ pub fn literal_measure(num: &str, den: Option<&str>) -> Option<Measure> {
 /// km/h, an angular rate also in rad/s, e.g. "50 m/s = 180 km/h".
 pub fn readable(value: f64, m: Measure) -> String {
     let base = value * m.factor;
-    let first = format!("{} {}", trim(value), m.symbol());
+    let symbol = m.symbol();
+    let first = match symbol.strip_prefix("frames") {
+        Some(rest) if trim(value) == "1" => format!("1 frame{rest}"),
+        _ => format!("{} {symbol}", trim(value)),
+    };
     let also = match m.dims {
         Dims::SPEED => Some(format!("{} km/h", trim(base * 3.6))),
         Dims::ANGULAR_RATE => Some(format!("{} rad/s", trim(base / DEG_PER_RAD))),
@@ -364,6 +368,7 @@ mod tests {
         assert_eq!(readable(50.0, v), "50 m/s = 180 km/h");
         let frames = Unit::Frame.measure().expect("a quantity").as_duration();
         assert_eq!(readable(3.0, frames), "3 frames of 0.1 s = 0.3 s");
+        assert_eq!(readable(1.0, frames), "1 frame of 0.1 s = 0.1 s");
         assert_eq!(frames.describe(), "a duration (frames of 0.1 s)");
         assert_eq!(Dims::SPEED.over(Dims::TIME), Dims::ACCEL);
         assert_eq!(Measure::base(Dims::new(1, 0, 1)).symbol(), "m*deg");

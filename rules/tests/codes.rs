@@ -753,7 +753,7 @@ fn e0106_time_is_a_moment_and_durations_carry_seconds() {
     let next = "referred(V, T) :- stopped(V, T), T2 = T + 1, stopped(V, T2).\n";
     let d = expect(next, "E0106", "1", "`T + 1 s`");
     assert!(
-        d.message.contains("1 frames of 0.1 s = 0.1 s"),
+        d.message.contains("read as 1 frame of 0.1 s = 0.1 s"),
         "{}",
         d.message
     );
