@@ -310,6 +310,14 @@ pub fn literal_measure(num: &str, den: Option<&str>) -> Option<Measure> {
     })
 }
 
+/// A unit as written after a number or a column's type: one unit name or a quotient of two
+/// (`km/h`).
+pub fn parse_unit(text: &str) -> Option<Measure> {
+    let mut parts = text.splitn(2, '/');
+    let num = parts.next().unwrap_or_default();
+    literal_measure(num, parts.next())
+}
+
 /// A value in base units written in the most readable unit of its dimensions: a speed also in
 /// km/h, an angular rate also in rad/s, e.g. "50 m/s = 180 km/h".
 pub fn readable(value: f64, m: Measure) -> String {

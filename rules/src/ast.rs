@@ -278,9 +278,7 @@ impl Number {
 impl Quantity {
     /// The measure its unit names.
     pub fn measure(&self) -> Option<scenalog_facts::units::Measure> {
-        let mut parts = self.unit.splitn(2, '/');
-        let num = parts.next().unwrap_or_default();
-        scenalog_facts::units::literal_measure(num, parts.next())
+        scenalog_facts::units::parse_unit(&self.unit)
     }
 
     /// The number the engine uses: as the checker read it, else in base units (m, s, deg).

@@ -686,9 +686,7 @@ impl Parser<'_> {
             self.bump();
         }
         let end = self.bump();
-        let mut parts = text.splitn(2, '/');
-        let num = parts.next().unwrap_or_default();
-        match units::literal_measure(num, parts.next()) {
+        match units::parse_unit(&text) {
             // A column holds its numbers in the base unit of their kind, as the catalog does.
             Some(m) if (m.factor - 1.0).abs() < 1e-12 => Ok(Some(text)),
             found => Err(Box::new(

@@ -17,7 +17,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use scenalog_facts::catalog::{self, ColType};
+use scenalog_facts::catalog::ColType;
 
 use super::preds::PredTable;
 use crate::ast::{Atom, Clause, Expr, ExprKind, Literal, Program, Span};
@@ -48,11 +48,7 @@ pub fn check_program(
     inferred: &BTreeMap<String, Vec<ColType>>,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let types = |pred: &str| -> Option<Vec<ColType>> {
-        catalog::relation(pred)
-            .map(|r| r.types())
-            .or_else(|| inferred.get(pred).cloned())
-    };
+    let types = |pred: &str| super::column_types(pred, inferred);
     for (name, entry) in &table.preds {
         if entry.arity > MAX_VARIABLES {
             if let Some(c) = program.clauses.iter().find(|c| &c.head.pred == name) {

@@ -80,6 +80,16 @@ fn check_round(source: &str, options: &CheckOptions, round: usize) -> CheckOutco
     }
 }
 
+/// The column types of `pred`: the catalog's, or those inferred for a program's own relation.
+pub(crate) fn column_types(
+    pred: &str,
+    inferred: &BTreeMap<String, Vec<ColType>>,
+) -> Option<Vec<ColType>> {
+    catalog::relation(pred)
+        .map(|r| r.types())
+        .or_else(|| inferred.get(pred).cloned())
+}
+
 /// Whether two spans share no byte (empty spans touch nothing).
 fn disjoint(a: Span, b: Span) -> bool {
     a.end <= b.start || b.end <= a.start

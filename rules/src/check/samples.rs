@@ -5,20 +5,12 @@
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use scenalog_facts::catalog::{self, ColType};
+use scenalog_facts::catalog::ColType;
 
 use crate::ast::{AggFunc, Clause, ExprKind, Literal};
 use crate::diagnostics::{self, warning};
 use crate::walk::{aggregate_vars, expr_vars, outer_vars};
 use crate::Diagnostic;
-
-/// The type of column `i` of `pred`: the catalog's, or the inferred one of a helper.
-fn column_type(pred: &str, i: usize, types: &BTreeMap<String, Vec<ColType>>) -> Option<ColType> {
-    match catalog::relation(pred) {
-        Some(r) => r.columns.get(i).map(|c| c.ty),
-        None => types.get(pred).and_then(|t| t.get(i).copied()),
-    }
-}
 
 /// Reports W0512 for the counts of moments in `c` compared with a number of samples.
 pub fn check_clause(
@@ -77,14 +69,15 @@ pub fn check_clause(
         let (mut moments, mut objects) = (false, false);
         for b in &g.body {
             let Literal::Pos(a) = b else { continue };
-            for (k, e) in a.args.iter().enumerate() {
+            let cols = super::column_types(&a.pred, types).unwrap_or_default();
+            for (e, ty) in a.args.iter().zip(cols) {
                 let Some(v) = e.as_var() else { continue };
                 if !counted.contains(v) {
                     continue;
                 }
-                match column_type(&a.pred, k, types) {
-                    Some(ColType::Time) => moments = true,
-                    Some(ColType::Track) => objects = true,
+                match ty {
+                    ColType::Time => moments = true,
+                    ColType::Track => objects = true,
                     _ => {}
                 }
             }

@@ -13,10 +13,10 @@
 use std::collections::HashMap;
 
 use scenalog_facts::catalog;
-use scenalog_facts::units::{readable, Dims, Measure, FRAME_S};
+use scenalog_facts::units::{parse_unit, readable, Dims, Measure, FRAME_S};
 
 use crate::ast::{
-    AggFunc, Atom, BinOp, Clause, Expr, ExprKind, Func, Literal, Number, Program, Quantity, Span,
+    AggFunc, BinOp, Clause, Expr, ExprKind, Func, Literal, Number, Program, Quantity, Span,
 };
 use crate::diagnostics::{self, error, warning};
 use crate::Diagnostic;
@@ -109,16 +109,7 @@ pub fn check_program(program: &mut Program, diags: &mut Vec<Diagnostic>) {
     // A `.decl`'s units (`V: float<m/s>`) first: they win over what the rules put there.
     let mut cols: Columns = HashMap::new();
     for d in &program.decls {
-        let measures = d
-            .units
-            .iter()
-            .map(|u| {
-                let u = u.as_deref()?;
-                let mut parts = u.splitn(2, '/');
-                let num = parts.next().unwrap_or_default();
-                scenalog_facts::units::literal_measure(num, parts.next())
-            })
-            .collect();
+        let measures = d.units.iter().map(|u| parse_unit(u.as_deref()?)).collect();
         cols.insert(d.name.clone(), measures);
     }
     for _ in 0..ROUNDS {
@@ -149,9 +140,7 @@ pub fn check_program(program: &mut Program, diags: &mut Vec<Diagnostic>) {
         let mut found = Vec::new();
         let env = infer_env(c, &cols, &mut found);
         for (i, arg) in c.head.args.iter().enumerate() {
-            let col = cols
-                .get(&c.head.pred)
-                .and_then(|v| v.get(i).copied().flatten());
+            let col = column(&c.head.pred, i, &cols);
             if let (Some(want), Some(have)) = (col, measure(arg, &env).measure()) {
                 if want.dims != have.dims {
                     found.push((
@@ -197,17 +186,6 @@ fn column(pred: &str, i: usize, cols: &Columns) -> Option<Measure> {
     }
 }
 
-/// Every atom of `body` (inside aggregates too).
-fn atoms<'a>(body: &'a [Literal], out: &mut Vec<&'a Atom>) {
-    for l in body {
-        match l {
-            Literal::Pos(a) | Literal::Neg(a, _) => out.push(a),
-            Literal::Agg(g) => atoms(&g.body, out),
-            Literal::Cmp(_) => {}
-        }
-    }
-}
-
 /// Every comparison and aggregate of `body` (inside aggregates too).
 fn bindings<'a>(body: &'a [Literal], out: &mut Vec<&'a Literal>) {
     for l in body {
@@ -226,9 +204,7 @@ fn bindings<'a>(body: &'a [Literal], out: &mut Vec<&'a Literal>) {
 /// assigned to them. A variable bound by columns of different dimensions is a finding.
 fn infer_env(c: &Clause, cols: &Columns, found: &mut Vec<(Span, Finding)>) -> Env {
     let mut env = Env::new();
-    let mut all = Vec::new();
-    atoms(&c.body, &mut all);
-    for a in all {
+    for (a, _) in crate::walk::body_atoms(&c.body) {
         for (i, arg) in a.args.iter().enumerate() {
             let (Some(v), Some(m)) = (arg.as_var(), column(&a.pred, i, cols)) else {
                 continue;
