@@ -184,7 +184,12 @@ impl fmt::Display for RelationSpec {
                 f.write_str(", ")?;
             }
             write!(f, "{}: {}", c.name, c.ty)?;
-            if !matches!(c.unit, Unit::None | Unit::Count | Unit::Frame) {
+            // A timestamp's nanoseconds are said in its doc: `int<ns>` is no column unit a
+            // `.decl` takes (those are base units).
+            if !matches!(
+                c.unit,
+                Unit::None | Unit::Count | Unit::Frame | Unit::Nanoseconds
+            ) {
                 write!(f, "<{}>", c.unit)?;
             }
         }

@@ -22,10 +22,10 @@ pub const DEFAULT_EXAMPLES: usize = 8;
 /// What the model is asked to do and how the language works (before the catalog);
 /// `{CONVENTIONS}` is replaced by the prelude's concepts (`scenalog_rules::prelude`) and the
 /// conventions table (`scenalog_facts::conventions`).
-const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (close to Soufflé) for finding scenarios described in words in Argoverse 2 driving logs. A program is evaluated over facts extracted from one log and says which objects the description is about, at which frames.
+const LANGUAGE: &str = r#"You write programs in Scenalog, a Datalog dialect (close to Soufflé) for finding scenarios described in words in Argoverse 2 driving logs. A program is evaluated over facts extracted from one log and says which objects the description is about, at which moments.
 
 # Outputs
-- `referred(X, T)` (required): object X is what the description is about, and the description holds for it at frame T. Give exactly the frames where it holds; the miner widens short runs itself.
+- `referred(X, T)` (required): object X is what the description is about, and the description holds for it at T. Give exactly the moments where it holds; the miner widens short runs itself.
 - `related(X, Y, T)` (optional): Y is an object that referred X interacts with at T in the way the description says (the bus a pedestrian crosses in front of, the vehicle being followed). Define it when the description names a second object; every `related(X, _, T)` should have `referred(X, T)`.
 - Every other predicate is a helper you define with clauses (lower_snake_case names that are not catalog relations).
 

@@ -247,7 +247,7 @@ pub fn collect(
                 "the program has no `referred` rule: nothing would be reported",
             )
             .with_hint(format!(
-                "add a rule `referred(X, T) :- …` whose head is {REFERRED_SIGNATURE}: the object X the description refers to at frame T"
+                "add a rule `referred(X, T) :- …` whose head is {REFERRED_SIGNATURE}: the object X the description refers to at T"
             )),
         );
     }
