@@ -416,6 +416,14 @@ fn regular_vehicles_that_are_stopped_or_nearly_stopped() {
     );
     // A stopped bus is not a regular vehicle.
     nothing(name, &swap(base, "REGULAR_VEHICLE", "BUS"));
+    // A parked car is stopped too (the prelude's `stopped`): the description does not leave
+    // parked cars out.
+    finds(
+        name,
+        &format!("{base} stationary(1)."),
+        &[(1, 1), (1, 2)],
+        &[],
+    );
 }
 
 #[test]
