@@ -9,8 +9,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use scenalog_extractors::pairs::{self, PairContext, PairIndex, PAIR_RELATIONS};
+use scenalog_extractors::pairs::{PairContext, PairIndex};
 use scenalog_extractors::Extractor;
+use scenalog_extractors::{pair_relation, pair_relations};
 use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{Constraint, RelationData, Request};
 use scenalog_facts::Scene;
@@ -37,31 +38,12 @@ fn scenes() -> Vec<Scene> {
 /// Answers `req` from a fresh box index; the number of tuples.
 fn answer(ex: &Extractor, req: &Request) -> usize {
     let index = PairIndex::new(ex.scene());
-    let ctx = PairContext::new(
-        ex.scene(),
-        ex.kinematics(),
-        ex.lanes(),
-        ex.map_index(),
-        &index,
-    );
+    let ctx = PairContext::of(ex, &index);
     one(&ctx, req).len()
 }
 
 fn one(ctx: &PairContext, req: &Request) -> RelationData {
-    let f = match req.name.as_str() {
-        "near" => pairs::near,
-        "direction" => pairs::direction,
-        "facing" => pairs::facing,
-        "heading_relative" => pairs::heading_relative,
-        "heading_toward" => pairs::heading_toward,
-        "crossing" => pairs::crossing,
-        "crossing_detail" => pairs::crossing_detail,
-        "same_lane" => pairs::same_lane,
-        "following" => pairs::following,
-        "road_side" => pairs::road_side,
-        _ => return RelationData::empty(&req.name, &[]),
-    };
-    f(ctx, req).unwrap_or_else(|_| RelationData::empty(&req.name, &[]))
+    pair_relation(ctx, req).unwrap_or_else(|_| RelationData::empty(&req.name, &[]))
 }
 
 fn bench(c: &mut Criterion) {
@@ -78,7 +60,7 @@ fn bench(c: &mut Criterion) {
         // The per-scene data the pair relations read, computed once.
         let _ = (ex.kinematics(), ex.map_index(), ex.lanes());
         let log = &s.log_id[..8];
-        for name in PAIR_RELATIONS {
+        for name in pair_relations() {
             let req = Request::all(name);
             g.bench_function(format!("{log}/{name}"), |b| {
                 b.iter(|| one_thread.install(|| answer(&ex, &req)))
@@ -92,15 +74,9 @@ fn bench(c: &mut Criterion) {
                 b.iter(|| {
                     pool.install(|| {
                         let index = PairIndex::new(s);
-                        let ctx = PairContext::new(
-                            s,
-                            ex.kinematics(),
-                            ex.lanes(),
-                            ex.map_index(),
-                            &index,
-                        );
-                        PAIR_RELATIONS
-                            .iter()
+                        let ctx = PairContext::of(&ex, &index);
+                        pair_relations()
+                            .into_iter()
                             .map(|n| one(&ctx, &Request::all(n)).len())
                             .sum::<usize>()
                     })

@@ -1,22 +1,20 @@
 //! [`Extractor`]: the per-scene context of a run. Everything derived from the scene (kinematics,
 //! the map index, lane assignment, events, stop signs) is computed lazily once, and every answered
-//! request is kept, so a run computes each thing once. It is `Sync`: requests may be answered from
+//! request is kept (answering is in [`crate::extract`]), so a run computes each thing once. It is `Sync`: requests may be answered from
 //! several threads; each cached value is computed by one of them and shared.
 
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use scenalog_facts::relation::{Constraint, RelationData, Request};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::{Frame, Scene};
 
-use crate::budget::Budget;
 use crate::events::{self, Side};
 use crate::kinematics::{self, Kinematics};
 use crate::lanes::{assign_track_indices, LaneAssignment};
 use crate::map::stop_signs::{self, StopSign};
 use crate::map::MapIndex;
-use crate::query::{ExtractError, Query};
 
 /// Lazily computed, shared per-scene data and the answers given so far.
 pub struct Extractor<'s> {
@@ -191,59 +189,8 @@ impl<'s> Extractor<'s> {
         self.extra.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// The relation `req` asks for: only tuples satisfying every constraint, sorted. Answers are
-    /// cached per request, except those of a tuple-level demand ([`Constraint::Triples`]: one
-    /// program's bound pairs, rarely asked twice, and a long key).
-    pub fn extract(&self, req: &Request) -> Result<Arc<RelationData>, ExtractError> {
-        self.extract_within(req, &Budget::UNLIMITED)
-    }
-
-    /// [`Extractor::extract`] under a budget: an answer larger than `budget.max_tuples`, or not
-    /// computed by its deadline, is an error naming the relation (and is not kept). The pair
-    /// relations check the budget as they produce rows, so a dense log stops early instead of
-    /// filling memory. A kept answer is returned whatever its size.
-    pub fn extract_within(
-        &self,
-        req: &Request,
-        budget: &Budget,
-    ) -> Result<Arc<RelationData>, ExtractError> {
-        let tuple_level = req
-            .constraints
-            .iter()
-            .any(|(_, c)| matches!(c, Constraint::Triples(_)));
-        if tuple_level {
-            let mut query = Query::new(self.scene, req)?;
-            query.budget = *budget;
-            return Ok(Arc::new(crate::extract::provide(self, &query)?));
-        }
-        let key = format!("{req:?}");
-        if let Some(r) = self.lock_results().get(&key) {
-            if r.len() > budget.max_tuples {
-                return Err(ExtractError::TooManyTuples {
-                    relation: req.name.clone(),
-                    limit: budget.max_tuples,
-                });
-            }
-            return Ok(r.clone());
-        }
-        let mut query = Query::new(self.scene, req)?;
-        query.budget = *budget;
-        let data = Arc::new(crate::extract::provide(self, &query)?);
-        self.lock_results().insert(key, data.clone());
-        Ok(data)
-    }
-
-    /// The relation `req` asks for, computed without keeping the answer (the derived data it
-    /// needs is still cached). For one-off requests, where storing a copy would only cost.
-    pub fn extract_uncached(&self, req: &Request) -> Result<RelationData, ExtractError> {
-        if let Some(r) = self.lock_results().get(&format!("{req:?}")) {
-            return Ok((**r).clone());
-        }
-        let query = Query::new(self.scene, req)?;
-        crate::extract::provide(self, &query)
-    }
-
-    fn lock_results(&self) -> std::sync::MutexGuard<'_, HashMap<String, Arc<RelationData>>> {
+    /// The answers kept so far, by request.
+    pub(crate) fn answers(&self) -> std::sync::MutexGuard<'_, HashMap<String, Arc<RelationData>>> {
         self.results.lock().unwrap_or_else(|e| e.into_inner())
     }
 }

@@ -1,63 +1,22 @@
-//! The entry points: answering a [`Request`] for any catalog relation, all relations of a scene,
-//! and many logs in parallel.
+//! The entry points: answering a [`Request`] for any catalog relation (through the relation
+//! [`table`], kept by the [`Extractor`]), all relations of a scene, and many logs in parallel.
+
+use std::sync::Arc;
 
 use scenalog_facts::catalog;
-use scenalog_facts::relation::{RelationData, Request};
+use scenalog_facts::relation::{Constraint, RelationData, Request};
 use scenalog_facts::Scene;
 
+use crate::budget::Budget;
 use crate::cache::Extractor;
 use crate::query::{ExtractError, Query};
-use crate::relations::{between, lane_direction, map, motion, objects, towing};
+use crate::table;
 
 /// Computes the tuples of `query`'s relation (unfiltered, unsorted), then filters and sorts them.
-pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, ExtractError> {
-    let data = match q.spec.name {
-        "category" => objects::category(ex, q),
-        "ego" => objects::ego(ex, q),
-        "present" => objects::present(ex, q),
-        "next_sample" => objects::next_sample(ex, q),
-        "frame_ns" => objects::frame_ns(ex, q),
-        "seconds" => objects::seconds(ex, q),
-        "speed" => motion::per_box(ex, q, |k| &k.speed),
-        "accel" => motion::per_box(ex, q, |k| &k.accel),
-        "lat_accel" => motion::per_box(ex, q, |k| &k.lat_accel),
-        "yaw_rate" => motion::per_box(ex, q, |k| &k.yaw_rate),
-        "stationary" => motion::stationary(ex, q),
-        "turning" => motion::events(ex, q, ex.turning()),
-        "refav_turning" => motion::events(ex, q, ex.refav_turning()),
-        "refav_turning_filtered" => motion::events(ex, q, ex.refav_turning_filtered()),
-        "refav_crossing" => crate::pairs::refav::refav_crossing(ex.scene(), q),
-        "refav_crossing_event" => crate::pairs::refav::refav_crossing_event(ex.scene(), q),
-        "refav_order" => objects::refav_order(ex, q),
-        "refav_color" => objects::refav_color(ex, q)?,
-        "refav_crosswalk" => map::refav_crosswalk(ex, q),
-        "refav_lane_change" => crate::refav_lanes::refav_lane_change(ex, q),
-        "refav_on_intersection" => crate::refav_lanes::refav_on_intersection(ex, q),
-        "lane_change" => motion::events(ex, q, ex.lane_changes()),
-        "in_lane" => map::in_lane(ex, q),
-        "lane_type" => map::lane_type(ex, q),
-        "intersection_lane" => map::intersection_lane(ex, q),
-        "lane_successor" => map::lane_successor(ex, q),
-        "lane_neighbor" => map::lane_neighbor(ex, q),
-        "on_road" => map::on_road(ex, q),
-        "in_drivable_area" => {
-            let index = ex.map_index();
-            map::centre_test(ex, q, |c| index.in_drivable_area(c))
-        }
-        "on_intersection" => {
-            let index = ex.map_index();
-            map::centre_test(ex, q, |c| index.in_intersection(c))
-        }
-        "near_intersection" => map::near_intersection(ex, q),
-        "at_crosswalk" => map::at_crosswalk(ex, q),
-        "at_stop_sign" => map::at_stop_sign(ex, q),
-        "lane_direction" => lane_direction::lane_direction(ex, q),
-        "towing" => towing::towing(ex, q),
-        "in_between" => between::in_between(ex, q),
-        other => match crate::pairs::provide(ex, q) {
-            Some(data) => data,
-            None => return Err(ExtractError::NotProvided(other.to_string())),
-        },
+fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, ExtractError> {
+    let data = match table::tuples(ex, q) {
+        Some(data) => data?,
+        None => return Err(ExtractError::NotProvided(q.spec.name.to_string())),
     };
     // A computation stopped by its budget returns what it had: an error, never that.
     if let Some(e) = q.spent.error(q.spec.name, &q.budget) {
@@ -70,6 +29,60 @@ pub(crate) fn provide(ex: &Extractor, q: &Query) -> Result<RelationData, Extract
         });
     }
     Ok(q.finish(ex.scene(), data))
+}
+
+impl Extractor<'_> {
+    /// The relation `req` asks for: only tuples satisfying every constraint, sorted. Answers are
+    /// cached per request, except those of a tuple-level demand ([`Constraint::Triples`]: one
+    /// program's bound pairs, rarely asked twice, and a long key).
+    pub fn extract(&self, req: &Request) -> Result<Arc<RelationData>, ExtractError> {
+        self.extract_within(req, &Budget::UNLIMITED)
+    }
+
+    /// [`Extractor::extract`] under a budget: an answer larger than `budget.max_tuples`, or not
+    /// computed by its deadline, is an error naming the relation (and is not kept). The pair
+    /// relations check the budget as they produce rows, so a dense log stops early instead of
+    /// filling memory. A kept answer is returned whatever its size.
+    pub fn extract_within(
+        &self,
+        req: &Request,
+        budget: &Budget,
+    ) -> Result<Arc<RelationData>, ExtractError> {
+        let tuple_level = req
+            .constraints
+            .iter()
+            .any(|(_, c)| matches!(c, Constraint::Triples(_)));
+        if tuple_level {
+            let mut query = Query::new(self.scene(), req)?;
+            query.budget = *budget;
+            return Ok(Arc::new(provide(self, &query)?));
+        }
+        let key = format!("{req:?}");
+        if let Some(r) = self.answers().get(&key) {
+            if r.len() > budget.max_tuples {
+                return Err(ExtractError::TooManyTuples {
+                    relation: req.name.clone(),
+                    limit: budget.max_tuples,
+                });
+            }
+            return Ok(r.clone());
+        }
+        let mut query = Query::new(self.scene(), req)?;
+        query.budget = *budget;
+        let data = Arc::new(provide(self, &query)?);
+        self.answers().insert(key, data.clone());
+        Ok(data)
+    }
+
+    /// The relation `req` asks for, computed without keeping the answer (the derived data it
+    /// needs is still cached). For one-off requests, where storing a copy would only cost.
+    pub fn extract_uncached(&self, req: &Request) -> Result<RelationData, ExtractError> {
+        if let Some(r) = self.answers().get(&format!("{req:?}")) {
+            return Ok((**r).clone());
+        }
+        let query = Query::new(self.scene(), req)?;
+        provide(self, &query)
+    }
 }
 
 /// The relation `req` asks for over `scene`: only tuples satisfying every constraint, sorted.

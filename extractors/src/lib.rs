@@ -18,6 +18,8 @@
 //!   [`Budget`] (most tuples, a deadline) checked as the pair relations are produced.
 //! - [`extract_all`]`(scene)`: every relation; [`extract_logs`]: many logs in parallel (rayon);
 //!   deterministic whatever the thread count.
+//! - [`pair_relation`]`(&PairContext, &Request)`: a pair relation from an explicit context (for
+//!   benchmarks and tests of the pair search).
 //! - [`relation_json`]: a relation's tuples as a JSON array of arrays.
 //!
 //! [`Scene`]: scenalog_facts::Scene
@@ -37,8 +39,10 @@ pub mod pairs;
 pub mod query;
 pub mod refav;
 pub mod refav_lanes;
-pub mod relations;
+mod relations;
+mod rows;
 pub mod synthetic;
+pub mod table;
 pub mod thresholds;
 
 pub use budget::Budget;
@@ -46,3 +50,4 @@ pub use cache::Extractor;
 pub use extract::{extract, extract_all, extract_all_with, extract_logs};
 pub use json::relation_json;
 pub use query::{ExtractError, Query};
+pub use table::{pair_relation, pair_relations};

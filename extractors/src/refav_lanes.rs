@@ -34,7 +34,7 @@
 
 use std::sync::Arc;
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::EGO_CATEGORY;
 use scenalog_facts::{Frame, LaneSegment, Scene, Track};
 
@@ -43,6 +43,7 @@ use crate::events::Side;
 use crate::map::MapIndex;
 use crate::pairs::refav::{median_nearest, placed_centre};
 use crate::query::Query;
+use crate::rows::relation;
 
 /// RefAV's least sideways speed (city `y`) of a lane change, m/s (`SIDEWAYS_VEL_THRESH`).
 pub const REFAV_LANE_CHANGE_MIN_Y_SPEED: f64 = 0.1;
@@ -390,28 +391,24 @@ pub fn lane_data(ex: &Extractor) -> Arc<RefavLaneData> {
 }
 
 /// `refav_lane_change(X, T, Dir)`: RefAV's `changing_lanes` (see the module doc).
-pub fn refav_lane_change(ex: &Extractor, q: &Query) -> RelationData {
+pub(crate) fn refav_lane_change(ex: &Extractor, q: &Query) -> RelationData {
     crate::relations::motion::events(ex, q, &lane_data(ex).changes)
 }
 
 /// `refav_on_intersection(X, T)`: RefAV's `on_intersection`: the lane RefAV assigns X at T is
 /// an intersection lane.
-pub fn refav_on_intersection(ex: &Extractor, q: &Query) -> RelationData {
+pub(crate) fn refav_on_intersection(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, data) = (ex.scene(), lane_data(ex));
     let n = scene.num_frames();
-    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(scene, 0) {
         let r = q.frames(1, n);
         let boxes = &scene.track(t).boxes;
         for (b, l) in boxes.iter().zip(&data.lanes[t.index()]) {
             if r.contains(&b.frame) && l.is_some_and(|l| scene.map.lanes[l].is_intersection) {
-                xs.push(t);
-                ts.push(b.frame);
+                rows.push((t, b.frame));
             }
         }
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Time(ts)],
-    }
+    relation(q, rows)
 }

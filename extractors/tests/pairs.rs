@@ -5,7 +5,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use scenalog_extractors::pairs::{self, PairContext};
 use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
-use scenalog_extractors::Extractor;
+use scenalog_extractors::{pair_relation, pair_relations, Extractor};
 use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene};
 
@@ -26,8 +26,8 @@ fn request(name: &str, constraints: Vec<(usize, Constraint)>) -> Request {
 fn run(scene: &Scene, req: &Request) -> Vec<Row> {
     let ex = Extractor::new(scene);
     let index = pairs::pair_index(&ex);
-    let ctx = PairContext::new(scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
-    let data = pairs::pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"));
+    let ctx = PairContext::of(&ex, &index);
+    let data = pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"));
     to_rows(scene, &data)
 }
 
@@ -270,16 +270,18 @@ fn bad_requests_are_errors() {
     let scene = direction_scene(0.0);
     let ex = Extractor::new(&scene);
     let index = pairs::pair_index(&ex);
-    let ctx = PairContext::new(&scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
-    assert!(pairs::near(&ctx, &request("facing", Vec::new())).is_err());
-    assert!(pairs::near(&ctx, &request("near", vec![(7, Constraint::Lt(1.0))])).is_err());
-    assert!(pairs::near(
+    let ctx = PairContext::of(&ex, &index);
+    // A relation that is not a pair relation, or not a relation at all.
+    assert!(pair_relation(&ctx, &request("speed", Vec::new())).is_err());
+    assert!(pair_relation(&ctx, &request("nearby", Vec::new())).is_err());
+    assert!(pair_relation(&ctx, &request("near", vec![(7, Constraint::Lt(1.0))])).is_err());
+    assert!(pair_relation(
         &ctx,
         &request("near", vec![(3, Constraint::Category("BUS".into()))])
     )
     .is_err());
     // A NaN bound selects nothing, without panicking.
-    let nan = pairs::near(&ctx, &request("near", vec![(3, Constraint::Lt(f64::NAN))]));
+    let nan = pair_relation(&ctx, &request("near", vec![(3, Constraint::Lt(f64::NAN))]));
     assert_eq!(nan.map(|d| d.len()).ok(), Some(0));
 }
 
@@ -680,7 +682,7 @@ fn one_of_equals_the_filtered_relation_on_every_pair_relation() {
         let some: Vec<Value> = tracks.iter().step_by(2).cloned().collect();
         let others: Vec<Value> = tracks.iter().skip(1).step_by(2).cloned().collect();
         let times: Vec<Value> = [0u32, 3, 4, 9, 40, 57].map(Value::Time).to_vec();
-        for name in pairs::PAIR_RELATIONS {
+        for name in pair_relations() {
             let full = all(scene, name);
             for constraints in [
                 vec![(0, Constraint::OneOf(some.clone().into()))],
@@ -719,7 +721,7 @@ fn one_of_equals_the_filtered_relation_on_every_pair_relation() {
             }
         }
     }
-    assert_eq!(cases, 3 * pairs::PAIR_RELATIONS.len() * 5);
+    assert_eq!(cases, 3 * pair_relations().len() * 5);
     // Not vacuous: most restricted answers still hold tuples.
     assert!(
         nonempty >= 40,
@@ -732,7 +734,7 @@ fn one_of_values_must_fit_the_column() {
     let scene = direction_scene(0.0);
     let ex = Extractor::new(&scene);
     let index = pairs::pair_index(&ex);
-    let ctx = PairContext::new(&scene, ex.kinematics(), ex.lanes(), ex.map_index(), &index);
+    let ctx = PairContext::of(&ex, &index);
     let track = Value::Track(scene.tracks[0].id);
     for (col, values) in [
         (0, vec![track.clone(), Value::Str("x".into())]),
@@ -740,7 +742,7 @@ fn one_of_values_must_fit_the_column() {
         (3, vec![Value::Time(2)]),
     ] {
         let req = request("direction", vec![(col, Constraint::OneOf(values.into()))]);
-        assert!(pairs::direction(&ctx, &req).is_err(), "{req:?}");
+        assert!(pair_relation(&ctx, &req).is_err(), "{req:?}");
     }
 }
 

@@ -6,9 +6,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use scenalog_extractors::pairs::{self, PairContext, PairIndex, PAIR_RELATIONS};
+use scenalog_extractors::pairs::{self, PairContext, PairIndex};
 use scenalog_extractors::query::satisfies;
 use scenalog_extractors::Extractor;
+use scenalog_extractors::{pair_relation, pair_relations};
 use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene, TrackId};
@@ -35,20 +36,14 @@ fn scenes() -> &'static [Scene] {
 
 /// The pair relations' context over the extractor's shared data and `index`.
 fn context<'a>(ex: &'a Extractor, index: &'a PairIndex) -> PairContext<'a> {
-    PairContext::new(
-        ex.scene(),
-        ex.kinematics(),
-        ex.lanes(),
-        ex.map_index(),
-        index,
-    )
+    PairContext::of(ex, index)
 }
 
 /// Answers `req` through the pairs API.
 fn answer(ex: &Extractor, req: &Request) -> RelationData {
     let index = pairs::pair_index(ex);
     let ctx = context(ex, &index);
-    pairs::pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
+    pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn rows(d: &RelationData) -> Vec<Vec<Value>> {
@@ -193,7 +188,7 @@ fn no_pair_relation_holds_beyond_fifty_metres() {
     for scene in scenes() {
         let ex = Extractor::new(scene);
         let mut counts = Vec::new();
-        for name in PAIR_RELATIONS {
+        for name in pair_relations() {
             let d = answer(&ex, &Request::all(name));
             for r in rows(&d) {
                 let (x, y, t) = xyt(&r);
@@ -322,8 +317,8 @@ fn deterministic_whatever_the_thread_count() {
             .expect("thread pool");
         pool.install(|| {
             let ex = Extractor::new(scene);
-            PAIR_RELATIONS
-                .iter()
+            pair_relations()
+                .into_iter()
                 .map(|n| answer(&ex, &Request::all(n)))
                 .collect()
         })
@@ -533,7 +528,7 @@ fn a_tuple_level_demand_gives_exactly_the_demanded_tuples() {
     let mut demanded_rows = 0;
     for scene in scenes() {
         let ex = Extractor::new(scene);
-        for name in PAIR_RELATIONS {
+        for name in pair_relations() {
             let full = rows(&answer(&ex, &Request::all(name)));
             let some = triples_of(full.iter().step_by(3));
             let mut ts: BTreeSet<(TrackId, TrackId, Frame)> = some.iter().copied().collect();
@@ -558,7 +553,7 @@ fn a_tuple_level_demand_gives_exactly_the_demanded_tuples() {
             demanded_rows += got.len();
             // The same through the extractor's cache (a `Triples` answer is not kept), with a
             // fixed string too where the relation has one.
-            if *name == "heading_relative" {
+            if name == "heading_relative" {
                 let same = Constraint::Eq(Value::Str("same".into()));
                 let ts = triples_of(full.iter().step_by(2));
                 let req = Request {

@@ -834,7 +834,8 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        assert_eq!(catalog().len(), 49);
+        const RELATIONS: usize = 49;
+        assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",
             "lane_direction",
@@ -856,9 +857,9 @@ mod tests {
             assert!(relation(name).is_some(), "{name}");
         }
         let json = render_json();
-        assert_eq!(json.as_array().map(|a| a.len()), Some(49));
+        assert_eq!(json.as_array().map(|a| a.len()), Some(RELATIONS));
         let text = render_text();
-        assert!(text.starts_with("49 relations."));
+        assert!(text.starts_with(&format!("{RELATIONS} relations.")));
         assert!(text.contains("at_stop_sign(X: track, S: track, T: time)"));
         assert!(
             text.contains("      Dir is one of \"left\", \"right\"\n"),

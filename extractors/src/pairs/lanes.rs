@@ -4,16 +4,17 @@
 //! chains (the lane as a driver sees it, [`crate::map::chain`]) and road sides
 //! ([`crate::map::sides`]). An object in no lane has none of these relations.
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::{Frame, TrackId};
 
-use super::spatial::{key3, rel, xyt};
+use super::spatial::key3;
 use super::{
     for_each_pair, for_each_pair_searching, radius, str_values, text_ranks, wanted, ObjBox,
     PairContext,
 };
 use crate::map::RoadSide;
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::{
     FOLLOWING_HEADING_MIN_SPEED_M_S, FOLLOWING_MAX_AHEAD_M, FOLLOWING_MAX_LATERAL_M,
     FOLLOWING_MIN_HEADING_COS,
@@ -34,7 +35,7 @@ pub fn in_chain(ctx: &PairContext, lx: usize, ly: usize) -> bool {
 /// `same_lane(X, Y, T)`: Y's lane at T is in X's lane as a driver sees it ([`in_chain`]: X's lane
 /// and the predecessors and successors that continue it straight). Not symmetric at the chain's
 /// reach or where chains fork.
-pub fn same_lane(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn same_lane(ctx: &PairContext, q: &Query) -> RelationData {
     let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
         let (Some(lx), Some(ly)) = (ctx.lane_index(x.track, x.k), ctx.lane_index(y.track, y.k))
         else {
@@ -44,7 +45,7 @@ pub fn same_lane(ctx: &PairContext, q: &Query) -> RelationData {
             out.push((x.track, y.track, f));
         }
     });
-    xyt(q, rows)
+    relation(q, rows)
 }
 
 /// The unit heading of box `b` for `following`: along its smoothed velocity when faster than
@@ -107,7 +108,7 @@ pub fn follows(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
 }
 
 /// `following(X, Y, T)`: X follows lead Y at T ([`follows`]; RefAV's `following`).
-pub fn following(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn following(ctx: &PairContext, q: &Query) -> RelationData {
     let r = radius(q, None);
     let reach = FollowingReach::of(ctx);
     let region = |x: &ObjBox| reach.ahead_of(x);
@@ -123,7 +124,7 @@ pub fn following(ctx: &PairContext, q: &Query) -> RelationData {
             }
         },
     );
-    xyt(q, rows)
+    relation(q, rows)
 }
 
 /// Where a lead Y can be when X [`follows`] it, as the candidate search measures (raw centres
@@ -216,7 +217,7 @@ pub fn lane_side(ctx: &PairContext, lx: usize, ly: usize) -> Option<RoadSide> {
 /// X's lane ([`lane_side`]: same-direction neighbours are the same side, a neighbour whose shared
 /// boundary runs the other way and everything on its side is opposite). No tuple when either is
 /// in no lane or the map does not relate their lanes.
-pub fn road_side(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn road_side(ctx: &PairContext, q: &Query) -> RelationData {
     let want = wanted(q, 3, &SIDES);
     let names = str_values(&SIDES);
     let ranks = text_ranks(&SIDES);
@@ -238,20 +239,6 @@ pub fn road_side(ctx: &PairContext, q: &Query) -> RelationData {
             }
         },
     );
-    let (mut xs, mut ys, mut ts, mut ss) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (x, y, t, k) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-        ss.push(names[k].clone());
-    }
-    rel(
-        q,
-        vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Time(ts),
-            Column::Str(ss),
-        ],
-    )
+    let rows = rows.into_iter();
+    relation(q, rows.map(|(x, y, t, k)| (x, y, t, names[k].clone())))
 }

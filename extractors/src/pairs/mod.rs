@@ -21,8 +21,9 @@
 //! the demanded pairs at the demanded frames. Every result then passes [`Query::finish`] (all
 //! constraints, sorted rows).
 //!
-//! API: build a [`PairContext`] (or let [`provide`] build one from an [`Extractor`]) and call the
-//! relation's function, e.g. [`near`]`(&ctx, &request)`.
+//! API: build a [`PairContext`] (the relation table builds one from an [`Extractor`]) and ask
+//! [`crate::pair_relation`]`(&ctx, &request)`; the relation functions are the crate's own, listed
+//! in [`crate::table`].
 
 pub mod index;
 pub mod lanes;
@@ -33,34 +34,16 @@ pub mod spatial;
 use std::ops::Range;
 use std::sync::Arc;
 
-use scenalog_facts::relation::{RelationData, Request};
 use scenalog_facts::{Frame, Scene, TrackId};
 
 use crate::cache::Extractor;
 use crate::kinematics::Kinematics;
 use crate::lanes::LaneAssignment;
 use crate::map::MapIndex;
-use crate::query::{ExtractError, Query};
+use crate::query::Query;
 use crate::thresholds::PAIR_MAX_DISTANCE_M;
 
 pub use index::{box_distance, FrameBoxes, ObjBox, PairIndex, PairList, PairRow, Region};
-
-/// The catalog names of the pair relations this module provides.
-pub const PAIR_RELATIONS: &[&str] = &[
-    "near",
-    "direction",
-    "heading_relative",
-    "facing",
-    "heading_toward",
-    "crossing",
-    "crossing_detail",
-    "same_lane",
-    "following",
-    "road_side",
-    "refav_direction",
-    "refav_direction_corrected",
-    "refav_near",
-];
 
 /// Everything the pair relations read: the scene, its kinematics, lane assignment, prepared map
 /// and per-frame box index. Plain references, so it is `Sync` and cheap to build per request.
@@ -96,6 +79,17 @@ impl<'a> PairContext<'a> {
         }
     }
 
+    /// The context of an extractor's scene, with its box index (e.g. [`pair_index`]`(ex)`).
+    pub fn of(ex: &'a Extractor, index: &'a PairIndex) -> PairContext<'a> {
+        PairContext::new(
+            ex.scene(),
+            ex.kinematics(),
+            ex.lanes(),
+            ex.map_index(),
+            index,
+        )
+    }
+
     /// The map lane index of track `t`'s box `k`, if it is in a lane.
     pub fn lane_index(&self, t: TrackId, k: usize) -> Option<usize> {
         let lanes = self.index.lane_indices(self.lanes, &self.scene.map);
@@ -113,120 +107,6 @@ impl<'a> PairContext<'a> {
 pub fn pair_index(ex: &Extractor) -> Arc<PairIndex> {
     ex.cached(|ex| PairIndex::new(ex.scene()))
 }
-
-/// Whether `name` is one of the pair relations.
-pub fn is_pair_relation(name: &str) -> bool {
-    PAIR_RELATIONS.contains(&name)
-}
-
-/// The tuples of a pair relation for a validated query, computed with the extractor's shared
-/// data; `None` when `q` is not a pair relation. The rows are not yet filtered or sorted: the
-/// caller passes them through [`Query::finish`].
-pub fn provide(ex: &Extractor, q: &Query) -> Option<RelationData> {
-    if !is_pair_relation(q.spec.name) {
-        return None;
-    }
-    let index = pair_index(ex);
-    let ctx = PairContext::new(
-        ex.scene(),
-        ex.kinematics(),
-        ex.lanes(),
-        ex.map_index(),
-        &index,
-    );
-    provide_with(&ctx, q)
-}
-
-/// [`provide`] with an explicit context.
-pub fn provide_with(ctx: &PairContext, q: &Query) -> Option<RelationData> {
-    Some(match q.spec.name {
-        "near" => spatial::near(ctx, q),
-        "direction" => spatial::direction(ctx, q),
-        "facing" => spatial::facing(ctx, q),
-        "heading_relative" => motion::heading_relative(ctx, q),
-        "heading_toward" => motion::heading_toward(ctx, q),
-        "crossing" => motion::crossing(ctx, q),
-        "crossing_detail" => motion::crossing_detail(ctx, q),
-        "same_lane" => lanes::same_lane(ctx, q),
-        "following" => lanes::following(ctx, q),
-        "road_side" => lanes::road_side(ctx, q),
-        "refav_direction" => refav::refav_direction(ctx, q),
-        "refav_direction_corrected" => refav::refav_direction_corrected(ctx, q),
-        "refav_near" => refav::refav_near(ctx, q),
-        _ => return None,
-    })
-}
-
-fn answer(ctx: &PairContext, req: &Request, name: &str) -> Result<RelationData, ExtractError> {
-    if req.name != name {
-        return Err(ExtractError::UnknownRelation(format!(
-            "{} (asked the `{name}` extractor)",
-            req.name
-        )));
-    }
-    let q = Query::new(ctx.scene, req)?;
-    let data = provide_with(ctx, &q).ok_or_else(|| ExtractError::NotProvided(req.name.clone()))?;
-    Ok(q.finish(ctx.scene, data))
-}
-
-/// `req` answered by whichever pair relation it names (one of [`PAIR_RELATIONS`]), as the named
-/// functions below answer it; an error for a relation this module does not provide.
-pub fn pair_relation(ctx: &PairContext, req: &Request) -> Result<RelationData, ExtractError> {
-    answer(ctx, req, &req.name)
-}
-
-macro_rules! relation_fn {
-    ($name:ident, $doc:literal) => {
-        #[doc = $doc]
-        ///
-        /// Only tuples satisfying every constraint of `req`, rows sorted; an error when `req` names
-        /// another relation or a constraint does not fit its column.
-        pub fn $name(ctx: &PairContext, req: &Request) -> Result<RelationData, ExtractError> {
-            answer(ctx, req, stringify!($name))
-        }
-    };
-}
-
-relation_fn!(near, "`near(X, Y, T, D)`: see [`spatial::near`].");
-relation_fn!(
-    direction,
-    "`direction(X, Y, T, Dir, Dist, Lat)`: see [`spatial::direction`]."
-);
-relation_fn!(facing, "`facing(X, Y, T)`: see [`spatial::facing`].");
-relation_fn!(
-    heading_relative,
-    "`heading_relative(X, Y, T, Rel)`: see [`motion::heading_relative`]."
-);
-relation_fn!(
-    heading_toward,
-    "`heading_toward(X, Y, T)`: see [`motion::heading_toward`]."
-);
-relation_fn!(
-    crossing,
-    "`crossing(X, Y, T, Dir)`: see [`motion::crossing`]."
-);
-relation_fn!(
-    crossing_detail,
-    "`crossing_detail(X, Y, T, Dir, Sense, Reach, Off)`: see [`motion::crossing_detail`]."
-);
-relation_fn!(same_lane, "`same_lane(X, Y, T)`: see [`lanes::same_lane`].");
-relation_fn!(following, "`following(X, Y, T)`: see [`lanes::following`].");
-relation_fn!(
-    road_side,
-    "`road_side(X, Y, T, Side)`: see [`lanes::road_side`]."
-);
-relation_fn!(
-    refav_direction,
-    "`refav_direction(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction`]."
-);
-relation_fn!(
-    refav_direction_corrected,
-    "`refav_direction_corrected(X, Y, T, Dir, Dist, Lat)`: see [`refav::refav_direction_corrected`]."
-);
-relation_fn!(
-    refav_near,
-    "`refav_near(X, Y, T, D)`: see [`refav::refav_near`]."
-);
 
 /// The frames a query's constraints on column `col` (a time column) allow, as a range clamped to
 /// the log's frames.

@@ -2,18 +2,20 @@
 //! `heading_toward`, `crossing` (smoothed positions and velocities).
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use scenalog_facts::catalog::SENSES;
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::{Frame, TrackId};
 
-use super::spatial::{key3, rel, xyt, DIRECTIONS};
+use super::spatial::{key3, DIRECTIONS};
 use super::{
     box_distance, for_each_pair, for_each_pair_in, frame_range, radius, str_values, text_ranks,
     wanted, ObjBox, PairContext,
 };
 use crate::kinematics::TrackKinematics;
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::{
     CROSSING_DETAIL_MAX_OFF_M, CROSSING_DETAIL_MAX_REACH_M, CROSSING_MIN_SPEED_M_S,
     CROSSING_REACH_M, CROSSING_SPAN_M, HEADING_MIN_SPEED_M_S, HEADING_OPPOSITE_MIN_DEG,
@@ -101,7 +103,7 @@ pub fn heading_class(angle: f64) -> usize {
 /// [`HEADING_OPPOSITE_MIN_DEG`], "perpendicular" between. No tuple when either has no heading.
 /// (RefAV's `heading_in_relative_direction_to`; unlike RefAV both may be slow, each then using its
 /// box heading.)
-pub fn heading_relative(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn heading_relative(ctx: &PairContext, q: &Query) -> RelationData {
     let want: Vec<usize> = wanted(q, 3, &HEADINGS)
         .iter()
         .filter_map(|w| HEADINGS.iter().position(|h| h == w))
@@ -123,22 +125,8 @@ pub fn heading_relative(ctx: &PairContext, q: &Query) -> RelationData {
             }
         },
     );
-    let (mut xs, mut ys, mut ts, mut rs) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (x, y, t, c) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-        rs.push(names[c].clone());
-    }
-    rel(
-        q,
-        vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Time(ts),
-            Column::Str(rs),
-        ],
-    )
+    let rows = rows.into_iter();
+    relation(q, rows.map(|(x, y, t, c)| (x, y, t, names[c].clone())))
 }
 
 /// Whether X (box `x`) heads toward Y (box `y`): X moves at least
@@ -170,13 +158,13 @@ pub fn heads_toward(ctx: &PairContext, x: &ObjBox, y: &ObjBox) -> bool {
 
 /// `heading_toward(X, Y, T)`: see [`heads_toward`] (RefAV's `heading_toward`, with the closing
 /// speed in m/s instead of metres per frame).
-pub fn heading_toward(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn heading_toward(ctx: &PairContext, q: &Query) -> RelationData {
     let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
         if heads_toward(ctx, x, y) && d.within() {
             out.push((x.track, y.track, f));
         }
     });
-    xyt(q, rows)
+    relation(q, rows)
 }
 
 /// How far beyond [`CROSSING_REACH_M`] (box-to-box) a pair may be at some frame to be examined
@@ -349,7 +337,7 @@ fn crossing_candidates(ctx: &PairContext, q: &Query, reach: f64) -> Vec<(TrackId
 /// (RefAV's `being_crossed_by` overwrote its direction argument after the first crossing, and
 /// bounded the span only on the far side). Tuples only at frames where the boxes are within
 /// [`PAIR_MAX_DISTANCE_M`].
-pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
     use rayon::prelude::*;
     let want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
         .iter()
@@ -358,15 +346,7 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
     let names = str_values(&DIRECTIONS);
     let out_frames = frame_range(q, 2, ctx.index.num_frames());
     if want.is_empty() || out_frames.is_empty() {
-        return rel(
-            q,
-            vec![
-                Column::Track(Vec::new()),
-                Column::Track(Vec::new()),
-                Column::Time(Vec::new()),
-                Column::Str(Vec::new()),
-            ],
-        );
+        return relation::<(TrackId, TrackId, Frame, Arc<str>)>(q, []);
     }
     let pairs = crossing_candidates(ctx, q, CROSSING_REACH_M);
     let ranks = text_ranks(&DIRECTIONS);
@@ -388,23 +368,12 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
         })
         .collect();
     rows.sort_unstable_by_key(|r| (r.0, r.1, r.2, ranks[r.3]));
-    let (mut xs, mut ys, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (x, y, t, d) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-        ds.push(names[d].clone());
-    }
-    rel(
-        q,
-        vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Time(ts),
-            Column::Str(ds),
-        ],
-    )
+    let rows = rows.into_iter();
+    relation(q, rows.map(|(x, y, t, d)| (x, y, t, names[d].clone())))
 }
+
+/// A row of `crossing_detail`: X, Y, T, Dir, Sense, Reach, Off.
+type DetailRow = (TrackId, TrackId, Frame, Arc<str>, Arc<str>, f64, f64);
 
 /// `crossing_detail(X, Y, T, Dir, Sense, Reach, Off)`: the crossings of [`crossing`] with their
 /// extents as columns instead of fixed: events are found with the half-midplane reaching
@@ -418,7 +387,7 @@ pub fn crossing(ctx: &PairContext, q: &Query) -> RelationData {
 /// bounding `Off` per frame gives the event's span for a smaller bound, except that an event
 /// whose first sample past the plane is already farther than the bound is kept from the frames
 /// within it (the fixed-extent [`crossing`] drops such an event).
-pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
     use rayon::prelude::*;
     let want: Vec<usize> = wanted(q, 3, &DIRECTIONS)
         .iter()
@@ -427,19 +396,8 @@ pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
     let names = str_values(&DIRECTIONS);
     let senses = str_values(SENSES);
     let out_frames = frame_range(q, 2, ctx.index.num_frames());
-    let empty = || {
-        vec![
-            Column::Track(Vec::new()),
-            Column::Track(Vec::new()),
-            Column::Time(Vec::new()),
-            Column::Str(Vec::new()),
-            Column::Str(Vec::new()),
-            Column::Float(Vec::new()),
-            Column::Float(Vec::new()),
-        ]
-    };
     if want.is_empty() || out_frames.is_empty() {
-        return rel(q, empty());
+        return relation::<DetailRow>(q, []);
     }
     let pairs = crossing_candidates(ctx, q, CROSSING_DETAIL_MAX_REACH_M);
     let dir_ranks = text_ranks(&DIRECTIONS);
@@ -479,21 +437,11 @@ pub fn crossing_detail(ctx: &PairContext, q: &Query) -> RelationData {
             && a.5.to_bits() == b.5.to_bits()
             && a.6.to_bits() == b.6.to_bits()
     });
-    let mut cols = empty();
-    for (x, y, t, d, sense, reach, off) in rows {
-        if let [Column::Track(xs), Column::Track(ys), Column::Time(ts), Column::Str(ds), Column::Str(ss), Column::Float(rs), Column::Float(os)] =
-            cols.as_mut_slice()
-        {
-            xs.push(x);
-            ys.push(y);
-            ts.push(t);
-            ds.push(names[d].clone());
-            ss.push(senses[sense].clone());
-            rs.push(reach);
-            os.push(off);
-        }
-    }
-    rel(q, cols)
+    let rows = rows.into_iter().map(|(x, y, t, d, sense, reach, off)| {
+        let (d, sense) = (names[d].clone(), senses[sense].clone());
+        (x, y, t, d, sense, reach, off)
+    });
+    relation(q, rows)
 }
 
 /// X's extent from its centre along direction `dir`: half its length (forward/backward) or width

@@ -30,13 +30,14 @@
 //!   means it (−[`REFAV_EGO_BACK_M`]), for imports that do not reproduce the sign slip.
 
 use scenalog_facts::catalog::{DIRECTIONS, SENSES};
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::{EGO_CATEGORY, EGO_CENTRE_AHEAD_OF_AXLE_M, EGO_SIZE};
 use scenalog_facts::{Frame, Scene, Track, TrackBox, TrackId};
 
 use super::spatial::{direction_by, regions, regions_within};
 use super::{box_distance, radius, str_values, wanted, ObjBox, PairContext};
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::PAIR_MAX_DISTANCE_M;
 
 /// RefAV's front edge of the ego as a track, metres ahead of the rear axle (`4.877/2 + 1.422`).
@@ -60,13 +61,13 @@ fn at_axle(b: &ObjBox) -> ObjBox {
 
 /// `refav_direction(X, Y, T, Dir, Dist, Lat)`: `direction` with the ego as RefAV places it (see
 /// the module doc); the same columns and meaning otherwise.
-pub fn refav_direction(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn refav_direction(ctx: &PairContext, q: &Query) -> RelationData {
     refav_direction_with(ctx, q, REFAV_EGO_BACK_M)
 }
 
 /// `refav_direction_corrected(X, Y, T, Dir, Dist, Lat)`: `refav_direction` with the ego's back
 /// edge where RefAV means it, [`REFAV_EGO_BACK_M`] behind the rear axle (the sign slip fixed).
-pub fn refav_direction_corrected(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn refav_direction_corrected(ctx: &PairContext, q: &Query) -> RelationData {
     refav_direction_with(ctx, q, -REFAV_EGO_BACK_M)
 }
 
@@ -111,7 +112,7 @@ fn refav_direction_with(ctx: &PairContext, q: &Query, back: f64) -> RelationData
 /// `refav_near(X, Y, T, D)`: `near` with the ego's box where RefAV has it, the annotated row
 /// centred on the rear axle (its `cuboid_distance`), not the car's body 1.44 m further ahead:
 /// D is the distance between the two boxes so placed. As every pair relation, only up to 50 m.
-pub fn refav_near(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn refav_near(ctx: &PairContext, q: &Query) -> RelationData {
     let ego = ctx.scene.ego;
     let placed = |b: &ObjBox| if b.track == ego { at_axle(b) } else { *b };
     let r = radius(q, Some(3));
@@ -137,22 +138,7 @@ pub fn refav_near(ctx: &PairContext, q: &Query) -> RelationData {
             }
         },
     );
-    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
-    for (x, y, t, d) in rows {
-        cols.0.push(x);
-        cols.1.push(y);
-        cols.2.push(t);
-        cols.3.push(d);
-    }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![
-            Column::Track(cols.0),
-            Column::Track(cols.1),
-            Column::Time(cols.2),
-            Column::Float(cols.3),
-        ],
-    }
+    relation(q, rows)
 }
 
 /// RefAV's speed across the plane below which a sample neither crosses nor extends a crossing
@@ -344,32 +330,14 @@ fn crossings(
 /// `refav_crossing(X, Y, T, Dir, Sense, Reach, Off)`: RefAV's `being_crossed_by(X, Y, direction=
 /// Dir, in_direction=Sense, forward_thresh >= Reach, lateral_thresh > Off)` holds at T (see
 /// the module doc; the direction overwrite is the importer's, with `refav_crossing_event`).
-pub fn refav_crossing(scene: &Scene, q: &Query) -> RelationData {
+pub(crate) fn refav_crossing(scene: &Scene, q: &Query) -> RelationData {
     let rows = crossing_rows(scene, q, false);
     let senses = str_values(SENSES);
     let names = str_values(DIRECTIONS);
-    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
-    for (x, y, t, d, s, reach, off) in rows {
-        cols.0.push(x);
-        cols.1.push(y);
-        cols.2.push(t);
-        cols.3.push(names[d].clone());
-        cols.4.push(senses[s].clone());
-        cols.5.push(reach);
-        cols.6.push(off);
-    }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![
-            Column::Track(cols.0),
-            Column::Track(cols.1),
-            Column::Time(cols.2),
-            Column::Str(cols.3),
-            Column::Str(cols.4),
-            Column::Float(cols.5),
-            Column::Float(cols.6),
-        ],
-    }
+    let rows = rows.into_iter().map(|(x, y, t, d, s, reach, off)| {
+        (x, y, t, names[d].clone(), senses[s].clone(), reach, off)
+    });
+    relation(q, rows)
 }
 
 /// `refav_crossing_event(X, Y, T, Dir, Reach)`: Y's median-filtered centre passes one of X's side
@@ -377,27 +345,14 @@ pub fn refav_crossing(scene: &Scene, q: &Query) -> RelationData {
 /// length, moving across faster than [`REFAV_CROSSING_MIN_SPEED`]: a crossing RefAV's
 /// `being_crossed_by` finds (whatever its sense, and whether or not a span follows), the event
 /// after which it overwrites its `direction` argument.
-pub fn refav_crossing_event(scene: &Scene, q: &Query) -> RelationData {
+pub(crate) fn refav_crossing_event(scene: &Scene, q: &Query) -> RelationData {
     let rows = crossing_rows(scene, q, true);
     let names = str_values(DIRECTIONS);
-    let mut cols: (Vec<_>, Vec<_>, Vec<_>, Vec<_>, Vec<_>) = Default::default();
-    for (x, y, t, d, _, reach, _) in rows {
-        cols.0.push(x);
-        cols.1.push(y);
-        cols.2.push(t);
-        cols.3.push(names[d].clone());
-        cols.4.push(reach);
-    }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![
-            Column::Track(cols.0),
-            Column::Track(cols.1),
-            Column::Time(cols.2),
-            Column::Str(cols.3),
-            Column::Float(cols.4),
-        ],
-    }
+    let rows = rows.into_iter();
+    relation(
+        q,
+        rows.map(|(x, y, t, d, _, reach, _)| (x, y, t, names[d].clone(), reach)),
+    )
 }
 
 /// The rows of `refav_crossing` (spans) or `refav_crossing_event` (`events`) for a query.

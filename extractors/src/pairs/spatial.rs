@@ -1,6 +1,6 @@
 //! Relations about where the boxes are: `near`, `direction`, `facing` (raw annotated boxes).
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::{Frame, TrackId};
 
 use super::{
@@ -8,41 +8,21 @@ use super::{
     RowKey,
 };
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::FACING_MAX_ANGLE_DEG;
 
 /// The directions of `direction` (and `crossing`), in catalog order.
 pub const DIRECTIONS: [&str; 4] = ["forward", "backward", "left", "right"];
-
-pub(crate) fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
-    RelationData {
-        name: q.spec.name.into(),
-        columns,
-    }
-}
 
 /// The sort key of an `(X, Y, T)` row.
 pub(crate) fn key3(r: &(TrackId, TrackId, Frame)) -> RowKey {
     (r.0, r.1, r.2, 0)
 }
 
-/// Rows `(X, Y, T)` (sorted) as a three-column relation.
-pub(crate) fn xyt(q: &Query, rows: Vec<(TrackId, TrackId, Frame)>) -> RelationData {
-    let (mut xs, mut ys, mut ts) = (Vec::new(), Vec::new(), Vec::new());
-    for (x, y, t) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-    }
-    rel(
-        q,
-        vec![Column::Track(xs), Column::Track(ys), Column::Time(ts)],
-    )
-}
-
 /// `near(X, Y, T, D)`: D is the distance between X's and Y's ground rectangles at T (0 when they
 /// overlap), for every pair within [`crate::thresholds::PAIR_MAX_DISTANCE_M`] (or the request's
 /// tighter bound on D). Symmetric: `near(X, Y, T, D)` iff `near(Y, X, T, D)`, the same D.
-pub fn near(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn near(ctx: &PairContext, q: &Query) -> RelationData {
     let r = radius(q, Some(3));
     let rows = for_each_pair(
         ctx,
@@ -56,22 +36,7 @@ pub fn near(ctx: &PairContext, q: &Query) -> RelationData {
             }
         },
     );
-    let (mut xs, mut ys, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (x, y, t, d) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-        ds.push(d);
-    }
-    rel(
-        q,
-        vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Time(ts),
-            Column::Float(ds),
-        ],
-    )
+    relation(q, rows)
 }
 
 /// Which of X's four regions hold Y's centre, with the lateral offset for each: `local` is Y's
@@ -102,7 +67,7 @@ pub fn regions_within([front, back, half_wid]: [f64; 3], local: [f64; 2]) -> [Op
 /// box-to-box distance (as `near`), Lat the lateral offset. RefAV's
 /// `get_objects_in_relative_direction` with its default unlimited lateral threshold (bound Lat in
 /// the rule to narrow it).
-pub fn direction(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn direction(ctx: &PairContext, q: &Query) -> RelationData {
     let bound = radius(q, Some(4));
     direction_by(
         ctx,
@@ -153,46 +118,21 @@ pub(crate) fn direction_by(
             }
         },
     );
-    let n = rows.len();
-    let (mut xs, mut ys, mut ts) = (
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-    );
-    let (mut dirs, mut ds, mut lats) = (
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-    );
-    for (x, y, t, w, d, lat) in rows {
-        xs.push(x);
-        ys.push(y);
-        ts.push(t);
-        dirs.push(names[w].clone());
-        ds.push(d);
-        lats.push(lat);
-    }
-    rel(
+    let rows = rows.into_iter();
+    relation(
         q,
-        vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Time(ts),
-            Column::Str(dirs),
-            Column::Float(ds),
-            Column::Float(lats),
-        ],
+        rows.map(|(x, y, t, w, d, lat)| (x, y, t, names[w].clone(), d, lat)),
     )
 }
 
 /// `facing(X, Y, T)`: the bearing of Y's centre from X's centre is within
 /// [`FACING_MAX_ANGLE_DEG`] of X's forward axis (RefAV's `facing_toward`).
-pub fn facing(ctx: &PairContext, q: &Query) -> RelationData {
+pub(crate) fn facing(ctx: &PairContext, q: &Query) -> RelationData {
     let rows = for_each_pair(ctx, q, radius(q, None), key3, |f, x, y, d, out| {
         let [fx, ly] = x.to_local(y.center);
         if ly.atan2(fx).to_degrees().abs() <= FACING_MAX_ANGLE_DEG && d.within() {
             out.push((x.track, y.track, f));
         }
     });
-    xyt(q, rows)
+    relation(q, rows)
 }

@@ -1,11 +1,12 @@
 //! `in_between(X, Y, Z, T)`: X is between Y and Z (a pedestrian between two parked cars, a
 //! motorcycle between two lanes of traffic).
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 
 use crate::cache::Extractor;
 use crate::pairs::{box_distance, pair_index, ObjBox};
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::{BETWEEN_MAX_GAP_M, BETWEEN_MAX_OFFSET_M};
 
 /// Whether the point `c` lies between `a` and `b`: its projection on the segment `a`–`b` falls
@@ -27,7 +28,7 @@ pub fn in_between(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin) = (ex.scene(), ex.kinematics());
     let index = pair_index(ex);
     let frames = q.frames(3, scene.num_frames());
-    let (mut xs, mut ys, mut zs, mut ts) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for x in q.tracks(scene, 0) {
         let Some(kx) = kin.tracks.get(x.index()) else {
             continue;
@@ -48,22 +49,11 @@ pub fn in_between(ex: &Extractor, q: &Query) -> RelationData {
             for yb in close.iter().filter(|b| q.allows_track(1, b.track)) {
                 for zb in close.iter().filter(|b| q.allows_track(2, b.track)) {
                     if yb.track != zb.track && lies_between(xb.center, yb.center, zb.center) {
-                        xs.push(x);
-                        ys.push(yb.track);
-                        zs.push(zb.track);
-                        ts.push(f);
+                        rows.push((x, yb.track, zb.track, f));
                     }
                 }
             }
         }
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![
-            Column::Track(xs),
-            Column::Track(ys),
-            Column::Track(zs),
-            Column::Time(ts),
-        ],
-    }
+    relation(q, rows)
 }

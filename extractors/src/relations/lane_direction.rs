@@ -1,7 +1,7 @@
 //! `lane_direction(X, T, Rel)`: how X travels relative to the direction of the lane it is in
 //! ("opposite" is driving against traffic).
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 
 use super::s;
 use crate::cache::Extractor;
@@ -10,6 +10,7 @@ use crate::map::geometry::{heading, nearest_on_polyline};
 use crate::map::LaneGeom;
 use crate::pairs::motion::{HEADINGS, SELF_MOVING_CATEGORIES};
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::{
     HEADING_OPPOSITE_MIN_DEG, HEADING_SAME_MAX_DEG, LANE_DIRECTION_MIN_SPEED_M_S,
 };
@@ -44,7 +45,7 @@ fn angle_to_lane(geom: &LaneGeom, p: [f64; 2], travel: f64) -> Option<f64> {
 pub fn lane_direction(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin, map) = (ex.scene(), ex.kinematics(), ex.map_index());
     let values: Vec<_> = HEADINGS.iter().map(|v| s(v)).collect();
-    let (mut xs, mut ts, mut rs) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for x in q.tracks(scene, 0) {
         let Some(k) = kin.tracks.get(x.index()) else {
             continue;
@@ -66,13 +67,8 @@ pub fn lane_direction(ex: &Extractor, q: &Query) -> RelationData {
             let Some(angle) = best else {
                 continue;
             };
-            xs.push(x);
-            ts.push(k.frames[i]);
-            rs.push(values[classify(angle)].clone());
+            rows.push((x, k.frames[i], values[classify(angle)].clone()));
         }
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Time(ts), Column::Str(rs)],
-    }
+    relation(q, rows)
 }

@@ -2,7 +2,7 @@
 //! `lane_neighbor`) and of objects (`in_lane`, `on_road`, `in_drivable_area`, `on_intersection`,
 //! `near_intersection`, `at_crosswalk`, `at_stop_sign`).
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::{Frame, LaneId, TrackId};
 
 use super::s;
@@ -10,73 +10,60 @@ use crate::cache::Extractor;
 use crate::map::geometry::{box_corners, Polygon};
 use crate::map::stop_signs::STOP_SIGN_CATEGORY;
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::MAP_DISTANCE_MAX_M;
-
-fn rel(q: &Query, columns: Vec<Column>) -> RelationData {
-    RelationData {
-        name: q.spec.name.into(),
-        columns,
-    }
-}
 
 /// `in_lane(X, T, L)`: the assigned lane per box.
 pub fn in_lane(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, lanes) = (ex.kinematics(), ex.lanes());
     let n = ex.scene().num_frames();
-    let (mut xs, mut ts, mut ls) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
         let i = t.index();
         let k = &kin.tracks[i];
         let r = q.box_range(1, n, &k.frames);
         for (&f, l) in k.frames[r.clone()].iter().zip(&lanes.lanes[i][r]) {
             if let Some(l) = l {
-                xs.push(t);
-                ts.push(f);
-                ls.push(*l);
+                rows.push((t, f, *l));
             }
         }
     }
-    rel(
-        q,
-        vec![Column::Track(xs), Column::Time(ts), Column::Lane(ls)],
-    )
+    relation(q, rows)
 }
 
 /// `on_road(X, T)`: the box has an assigned lane.
 pub fn on_road(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, lanes) = (ex.kinematics(), ex.lanes());
     let n = ex.scene().num_frames();
-    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
         let i = t.index();
         let k = &kin.tracks[i];
         let r = q.box_range(1, n, &k.frames);
         for (&f, l) in k.frames[r.clone()].iter().zip(&lanes.lanes[i][r]) {
             if l.is_some() {
-                xs.push(t);
-                ts.push(f);
+                rows.push((t, f));
             }
         }
     }
-    rel(q, vec![Column::Track(xs), Column::Time(ts)])
+    relation(q, rows)
 }
 
 /// A per-box test on the raw centre (`in_drivable_area`, `on_intersection`).
 pub fn centre_test(ex: &Extractor, q: &Query, test: impl Fn([f64; 2]) -> bool) -> RelationData {
     let kin = ex.kinematics();
     let n = ex.scene().num_frames();
-    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
         let r = q.box_range(1, n, &k.frames);
         for (&f, &c) in k.frames[r.clone()].iter().zip(&k.center[r]) {
             if test(c) {
-                xs.push(t);
-                ts.push(f);
+                rows.push((t, f));
             }
         }
     }
-    rel(q, vec![Column::Track(xs), Column::Time(ts)])
+    relation(q, rows)
 }
 
 /// The distance bound for a `D` column: the request's upper bound, never above
@@ -91,23 +78,18 @@ pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
     let (kin, index) = (ex.kinematics(), ex.map_index());
     let n = ex.scene().num_frames();
     let max = distance_bound(q, 2);
-    let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
         let mut hint = None;
         let r = q.box_range(1, n, &k.frames);
         for (&f, &c) in k.frames[r.clone()].iter().zip(&k.center[r]) {
             if let Some(d) = index.intersection_distance_hinted(c, max, &mut hint) {
-                xs.push(t);
-                ts.push(f);
-                ds.push(d);
+                rows.push((t, f, d));
             }
         }
     }
-    rel(
-        q,
-        vec![Column::Track(xs), Column::Time(ts), Column::Float(ds)],
-    )
+    relation(q, rows)
 }
 
 /// `at_crosswalk(X, T, D)`: distance from the object's ground rectangle to the nearest crossing.
@@ -115,7 +97,7 @@ pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin, index) = (ex.scene(), ex.kinematics(), ex.map_index());
     let n = scene.num_frames();
     let max = distance_bound(q, 2);
-    let (mut xs, mut ts, mut ds) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(scene, 0) {
         let k = &kin.tracks[t.index()];
         let boxes = &scene.track(t).boxes;
@@ -124,16 +106,11 @@ pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
             let shape =
                 Polygon::new(box_corners(k.center[i], k.yaw[i], b.size[0], b.size[1]).to_vec());
             if let Some(d) = index.crossing_distance(&shape, max) {
-                xs.push(t);
-                ts.push(b.frame);
-                ds.push(d);
+                rows.push((t, b.frame, d));
             }
         }
     }
-    rel(
-        q,
-        vec![Column::Track(xs), Column::Time(ts), Column::Float(ds)],
-    )
+    relation(q, rows)
 }
 
 /// `refav_crosswalk(X, T, C, D)`: see [`crate::refav`]: X's box as RefAV has it at T, pedestrian
@@ -144,7 +121,7 @@ pub fn refav_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
     let n = scene.num_frames();
     let max = distance_bound(q, 3);
     let ids: Vec<i64> = scene.map.crossings.iter().map(|c| c.id).collect();
-    let (mut xs, mut ts, mut cs, mut ds) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(scene, 0) {
         let track = scene.track(t);
         let ego = t == scene.ego;
@@ -161,23 +138,12 @@ pub fn refav_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
                     .collect();
                 let d = crate::refav::mitred_distance(&local, &quad);
                 if d <= max {
-                    xs.push(t);
-                    ts.push(b.frame);
-                    cs.push(ids[k]);
-                    ds.push(d);
+                    rows.push((t, b.frame, ids[k], d));
                 }
             }
         }
     }
-    rel(
-        q,
-        vec![
-            Column::Track(xs),
-            Column::Time(ts),
-            Column::Int(cs),
-            Column::Float(ds),
-        ],
-    )
+    relation(q, rows)
 }
 
 /// `at_stop_sign(X, S, T)`.
@@ -189,8 +155,7 @@ pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
         .iter()
         .filter(|s| q.allows_track(1, s.track))
         .collect();
-    let (mut xs, mut ss, mut ts): (Vec<TrackId>, Vec<TrackId>, Vec<Frame>) =
-        (Vec::new(), Vec::new(), Vec::new());
+    let mut rows: Vec<(TrackId, TrackId, Frame)> = Vec::new();
     if !signs.is_empty() {
         for t in q.tracks(scene, 0) {
             if scene.track(t).category == STOP_SIGN_CATEGORY {
@@ -206,73 +171,52 @@ pub fn at_stop_sign(ex: &Extractor, q: &Query) -> RelationData {
                         k.yaw[i],
                         lanes[t.index()][i],
                     ) {
-                        xs.push(t);
-                        ss.push(sign.track);
-                        ts.push(f);
+                        rows.push((t, sign.track, f));
                     }
                 }
             }
         }
     }
-    rel(
-        q,
-        vec![Column::Track(xs), Column::Track(ss), Column::Time(ts)],
-    )
+    relation(q, rows)
 }
 
 /// `lane_type(L, Ty)`.
 pub fn lane_type(ex: &Extractor, q: &Query) -> RelationData {
     let lanes = &ex.scene().map.lanes;
-    rel(
-        q,
-        vec![
-            Column::Lane(lanes.iter().map(|l| l.id).collect()),
-            Column::Str(lanes.iter().map(|l| s(l.lane_type.as_str())).collect()),
-        ],
-    )
+    relation(q, lanes.iter().map(|l| (l.id, s(l.lane_type.as_str()))))
 }
 
 /// `intersection_lane(L)`.
 pub fn intersection_lane(ex: &Extractor, q: &Query) -> RelationData {
-    let ls = ex
-        .scene()
-        .map
-        .lanes
-        .iter()
-        .filter(|l| l.is_intersection)
-        .map(|l| l.id)
-        .collect();
-    rel(q, vec![Column::Lane(ls)])
+    let lanes = ex.scene().map.lanes.iter();
+    relation(q, lanes.filter(|l| l.is_intersection).map(|l| (l.id,)))
 }
 
 /// `lane_successor(L, L2)`: successors present in the map (dangling ids are left out).
 pub fn lane_successor(ex: &Extractor, q: &Query) -> RelationData {
     let map = &ex.scene().map;
-    let (mut a, mut b): (Vec<LaneId>, Vec<LaneId>) = (Vec::new(), Vec::new());
+    let mut rows: Vec<(LaneId, LaneId)> = Vec::new();
     for l in &map.lanes {
         for &s in &l.successors {
             if map.lane(s).is_some() {
-                a.push(l.id);
-                b.push(s);
+                rows.push((l.id, s));
             }
         }
     }
-    rel(q, vec![Column::Lane(a), Column::Lane(b)])
+    relation(q, rows)
 }
 
 /// `lane_neighbor(L, L2, Side)`: neighbours present in the map.
 pub fn lane_neighbor(ex: &Extractor, q: &Query) -> RelationData {
     let map = &ex.scene().map;
     let (left, right) = (s("left"), s("right"));
-    let (mut a, mut b, mut sd) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for l in &map.lanes {
         for (n, side) in [(l.left_neighbor, &left), (l.right_neighbor, &right)] {
             if let Some(n) = n.filter(|&n| map.lane(n).is_some()) {
-                a.push(l.id);
-                b.push(n);
-                sd.push(side.clone());
+                rows.push((l.id, n, side.clone()));
             }
         }
     }
-    rel(q, vec![Column::Lane(a), Column::Lane(b), Column::Str(sd)])
+    relation(q, rows)
 }

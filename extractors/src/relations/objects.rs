@@ -1,12 +1,13 @@
 //! Objects and time: `category`, `ego`, `present`, `frame_ns`, `seconds`; RefAV's order of
 //! objects, `refav_order`.
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::{is_construction_category, is_vehicle_category, SUPER_CATEGORIES};
 
 use super::s;
 use crate::cache::Extractor;
 use crate::query::Query;
+use crate::rows::relation;
 
 /// `category(X, C)`: each track's category, plus "VEHICLE" for vehicles, "CONSTRUCTION" for
 /// road-works objects and "ANY" for all.
@@ -14,66 +15,46 @@ pub fn category(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
     let (any, vehicle) = (s(SUPER_CATEGORIES[1]), s(SUPER_CATEGORIES[0]));
     let construction = s(SUPER_CATEGORIES[2]);
-    let (mut xs, mut cs) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for t in q.tracks(scene, 0) {
         let cat = &scene.track(t).category;
-        xs.push(t);
-        cs.push(s(cat));
+        rows.push((t, s(cat)));
         if is_vehicle_category(cat) {
-            xs.push(t);
-            cs.push(vehicle.clone());
+            rows.push((t, vehicle.clone()));
         }
         if is_construction_category(cat) {
-            xs.push(t);
-            cs.push(construction.clone());
+            rows.push((t, construction.clone()));
         }
-        xs.push(t);
-        cs.push(any.clone());
+        rows.push((t, any.clone()));
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Str(cs)],
-    }
+    relation(q, rows)
 }
 
 /// `ego(X)`.
 pub fn ego(ex: &Extractor, q: &Query) -> RelationData {
     let e = ex.scene().ego;
-    let xs = if q.allows_track(0, e) && e.index() < ex.scene().tracks.len() {
-        vec![e]
-    } else {
-        Vec::new()
-    };
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs)],
-    }
+    let known = q.allows_track(0, e) && e.index() < ex.scene().tracks.len();
+    relation(q, known.then_some((e,)))
 }
 
 /// `present(X, T)`: one tuple per annotated box.
 pub fn present(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
-    let (mut xs, mut ts) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     let r = q.frames(1, scene.num_frames());
     for t in q.tracks(scene, 0) {
         let boxes = &scene.track(t).boxes;
         let a = boxes.partition_point(|b| b.frame < r.start);
         let z = boxes.partition_point(|b| b.frame < r.end).max(a);
-        for b in &boxes[a..z] {
-            xs.push(t);
-            ts.push(b.frame);
-        }
+        rows.extend(boxes[a..z].iter().map(|b| (t, b.frame)));
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Time(ts)],
-    }
+    relation(q, rows)
 }
 
 /// `next_sample(X, T, T2)`: each box of X's track and the next one, whatever the rate and gaps.
 pub fn next_sample(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
-    let (mut xs, mut ts, mut nexts) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     let r = q.frames(1, scene.num_frames());
     for t in q.tracks(scene, 0) {
         let boxes = &scene.track(t).boxes;
@@ -83,60 +64,38 @@ pub fn next_sample(ex: &Extractor, q: &Query) -> RelationData {
             if pair[0].frame >= r.end {
                 break;
             }
-            xs.push(t);
-            ts.push(pair[0].frame);
-            nexts.push(pair[1].frame);
+            rows.push((t, pair[0].frame, pair[1].frame));
         }
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Time(ts), Column::Time(nexts)],
-    }
+    relation(q, rows)
 }
 
 /// `frame_ns(T, Ns)`.
 pub fn frame_ns(ex: &Extractor, q: &Query) -> RelationData {
     let tl = &ex.scene().timeline;
     let r = q.frames(0, tl.frame_count());
-    let (frames, ns): (Vec<u32>, Vec<i64>) = r.filter_map(|f| Some((f, tl.ns(f)?))).unzip();
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Time(frames), Column::Int(ns)],
-    }
+    relation(q, r.filter_map(|f| Some((f, tl.ns(f)?))))
 }
 
 /// `seconds(T, S)`.
 pub fn seconds(ex: &Extractor, q: &Query) -> RelationData {
     let tl = &ex.scene().timeline;
-    let frames: Vec<u32> = q
+    let frames = q
         .frames(0, tl.frame_count())
-        .filter(|&f| tl.ns(f).is_some())
-        .collect();
-    let secs = frames
-        .iter()
-        .map(|&f| tl.seconds(f).unwrap_or(0.0))
-        .collect();
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Time(frames), Column::Float(secs)],
-    }
+        .filter(|&f| tl.ns(f).is_some());
+    relation(q, frames.map(|f| (f, tl.seconds(f).unwrap_or(0.0))))
 }
 
 /// `refav_order(X, Cat, R)`: see [`crate::refav::order`].
 pub fn refav_order(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
-    let (mut xs, mut cs, mut rs) = (Vec::new(), Vec::new(), Vec::new());
-    for (t, c, r) in crate::refav::order(scene) {
-        if q.allows_track(0, t) {
-            xs.push(t);
-            cs.push(s(c));
-            rs.push(r);
-        }
-    }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Str(cs), Column::Int(rs)],
-    }
+    let order = crate::refav::order(scene).into_iter();
+    relation(
+        q,
+        order
+            .filter(|&(t, _, _)| q.allows_track(0, t))
+            .map(|(t, c, r)| (t, s(c), r)),
+    )
 }
 
 /// `refav_color(X, C)`: the log's RefAV colour cache (`scenalog_facts::color`): each track it
@@ -145,14 +104,13 @@ pub fn refav_order(ex: &Extractor, q: &Query) -> RelationData {
 pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query::ExtractError> {
     use scenalog_facts::color::NO_COLOR;
     use scenalog_facts::ColorCache;
-    let (mut xs, mut cs) = (Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     match &ex.scene().color_cache {
         ColorCache::Absent => {}
         ColorCache::Read { colors, .. } => {
             for (&t, c) in colors {
                 if q.allows_track(0, t) {
-                    xs.push(t);
-                    cs.push(s(c.as_deref().unwrap_or(NO_COLOR)));
+                    rows.push((t, s(c.as_deref().unwrap_or(NO_COLOR))));
                 }
             }
         }
@@ -163,8 +121,5 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
             })
         }
     }
-    Ok(RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Str(cs)],
-    })
+    Ok(relation(q, rows))
 }

@@ -1,13 +1,14 @@
 //! `towing(X, Y, T)`: vehicle X tows trailer Y (AV2 annotates a semi's tractor as `TRUCK_CAB` and
 //! what it pulls as `VEHICULAR_TRAILER`, two tracks).
 
-use scenalog_facts::relation::{Column, RelationData};
+use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::is_vehicle_category;
 
 use crate::cache::Extractor;
 use crate::kinematics::wrap_angle;
 use crate::pairs::{box_distance, pair_index, ObjBox};
 use crate::query::Query;
+use crate::rows::relation;
 use crate::thresholds::{TOWING_MAX_GAP_M, TOWING_MAX_HEADING_DEG, TOWING_MAX_LATERAL_M};
 
 /// The category of a towed trailer.
@@ -35,7 +36,7 @@ pub fn towing(ex: &Extractor, q: &Query) -> RelationData {
     let (scene, kin) = (ex.scene(), ex.kinematics());
     let index = pair_index(ex);
     let frames = q.frames(2, scene.num_frames());
-    let (mut xs, mut ys, mut ts) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
     for y in q.tracks(scene, 1) {
         if scene.track(y).category != TRAILER_CATEGORY {
             continue;
@@ -62,15 +63,8 @@ pub fn towing(ex: &Extractor, q: &Query) -> RelationData {
                 .map(|xb| xb.track)
                 .collect();
             towers.sort_unstable();
-            for x in towers {
-                xs.push(x);
-                ys.push(y);
-                ts.push(f);
-            }
+            rows.extend(towers.into_iter().map(|x| (x, y, f)));
         }
     }
-    RelationData {
-        name: q.spec.name.into(),
-        columns: vec![Column::Track(xs), Column::Track(ys), Column::Time(ts)],
-    }
+    relation(q, rows)
 }
