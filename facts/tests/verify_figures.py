@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Prints the figures facts/tests/real_logs.rs checks, computed independently with pyarrow + numpy.
+"""Prints the figures facts/tests/it/real_logs.rs checks, computed independently with pyarrow + numpy.
 
 Run from the repository root: python3 facts/tests/verify_figures.py
 """

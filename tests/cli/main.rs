@@ -3,7 +3,7 @@
 //!
 //! Run one module with `cargo test --test cli mine::`, one test by its name.
 
-#[path = "../../synth/tests/support/server.rs"]
+#[path = "../../synth/tests/it/support/server.rs"]
 mod server;
 mod util;
 

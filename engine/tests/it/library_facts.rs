@@ -8,7 +8,7 @@
 //! The facts are written from the descriptions and the catalog's documentation, not from the
 //! rules, so a rule that does not mean its description fails its test.
 
-mod fact_scene;
+use crate::fact_scene;
 
 use fact_scene::*;
 use scenalog_facts::relation::{Constraint, Request, Value};

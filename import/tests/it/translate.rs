@@ -307,7 +307,7 @@ mod fuzz {
         /// Mutations of a real program (a character deleted or replaced) never panic.
         #[test]
         fn mutated_real_program_never_panics(at in 0usize..400, c in proptest::char::any()) {
-            let src = include_str!("data/refav_programs/vehicle with a bicycle to its right.txt");
+            let src = include_str!("../data/refav_programs/vehicle with a bicycle to its right.txt");
             let mut chars: Vec<char> = src.chars().collect();
             if !chars.is_empty() {
                 let i = at % chars.len();

@@ -12,7 +12,7 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::Scene;
 use scenalog_rules::{apply_fix, check, CheckOptions, Diagnostic};
 
-mod common;
+use crate::common;
 use common::logs;
 
 /// Every tuple of `relation` the program derives on each log, tagged with the log's index.

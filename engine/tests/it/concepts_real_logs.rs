@@ -14,7 +14,7 @@ use scenalog_facts::scene::{is_vehicle_category, Scene};
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-mod common;
+use crate::common;
 use common::{logs, root};
 
 fn program(name: &str) -> CheckedProgram {

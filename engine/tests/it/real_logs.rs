@@ -11,7 +11,7 @@ use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-mod common;
+use crate::common;
 use common::{library_files, logs, root};
 
 fn library() -> Vec<(String, CheckedProgram)> {

@@ -1,7 +1,7 @@
 //! Batch synthesis into a directory against a scripted server: outputs, summary, resuming, the
 //! cache, and an unreachable server.
 
-mod support;
+use crate::support;
 
 use std::fs;
 use std::time::Duration;

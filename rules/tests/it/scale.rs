@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use scenalog_rules::{check, CheckOptions};
 
-#[path = "../examples/support/chain.rs"]
+#[path = "../../examples/support/chain.rs"]
 mod chain;
 use chain::{
     bindings_program, chain_program, nested_calls_program, unknown_program, wide_body_program,

@@ -1,7 +1,7 @@
 //! The repair loop, the client and the cache against a real HTTP server on 127.0.0.1 that
 //! answers from a script.
 
-mod support;
+use crate::support;
 
 use std::time::Duration;
 

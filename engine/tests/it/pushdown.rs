@@ -15,7 +15,7 @@ use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value}
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-mod common;
+use crate::common;
 use common::{library_files, logs};
 
 fn library() -> Vec<(String, CheckedProgram)> {

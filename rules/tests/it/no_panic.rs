@@ -3,7 +3,7 @@
 //! is no error; whatever parses prints to text that parses back to the same text.
 //!
 //! `long_fuzz` (ignored) runs the same generators for `SCENALOG_FUZZ_SECS` seconds (default 600)
-//! and prints how many inputs it tried: `cargo test -p scenalog-rules --release --test no_panic
+//! and prints how many inputs it tried: `cargo test -p scenalog-rules --release --test it no_panic::
 //! -- --ignored --nocapture`.
 
 use std::path::Path;

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use scenalog_extractors::map::MapIndex;
 use scenalog_facts::Scene;
 
-#[path = "../examples/support/grid_map.rs"]
+#[path = "../../examples/support/grid_map.rs"]
 mod grid_map;
 
 /// The fastest of three builds of the map of `scene` (the least disturbed by other work), and

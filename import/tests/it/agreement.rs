@@ -5,7 +5,7 @@
 //! run time side by side. Every program where the two differ much must be accounted for in
 //! [`KNOWN`], and every entry there must still differ, so the table in import/README.md stays true.
 //!
-//! Run with `cargo test -p scenalog-import --test agreement -- --nocapture` to see the table
+//! Run with `cargo test -p scenalog-import --test it agreement:: -- --nocapture` to see the table
 //! (`--release` for meaningful timings).
 
 use std::collections::{BTreeMap, BTreeSet};

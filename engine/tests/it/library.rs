@@ -17,7 +17,7 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene, TrackId};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-mod common;
+use crate::common;
 use common::{logs, root};
 
 fn program(name: &str) -> CheckedProgram {

@@ -1,6 +1,6 @@
 //! `evaluation`: a description set through the scripted server, with held-out prompts.
 
-mod support;
+use crate::support;
 
 use std::time::Duration;
 
