@@ -15,7 +15,7 @@ fn root() -> PathBuf {
 }
 
 fn logs() -> PathBuf {
-    root().join("tests/data/av2/logs")
+    scenalog_testkit::sample_logs_dir()
 }
 
 /// Library programs that match on the sample logs.

@@ -41,7 +41,6 @@ pub mod refav;
 pub mod refav_lanes;
 mod relations;
 mod rows;
-pub mod synthetic;
 pub mod table;
 pub mod thresholds;
 

@@ -573,7 +573,7 @@ mod tests {
 
     #[test]
     fn finish_sorts_like_a_row_comparison_and_drops_duplicates() {
-        let scene = crate::synthetic::SceneBuilder::new(3).build();
+        let scene = scenalog_testkit::SceneBuilder::new(3).build();
         let strs: Vec<Arc<str>> = ["b", "a", "c"].iter().map(|s| Arc::from(*s)).collect();
         // Pseudo-random rows with negative numbers, repeated keys and duplicates.
         let mut state = 12345u64;

@@ -136,7 +136,7 @@ fn out_writes_official_json_files() {
 }
 
 fn logs_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/av2/logs")
+    scenalog_testkit::sample_logs_dir()
 }
 
 /// `--dataset-dir` turns the drivable-area ROI filter on: the official `|roi` numbers and JSON files.

@@ -15,7 +15,7 @@ fn root() -> PathBuf {
 }
 
 fn logs() -> Vec<PathBuf> {
-    let dir = root().join("tests/data/av2/logs");
+    let dir = scenalog_testkit::sample_logs_dir();
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
         .filter_map(|e| e.ok().map(|e| e.path()))

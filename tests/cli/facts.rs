@@ -2,13 +2,11 @@
 //!
 //! Expected figures were computed independently with pyarrow (see `facts/tests/verify_figures.py`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Output;
 
 fn log_dir(id: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/av2/logs")
-        .join(id)
+    scenalog_testkit::sample_logs_dir().join(id)
 }
 
 fn scenalog(args: &[&str]) -> Output {

@@ -14,7 +14,7 @@ fn root() -> PathBuf {
 }
 
 fn log_dir() -> PathBuf {
-    root().join("tests/data/av2/logs").join(LOG)
+    scenalog_testkit::sample_logs_dir().join(LOG)
 }
 
 /// Runs the binary with `args` and `stdin`; the exit code must be a code, not a signal.

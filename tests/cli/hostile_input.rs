@@ -18,7 +18,7 @@ fn repo(rel: &str) -> PathBuf {
 }
 
 fn log_dir(id: &str) -> PathBuf {
-    repo("tests/data/av2/logs").join(id)
+    scenalog_testkit::sample_logs_dir().join(id)
 }
 
 /// Runs the command with `stdout` as its standard output, killing it after [`DEADLINE`].
@@ -245,7 +245,7 @@ fn every_input_flag_refuses_a_fifo_and_dev_zero_naming_the_path() {
     }
     let s = |p: &Path| p.to_str().expect("utf8").to_owned();
     let rules = s(&repo("tests/support/stopped_not_parked.dl"));
-    let logs = s(&repo("tests/data/av2/logs"));
+    let logs = s(&scenalog_testkit::sample_logs_dir());
     let log = s(&log_dir(MIA));
     let gt = s(&repo("tests/data/av2/eval/combined_gt_dev.pkl"));
     let pairs = s(&repo(
@@ -447,7 +447,7 @@ fn inputs_padded_to_20_gib_are_errors_at_once_not_aborts() {
         "--log-prompts",
         &pairs,
         "--dataset-dir",
-        &s(&repo("tests/data/av2/logs")),
+        &s(&scenalog_testkit::sample_logs_dir()),
         "--tracks",
         &s(&pred),
         "--out",

@@ -69,7 +69,7 @@ fn import_the_refav_programs_then_mine_them() {
         .iter()
         .map(|f| out.join(f).to_string_lossy().to_string())
         .collect();
-    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let log = scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[0]);
     let mine_out = dir.path().join("mine");
     let o = scenalog(&[
         "mine",
@@ -218,7 +218,7 @@ fn semantics_refav_targets_refav_definitions_and_mines_what_refav_finds() {
     // RefAV's turning and finds exactly as many, with the default Scenalog's turning and 274.
     let dir = tempfile::tempdir().expect("tempdir");
     let input = root().join("import/tests/data/refav_programs/car turning right.txt");
-    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let log = scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[0]);
     let mut found = Vec::new();
     for semantics in [None, Some("scenalog"), Some("refav")] {
         let out = dir.path().join(format!("imported_{semantics:?}"));
@@ -272,7 +272,7 @@ fn defects_flag_chooses_which_refav_defects_the_import_reproduces() {
     let dir = tempfile::tempdir().expect("tempdir");
     let input =
         root().join("import/tests/data/refav_programs/vehicle being overtaken on the right.txt");
-    let log = root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let log = scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[0]);
     let cases = [
         (
             None,

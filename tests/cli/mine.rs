@@ -18,7 +18,7 @@ fn root() -> PathBuf {
 }
 
 fn logs_dir() -> PathBuf {
-    root().join("tests/data/av2/logs")
+    scenalog_testkit::sample_logs_dir()
 }
 
 fn library(name: &str) -> PathBuf {

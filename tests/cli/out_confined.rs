@@ -7,9 +7,7 @@ use std::path::{Path, PathBuf};
 const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 
 fn sample_log() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/av2/logs")
-        .join(LOG)
+    scenalog_testkit::sample_logs_dir().join(LOG)
 }
 
 fn stopped_car() -> String {

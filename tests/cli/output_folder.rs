@@ -12,7 +12,7 @@ fn root() -> PathBuf {
 }
 
 fn log() -> PathBuf {
-    root().join("tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6")
+    scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[0])
 }
 
 fn stopped_car() -> PathBuf {

@@ -221,7 +221,8 @@ fn unreachable_or_refused_exits_2_with_the_servers_message() {
     let dir = tempfile::tempdir().expect("tempdir");
     let file = dir.path().join("set.txt");
     fs::write(&file, "stopped car\nparked bus\n").expect("write descriptions");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let logs_dir = scenalog_testkit::sample_logs_dir();
+    let logs = logs_dir.to_str().expect("a UTF-8 path");
     let o = scenalog(
         &[
             "--eval",
@@ -328,7 +329,8 @@ fn eval_reports_a_description_set_with_held_out_prompts_on_the_sample_logs() {
     let dir = tempfile::tempdir().expect("tempdir");
     let file = dir.path().join("set.txt");
     fs::write(&file, "stopped car\ntram crossing\n").expect("write descriptions");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let logs_dir = scenalog_testkit::sample_logs_dir();
+    let logs = logs_dir.to_str().expect("a UTF-8 path");
     let o = scenalog(
         &["--eval", file.to_str().expect("utf-8 path"), "--logs", logs],
         &[("SCENALOG_LLM_BASE_URL", url.as_str())],
@@ -383,7 +385,8 @@ fn run_eval(set: &str, replies: Vec<Reply>, extra: &[&str]) -> Output {
     let dir = tempfile::tempdir().expect("tempdir");
     let file = dir.path().join("set.txt");
     fs::write(&file, set).expect("write descriptions");
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let logs_dir = scenalog_testkit::sample_logs_dir();
+    let logs = logs_dir.to_str().expect("a UTF-8 path");
     let mut args = vec!["--eval", file.to_str().expect("utf-8 path"), "--logs", logs];
     args.extend_from_slice(extra);
     let o = scenalog(&args, &[("SCENALOG_LLM_BASE_URL", url.as_str())]);
@@ -904,7 +907,8 @@ fn on_sample_logs(
     server: &Server,
     transcript: &std::path::Path,
 ) -> Output {
-    let logs = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/av2/logs");
+    let logs_dir = scenalog_testkit::sample_logs_dir();
+    let logs = logs_dir.to_str().expect("a UTF-8 path");
     let url = server.base_url();
     let mut args = vec![description, "--logs", logs, "--base-url", &url];
     args.extend_from_slice(&["--transcript", transcript.to_str().expect("utf8")]);

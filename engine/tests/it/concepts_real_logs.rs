@@ -14,8 +14,7 @@ use scenalog_facts::scene::{is_vehicle_category, Scene};
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-use crate::common;
-use common::{logs, root};
+use scenalog_testkit::{repo_root as root, rows, sample_log_dirs as logs};
 
 fn program(name: &str) -> CheckedProgram {
     let path = root().join("rules/library").join(format!("{name}.dl"));
@@ -23,10 +22,6 @@ fn program(name: &str) -> CheckedProgram {
     check(&src, &CheckOptions::default())
         .program
         .unwrap_or_else(|| panic!("{name}.dl does not check"))
-}
-
-fn rows(d: &RelationData) -> Vec<Vec<Value>> {
-    (0..d.len()).filter_map(|i| d.row(i)).collect()
 }
 
 /// `referred` of library program `name` on a log, as (track, frame).

@@ -7,18 +7,14 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::sync::OnceLock;
 
 use scenalog_engine::{evaluate, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
-use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene, TrackId};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
-
-use crate::common;
-use common::{logs, root};
+use scenalog_testkit::{repo_root as root, sample_scenes as scenes};
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 
 fn program(name: &str) -> CheckedProgram {
     let path = root().join("rules/library").join(format!("{name}.dl"));
@@ -27,16 +23,6 @@ fn program(name: &str) -> CheckedProgram {
         Some(p) => p,
         None => panic!("{name}.dl does not check"),
     }
-}
-
-fn scenes() -> &'static [Scene] {
-    static SCENES: OnceLock<Vec<Scene>> = OnceLock::new();
-    SCENES.get_or_init(|| {
-        logs()
-            .iter()
-            .map(|l| load_scene(l).unwrap_or_else(|e| panic!("{}: {e}", l.display())))
-            .collect()
-    })
 }
 
 fn evaluate_on(ex: &Extractor<'_>, p: &CheckedProgram) -> Evaluation {
@@ -65,7 +51,7 @@ fn rows(ex: &Extractor<'_>, name: &str) -> Vec<Vec<Value>> {
     let d = ex
         .extract(&Request::all(name))
         .unwrap_or_else(|e| panic!("{name}: {e}"));
-    (0..d.len()).filter_map(|i| d.row(i)).collect()
+    scenalog_testkit::rows(&d)
 }
 
 fn track(v: &Value) -> TrackId {

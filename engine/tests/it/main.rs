@@ -1,7 +1,6 @@
 //! The integration tests of scenalog-engine in one binary (one link instead of one per file): a module
 //! per concern, each saying what it tests. Run one with `cargo test -p scenalog-engine --test it MODULE::`.
 
-mod common;
 mod concepts_real_logs;
 mod differential;
 mod fact_scene;
@@ -10,6 +9,7 @@ mod library;
 mod library_facts;
 mod meaning_real_logs;
 mod naive;
+mod oracle;
 mod pushdown;
 mod real_logs;
 mod why_not;

@@ -12,8 +12,7 @@ use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_facts::Scene;
 use scenalog_rules::{apply_fix, check, CheckOptions, Diagnostic};
 
-use crate::common;
-use common::logs;
+use scenalog_testkit::sample_log_dirs as logs;
 
 /// Every tuple of `relation` the program derives on each log, tagged with the log's index.
 fn mine(src: &str, scenes: &[Scene], relation: &str) -> BTreeSet<(usize, Vec<String>)> {

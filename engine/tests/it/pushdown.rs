@@ -9,14 +9,13 @@ use scenalog_engine::value::cmp_value;
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
 use scenalog_extractors::query::satisfies;
-use scenalog_extractors::synthetic::SceneBuilder;
 use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{Column, Constraint, RelationData, Request, Value};
 use scenalog_facts::TrackId;
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
+use scenalog_testkit::SceneBuilder;
 
-use crate::common;
-use common::{library_files, logs};
+use scenalog_testkit::{library_files, sample_log_dirs as logs};
 
 fn library() -> Vec<(String, CheckedProgram)> {
     library_files()

@@ -11,8 +11,7 @@ use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{check, CheckOptions, CheckedProgram};
 
-use crate::common;
-use common::{library_files, logs, root};
+use scenalog_testkit::{library_files, repo_root as root, sample_log_dirs as logs};
 
 fn library() -> Vec<(String, CheckedProgram)> {
     library_files()

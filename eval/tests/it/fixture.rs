@@ -14,7 +14,7 @@ fn data(name: &str) -> PathBuf {
 fn roi_maps() -> Arc<RoiMaps> {
     static MAPS: OnceLock<Arc<RoiMaps>> = OnceLock::new();
     MAPS.get_or_init(|| {
-        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/av2/logs");
+        let dir = scenalog_testkit::sample_logs_dir();
         let (pred, gt) = load();
         let ids: Vec<String> = gt
             .sequences

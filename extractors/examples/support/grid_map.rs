@@ -1,8 +1,8 @@
 //! Synthetic maps of many lanes, for measuring how map indexing grows (`examples/map_scale.rs`,
 //! `tests/map_scale.rs`).
 
-use scenalog_extractors::synthetic::SceneBuilder;
 use scenalog_facts::Scene;
+use scenalog_testkit::SceneBuilder;
 
 /// A scene whose map has about `n` lanes in rows of `per_row` lanes, each `length` metres long and
 /// 3.5 m wide, along +x: each lane's successor is the next in its row, its left neighbour the lane

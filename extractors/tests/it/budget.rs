@@ -2,20 +2,18 @@
 //! by its deadline, is an error naming the relation (and is not kept, so a later request with
 //! room computes it whole); within the budget the answer is the unlimited one.
 
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use scenalog_extractors::{Budget, ExtractError, Extractor};
 use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::Request;
+use scenalog_testkit::{sample_log, SAMPLE_LOGS};
 
-const LOG: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
+const LOG: &str = SAMPLE_LOGS[0];
 
 #[test]
 fn pair_relations_stop_at_the_budget_and_name_the_relation() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(LOG);
+    let dir = sample_log(LOG);
     let scene = load_scene(&dir).unwrap_or_else(|e| panic!("{e}"));
     let ex = Extractor::new(&scene);
     let req = Request::all("direction");
@@ -59,9 +57,7 @@ fn pair_relations_stop_at_the_budget_and_name_the_relation() {
 #[test]
 fn a_pair_list_past_its_cap_is_not_kept_and_the_answers_are_unchanged() {
     use scenalog_extractors::pairs;
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(LOG);
+    let dir = sample_log(LOG);
     let scene = load_scene(&dir).unwrap_or_else(|e| panic!("{e}"));
     let cached = Extractor::new(&scene);
     let index = pairs::pair_index(&cached);

@@ -5,10 +5,10 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
 use scenalog_extractors::Extractor;
 use scenalog_facts::relation::{Constraint, Request, Value};
 use scenalog_facts::Scene;
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 
 const CAR: [f64; 3] = [4.5, 1.8, 1.5];
 const CAB: [f64; 3] = [6.0, 2.5, 3.0];

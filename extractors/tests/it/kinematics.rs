@@ -2,8 +2,8 @@
 
 use scenalog_extractors::kinematics::compute;
 use scenalog_extractors::lanes::assign;
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
 use scenalog_facts::LaneId;
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 use std::f64::consts::FRAC_PI_2;
 
 /// A car turning left 90° at 10 m/s on a circle of radius 20 m (frames 10..), straight before.

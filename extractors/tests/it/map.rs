@@ -1,8 +1,8 @@
 //! Lane chains (the lane as a driver sees it) and road sides on synthetic maps.
 
 use scenalog_extractors::map::{MapIndex, RoadSide};
-use scenalog_extractors::synthetic::SceneBuilder;
 use scenalog_facts::LaneId;
+use scenalog_testkit::SceneBuilder;
 
 fn ids(v: &[LaneId]) -> Vec<i64> {
     v.iter().map(|l| l.0).collect()

@@ -4,10 +4,10 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use scenalog_extractors::pairs::{self, PairContext};
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
 use scenalog_extractors::{pair_relation, pair_relations, Extractor};
 use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene};
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 
 const CAR: [f64; 3] = [4.5, 1.8, 1.5];
 const PED: [f64; 3] = [0.6, 0.6, 1.7];

@@ -3,36 +3,14 @@
 //! Run with `--nocapture` to see the per-relation counts.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::PathBuf;
-use std::sync::OnceLock;
 
 use scenalog_extractors::pairs::{self, PairContext, PairIndex};
 use scenalog_extractors::query::satisfies;
 use scenalog_extractors::Extractor;
 use scenalog_extractors::{pair_relation, pair_relations};
-use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{Constraint, RelationData, Request, Value};
 use scenalog_facts::{Frame, Scene, TrackId};
-
-const LOGS: [&str; 3] = [
-    "3b3570b4-7b0b-3268-a571-b0889dbf40b6",
-    "3bffdcff-c3a7-38b6-a0f2-64196d130958",
-    "adcf7d18-0510-35b0-a2fa-b4cea13a6d76",
-];
-
-fn scenes() -> &'static [Scene] {
-    static SCENES: OnceLock<Vec<Scene>> = OnceLock::new();
-    SCENES.get_or_init(|| {
-        LOGS.iter()
-            .map(|id| {
-                let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                    .join("../tests/data/av2/logs")
-                    .join(id);
-                load_scene(&dir).unwrap_or_else(|e| panic!("{e}"))
-            })
-            .collect()
-    })
-}
+use scenalog_testkit::{rows, sample_scenes as scenes};
 
 /// The pair relations' context over the extractor's shared data and `index`.
 fn context<'a>(ex: &'a Extractor, index: &'a PairIndex) -> PairContext<'a> {
@@ -44,12 +22,6 @@ fn answer(ex: &Extractor, req: &Request) -> RelationData {
     let index = pairs::pair_index(ex);
     let ctx = context(ex, &index);
     pair_relation(&ctx, req).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn rows(d: &RelationData) -> Vec<Vec<Value>> {
-    (0..d.len())
-        .map(|i| d.row(i).expect("row in range"))
-        .collect()
 }
 
 fn xyt(row: &[Value]) -> (TrackId, TrackId, Frame) {

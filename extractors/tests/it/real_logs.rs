@@ -1,30 +1,9 @@
 //! Properties a person can confirm on the three real Argoverse 2 logs in `tests/data/av2/logs/`.
 //! Run with `--nocapture` to see the per-relation counts.
 
-use std::path::PathBuf;
-
 use scenalog_extractors::{extract_all, Extractor};
-use scenalog_facts::read::load_scene;
 use scenalog_facts::relation::{Column, Request};
-use scenalog_facts::Scene;
-
-const LOGS: [&str; 3] = [
-    "3b3570b4-7b0b-3268-a571-b0889dbf40b6",
-    "3bffdcff-c3a7-38b6-a0f2-64196d130958",
-    "adcf7d18-0510-35b0-a2fa-b4cea13a6d76",
-];
-
-fn log_dir(id: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(id)
-}
-
-fn scenes() -> Vec<Scene> {
-    LOGS.iter()
-        .map(|id| load_scene(&log_dir(id)).unwrap_or_else(|e| panic!("{e}")))
-        .collect()
-}
+use scenalog_testkit::sample_scenes as scenes;
 
 /// Winding number of a closed polygon around `p` (an implementation independent of the crate's).
 fn winding(poly: &[[f64; 2]], p: [f64; 2]) -> i32 {
@@ -46,7 +25,7 @@ fn winding(poly: &[[f64; 2]], p: [f64; 2]) -> i32 {
 #[test]
 fn ego_speed_matches_its_pose_track() {
     for scene in scenes() {
-        let ex = Extractor::new(&scene);
+        let ex = Extractor::new(scene);
         let kin = &ex.kinematics().tracks[scene.ego.index()];
         let ts = scene.timeline.timestamps_ns();
         let n = ts.len();
@@ -80,7 +59,7 @@ fn ego_speed_matches_its_pose_track() {
 #[test]
 fn every_in_lane_centre_lies_in_its_lane() {
     for scene in scenes() {
-        let ex = Extractor::new(&scene);
+        let ex = Extractor::new(scene);
         let data = ex.extract(&Request::all("in_lane")).unwrap();
         let (Column::Track(xs), Column::Time(ts), Column::Lane(ls)) =
             (&data.columns[0], &data.columns[1], &data.columns[2])
@@ -155,7 +134,7 @@ fn relation_counts_are_stable_and_plausible() {
 fn map_distances_match_brute_force() {
     use scenalog_extractors::map::geometry::{box_corners, Polygon};
     for scene in scenes() {
-        let ex = Extractor::new(&scene);
+        let ex = Extractor::new(scene);
         let inter: Vec<Polygon> = scene
             .map
             .lanes

@@ -1,10 +1,10 @@
 //! RefAV's definitions (`refav_*`, for `scenalog import refav --semantics refav`) against
 //! Scenalog's on synthetic scenes where the two differ, each way.
 
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
 use scenalog_extractors::{extract, relation_json};
 use scenalog_facts::relation::Request;
 use scenalog_facts::Scene;
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 use serde_json::Value as J;
 
 const CAR: [f64; 3] = [4.5, 1.8, 1.5];

@@ -4,10 +4,10 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::Arc;
 
-use scenalog_extractors::synthetic::{straight, SceneBuilder, Waypoint};
 use scenalog_extractors::{extract, extract_all, relation_json, ExtractError, Extractor};
 use scenalog_facts::relation::{Constraint, Request, Value};
 use scenalog_facts::{LaneType, Scene};
+use scenalog_testkit::{straight, SceneBuilder, Waypoint};
 use serde_json::{json, Value as J};
 
 const CAR: [f64; 3] = [4.5, 1.8, 1.5];

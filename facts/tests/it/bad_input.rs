@@ -22,17 +22,11 @@ use tempfile::TempDir;
 const WITH_EGO: &str = "3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 const PLAIN: &str = "adcf7d18-0510-35b0-a2fa-b4cea13a6d76";
 
-fn real_dir(id: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(id)
-}
-
 /// A writable copy of a real log in a temp dir; returns (guard, log dir).
 fn copy_log(id: &str) -> (TempDir, PathBuf) {
     let tmp = tempfile::tempdir().expect("temp dir");
     let dst = tmp.path().join(id);
-    copy_dir(&real_dir(id), &dst);
+    copy_dir(&crate::log_dir(id), &dst);
     (tmp, dst)
 }
 
@@ -156,7 +150,7 @@ fn rewritten_copy_in_several_batches_loads_the_same_scene() {
         ]
     });
     let a = load_ok(&dir);
-    let b = load_ok(&real_dir(WITH_EGO));
+    let b = load_ok(&crate::log_dir(WITH_EGO));
     assert_eq!(a.tracks, b.tracks);
     assert_eq!(a.timeline, b.timeline);
     assert_eq!(a.ego_poses, b.ego_poses);
@@ -252,7 +246,8 @@ fn not_arrow_garbage_and_truncated() {
     assert_names(&err, ANNOTATIONS_WITH_EGO_FILE, &["Arrow"]);
 
     // The real file cut in half: starts like Arrow, has no footer.
-    let real = std::fs::read(real_dir(WITH_EGO).join(ANNOTATIONS_WITH_EGO_FILE)).expect("read");
+    let real =
+        std::fs::read(crate::log_dir(WITH_EGO).join(ANNOTATIONS_WITH_EGO_FILE)).expect("read");
     std::fs::write(&path, &real[..real.len() / 2]).expect("write");
     let err = load_err(&dir);
     assert!(matches!(err, LoadError::NotArrow { .. }), "{err}");
@@ -459,7 +454,7 @@ fn nan_in_a_box_and_inf_in_a_pose() {
 
     // Infinity in the pose row of the first annotation timestamp.
     let (_tmp, dir) = copy_log(WITH_EGO);
-    let first_ns = load_ok(&real_dir(WITH_EGO)).timeline.timestamps_ns()[0];
+    let first_ns = load_ok(&crate::log_dir(WITH_EGO)).timeline.timestamps_ns()[0];
     let mut bad_row = None;
     rewrite(&dir, EGO_POSES_FILE, |b| {
         let ts = b
@@ -574,7 +569,7 @@ fn duplicate_track_timestamp_rows() {
 #[test]
 fn annotation_timestamp_without_ego_pose() {
     let (_tmp, dir) = copy_log(WITH_EGO);
-    let ts = load_ok(&real_dir(WITH_EGO)).timeline.timestamps_ns()[10];
+    let ts = load_ok(&crate::log_dir(WITH_EGO)).timeline.timestamps_ns()[10];
     rewrite(&dir, EGO_POSES_FILE, |b| {
         let col = b.column_by_name("timestamp_ns").expect("ts");
         let a = col

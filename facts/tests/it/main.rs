@@ -3,3 +3,12 @@
 
 mod bad_input;
 mod real_logs;
+
+/// The bundled sample log `id` (`tests/data/av2/logs/<id>`). The test kit crate
+/// (`scenalog-testkit`) says the same for the crates above this one; it is built on this crate,
+/// so this crate's tests keep their own line.
+fn log_dir(id: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/av2/logs")
+        .join(id)
+}

@@ -11,21 +11,14 @@
 //! `R(q_ego) @ t_box + t_ego` with the ego pose row of the same timestamp.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
 
 use nalgebra::{Point3, Vector3};
 use scenalog_facts::read::ADDED_EGO_UUID;
 use scenalog_facts::scene::{yaw_of, EGO_CATEGORY, EGO_SIZE};
 use scenalog_facts::{load_scene, LaneId, LaneType, Scene, SceneSummary};
 
-fn log_dir(id: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(id)
-}
-
 fn load(id: &str) -> Scene {
-    match load_scene(&log_dir(id)) {
+    match load_scene(&crate::log_dir(id)) {
         Ok(s) => s,
         Err(e) => panic!("loading {id}: {e}"),
     }
@@ -394,7 +387,7 @@ fn first_lane_of_the_map_is_read_field_by_field() {
 
 #[test]
 fn log_id_comes_from_a_relative_dot_path_too() {
-    let dir = log_dir("3b3570b4-7b0b-3268-a571-b0889dbf40b6").join(".");
+    let dir = crate::log_dir("3b3570b4-7b0b-3268-a571-b0889dbf40b6").join(".");
     let s = load_scene(&dir).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.log_id, "3b3570b4-7b0b-3268-a571-b0889dbf40b6");
 }

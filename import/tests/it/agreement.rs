@@ -216,9 +216,7 @@ impl Outcome {
 
 /// Imports every program with `semantics`, mines it, prints the table and returns the means.
 fn agreement(semantics: Semantics) -> Outcome {
-    let log = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(LOG);
+    let log = scenalog_testkit::sample_log(LOG);
     let scene = load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
     let outputs = data().join("refav_outputs/refav_outputs_3b3570b4.jsonl");
     let text =

@@ -5,7 +5,6 @@
 //! must name the line and the construct.
 
 use std::collections::BTreeSet;
-use std::path::Path;
 use std::sync::OnceLock;
 
 use scenalog_engine::{evaluate, Options};
@@ -25,9 +24,7 @@ fn scene() -> &'static Scene {
 
 /// One of the bundled sample logs.
 fn sample_log(id: &str) -> Scene {
-    let log = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs")
-        .join(id);
+    let log = scenalog_testkit::sample_log(id);
     load_scene(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()))
 }
 
@@ -639,10 +636,10 @@ fn tracks_of(p: &Pairs) -> BTreeSet<u32> {
 /// A copy of the sample log 3b3570b4 in a temporary folder with `cache` as its
 /// `cache/color_cache.json`.
 fn log_with_color_cache(cache: &str) -> (tempfile::TempDir, std::path::PathBuf) {
-    let from = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let id = scenalog_testkit::SAMPLE_LOGS[0];
+    let from = scenalog_testkit::sample_log(id);
     let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
-    let to = tmp.path().join("3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let to = tmp.path().join(id);
     for rel in ["", "map", "cache"] {
         std::fs::create_dir_all(to.join(rel)).unwrap_or_else(|e| panic!("{e}"));
     }

@@ -148,8 +148,7 @@ fn python_tracker_pickles_order_their_tracks_by_first_frame_then_id() {
     use scenalog_extractors::{extract, relation_json};
     use scenalog_facts::relation::Request;
     use scenalog_tracker::{tracked_log, Filter};
-    let log_dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6");
+    let log_dir = scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[0]);
     for protocol in 0..=5 {
         let path = fixtures().join(format!("tracks_p{protocol}.pkl"));
         let pickle = TrackerPickle::open(&path).unwrap_or_else(|e| panic!("{e}"));

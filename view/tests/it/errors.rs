@@ -1,8 +1,8 @@
 //! Bad input gives clear errors: a frame outside the log, a track absent at the frame, an
 //! unwritable output path, an unknown format, an empty range.
 
-use scenalog_extractors::synthetic::{straight, SceneBuilder};
 use scenalog_facts::scene::{Scene, EGO_SIZE};
+use scenalog_testkit::{straight, SceneBuilder};
 use scenalog_view::track_path::animation_frames;
 use scenalog_view::{
     path_svg, scene_svg, write_picture, PathPicture, Picture, Reference, ViewError,

@@ -4,11 +4,9 @@
 //! labels are always there; where the rasteriser really draws each label lies inside the
 //! rectangle it was placed in; the legend lists what the map shows.
 
-use std::path::PathBuf;
-
-use scenalog_extractors::synthetic::{straight, SceneBuilder};
 use scenalog_facts::scene::{Scene, TrackId, EGO_SIZE};
 use scenalog_facts::{load_scene, LaneType};
+use scenalog_testkit::{straight, SceneBuilder};
 use scenalog_view::label::{overlaps, Rect};
 use scenalog_view::usvg::{Node, Tree};
 use scenalog_view::{
@@ -16,7 +14,7 @@ use scenalog_view::{
 };
 
 fn log(id: &str) -> Scene {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/av2/logs");
+    let dir = scenalog_testkit::sample_logs_dir();
     let dir = std::fs::read_dir(&dir)
         .expect("the sample logs")
         .map(|e| e.expect("entry").path())

@@ -1,9 +1,9 @@
 //! Pixel tests on small synthetic scenes: colours where the geometry says they must be, and
 //! identical output across runs.
 
-use scenalog_extractors::synthetic::{straight, SceneBuilder};
 use scenalog_facts::scene::{Scene, TrackId, EGO_SIZE};
 use scenalog_facts::LaneType;
+use scenalog_testkit::{straight, SceneBuilder};
 use scenalog_view::picture::picture_view;
 use scenalog_view::{layout, render_png, render_rgba, scene_svg, style, Picture};
 
