@@ -1,7 +1,13 @@
 //! One small program per diagnostic code: the code, the exact text under the span, and the hint.
+//! Each diagnostic's whole rendering (message, caret, related spans, hint) is a snapshot in
+//! `snapshots/<test>.txt`: a wording change is one `UPDATE_EXPECT=1 cargo test -p scenalog-rules
+//! --test it codes::` and a review of the diff.
 
+use std::cell::Cell;
+
+use expect_test::expect_file;
 use scenalog_rules::ast::{Expr, ExprKind, Literal, Number};
-use scenalog_rules::{check, CheckOptions, Diagnostic, Severity};
+use scenalog_rules::{check, render_human, CheckOptions, Diagnostic, Severity};
 
 fn diags(src: &str) -> Vec<Diagnostic> {
     check(src, &CheckOptions::default()).diagnostics
@@ -22,7 +28,37 @@ fn expect(src: &str, code: &str, under: &str, hint: &str) -> Diagnostic {
         Severity::Error
     };
     assert_eq!(d.severity, expected_severity);
+    snapshot(&render_human(
+        std::slice::from_ref(&d),
+        src,
+        "test.dl",
+        false,
+    ));
     d
+}
+
+thread_local! {
+    /// Snapshots taken so far by the running test (each test runs on a thread of its own).
+    static TAKEN: Cell<usize> = const { Cell::new(0) };
+}
+
+/// `text` against the running test's next snapshot file, `snapshots/<test>[-<n>].txt`.
+fn snapshot(text: &str) {
+    let thread = std::thread::current();
+    let test = thread
+        .name()
+        .and_then(|n| n.rsplit("::").next())
+        .unwrap_or("unnamed");
+    let n = TAKEN.with(|t| {
+        let n = t.get();
+        t.set(n + 1);
+        n
+    });
+    let file = match n {
+        0 => format!("snapshots/{test}.txt"),
+        n => format!("snapshots/{test}-{n}.txt"),
+    };
+    expect_file![file].assert_eq(text);
 }
 
 #[test]
