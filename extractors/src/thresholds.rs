@@ -50,7 +50,7 @@ pub const LANE_CHAIN_MAX_SEGMENTS: usize = 128;
 
 /// Map distances (`near_intersection`, `at_crosswalk`) are produced only up to this distance; a
 /// farther object has no tuple. RefAV's own defaults are 5 m and 1 m, well inside.
-pub const MAP_DISTANCE_MAX_M: f64 = 50.0;
+pub const MAP_DISTANCE_MAX_M: f64 = scenalog_facts::catalog::MAP_RANGE_M;
 
 /// `at_stop_sign`: X's centre lies at most this far before the stop sign, measured along X's
 /// forward axis (RefAV's `forward_thresh`).
@@ -99,7 +99,7 @@ pub const LANE_CHANGE_SPAN_WIDTHS: f64 = 0.5;
 
 /// Pairs are produced only when the two boxes' ground rectangles are at most this far apart
 /// (every pair relation; RefAV's `within_distance` / `max_distance` default).
-pub const PAIR_MAX_DISTANCE_M: f64 = 50.0;
+pub const PAIR_MAX_DISTANCE_M: f64 = scenalog_facts::catalog::PAIR_RANGE_M;
 
 /// `heading_relative`: "same" when the angle between the two headings is at most this.
 pub const HEADING_SAME_MAX_DEG: f64 = 45.0;

@@ -73,7 +73,25 @@ pub struct ColumnSpec {
     pub values: &'static [&'static str],
     /// What a numeric column measures ([`Unit::None`] for the others).
     pub unit: Unit,
+    /// For a distance column, the farthest it is produced: an object farther away has no tuple
+    /// at all, so a lower bound on the column does not find it ([`PAIR_RANGE_M`],
+    /// [`MAP_RANGE_M`]), in whole metres.
+    pub range: Option<u32>,
 }
+
+/// Pair relations hold only for two objects whose ground rectangles are at most this far apart
+/// (metres): their distance columns never exceed it.
+pub const PAIR_RANGE_M: f64 = PAIR_RANGE as f64;
+
+/// [`PAIR_RANGE_M`] in whole metres, as a column's [`ColumnSpec::range`] holds it.
+pub const PAIR_RANGE: u32 = 50;
+
+/// Map distances (`near_intersection`, `at_crosswalk`) are produced only up to this distance
+/// (metres); a farther object has no tuple.
+pub const MAP_RANGE_M: f64 = MAP_RANGE as f64;
+
+/// [`MAP_RANGE_M`] in whole metres, as a column's [`ColumnSpec::range`] holds it.
+pub const MAP_RANGE: u32 = 50;
 
 /// The part of the catalog a relation belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -150,8 +168,8 @@ impl RelationSpec {
         self.to_string()
     }
 
-    /// The relation as a JSON object: `name`, `columns` (`name`, `type`, optional `values` and
-    /// `unit`), `doc`, `group`.
+    /// The relation as a JSON object: `name`, `columns` (`name`, `type`, optional `values`,
+    /// `unit` and `range`, the farthest a distance column is produced), `doc`, `group`.
     pub fn to_json(&self) -> serde_json::Value {
         let columns: Vec<serde_json::Value> = self
             .columns
@@ -163,6 +181,9 @@ impl RelationSpec {
                 }
                 if !c.unit.symbol().is_empty() {
                     o["unit"] = serde_json::json!(c.unit.symbol());
+                }
+                if let Some(r) = c.range {
+                    o["range"] = serde_json::json!(r);
                 }
                 o
             })
@@ -206,6 +227,7 @@ const fn col(name: &'static str, ty: ColType) -> ColumnSpec {
             ColType::Time => Unit::Frame,
             _ => Unit::None,
         },
+        range: None,
     }
 }
 
@@ -216,6 +238,18 @@ const fn qty(name: &'static str, unit: Unit) -> ColumnSpec {
         ty: ColType::Float,
         values: &[],
         unit,
+        range: None,
+    }
+}
+
+/// A distance column in metres produced only up to `range` metres.
+const fn within(name: &'static str, range: u32) -> ColumnSpec {
+    ColumnSpec {
+        name,
+        ty: ColType::Float,
+        values: &[],
+        unit: Unit::Metre,
+        range: Some(range),
     }
 }
 
@@ -226,6 +260,7 @@ const fn int_col(name: &'static str, unit: Unit) -> ColumnSpec {
         ty: ColType::Int,
         values: &[],
         unit,
+        range: None,
     }
 }
 
@@ -235,6 +270,7 @@ const fn enum_col(name: &'static str, values: &'static [&'static str]) -> Column
         ty: ColType::Str,
         values,
         unit: Unit::None,
+        range: None,
     }
 }
 
@@ -257,7 +293,7 @@ const DIRECTION_COLUMNS: &[ColumnSpec] = &[
     Y,
     T,
     enum_col("Dir", DIRECTIONS),
-    qty("Dist", Unit::Metre),
+    within("Dist", PAIR_RANGE),
     qty("Lat", Unit::Metre),
 ];
 const L: ColumnSpec = col("L", ColType::Lane);
@@ -507,13 +543,13 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "near_intersection",
-        columns: &[X, T, qty("D", Unit::Metre)],
+        columns: &[X, T, within("D", MAP_RANGE)],
         doc: "distance in m from X's centre to the nearest intersection lane at T, 0 inside",
         group: Group::Map,
     },
     RelationSpec {
         name: "at_crosswalk",
-        columns: &[X, T, qty("D", Unit::Metre)],
+        columns: &[X, T, within("D", MAP_RANGE)],
         doc: "distance in m from X's box to the nearest pedestrian crossing at T, 0 when overlapping",
         group: Group::Map,
     },
@@ -532,7 +568,7 @@ const CATALOG: &[RelationSpec] = &[
     // Pairs
     RelationSpec {
         name: "near",
-        columns: &[X, Y, T, qty("D", Unit::Metre)],
+        columns: &[X, Y, T, within("D", PAIR_RANGE)],
         doc: "D is the distance in m between X's and Y's ground rectangles at T (0 if they overlap)",
         group: Group::Pairs,
     },
@@ -628,7 +664,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_near",
-        columns: &[X, Y, T, qty("D", Unit::Metre)],
+        columns: &[X, Y, T, within("D", PAIR_RANGE)],
         doc: "RefAV's definition of `near` (the distance of its near_objects): as `near`, but the ego's ground rectangle is where RefAV places it, centred on the rear axle (1.44 m behind its body's centre)",
         group: Group::Refav,
     },
@@ -646,7 +682,7 @@ const CATALOG: &[RelationSpec] = &[
     },
     RelationSpec {
         name: "refav_crosswalk",
-        columns: &[X, T, int_col("C", Unit::None), qty("D", Unit::Metre)],
+        columns: &[X, T, int_col("C", Unit::None), within("D", MAP_RANGE)],
         doc: "RefAV's definition of `at_crosswalk` (its at_pedestrian_crossing): X's box as RefAV has it (the ego's at its rear axle) touches pedestrian crossing C (its map id) dilated by D m with mitred corners (the polygon's edges moved out by D), 0 when they overlap",
         group: Group::Refav,
     },
@@ -726,6 +762,14 @@ fn render_text_of(keep: impl Fn(&RelationSpec) -> bool) -> String {
                 c.name,
                 values.join(", ")
             ));
+        }
+        for c in r.columns.iter() {
+            if let Some(range) = c.range {
+                out.push_str(&format!(
+                    "      {} only up to {range} m (a farther one has no tuple): \"farther than K\" is \"not within K\", a negation, not {} > K alone\n",
+                    c.name, c.name
+                ));
+            }
         }
     }
     out

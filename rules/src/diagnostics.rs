@@ -70,6 +70,9 @@ pub const BARE_NUMBER: &str = "W0511";
 /// A duration measured by counting samples (`N = count : { p(X, U), … }, N >= 31`): the
 /// tracker's rate decides what it means.
 pub const COUNTED_SAMPLES: &str = "W0512";
+/// A distance bounded as if the relation went on past its range (`near(E, P, T, D), D > 30.0`
+/// for "farther than 30 m": `near` holds only within 50 m).
+pub const BEYOND_RANGE: &str = "W0513";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -87,6 +90,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     UNTIED_AGGREGATE,
     BARE_NUMBER,
     COUNTED_SAMPLES,
+    BEYOND_RANGE,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -201,6 +205,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         COUNTED_SAMPLES,
         Severity::Warning,
         "duration measured by counting samples",
+    ),
+    (
+        BEYOND_RANGE,
+        Severity::Warning,
+        "distance bounded past the relation's range",
     ),
 ];
 

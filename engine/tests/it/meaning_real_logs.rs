@@ -339,3 +339,29 @@ fn a_car_in_a_lane_the_map_lacks_is_at_the_intersection_it_approaches() {
         .iter()
         .all(|(l, t)| *l == log && t[0] == format!("{:?}", Value::Track(car.id))));
 }
+
+/// "Pedestrians more than 30 m from the ego" bounded on `near`'s distance finds only the ones
+/// 30–50 m away (`near` holds within 50 m); W0513's fix, applied literally, says "not within
+/// 30 m" and finds the ones past 50 m too: exactly those with no `near` fact at all.
+#[test]
+fn the_fifty_metre_trap_fixed_literally_finds_the_objects_past_the_range() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let wrong =
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D > 30 m.";
+    let (_, out) = fixed(wrong, "W0513");
+    let got = mine(&out, scenes, "referred");
+    let meant = "close_to_ego(P, T) :- ego(E), near(E, P, T, D), D <= 30 m.\n\
+                 referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), present(P, T), present(E, T), !close_to_ego(P, T).";
+    assert_eq!(got, mine(meant, scenes, "referred"), "fixed as\n{out}");
+    let bare = mine(wrong, scenes, "referred");
+    assert!(
+        bare.is_subset(&got) && bare.len() < got.len(),
+        "{} vs {}",
+        bare.len(),
+        got.len()
+    );
+    let past_range = "any_near(P, T) :- ego(E), near(E, P, T, _).\n\
+                      referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), present(P, T), present(E, T), !any_near(P, T).";
+    let missed: BTreeSet<_> = got.difference(&bare).cloned().collect();
+    assert_eq!(missed, mine(past_range, scenes, "referred"));
+}

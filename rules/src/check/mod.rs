@@ -5,6 +5,7 @@ pub mod binders;
 pub mod counts;
 pub mod meaning;
 pub mod preds;
+pub mod range;
 pub mod safety;
 pub mod samples;
 pub mod types;
@@ -176,6 +177,7 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let (strata, cycle_diags) = strata::stratify(&program);
     diags.extend(cycle_diags);
     meaning::check_program(&program, &table, &inferred, &mut diags);
+    range::check_program(&program, &mut diags);
     within_source(&mut diags, source.len(), prelude_at);
     diags.sort_by_key(|d| (d.span.start, d.span.end));
     diags.dedup();

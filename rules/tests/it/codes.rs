@@ -860,3 +860,44 @@ fn a_declared_column_carries_its_unit_as_the_catalog_prints_it() {
     );
     assert!(d.message.contains("base unit"), "{}", d.message);
 }
+
+#[test]
+fn w0513_a_lower_bound_on_a_distance_past_its_range_writes_the_negation() {
+    let src =
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D > 30 m.\n";
+    let d = expect(src, "W0513", "D > 30 m", "not within 30 m");
+    let Some(out) = scenalog_rules::apply_fix(src, &d) else {
+        panic!("no fix: {d:#?}")
+    };
+    assert!(diags(&out).is_empty(), "{out}\n{:#?}", diags(&out));
+    assert!(out.contains("!near_within_30_m(E, P, T)"), "{out}");
+    // Written the other way round, and with `>=`: the same warning, the bound kept exact.
+    let src = "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), at_crosswalk(P, T, D), 20.0 <= D.\n";
+    let d = expect(src, "W0513", "20.0 <= D", "not within 20.0");
+    let out = scenalog_rules::apply_fix(src, &d).unwrap_or_default();
+    assert!(out.contains("D < 20.0"), "{out}");
+}
+
+#[test]
+fn w0513_an_upper_bound_past_the_range_removes_nothing() {
+    let src =
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D < 80 m.\n";
+    let d = expect(src, "W0513", "D < 80 m", "within 50 m");
+    assert!(d.fix.is_empty());
+}
+
+#[test]
+fn w0513_bounds_inside_the_range_and_unbounded_distances_are_fine() {
+    for src in [
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D > 10 m, D < 30 m.\n",
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D < 30 m.\n",
+        "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, _).\n",
+    ] {
+        let all = diags(src);
+        assert!(all.iter().all(|d| d.code != "W0513"), "{src}{all:#?}");
+    }
+    // Where the distance is used again, the fix would change what the rule says: the hint only.
+    let src = "close(P, T, D) :- ego(E), near(E, P, T, D), D > 30 m.\nreferred(P, T) :- category(P, \"PEDESTRIAN\"), close(P, T, _).\n";
+    let d = expect(src, "W0513", "D > 30 m", "not within 30 m");
+    assert!(d.fix.is_empty());
+}
