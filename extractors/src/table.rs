@@ -54,6 +54,7 @@ const RELATIONS: &[(&str, Compute)] = &[
         "yaw_rate",
         Compute::Scene(|ex, q| motion::per_box(ex, q, |k| &k.yaw_rate)),
     ),
+    ("forward_speed", Compute::Scene(motion::forward_speed)),
     ("stationary", Compute::Scene(motion::stationary)),
     (
         "turning",

@@ -457,6 +457,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Kinematics,
     },
     RelationSpec {
+        name: "forward_speed",
+        columns: &[X, T, qty("V", Unit::MetrePerSecond)],
+        doc: "X's signed speed along its heading in m/s (smoothed velocity on X's box's forward axis): negative when X moves backwards; the prelude's `reversing`",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
         name: "accel",
         columns: &[X, T, qty("A", Unit::MetrePerSecond2)],
         doc: "X's forward acceleration in m/s² in its own frame; the concepts are the prelude's `accelerating`, `braking`, `braking_hard`",
@@ -878,7 +884,7 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        const RELATIONS: usize = 49;
+        const RELATIONS: usize = 50;
         assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",

@@ -2118,3 +2118,41 @@ fn pedestrian_walking_between_two_stopped_vehicles() {
     // Between a car and a cone, not two vehicles.
     nothing(name, &swap(base, "\"BOX_TRUCK\"", "\"CONSTRUCTION_CONE\""));
 }
+
+// ---- vehicle reversing -----------------------------------------------------------------------
+
+/// A car (track 1) moving backwards at 2 m/s along its heading from frame 0 to `last`, present
+/// from 0 to 30.
+fn reversing_scene(last: u32, v: f64) -> String {
+    let mut s = String::from("category(1, \"REGULAR_VEHICLE\").\n");
+    for t in 0..=30 {
+        s.push_str(&format!("present(1, {t}).\n"));
+        let fs = if t <= last { v } else { 3.0 };
+        s.push_str(&format!("forward_speed(1, {t}, {fs}).\n"));
+    }
+    s
+}
+
+#[test]
+fn a_car_backing_up_for_two_seconds_is_reversing_throughout() {
+    let frames: Vec<(u32, u32)> = (0..=20).map(|t| (1, t)).collect();
+    finds(
+        "vehicle_reversing",
+        &reversing_scene(20, -2.0),
+        &frames,
+        &[],
+    );
+}
+
+#[test]
+fn backing_for_less_than_a_second_or_forwards_or_parked_is_not_reversing() {
+    // Half a second backwards: a shove or a settling box, not reversing.
+    nothing("vehicle_reversing", &reversing_scene(5, -2.0));
+    // Two seconds at 0.3 m/s backwards: below the threshold.
+    nothing("vehicle_reversing", &reversing_scene(20, -0.3));
+    // Forwards.
+    nothing("vehicle_reversing", &reversing_scene(20, 2.0));
+    // A parked car whose box drifts backwards.
+    let parked = format!("{}stationary(1).\n", reversing_scene(20, -2.0));
+    nothing("vehicle_reversing", &parked);
+}

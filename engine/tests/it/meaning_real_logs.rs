@@ -365,3 +365,26 @@ fn the_fifty_metre_trap_fixed_literally_finds_the_objects_past_the_range() {
     let missed: BTreeSet<_> = got.difference(&bare).cloned().collect();
     assert_eq!(missed, mine(past_range, scenes, "referred"));
 }
+
+/// On the sample logs nothing reverses: the boxes with a negative `forward_speed` of 0.5 m/s or
+/// more belong to parked vehicles, whose boxes drift, or back up for less than a second (checked
+/// by hand: 16 vehicles, 14 of them parked; the other two drift back 0.8 and 0.9 m, for under
+/// a second).
+#[test]
+fn reversing_is_not_a_parked_car_drifting_back() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let backwards =
+        "referred(V, T) :- category(V, \"VEHICLE\"), forward_speed(V, T, S), S <= -0.5 m/s.";
+    let drifting = mine(backwards, scenes, "referred");
+    let tracks: BTreeSet<(usize, String)> =
+        drifting.iter().map(|(i, r)| (*i, r[0].clone())).collect();
+    assert_eq!(tracks.len(), 16, "{tracks:?}");
+    let parked = "referred(V, T) :- parked(V), forward_speed(V, T, S), S <= -0.5 m/s.";
+    let parked: BTreeSet<(usize, String)> = mine(parked, scenes, "referred")
+        .iter()
+        .map(|(i, r)| (*i, r[0].clone()))
+        .collect();
+    assert_eq!(parked.len(), 14, "{parked:?}");
+    let reversing = "referred(V, T) :- category(V, \"VEHICLE\"), reversing(V, T).";
+    assert!(mine(reversing, scenes, "referred").is_empty());
+}

@@ -26,6 +26,25 @@ pub fn per_box(ex: &Extractor, q: &Query, field: fn(&TrackKinematics) -> &[f64])
     relation(q, rows)
 }
 
+/// `forward_speed(X, T, V)`: the smoothed velocity projected on the box's heading, so a vehicle
+/// moving backwards has a negative V. (The box heading is the annotated one; a box annotated
+/// facing the wrong way reads as reversing: `reversing` asks for it to last.)
+pub fn forward_speed(ex: &Extractor, q: &Query) -> RelationData {
+    let kin = ex.kinematics();
+    let mut rows = Vec::new();
+    for t in q.tracks(ex.scene(), 0) {
+        let Some(k) = kin.tracks.get(t.index()) else {
+            continue;
+        };
+        let r = q.box_range(1, ex.scene().num_frames(), &k.frames);
+        for i in r {
+            let (v, yaw) = (k.vel[i], k.yaw[i]);
+            rows.push((t, k.frames[i], v[0] * yaw.cos() + v[1] * yaw.sin()));
+        }
+    }
+    relation(q, rows)
+}
+
 /// `stationary(X)`.
 pub fn stationary(ex: &Extractor, q: &Query) -> RelationData {
     let kin = ex.kinematics();

@@ -651,3 +651,57 @@ fn pushdown_equals_filtering_the_full_relation() {
     }
     assert!(checked > 80, "{checked}");
 }
+
+/// A car heading along +y that backs up at 2 m/s, one that drives forwards at 2 m/s, and one whose
+/// box faces +y while it moves sideways along +x: `forward_speed` is the velocity on the heading,
+/// negative backwards, near 0 sideways, while `speed` is 2 m/s for all three.
+#[test]
+fn forward_speed_is_signed_along_the_heading() {
+    let up = FRAC_PI_2;
+    let car = [4.5, 1.8, 1.5];
+    let scene = SceneBuilder::new(40)
+        .track(
+            "backer",
+            "REGULAR_VEHICLE",
+            car,
+            straight(0, 40, 0.0, 0.0, up, -2.0),
+        )
+        .track(
+            "driver",
+            "REGULAR_VEHICLE",
+            car,
+            straight(0, 40, 10.0, 0.0, up, 2.0),
+        )
+        .track(
+            "crab",
+            "REGULAR_VEHICLE",
+            car,
+            (0..40)
+                .map(|f| (f, 20.0 + 0.2 * f as f64, 0.0, up))
+                .collect(),
+        )
+        .build();
+    let fs = rows(&scene, "forward_speed");
+    let speeds = rows(&scene, "speed");
+    for (track, want) in [("backer", -2.0), ("driver", 2.0), ("crab", 0.0)] {
+        let values: Vec<f64> = frames_of(&fs, track)
+            .iter()
+            .filter(|(t, _)| (10..30).contains(t))
+            .map(|(_, v)| v.as_f64().expect("a number"))
+            .collect();
+        assert_eq!(values.len(), 20, "{track}");
+        assert!(
+            values.iter().all(|v| (v - want).abs() < 0.05),
+            "{track}: {values:?}"
+        );
+        let speed: Vec<f64> = frames_of(&speeds, track)
+            .iter()
+            .filter(|(t, _)| (10..30).contains(t))
+            .map(|(_, v)| v.as_f64().expect("a number"))
+            .collect();
+        assert!(
+            speed.iter().all(|v| (v - 2.0).abs() < 0.05),
+            "{track}: {speed:?}"
+        );
+    }
+}
