@@ -13,23 +13,25 @@ use crate::rows::relation;
 
 /// A per-box float of the kinematics (`speed`, `accel`, `lat_accel`, `yaw_rate`).
 pub fn per_box(ex: &Extractor, q: &Query, field: fn(&TrackKinematics) -> &[f64]) -> RelationData {
-    let kin = ex.kinematics();
-    let mut rows = Vec::new();
-    for t in q.tracks(ex.scene(), 0) {
-        let Some(k) = kin.tracks.get(t.index()) else {
-            continue;
-        };
-        let r = q.box_range(1, ex.scene().num_frames(), &k.frames);
-        let values = k.frames[r.clone()].iter().zip(&field(k)[r]);
-        rows.extend(values.map(|(&f, &v)| (t, f, v)));
-    }
-    relation(q, rows)
+    per_box_value(ex, q, |k, i| field(k)[i])
 }
 
 /// `forward_speed(X, T, V)`: the smoothed velocity projected on the box's heading, so a vehicle
 /// moving backwards has a negative V. (The box heading is the annotated one; a box annotated
 /// facing the wrong way reads as reversing: `reversing` asks for it to last.)
 pub fn forward_speed(ex: &Extractor, q: &Query) -> RelationData {
+    per_box_value(ex, q, |k, i| {
+        let (v, yaw) = (k.vel[i], k.yaw[i]);
+        v[0] * yaw.cos() + v[1] * yaw.sin()
+    })
+}
+
+/// `(X, T, value(k, i))` for every box `i` the query allows, `k` its track's kinematics.
+fn per_box_value(
+    ex: &Extractor,
+    q: &Query,
+    value: impl Fn(&TrackKinematics, usize) -> f64,
+) -> RelationData {
     let kin = ex.kinematics();
     let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
@@ -37,10 +39,7 @@ pub fn forward_speed(ex: &Extractor, q: &Query) -> RelationData {
             continue;
         };
         let r = q.box_range(1, ex.scene().num_frames(), &k.frames);
-        for i in r {
-            let (v, yaw) = (k.vel[i], k.yaw[i]);
-            rows.push((t, k.frames[i], v[0] * yaw.cos() + v[1] * yaw.sin()));
-        }
+        rows.extend(r.map(|i| (t, k.frames[i], value(k, i))));
     }
     relation(q, rows)
 }
