@@ -55,6 +55,7 @@ const RELATIONS: &[(&str, Compute)] = &[
         Compute::Scene(|ex, q| motion::per_box(ex, q, |k| &k.yaw_rate)),
     ),
     ("forward_speed", Compute::Scene(motion::forward_speed)),
+    ("total_turn", Compute::Scene(motion::total_turn)),
     ("stationary", Compute::Scene(motion::stationary)),
     (
         "turning",

@@ -481,6 +481,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Kinematics,
     },
     RelationSpec {
+        name: "total_turn",
+        columns: &[X, T, qty("A", Unit::Degree)],
+        doc: "how far X's heading has turned by T since X's first box, in deg, + counter-clockwise (left), unwrapped (a U-turn adds about 180, a full circle 360): the turn between two moments T1 and T2 is A2 - A1; the prelude's `u_turn`",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
         name: "stationary",
         columns: &[X],
         doc: "X barely moves over its whole track (parked, not merely stopped): its smoothed positions fit in a box of diagonal < 3 m",
@@ -884,7 +890,7 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        const RELATIONS: usize = 50;
+        const RELATIONS: usize = 51;
         assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",

@@ -2156,3 +2156,72 @@ fn backing_for_less_than_a_second_or_forwards_or_parked_is_not_reversing() {
     let parked = format!("{}stationary(1).\n", reversing_scene(20, -2.0));
     nothing("vehicle_reversing", &parked);
 }
+
+// ---- U-turn and three-point turn ---------------------------------------------------------------
+
+/// A car (track 1) present and moving at 5 m/s over `frames` frames whose heading turns by
+/// `turn` degrees at a steady rate from frame 30 over `over` frames; `back`, the frames at which
+/// it moves backwards at 2 m/s instead.
+fn turn_scene(frames: u32, turn: f64, over: u32, back: std::ops::Range<u32>) -> String {
+    let mut s = String::from("category(1, \"REGULAR_VEHICLE\").\n");
+    for t in 0..frames {
+        let a = turn * f64::from(t.saturating_sub(30).min(over)) / f64::from(over);
+        let fs = if back.contains(&t) { -2.0 } else { 5.0 };
+        s.push_str(&format!(
+            "present(1, {t}). speed(1, {t}, {}). forward_speed(1, {t}, {fs}). total_turn(1, {t}, {a}).\n",
+            f64::abs(fs)
+        ));
+    }
+    s
+}
+
+#[test]
+fn a_half_circle_in_four_seconds_is_a_u_turn_during_the_turn() {
+    // 180 degrees over frames 30..70 (4.5 degrees a frame): the turn past its first and before its
+    // last 15 degrees is frames 34..=66.
+    let frames: Vec<(u32, u32)> = (34..=66).map(|t| (1, t)).collect();
+    finds(
+        "vehicle_making_a_u_turn",
+        &turn_scene(100, 180.0, 40, 0..0),
+        &frames,
+        &[],
+    );
+    // Turning right instead of left: the same.
+    finds(
+        "vehicle_making_a_u_turn",
+        &turn_scene(100, -180.0, 40, 0..0),
+        &frames,
+        &[],
+    );
+}
+
+#[test]
+fn a_left_turn_or_a_slow_circle_or_a_parked_car_is_not_a_u_turn() {
+    nothing("vehicle_making_a_u_turn", &turn_scene(100, 90.0, 40, 0..0));
+    // 180 degrees over 30 s: a long curve, never 150 degrees within 20 s.
+    nothing(
+        "vehicle_making_a_u_turn",
+        &turn_scene(340, 180.0, 300, 0..0),
+    );
+    let parked = format!("{}stationary(1).\n", turn_scene(100, 180.0, 40, 0..0));
+    nothing("vehicle_making_a_u_turn", &parked);
+}
+
+#[test]
+fn a_u_turn_with_reversing_in_it_is_a_three_point_turn() {
+    // The same half circle over 8 s (frames 30..110), backing up over frames 60..80 (2 s).
+    let scene = turn_scene(140, 180.0, 80, 60..80);
+    let u_turn = run("vehicle_making_a_u_turn", &scene);
+    assert!(!u_turn.referred.is_empty());
+    finds(
+        "vehicle_making_a_three_point_turn",
+        &scene,
+        &u_turn.referred.iter().copied().collect::<Vec<_>>(),
+        &[],
+    );
+    // The same U-turn driven forwards throughout is not one.
+    nothing(
+        "vehicle_making_a_three_point_turn",
+        &turn_scene(140, 180.0, 80, 0..0),
+    );
+}

@@ -388,3 +388,28 @@ fn reversing_is_not_a_parked_car_drifting_back() {
     let reversing = "referred(V, T) :- category(V, \"VEHICLE\"), reversing(V, T).";
     assert!(mine(reversing, scenes, "referred").is_empty());
 }
+
+/// On the sample logs vehicles turn left and right (80° or more within 20 s: many) but none turns
+/// around: the largest turn of a moving vehicle within 20 s is 132° (checked by hand), so
+/// `u_turn` finds nothing while a 90° bound would.
+#[test]
+fn turns_are_not_u_turns_on_the_sample_logs() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let turned = |deg: u32| {
+        format!(
+            "referred(V, T2) :- category(V, \"VEHICLE\"), !parked(V), moving(V, T2), total_turn(V, T2, A2), \
+             moving(V, T1), T1 >= T2 - 20 s, T1 < T2, total_turn(V, T1, A1), abs(A2 - A1) >= {deg} deg."
+        )
+    };
+    let tracks = |src: &str| -> BTreeSet<(usize, String)> {
+        mine(src, scenes, "referred")
+            .iter()
+            .map(|(i, r)| (*i, r[0].clone()))
+            .collect()
+    };
+    assert!(tracks(&turned(80)).len() >= 10);
+    assert_eq!(tracks(&turned(130)).len(), 1);
+    assert!(tracks(&turned(150)).is_empty());
+    let u_turn = "referred(V, T) :- category(V, \"VEHICLE\"), u_turn(V, T).";
+    assert!(mine(u_turn, scenes, "referred").is_empty());
+}

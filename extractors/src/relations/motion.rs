@@ -1,5 +1,9 @@
-//! Kinematics and events: `speed`, `accel`, `lat_accel`, `yaw_rate`, `stationary`, `turning`,
-//! `lane_change`.
+//! Kinematics and events: `speed`, `accel`, `lat_accel`, `yaw_rate`, `forward_speed` (signed
+//! along the heading), `total_turn` (the heading turned so far, unwrapped), `stationary`,
+//! `turning`, `lane_change`.
+
+use std::borrow::Cow;
+use std::f64::consts::{PI, TAU};
 
 use scenalog_facts::relation::RelationData;
 use scenalog_facts::Frame;
@@ -13,24 +17,47 @@ use crate::rows::relation;
 
 /// A per-box float of the kinematics (`speed`, `accel`, `lat_accel`, `yaw_rate`).
 pub fn per_box(ex: &Extractor, q: &Query, field: fn(&TrackKinematics) -> &[f64]) -> RelationData {
-    per_box_value(ex, q, |k, i| field(k)[i])
+    per_box_values(ex, q, |k| Cow::Borrowed(field(k)))
 }
 
 /// `forward_speed(X, T, V)`: the smoothed velocity projected on the box's heading, so a vehicle
 /// moving backwards has a negative V. (The box heading is the annotated one; a box annotated
 /// facing the wrong way reads as reversing: `reversing` asks for it to last.)
 pub fn forward_speed(ex: &Extractor, q: &Query) -> RelationData {
-    per_box_value(ex, q, |k, i| {
-        let (v, yaw) = (k.vel[i], k.yaw[i]);
-        v[0] * yaw.cos() + v[1] * yaw.sin()
+    per_box_values(ex, q, |k| {
+        let along = k.vel.iter().zip(&k.yaw);
+        Cow::Owned(
+            along
+                .map(|(v, y)| v[0] * y.cos() + v[1] * y.sin())
+                .collect(),
+        )
     })
 }
 
-/// `(X, T, value(k, i))` for every box `i` the query allows, `k` its track's kinematics.
-fn per_box_value(
-    ex: &Extractor,
+/// `total_turn(X, T, A)`: how far X's box heading has turned since its first box, in degrees,
+/// counter-clockwise positive and unwrapped: each step between two boxes is taken the short way
+/// round (at most 180°), so a U-turn changes it by about 180° and a full circle by 360°.
+pub fn total_turn(ex: &Extractor, q: &Query) -> RelationData {
+    per_box_values(ex, q, |k| {
+        let mut turned = Vec::with_capacity(k.yaw.len());
+        let mut sum = 0.0;
+        for (i, y) in k.yaw.iter().enumerate() {
+            if i > 0 {
+                let step = (y - k.yaw[i - 1]).rem_euclid(TAU);
+                sum += if step > PI { step - TAU } else { step };
+            }
+            turned.push(sum.to_degrees());
+        }
+        Cow::Owned(turned)
+    })
+}
+
+/// `(X, T, v)` for every box the query allows, `v` the box's entry in `values(k)` (one per box
+/// of the track, `k` its kinematics).
+fn per_box_values<'k>(
+    ex: &'k Extractor,
     q: &Query,
-    value: impl Fn(&TrackKinematics, usize) -> f64,
+    values: impl Fn(&'k TrackKinematics) -> Cow<'k, [f64]>,
 ) -> RelationData {
     let kin = ex.kinematics();
     let mut rows = Vec::new();
@@ -39,7 +66,8 @@ fn per_box_value(
             continue;
         };
         let r = q.box_range(1, ex.scene().num_frames(), &k.frames);
-        rows.extend(r.map(|i| (t, k.frames[i], value(k, i))));
+        let values = values(k);
+        rows.extend(r.filter_map(|i| Some((t, *k.frames.get(i)?, *values.get(i)?))));
     }
     relation(q, rows)
 }

@@ -705,3 +705,41 @@ fn forward_speed_is_signed_along_the_heading() {
         );
     }
 }
+
+/// A car driving one and a half circles counter-clockwise (radius 10 m, 3° a frame, its heading
+/// crossing ±180° twice) has turned 540° by the end; one driving them clockwise -540°.
+#[test]
+fn total_turn_unwraps_the_heading() {
+    let circle = |sign: f64| -> Vec<Waypoint> {
+        (0..181)
+            .map(|f| {
+                let a = sign * (3.0 * f as f64).to_radians();
+                let (x, y) = (10.0 * a.sin(), sign * 10.0 * (1.0 - a.cos()));
+                (f, x, y, a)
+            })
+            .collect()
+    };
+    let car = [4.5, 1.8, 1.5];
+    let scene = SceneBuilder::new(181)
+        .track("left", "REGULAR_VEHICLE", car, circle(1.0))
+        .track("right", "REGULAR_VEHICLE", car, circle(-1.0))
+        .build();
+    let turned = rows(&scene, "total_turn");
+    for (track, sign) in [("left", 1.0), ("right", -1.0)] {
+        let a = frames_of(&turned, track);
+        let at = |t: u64| {
+            a.iter()
+                .find(|(f, _)| *f == t)
+                .and_then(|(_, v)| v.as_f64())
+                .unwrap_or(f64::NAN)
+        };
+        assert!(at(0).abs() < 1e-6, "{track}");
+        for (t, want) in [(60, 180.0), (120, 360.0), (180, 540.0)] {
+            assert!(
+                (at(t) - sign * want).abs() < 1e-6,
+                "{track} at {t}: {}",
+                at(t)
+            );
+        }
+    }
+}
