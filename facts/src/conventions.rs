@@ -120,6 +120,12 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[],
     },
     Convention {
+        phrase: "a traffic light, a parking lot, what only a camera sees",
+        idiom: "not in the data (the catalog says so too): no traffic-light state, no parking lots or spaces, no attribute only a camera sees (an ambulance, a police car, a construction worker, a colour outside `refav_color`'s cache). Write what the data holds and say in a `//` comment that it approximates: \"stopped at a red light\" is `waiting(X, T), at_an_intersection(X, T)`, \"through a yellow light\" `moving(X, T), on_intersection(X, T)`, \"in a parking lot\" `on_sidewalk(X, T)` or beside `parked` vehicles",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), waiting(X, T), at_an_intersection(X, T).",
+        library: &[],
+    },
+    Convention {
         phrase: "something the catalog cannot express",
         idiom: "write the closest program you can and say in a `//` comment what it approximates and why; use only catalog relations, the prelude's concepts, categories and your own helpers, never invented ones",
         example: "referred(X, T) :- category(X, \"LARGE_VEHICLE\"), present(X, T).",
