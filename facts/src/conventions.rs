@@ -30,7 +30,7 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[("stopped_car", "category(V, \"REGULAR_VEHICLE\")")],
     },
     Convention {
-        phrase: "concepts: stopped, moving, fast, accelerating, braking, reversing, a U-turn or three-point turn, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, overtaking, against traffic, a group",
+        phrase: "concepts: stopped, moving, fast, accelerating, braking, reversing, a U-turn or three-point turn, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, overtaking, against traffic, a group, a construction zone",
         idiom: "use the prelude relation listed under Concepts (`stopped(X, T)`, `nearby(X, Y, T)`, `group_size(P, T, N)`, …): it is already defined, so never define it again or re-derive it from the catalog. Parked vehicles are stopped; \"stopped but not parked\" adds `!parked(X)`; an object of any kind that stays put over its whole track is `stationary(X)`. A number the description gives is written with the catalog relation itself: \"within 5 m\" is `near(X, Y, T, D), D <= 5 m`",
         example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), stopped(X, T).",
         library: &[("stopped_car", "stopped(V, T)")],
@@ -91,9 +91,9 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "construction objects, a construction zone",
-        idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is a cluster: link objects within 10 m and close the links by recursion, then count, as the prelude's `in_group` does for people",
-        example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10 m, category(C, \"CONSTRUCTION\").",
-        library: &[("construction_zone", "category(C, \"CONSTRUCTION\")")],
+        idiom: "road-works objects: `category(X, \"CONSTRUCTION\")` (cones, barrels, message-board and traffic-light trailers, mobile crossing signs; AV2 has no construction-sign class); a zone is the prelude's `construction_zone(C, T)` (a cluster of at least three), \"near a construction zone\" is within a distance of one of its objects",
+        example: "referred(X, T) :- category(X, \"VEHICLE\"), near(X, C, T, D), D < 10 m, construction_zone(C, T).",
+        library: &[("construction_zone", "construction_zone(C, T)")],
     },
     Convention {
         phrase: "numbers and time",
