@@ -30,7 +30,7 @@ pub const CONVENTIONS: &[Convention] = &[
         library: &[("stopped_car", "category(V, \"REGULAR_VEHICLE\")")],
     },
     Convention {
-        phrase: "concepts: stopped, moving, fast, accelerating, braking, reversing, a U-turn or three-point turn, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, overtaking, against traffic, a group, a construction zone",
+        phrase: "concepts: stopped, moving, fast, accelerating, braking, reversing, a U-turn or three-point turn, near, at a crosswalk or an intersection, off the road, approaching, the lead vehicle, waiting, waiting to turn, overtaking, cutting in, against traffic, a group, a construction zone",
         idiom: "use the prelude relation listed under Concepts (`stopped(X, T)`, `nearby(X, Y, T)`, `group_size(P, T, N)`, …): it is already defined, so never define it again or re-derive it from the catalog. Parked vehicles are stopped; \"stopped but not parked\" adds `!parked(X)`; an object of any kind that stays put over its whole track is `stationary(X)`. A number the description gives is written with the catalog relation itself: \"within 5 m\" is `near(X, Y, T, D), D <= 5 m`",
         example: "referred(X, T) :- category(X, \"REGULAR_VEHICLE\"), stopped(X, T).",
         library: &[("stopped_car", "stopped(V, T)")],

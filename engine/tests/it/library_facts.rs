@@ -2225,3 +2225,88 @@ fn a_u_turn_with_reversing_in_it_is_a_three_point_turn() {
         &turn_scene(140, 180.0, 80, 0..0),
     );
 }
+
+// ---- cut-in, waiting to turn -------------------------------------------------------------------
+
+/// The ego (track 0) and a car (track 1), both present over 60 frames, 10 m apart; the car
+/// changes lanes at frame 10 and the ego follows it from frame `from` to `to`.
+fn cut_in_scene(from: u32, to: u32, gap: f64) -> String {
+    let mut s = String::from("category(0, \"EGO_VEHICLE\"). category(1, \"REGULAR_VEHICLE\").\n");
+    for t in 0..60 {
+        s.push_str(&format!(
+            "present(0, {t}). present(1, {t}). near(0, 1, {t}, {gap}).\n"
+        ));
+        if (from..to).contains(&t) {
+            s.push_str(&format!("following(0, 1, {t}).\n"));
+        }
+    }
+    s.push_str("lane_change(1, 10, \"left\").\n");
+    s
+}
+
+#[test]
+fn a_car_changing_lanes_into_the_ego_s_lead_cuts_in() {
+    finds(
+        "vehicle_cutting_in_front_of_the_ego_vehicle",
+        &cut_in_scene(20, 60, 10.0),
+        &[(1, 10)],
+        &[(1, 0, 10)],
+    );
+}
+
+#[test]
+fn an_old_lead_a_late_lead_or_a_far_one_does_not_cut_in() {
+    let name = "vehicle_cutting_in_front_of_the_ego_vehicle";
+    // Already the ego's lead before the lane change.
+    nothing(name, &cut_in_scene(0, 60, 10.0));
+    // The lead only 5 s after the lane change.
+    nothing(name, &cut_in_scene(60 - 1, 60, 10.0));
+    // 30 m ahead: merging far in front, not cutting in.
+    nothing(name, &cut_in_scene(20, 60, 30.0));
+}
+
+/// A car (track 1) stopped on an intersection over frames 0..=20 (2 s), then moving at 5 m/s
+/// until frame 199; it turns `dir` over frames `turn`.
+fn waiting_scene(dir: &str, turn: std::ops::Range<u32>) -> String {
+    let mut s = String::from("category(1, \"REGULAR_VEHICLE\").\n");
+    for t in 0..200 {
+        let v = if t <= 20 { 0.0 } else { 5.0 };
+        s.push_str(&format!(
+            "present(1, {t}). speed(1, {t}, {v}). on_intersection(1, {t}).\n"
+        ));
+        if turn.contains(&t) {
+            s.push_str(&format!("turning(1, {t}, \"{dir}\").\n"));
+        }
+    }
+    s
+}
+
+#[test]
+fn a_car_stopped_at_an_intersection_before_turning_left_waits_to_turn() {
+    // Turning left from frame 25 (2.5 s): all of the stop is waiting to turn left.
+    let frames: Vec<(u32, u32)> = (0..=20).map(|t| (1, t)).collect();
+    finds(
+        "vehicle_waiting_to_turn_left",
+        &waiting_scene("left", 25..35),
+        &frames,
+        &[],
+    );
+    // Turning left from frame 115: only the stop's moments within 10 s before it, 15..=20.
+    let late: Vec<(u32, u32)> = (15..=20).map(|t| (1, t)).collect();
+    finds(
+        "vehicle_waiting_to_turn_left",
+        &waiting_scene("left", 115..125),
+        &late,
+        &[],
+    );
+    // Turning right, turning left 15 s later, or not turning: not waiting to turn left.
+    nothing(
+        "vehicle_waiting_to_turn_left",
+        &waiting_scene("right", 25..35),
+    );
+    nothing(
+        "vehicle_waiting_to_turn_left",
+        &waiting_scene("left", 170..180),
+    );
+    nothing("vehicle_waiting_to_turn_left", &waiting_scene("left", 0..0));
+}
