@@ -588,3 +588,26 @@ fn an_unknown_track_names_a_command_that_lists_the_tracks() {
         .expect("the track count");
     assert_eq!(uuids.len(), tracks, "every track listed: {err}");
 }
+
+/// Arithmetic on times reads as times: a difference of two moments is a duration in seconds
+/// (`T2 - T = 3.0 s <= 3 s`, not the 30 frames it is held as) and a moment moved by a duration
+/// is a moment (`T0 = 3.9 s`, not 39). The car that cuts in front of the ego on 3bffdcff.
+#[test]
+fn time_arithmetic_in_a_proof_reads_in_seconds() {
+    let log = scenalog_testkit::sample_log(scenalog_testkit::SAMPLE_LOGS[1]);
+    let (code, out, err) = scenalog(&[
+        "explain",
+        "--rules",
+        "rules/library/vehicle_cutting_in_front_of_the_ego_vehicle.dl",
+        "--log",
+        &log.to_string_lossy(),
+        "--track",
+        "23f72b4f-0098-495f-ad55-20b3d2c6a66f",
+        "--at",
+        "4.9",
+    ]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    assert!(out.contains("T2 - T = 3.0 s <= 3 s"), "{out}");
+    assert!(out.contains("T0 = 3.9 s"), "{out}");
+    expect_file!["snapshots/explain_cut_in_time_arithmetic.txt"].assert_eq(&placeless(&out));
+}

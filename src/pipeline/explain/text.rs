@@ -1,12 +1,17 @@
 //! The proof and the why-not report as text, for `scenalog explain`.
 
+use super::values::TimeReading;
 use super::*;
 
 impl Renderer<'_> {
     /// `V = 3f2a1b2c (REGULAR_VEHICLE), T = 4.2 s`.
     pub(crate) fn binding_text(&self, clause: Option<usize>, b: &[(String, Value)]) -> String {
         b.iter()
-            .map(|(k, v)| format!("{k} = {}", self.value(v, self.var_origin(clause, k))))
+            .map(|(k, v)| match self.is_time_var(clause, k) {
+                // A time computed by arithmetic (`T0 = T - 1 s`) is held as a number.
+                true => format!("{k} = {}", self.timed(Some(TimeReading::Instant), v)),
+                false => format!("{k} = {}", self.value(v, self.var_origin(clause, k))),
+            })
             .collect::<Vec<_>>()
             .join(", ")
     }
@@ -45,7 +50,13 @@ impl Renderer<'_> {
                 rhs,
                 binds,
             } => match binds {
-                Some(v) => format!("{v} = {}", self.value(lhs, None)),
+                Some(v) => {
+                    let bound = match self.literal(clause, *literal) {
+                        Some(Literal::Cmp(c)) => self.time_reading(clause, &c.rhs),
+                        _ => None,
+                    };
+                    format!("{v} = {}", self.timed(bound, lhs))
+                }
                 None => self.comparison_text(clause, *literal, Some(lhs), *op, Some(rhs)),
             },
             BodyFact::Aggregate {

@@ -2,7 +2,18 @@
 //! start, numbers with their unit, facts and patterns, and where a rule's text and variables
 //! come from.
 
+use scenalog_facts::units::{Dims, FRAME_S};
+
 use super::*;
+
+/// How a number computed from times reads ([`Renderer::time_reading`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TimeReading {
+    /// A moment of the log (a frame).
+    Instant,
+    /// A length of time (frames counted).
+    Duration,
+}
 
 /// The unit of a catalog relation's numeric column, if it has one.
 pub(crate) fn unit(relation: &str, column: usize) -> &'static str {
@@ -150,6 +161,55 @@ impl Renderer<'_> {
         None
     }
 
+    /// Whether variable `var` of a clause holds a time (its first positive atom binds it in a
+    /// time column).
+    pub(crate) fn is_time_var(&self, clause: Option<usize>, var: &str) -> bool {
+        self.var_origin(clause, var)
+            .is_some_and(|(rel, col)| self.types(rel).get(col) == Some(&ColType::Time))
+    }
+
+    /// How the value of expression `e` of a clause reads when it is computed from times: an
+    /// instant for one time moved by a duration (`T - 1 s`), a duration for one time minus
+    /// another (`T2 - T1`), `None` for anything else.
+    pub(crate) fn time_reading(
+        &self,
+        clause: Option<usize>,
+        e: &scenalog_rules::ast::Expr,
+    ) -> Option<TimeReading> {
+        use scenalog_rules::ast::{BinOp, ExprKind};
+        match &e.kind {
+            ExprKind::Var(v) if self.is_time_var(clause, v) => Some(TimeReading::Instant),
+            ExprKind::Quantity(q) if q.measure().is_some_and(|m| m.dims == Dims::TIME) => {
+                Some(TimeReading::Duration)
+            }
+            ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) => {
+                match (self.time_reading(clause, a)?, self.time_reading(clause, b)?) {
+                    (TimeReading::Instant, TimeReading::Instant) if *op == BinOp::Sub => {
+                        Some(TimeReading::Duration)
+                    }
+                    (TimeReading::Instant, TimeReading::Duration)
+                    | (TimeReading::Duration, TimeReading::Instant) => Some(TimeReading::Instant),
+                    (TimeReading::Duration, TimeReading::Duration) => Some(TimeReading::Duration),
+                    _ => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// A number computed from times, as it reads: an instant as a moment of the log (`3.9 s`),
+    /// a duration in seconds (`3.0 s`); the plain value otherwise.
+    pub(crate) fn timed(&self, reading: Option<TimeReading>, v: &Value) -> String {
+        match (reading, v) {
+            (Some(TimeReading::Instant), Value::Int(f)) => match u32::try_from(*f) {
+                Ok(f) => self.frame(f),
+                Err(_) => self.value(v, None),
+            },
+            (Some(TimeReading::Duration), Value::Int(n)) => format!("{:.1} s", *n as f64 * FRAME_S),
+            _ => self.value(v, None),
+        }
+    }
+
     /// A side of a comparison: `speed = 0.21 m/s` when it is a variable bound by the only float
     /// column of a catalog relation, `Dist = 2.10 m` for another variable, the value otherwise.
     pub(crate) fn side(
@@ -159,7 +219,14 @@ impl Renderer<'_> {
         v: &Value,
     ) -> String {
         let Some(var) = e.as_var() else {
-            return self.value(v, None);
+            return match self.time_reading(clause, e) {
+                Some(r) => format!(
+                    "{} = {}",
+                    scenalog_rules::printer::print_expr(e),
+                    self.timed(Some(r), v)
+                ),
+                None => self.value(v, None),
+            };
         };
         let origin = self.var_origin(clause, var);
         let text = self.value(v, origin);
