@@ -36,6 +36,7 @@ const RELATIONS: &[(&str, Compute)] = &[
     ("frame_ns", Compute::Scene(objects::frame_ns)),
     ("seconds", Compute::Scene(objects::seconds)),
     ("refav_order", Compute::Scene(objects::refav_order)),
+    ("elevation", Compute::Scene(objects::elevation)),
     ("refav_color", Compute::Fallible(objects::refav_color)),
     // Kinematics and events.
     (

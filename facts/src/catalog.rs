@@ -481,6 +481,12 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Kinematics,
     },
     RelationSpec {
+        name: "elevation",
+        columns: &[X, T, qty("Z", Unit::Metre)],
+        doc: "the height in m of the bottom of X's box at T in the city frame, about the ground X stands on (the ego's box is centred at its rear axle's height, so its Z is some 0.35 m below its road): \"uphill from\" Y is a larger Z than Y's at the same T, by 2 m or more for a slope rather than noise",
+        group: Group::Kinematics,
+    },
+    RelationSpec {
         name: "total_turn",
         columns: &[X, T, qty("A", Unit::Degree)],
         doc: "how far X's heading has turned by T since X's first box, in deg, + counter-clockwise (left), unwrapped (a U-turn adds about 180, a full circle 360): the turn between two moments T1 and T2 is A2 - A1; the prelude's `u_turn`",
@@ -894,7 +900,7 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        const RELATIONS: usize = 51;
+        const RELATIONS: usize = 52;
         assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",

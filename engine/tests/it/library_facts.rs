@@ -2310,3 +2310,14 @@ fn a_car_stopped_at_an_intersection_before_turning_left_waits_to_turn() {
     );
     nothing("vehicle_waiting_to_turn_left", &waiting_scene("left", 0..0));
 }
+
+// ---- uphill ------------------------------------------------------------------------------------
+
+#[test]
+fn a_car_two_metres_or_more_above_the_ego_is_uphill() {
+    let scene = "category(0, \"EGO_VEHICLE\"). category(1, \"REGULAR_VEHICLE\"). category(2, \"REGULAR_VEHICLE\"). category(3, \"PEDESTRIAN\").\n\
+                 elevation(0, 5, 10.0). elevation(1, 5, 12.5). elevation(2, 5, 11.5). elevation(3, 5, 14.0).\n\
+                 elevation(0, 6, 10.0). elevation(1, 6, 11.0).";
+    // Car 1 is 2.5 m above at 5 and 1 m at 6; car 2 only 1.5 m; the pedestrian is no vehicle.
+    finds("vehicle_uphill_from_the_ego_vehicle", scene, &[(1, 5)], &[]);
+}

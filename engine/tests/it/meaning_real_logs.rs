@@ -413,3 +413,20 @@ fn turns_are_not_u_turns_on_the_sample_logs() {
     let u_turn = "referred(V, T) :- category(V, \"VEHICLE\"), u_turn(V, T).";
     assert!(mine(u_turn, scenes, "referred").is_empty());
 }
+
+/// Only the hilly log has vehicles uphill from the ego: on 3bffdcff (Pittsburgh) the ego climbs
+/// 3.1 m and other vehicles stand up to 7.8 m above it; on the two flat logs the ego's height
+/// varies by 0.35 m and 0.19 m and no vehicle is 2 m above it (checked by hand).
+#[test]
+fn vehicles_uphill_from_the_ego_are_on_the_hilly_log() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let src = std::fs::read_to_string(
+        scenalog_testkit::repo_root().join("rules/library/vehicle_uphill_from_the_ego_vehicle.dl"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let found = mine(&src, scenes, "referred");
+    let per_log: BTreeSet<usize> = found.iter().map(|(i, _)| *i).collect();
+    assert_eq!(per_log, [1].into_iter().collect(), "{found:?}");
+    let tracks: BTreeSet<&String> = found.iter().map(|(_, r)| &r[0]).collect();
+    assert_eq!(tracks.len(), 61);
+}

@@ -123,3 +123,22 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
     }
     Ok(relation(q, rows))
 }
+
+/// `elevation(X, T, Z)`: the height of the bottom of X's box (its centre's city-frame z less half
+/// its height), one tuple a box.
+pub fn elevation(ex: &Extractor, q: &Query) -> RelationData {
+    let scene = ex.scene();
+    let r = q.frames(1, scene.num_frames());
+    let mut rows = Vec::new();
+    for t in q.tracks(scene, 0) {
+        let boxes = &scene.track(t).boxes;
+        let a = boxes.partition_point(|b| b.frame < r.start);
+        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
+        rows.extend(
+            boxes[a..z]
+                .iter()
+                .map(|b| (t, b.frame, b.city_center().z - b.size[2] / 2.0)),
+        );
+    }
+    relation(q, rows)
+}
