@@ -28,7 +28,6 @@ use scenalog_facts::{Frame, TrackId};
 use scenalog_rules::ast::{Atom, CmpOp, ExprKind, Literal, Number};
 use scenalog_rules::{CheckedProgram, PredKind};
 
-use crate::plan::flipped;
 use crate::rows::Rows;
 use crate::value::{decode_value, encode_value, Symbols};
 
@@ -554,7 +553,7 @@ pub(crate) fn use_constraints(
                             None => continue,
                         },
                         (_, Some(v)) if v == var => match number(&c.lhs.kind) {
-                            Some(n) => (flipped(c.op), n),
+                            Some(n) => (c.op.flipped(), n),
                             None => continue,
                         },
                         _ => continue,

@@ -289,9 +289,31 @@ impl<'r> Query<'r> {
         num_frames: usize,
         frames: &[Frame],
     ) -> std::ops::Range<usize> {
+        self.range_by(col, num_frames, frames, |&f| f)
+    }
+
+    /// [`Query::box_range`] over a track's boxes themselves (sorted by frame).
+    pub fn boxes_range(
+        &self,
+        col: usize,
+        num_frames: usize,
+        boxes: &[scenalog_facts::TrackBox],
+    ) -> std::ops::Range<usize> {
+        self.range_by(col, num_frames, boxes, |b| b.frame)
+    }
+
+    /// The indices of `items` (sorted by `frame`) whose frame the constraints on time column
+    /// `col` allow.
+    fn range_by<T>(
+        &self,
+        col: usize,
+        num_frames: usize,
+        items: &[T],
+        frame: impl Fn(&T) -> Frame,
+    ) -> std::ops::Range<usize> {
         let r = self.frames(col, num_frames);
-        let a = frames.partition_point(|&f| f < r.start);
-        let b = frames.partition_point(|&f| f < r.end);
+        let a = items.partition_point(|x| frame(x) < r.start);
+        let b = items.partition_point(|x| frame(x) < r.end);
         a..b.max(a)
     }
 

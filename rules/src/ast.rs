@@ -141,6 +141,17 @@ impl CmpOp {
             CmpOp::Ne => "!=",
         }
     }
+
+    /// The comparison with its sides swapped (`a < b` is `b > a`; `=` and `!=` stay).
+    pub fn flipped(self) -> CmpOp {
+        match self {
+            CmpOp::Lt => CmpOp::Gt,
+            CmpOp::Le => CmpOp::Ge,
+            CmpOp::Gt => CmpOp::Lt,
+            CmpOp::Ge => CmpOp::Le,
+            other => other,
+        }
+    }
 }
 
 /// `lhs op rhs`.
@@ -323,6 +334,14 @@ pub enum ExprKind {
 }
 
 impl Expr {
+    /// The variable `name`, with no place in the source (for clauses a fix writes).
+    pub fn var(name: &str) -> Expr {
+        Expr {
+            kind: ExprKind::Var(name.to_string()),
+            span: Span::default(),
+        }
+    }
+
     /// The variable name if this is a plain named variable.
     pub fn as_var(&self) -> Option<&str> {
         match &self.kind {

@@ -146,17 +146,6 @@ pub(crate) fn holds(op: CmpOp, ord: std::cmp::Ordering) -> bool {
     }
 }
 
-/// The comparison with its sides swapped (`a < b` is `b > a`).
-pub(crate) fn flipped(op: CmpOp) -> CmpOp {
-    match op {
-        CmpOp::Lt => CmpOp::Gt,
-        CmpOp::Le => CmpOp::Ge,
-        CmpOp::Gt => CmpOp::Lt,
-        CmpOp::Ge => CmpOp::Le,
-        other => other,
-    }
-}
-
 /// The filter for `a op b`: on encoded words when one side is a slot and the other a slot of
 /// the same type or a constant that encodes exactly in that type, else on decoded values.
 pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
@@ -176,7 +165,7 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
         return Filter::CmpRaw(op, s, r);
     }
     if let Some((s, r)) = raw(&b, &a) {
-        return Filter::CmpRaw(flipped(op), s, r);
+        return Filter::CmpRaw(op.flipped(), s, r);
     }
     if let (Some(x), Some(y)) = (IExpr::from(&a), IExpr::from(&b)) {
         let diff = |op: CmpOp, x: &IExpr, y: &IExpr| {
@@ -199,7 +188,7 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
                 _ => None,
             }
         };
-        if let Some(f) = diff(op, &x, &y).or_else(|| diff(flipped(op), &y, &x)) {
+        if let Some(f) = diff(op, &x, &y).or_else(|| diff(op.flipped(), &y, &x)) {
             return f;
         }
         return Filter::CmpInt(op, x, y);

@@ -123,7 +123,7 @@ pub(crate) fn solve(
     from: usize,
 ) -> Option<(Option<BoundExpr>, Option<BoundExpr>)> {
     if !reads_new(l, from) {
-        return solve(flipped(op), r, l, x, from);
+        return solve(op.flipped(), r, l, x, from);
     }
     if reads_new(r, from) {
         return None;
@@ -145,7 +145,7 @@ pub(crate) fn solve(
             side(op, BoundExpr::with(r.clone(), BinOp::Add, (**e).clone()))
         }
         CExpr::Bin(BinOp::Sub, e, a) if is_x(a) && old(e) => side(
-            flipped(op),
+            op.flipped(),
             BoundExpr::with((**e).clone(), BinOp::Sub, r.clone()),
         ),
         CExpr::Bin(BinOp::Add, a, e) | CExpr::Bin(BinOp::Add, e, a) if is_x(a) && old(e) => {

@@ -3,6 +3,7 @@
 
 use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::{is_construction_category, is_vehicle_category, SUPER_CATEGORIES};
+use scenalog_facts::TrackBox;
 
 use super::s;
 use crate::cache::Extractor;
@@ -41,12 +42,10 @@ pub fn ego(ex: &Extractor, q: &Query) -> RelationData {
 pub fn present(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
     let mut rows = Vec::new();
-    let r = q.frames(1, scene.num_frames());
     for t in q.tracks(scene, 0) {
         let boxes = &scene.track(t).boxes;
-        let a = boxes.partition_point(|b| b.frame < r.start);
-        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
-        rows.extend(boxes[a..z].iter().map(|b| (t, b.frame)));
+        let r = q.boxes_range(1, scene.num_frames(), boxes);
+        rows.extend(boxes[r].iter().map(|b| (t, b.frame)));
     }
     relation(q, rows)
 }
@@ -55,16 +54,12 @@ pub fn present(ex: &Extractor, q: &Query) -> RelationData {
 pub fn next_sample(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
     let mut rows = Vec::new();
-    let r = q.frames(1, scene.num_frames());
     for t in q.tracks(scene, 0) {
         let boxes = &scene.track(t).boxes;
-        let a = boxes.partition_point(|b| b.frame < r.start);
-        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
-        for pair in boxes[a..boxes.len().min(z + 1)].windows(2) {
-            if pair[0].frame >= r.end {
-                break;
+        for i in q.boxes_range(1, scene.num_frames(), boxes) {
+            if let (Some(b), Some(next)) = (boxes.get(i), boxes.get(i + 1)) {
+                rows.push((t, b.frame, next.frame));
             }
-            rows.push((t, pair[0].frame, pair[1].frame));
         }
     }
     relation(q, rows)
@@ -128,17 +123,12 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
 /// its height), one tuple a box.
 pub fn elevation(ex: &Extractor, q: &Query) -> RelationData {
     let scene = ex.scene();
-    let r = q.frames(1, scene.num_frames());
     let mut rows = Vec::new();
     for t in q.tracks(scene, 0) {
         let boxes = &scene.track(t).boxes;
-        let a = boxes.partition_point(|b| b.frame < r.start);
-        let z = boxes.partition_point(|b| b.frame < r.end).max(a);
-        rows.extend(
-            boxes[a..z]
-                .iter()
-                .map(|b| (t, b.frame, b.city_center().z - b.size[2] / 2.0)),
-        );
+        let r = q.boxes_range(1, scene.num_frames(), boxes);
+        let bottom = |b: &TrackBox| b.city_center().z - b.size[2] / 2.0;
+        rows.extend(boxes[r].iter().map(|b| (t, b.frame, bottom(b))));
     }
     relation(q, rows)
 }

@@ -192,24 +192,12 @@ fn negation_helper(c: &Clause, n: usize, var: &str) -> Option<(Clause, Clause)> 
             _ => None,
         }))
         .collect();
-    let name = (0..)
-        .map(|i| {
-            if i == 0 {
-                format!("some_{}", atom.pred)
-            } else {
-                format!("some_{}_{i}", atom.pred)
-            }
-        })
-        .find(|n| !used.contains(n))?;
+    let name = free_relation_name(&format!("some_{}", atom.pred), |n| used.contains(n))?;
     let span = Span::default();
-    let var_expr = |v: &str| Expr {
-        kind: ExprKind::Var(v.to_string()),
-        span,
-    };
     let head = Atom {
         pred: name,
         pred_span: span,
-        args: keep.iter().map(|v| var_expr(v)).collect(),
+        args: keep.iter().map(|v| Expr::var(v)).collect(),
         span,
     };
     let mut body = vec![Literal::Pos(atom.clone())];
@@ -258,7 +246,19 @@ fn distinct<'a>(vs: impl IntoIterator<Item = &'a str>) -> BTreeSet<&'a str> {
     vs.into_iter().collect()
 }
 
-fn literal_names(l: &Literal) -> Vec<&str> {
+/// The name a fix gives a helper relation it writes: `base`, else `base_1`, `base_2`, … the
+/// first that `taken` refuses (`None` after a hundred).
+pub(super) fn free_relation_name(base: &str, taken: impl Fn(&str) -> bool) -> Option<String> {
+    (0..100)
+        .map(|i| match i {
+            0 => base.to_string(),
+            i => format!("{base}_{i}"),
+        })
+        .find(|n| !taken(n))
+}
+
+/// The variables a literal mentions.
+pub(super) fn literal_names(l: &Literal) -> Vec<&str> {
     let mut out = Vec::new();
     walk::literal_vars(std::slice::from_ref(l), &mut out);
     out

@@ -14,6 +14,7 @@
 
 use scenalog_facts::catalog::{self, ColType};
 
+use super::meaning::{free_relation_name, literal_names};
 use crate::ast::{Atom, Clause, CmpOp, Comparison, Expr, ExprKind, Literal, Program, Span};
 use crate::diagnostics::{self, warning};
 use crate::walk;
@@ -150,7 +151,7 @@ fn bound_on(cmp: &Comparison, var: &str) -> Option<Bound> {
     let (op, k) = if cmp.lhs.as_var() == Some(var) {
         (cmp.op, &cmp.rhs)
     } else if cmp.rhs.as_var() == Some(var) {
-        (flip(cmp.op)?, &cmp.lhs)
+        (cmp.op.flipped(), &cmp.lhs)
     } else {
         return None;
     };
@@ -168,17 +169,6 @@ fn bound_on(cmp: &Comparison, var: &str) -> Option<Bound> {
         lower,
         strict,
         written: k.clone(),
-    })
-}
-
-/// `a op b` as `b op' a`.
-fn flip(op: CmpOp) -> Option<CmpOp> {
-    Some(match op {
-        CmpOp::Lt => CmpOp::Gt,
-        CmpOp::Le => CmpOp::Ge,
-        CmpOp::Gt => CmpOp::Lt,
-        CmpOp::Ge => CmpOp::Le,
-        CmpOp::Eq | CmpOp::Ne => return None,
     })
 }
 
@@ -208,24 +198,17 @@ fn negation_fix(
     let [bound] = lower else {
         return None;
     };
-    // The distance is used only here and in its bound.
-    let uses = |l: &Literal| {
-        let mut hit = false;
-        walk::each_literal_var(l, &mut |v, _| hit |= v == var);
-        hit
+    // Whether the head or a literal other than the atom and its bound mentions `v`.
+    let used_elsewhere = |v: &str| {
+        c.head.args.iter().any(|a| walk::expr_names(a).contains(&v))
+            || c.body
+                .iter()
+                .enumerate()
+                .any(|(i, l)| i != n && i != bound.at && literal_names(l).contains(&v))
     };
-    let in_head = c
-        .head
-        .args
-        .iter()
-        .any(|a| walk::expr_names(a).contains(&var));
-    let elsewhere = c
-        .body
-        .iter()
-        .enumerate()
-        .any(|(i, l)| i != n && i != bound.at && uses(l));
+    // The distance is used only here and in its bound.
     let once = atom.args.iter().filter(|a| a.as_var() == Some(var)).count() == 1;
-    if in_head || elsewhere || !once {
+    if used_elsewhere(var) || !once {
         return None;
     }
     // The objects and the time: variables, bound by `present` in the rewritten clause.
@@ -245,35 +228,16 @@ fn negation_fix(
     if tracks.is_empty() {
         return None;
     }
-    // The atom's other variables: kept in the helper's head when the clause uses them elsewhere,
-    // `_` in the helper otherwise.
-    let used_elsewhere = |v: &str| {
-        c.head.args.iter().any(|a| walk::expr_names(a).contains(&v))
-            || c.body.iter().enumerate().any(|(i, l)| {
-                i != n && i != bound.at && {
-                    let mut hit = false;
-                    walk::each_literal_var(l, &mut |x, _| hit |= x == v);
-                    hit
-                }
-            })
-    };
+    // The atom's objects and time, and its other variables the clause uses elsewhere, are the
+    // helper's head; its other variables are `_` in the helper.
     let span = Span::default();
-    let var_expr = |v: &str| Expr {
-        kind: ExprKind::Var(v.to_string()),
-        span,
-    };
+    let var_expr = Expr::var;
     let mut head_vars: Vec<&str> = Vec::new();
     let mut helper_args = Vec::new();
     for a in &atom.args {
         match &a.kind {
             ExprKind::Var(v) if v == var => helper_args.push(a.clone()),
-            ExprKind::Var(v) if tracks.contains(&v.as_str()) || v == time => {
-                if !head_vars.contains(&v.as_str()) {
-                    head_vars.push(v);
-                }
-                helper_args.push(a.clone());
-            }
-            ExprKind::Var(v) if used_elsewhere(v) => {
+            ExprKind::Var(v) if tracks.contains(&v.as_str()) || v == time || used_elsewhere(v) => {
                 if !head_vars.contains(&v.as_str()) {
                     head_vars.push(v);
                 }
@@ -286,19 +250,15 @@ fn negation_fix(
             _ => helper_args.push(a.clone()),
         }
     }
-    let k = number(&bound.written)?;
+    let k = bound.value;
     let k_name = if k.fract() == 0.0 {
         format!("{}", k as i64)
     } else {
         format!("{k}").replace(['.', '-'], "_")
     };
-    let name = (0..)
-        .map(|i| match i {
-            0 => format!("{}_within_{k_name}_m", atom.pred),
-            i => format!("{}_within_{k_name}_m_{i}", atom.pred),
-        })
-        .take(100)
-        .find(|n| !defined.contains(&n.as_str()) && catalog::relation(n).is_none())?;
+    let name = free_relation_name(&format!("{}_within_{k_name}_m", atom.pred), |n| {
+        defined.contains(&n) || catalog::relation(n).is_some()
+    })?;
     let head = Atom {
         pred: name,
         pred_span: span,
