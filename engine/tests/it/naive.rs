@@ -4,13 +4,11 @@
 //! The naive evaluator is [`crate::oracle`], run group by group: `p0`/`p1` (mutually recursive),
 //! then `p2`, then `p3`; negation and aggregates only reach earlier groups.
 
-use std::collections::BTreeSet;
-
 use scenalog_engine::{evaluate, Options};
-use scenalog_facts::relation::{RelationData, Request, Value};
+use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, CheckOptions};
 
-use crate::oracle::naive;
+use crate::oracle::{int_tuples, naive};
 
 /// A tiny deterministic generator (xorshift64*).
 struct Rng(u64);
@@ -171,19 +169,7 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
             Err(e) => panic!("case {case}: engine failed: {e}\n{src}"),
         };
         for (pred, _) in DERIVED {
-            let got: BTreeSet<Vec<i64>> = ev
-                .tuples(pred)
-                .unwrap_or_default()
-                .iter()
-                .map(|t| {
-                    t.iter()
-                        .map(|v| match v {
-                            Value::Int(i) => *i,
-                            other => panic!("case {case}: {other:?}"),
-                        })
-                        .collect()
-                })
-                .collect();
+            let got = int_tuples(&ev, pred);
             let want = expected.get(pred).cloned().unwrap_or_default();
             assert_eq!(got, want, "case {case}, relation {pred}:\n{src}");
             nonempty += usize::from(!want.is_empty());

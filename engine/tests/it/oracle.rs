@@ -173,3 +173,20 @@ pub fn naive(p: &Program, groups: &[&[&str]]) -> Db {
     }
     db
 }
+
+/// The engine's tuples of `relation` in the oracle's shape (integers only: a value of another
+/// type fails the test, naming it).
+pub fn int_tuples(ev: &scenalog_engine::Evaluation, relation: &str) -> BTreeSet<Vec<i64>> {
+    ev.tuples(relation)
+        .unwrap_or_default()
+        .iter()
+        .map(|t| {
+            t.iter()
+                .map(|v| match v {
+                    scenalog_facts::relation::Value::Int(i) => *i,
+                    other => panic!("{relation}: not an int: {other:?}"),
+                })
+                .collect()
+        })
+        .collect()
+}
