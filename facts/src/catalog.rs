@@ -623,7 +623,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "crossing_detail",
         columns: CROSSING_DETAIL_COLUMNS,
-        doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front: overtaking X), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
+        doc: "Y crosses X's Dir half-midplane at T, as crossing but with its extents as columns: Sense \"clockwise\" or \"counterclockwise\" about X seen from above (on X's left, clockwise is back to front; \"overtaking\" is the prelude's `overtaking`), Reach how far beyond X's Dir side Y crossed (m, up to 30), Off Y's distance from the midplane at T (m, up to 15); crossing is Reach <= 10, Off <= 5",
         group: Group::Pairs,
     },
     RelationSpec {
