@@ -12,7 +12,7 @@ use crate::cache::Extractor;
 use crate::pairs::{self, PairContext};
 use crate::query::{ExtractError, Query};
 use crate::refav_lanes;
-use crate::relations::{between, lane_direction, map, motion, objects, towing};
+use crate::relations::{between, lane_direction, map, motion, objects, road, towing};
 
 /// How a relation's tuples are computed: unfiltered and unsorted; the caller applies the request's
 /// constraints and sorts ([`Query::finish`]).
@@ -88,6 +88,8 @@ const RELATIONS: &[(&str, Compute)] = &[
     ("intersection_lane", Compute::Scene(map::intersection_lane)),
     ("lane_successor", Compute::Scene(map::lane_successor)),
     ("lane_neighbor", Compute::Scene(map::lane_neighbor)),
+    ("lane_turn", Compute::Scene(road::lane_turn)),
+    ("road_lanes", Compute::Scene(road::road_lanes)),
     ("on_road", Compute::Scene(map::on_road)),
     (
         "in_drivable_area",
@@ -107,6 +109,9 @@ const RELATIONS: &[(&str, Compute)] = &[
     ("at_crosswalk", Compute::Scene(map::at_crosswalk)),
     ("refav_crosswalk", Compute::Scene(map::refav_crosswalk)),
     ("at_stop_sign", Compute::Scene(map::at_stop_sign)),
+    ("lane_offset", Compute::Scene(road::lane_offset)),
+    ("over_marking", Compute::Scene(road::over_marking)),
+    ("road_edge", Compute::Scene(road::road_edge)),
     (
         "lane_direction",
         Compute::Scene(lane_direction::lane_direction),

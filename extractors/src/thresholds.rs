@@ -30,6 +30,11 @@ pub const STATIONARY_MAX_DIAGONAL_M: f64 = 3.0;
 /// yaw rate) when its centreline's heading changes by more than this from start to end.
 pub const LANE_TURN_MIN_DEG: f64 = 20.0;
 
+/// `lane_turn`: a lane segment takes its traffic left or right when its centre line's heading
+/// changes by more than this from its start to its end (the angle `turning` asks of a track);
+/// AV2's turning intersection lanes turn 60-100°, its straight ones less than 20°.
+pub const LANE_TURN_CLASS_DEG: f64 = 45.0;
+
 /// A track counts as turning left/right (for lane-assignment ties) when its mean yaw rate over the
 /// candidate run exceeds this, deg/s.
 pub const TRACK_TURN_MIN_YAW_RATE_DEG_S: f64 = 3.0;

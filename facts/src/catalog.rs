@@ -308,6 +308,26 @@ pub const HEADINGS: &[&str] = &["same", "perpendicular", "opposite"];
 pub const LANE_TYPES: &[&str] = &["VEHICLE", "BIKE", "BUS"];
 /// Road sides.
 pub const ROAD_SIDES: &[&str] = &["same", "opposite"];
+/// Which way a lane segment takes its traffic (`lane_turn`).
+pub const LANE_TURNS: &[&str] = &["left", "right", "straight"];
+/// The paint of a lane boundary, as AV2's map files name it (`over_marking`).
+pub const MARK_TYPES: &[&str] = &[
+    "DASH_SOLID_YELLOW",
+    "DASH_SOLID_WHITE",
+    "DASHED_WHITE",
+    "DASHED_YELLOW",
+    "DOUBLE_SOLID_YELLOW",
+    "DOUBLE_SOLID_WHITE",
+    "DOUBLE_DASH_YELLOW",
+    "DOUBLE_DASH_WHITE",
+    "SOLID_YELLOW",
+    "SOLID_WHITE",
+    "SOLID_DASH_WHITE",
+    "SOLID_DASH_YELLOW",
+    "SOLID_BLUE",
+    "NONE",
+    "UNKNOWN",
+];
 /// The sense in which an object crosses another's midplane, about it seen from above.
 pub const SENSES: &[&str] = &["clockwise", "counterclockwise"];
 
@@ -542,6 +562,18 @@ const CATALOG: &[RelationSpec] = &[
         group: Group::Map,
     },
     RelationSpec {
+        name: "lane_turn",
+        columns: &[L, enum_col("Dir", LANE_TURNS), qty("A", Unit::Degree)],
+        doc: "lane segment L takes its traffic \"left\" or \"right\" (its centre line's heading changes by more than 45° from its start to its end; A is the change, + left) or \"straight\"; turns happen on intersection lanes, and the lane before one whose successors all turn one way is a turn lane (the prelude's `turn_lane`)",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "road_lanes",
+        columns: &[L, int_col("Same", Unit::Count), int_col("Opposite", Unit::Count)],
+        doc: "the road at lane L has Same lanes in L's direction (L and its same-direction neighbours, across the road) and Opposite lanes of the other direction beside them; Opposite 0 is a one-way road or a carriageway with a median before the other direction (the map links no lane across a median), and lanes the map file lacks are not counted",
+        group: Group::Map,
+    },
+    RelationSpec {
         name: "on_road",
         columns: &[X, T],
         doc: "X is in some lane at T",
@@ -581,6 +613,24 @@ const CATALOG: &[RelationSpec] = &[
         name: "at_stop_sign",
         columns: &[X, col("S", ColType::Track), T],
         doc: "X is in stop sign S's lane, within 10 m before it and facing it, at T",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "lane_offset",
+        columns: &[X, T, qty("Off", Unit::Metre), qty("W", Unit::Metre)],
+        doc: "X's centre lies Off m to the left (+) or right (-) of its lane's centre line at T (the lane of `in_lane`), in a lane W m wide there: |Off| near W / 2 is at the lane's edge",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "over_marking",
+        columns: &[X, T, enum_col("Side", SIDES), enum_col("Mark", MARK_TYPES), qty("D", Unit::Metre)],
+        doc: "X's box reaches D m (> 0) past the \"left\" or \"right\" boundary of its lane at T, painted Mark (\"DASHED_WHITE\" between lanes of one direction, \"DOUBLE_SOLID_YELLOW\" or \"SOLID_YELLOW\" the centre line, \"SOLID_WHITE\" an edge line, \"NONE\" unpainted, as in intersections): a box over a line, not its centre (that is a lane change)",
+        group: Group::Map,
+    },
+    RelationSpec {
+        name: "road_edge",
+        columns: &[X, T, within("D", MAP_RANGE)],
+        doc: "X's box is D m from the nearest edge of the drivable area at T (a kerb, a median's side or where the paved road ends; 0 over the edge): on the road (`in_drivable_area`) D is how far from the kerb, off it how far from the road",
         group: Group::Map,
     },
     // Pairs
@@ -900,7 +950,7 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        const RELATIONS: usize = 52;
+        const RELATIONS: usize = 57;
         assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",

@@ -241,6 +241,35 @@ pub fn signed_offset(line: &[Pt], p: Pt) -> Option<f64> {
     Some(if side >= 0.0 { d } else { -d })
 }
 
+/// Signed distance of `p` from the line through the polyline's segment nearest to it: positive on
+/// its left (looking along it), negative on its right. Unlike [`signed_offset`], a point past an
+/// end is measured square to the end segment's line (a box corner beyond the last vertex is as
+/// far across the line as it looks). `None` for fewer than 2 points or a zero-length segment.
+pub fn lateral_offset(line: &[Pt], p: Pt) -> Option<f64> {
+    let (i, _, _) = nearest_on_polyline(line, p)?;
+    let (a, b) = (line[i], line[i + 1]);
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    (len > 0.0).then(|| cross(a, b, p) / len)
+}
+
+/// Distance from the segment `a`-`b` to a polygon's area: 0 when it touches or enters it.
+pub fn segment_polygon_distance(a: Pt, b: Pt, poly: &Polygon) -> f64 {
+    if poly.contains(a) || poly.contains(b) {
+        return 0.0;
+    }
+    let mut best = f64::INFINITY;
+    for (c, d) in poly.edges() {
+        if segments_intersect(a, b, c, d) {
+            return 0.0;
+        }
+        best = best
+            .min(point_segment_distance2(c, a, b))
+            .min(point_segment_distance2(a, c, d))
+            .min(point_segment_distance2(b, c, d));
+    }
+    best.sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,7 +6,10 @@ use rstar::{RTree, AABB};
 use scenalog_facts::map::VectorMap;
 
 use super::chain::{self, LaneChains};
-use super::geometry::{heading, point_segment_distance, polyline_length, resample, Polygon, Pt};
+use super::geometry::{
+    heading, point_segment_distance, polyline_length, resample, segment_polygon_distance, Polygon,
+    Pt,
+};
 pub use super::lane_geom::LaneGeom;
 use super::sides::{self, RoadSides};
 use crate::kinematics::wrap_angle;
@@ -32,6 +35,7 @@ pub struct MapIndex {
     intersection_edges: RTree<Line<Pt>>,
     crossing_tree: RTree<BoxEntry>,
     area_tree: RTree<BoxEntry>,
+    road_edges: RTree<Line<Pt>>,
 }
 
 fn xy(p: &[nalgebra::Point3<f64>]) -> Vec<Pt> {
@@ -152,6 +156,7 @@ impl MapIndex {
         );
         let crossing_tree = tree_of(crossings.iter().enumerate());
         let area_tree = tree_of(areas.iter().enumerate());
+        let road_edges = RTree::bulk_load(outer_edges(&areas, &area_tree));
         let chains = chain::build(&lanes);
         let sides = sides::build(map, &lanes);
         MapIndex {
@@ -165,6 +170,7 @@ impl MapIndex {
             intersection_edges,
             crossing_tree,
             area_tree,
+            road_edges,
         }
     }
 
@@ -244,20 +250,75 @@ impl MapIndex {
         best.map(|(d, _)| d).filter(|&d| d <= max)
     }
 
+    /// Distance from the polygon `shape` (an object's ground box) to the nearest edge of the
+    /// drivable area (a kerb; 0 when the box lies over it), if one lies within `max` metres.
+    pub fn road_edge_distance(&self, shape: &Polygon, max: f64) -> Option<f64> {
+        let (c, half_diag) = centre_and_reach(shape);
+        // Edges come nearest the centre first; the centre's distance less the half diagonal
+        // bounds the box's from below, so the search stops once that passes the best.
+        let mut best = f64::INFINITY;
+        for (e, d2) in self.road_edges.nearest_neighbor_iter_with_distance_2(c) {
+            let lb = d2.sqrt() - half_diag;
+            if lb > best || lb > max {
+                break;
+            }
+            best = best.min(segment_polygon_distance(e.from, e.to, shape));
+        }
+        (best <= max).then_some(best)
+    }
+
     /// Distance from the polygon `shape` (an object's ground box) to the nearest pedestrian
     /// crossing (0 when overlapping), if one lies within `max` metres.
     pub fn crossing_distance(&self, shape: &Polygon, max: f64) -> Option<f64> {
-        let c = [
-            0.5 * (shape.bbox[0][0] + shape.bbox[1][0]),
-            0.5 * (shape.bbox[0][1] + shape.bbox[1][1]),
-        ];
-        let half_diag =
-            0.5 * (shape.bbox[1][0] - shape.bbox[0][0]).hypot(shape.bbox[1][1] - shape.bbox[0][1]);
+        let (c, half_diag) = centre_and_reach(shape);
         let polys = &self.crossings;
         nearest(&self.crossing_tree, c, half_diag, max, |i| {
             polys[i].distance_to_polygon(shape)
         })
     }
+}
+
+/// The centre of a shape's bounding box and how far the shape reaches from it (half the box's
+/// diagonal): a point's distance to the centre less the reach bounds its distance to the shape.
+fn centre_and_reach(shape: &Polygon) -> (Pt, f64) {
+    let [lo, hi] = shape.bbox;
+    (
+        [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
+        0.5 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]),
+    )
+}
+
+/// How far either side of a drivable area's edge [`outer_edges`] looks for drivable area.
+const EDGE_PROBE_M: f64 = 0.25;
+
+/// The edges of the drivable areas that bound the road: AV2 tiles the drivable area into several
+/// polygons, and an edge two tiles share (drivable area on both sides, probed at its midpoint
+/// [`EDGE_PROBE_M`] either way) is no edge of the road.
+fn outer_edges(areas: &[Polygon], tree: &RTree<BoxEntry>) -> Vec<Line<Pt>> {
+    let drivable = |p: Pt| {
+        tree.locate_all_at_point(p)
+            .any(|e| areas[e.data as usize].contains(p))
+    };
+    let mut out = Vec::new();
+    for poly in areas {
+        for (a, b) in poly.edges() {
+            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+            if len == 0.0 {
+                continue;
+            }
+            let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            let n = [
+                -(b[1] - a[1]) / len * EDGE_PROBE_M,
+                (b[0] - a[0]) / len * EDGE_PROBE_M,
+            ];
+            let inside_both =
+                drivable([m[0] + n[0], m[1] + n[1]]) && drivable([m[0] - n[0], m[1] - n[1]]);
+            if !inside_both {
+                out.push(Line::new(a, b));
+            }
+        }
+    }
+    out
 }
 
 /// Exact nearest distance through an R-tree of bounding boxes: candidates come in order of their

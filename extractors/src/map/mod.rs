@@ -5,8 +5,10 @@
 //! - [`lane_geom`]: [`LaneGeom`], one lane segment's geometry.
 //! - [`chain`]: the lane as a driver sees it (straight predecessors and successors).
 //! - [`sides`]: same and opposite road sides through lane neighbours.
+//! - [`cross_section`]: the lanes across the road at a lane, each way.
 
 pub mod chain;
+pub mod cross_section;
 pub mod geometry;
 pub mod index;
 pub mod lane_geom;

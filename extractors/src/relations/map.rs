@@ -94,7 +94,18 @@ pub fn near_intersection(ex: &Extractor, q: &Query) -> RelationData {
 
 /// `at_crosswalk(X, T, D)`: distance from the object's ground rectangle to the nearest crossing.
 pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
-    let (scene, kin, index) = (ex.scene(), ex.kinematics(), ex.map_index());
+    let index = ex.map_index();
+    box_distance(ex, q, |shape, max| index.crossing_distance(shape, max))
+}
+
+/// `(X, T, D)` for every box the query allows, D `distance(box, max)` from X's ground rectangle
+/// to a map feature, up to the query's bound on D (at most [`MAP_DISTANCE_MAX_M`]).
+pub(crate) fn box_distance(
+    ex: &Extractor,
+    q: &Query,
+    distance: impl Fn(&Polygon, f64) -> Option<f64>,
+) -> RelationData {
+    let (scene, kin) = (ex.scene(), ex.kinematics());
     let n = scene.num_frames();
     let max = distance_bound(q, 2);
     let mut rows = Vec::new();
@@ -105,7 +116,7 @@ pub fn at_crosswalk(ex: &Extractor, q: &Query) -> RelationData {
             let b = &boxes[i];
             let shape =
                 Polygon::new(box_corners(k.center[i], k.yaw[i], b.size[0], b.size[1]).to_vec());
-            if let Some(d) = index.crossing_distance(&shape, max) {
+            if let Some(d) = distance(&shape, max) {
                 rows.push((t, b.frame, d));
             }
         }

@@ -1,5 +1,5 @@
 //! The providers of the single-object relations, grouped as in the catalog: objects and time,
-//! kinematics and events, map. Each takes the per-scene [`crate::Extractor`] and a checked
+//! kinematics and events, map, the road's structure. Each takes the per-scene [`crate::Extractor`] and a checked
 //! [`crate::Query`] and returns the relation's columns (the caller filters and sorts).
 
 pub mod between;
@@ -7,6 +7,7 @@ pub mod lane_direction;
 pub mod map;
 pub mod motion;
 pub mod objects;
+pub mod road;
 pub mod towing;
 
 use std::sync::Arc;

@@ -11,3 +11,4 @@ mod pairs_real_logs;
 mod real_logs;
 mod refav;
 mod relations;
+mod road;
