@@ -2321,3 +2321,86 @@ fn a_car_two_metres_or_more_above_the_ego_is_uphill() {
     // Car 1 is 2.5 m above at 5 and 1 m at 6; car 2 only 1.5 m; the pedestrian is no vehicle.
     finds("vehicle_uphill_from_the_ego_vehicle", scene, &[(1, 5)], &[]);
 }
+
+// ---- the road's structure ----------------------------------------------------------------------
+
+#[test]
+fn a_bus_over_a_line_with_a_lane_beyond_it_spills_over_the_dividing_line() {
+    let name = "bus_spilling_over_the_lane_dividing_line";
+    let base = "category(1, \"BUS\"). in_lane(1, 5, 7). lane_neighbor(7, 8, \"left\").\n\
+                over_marking(1, 5, \"left\", \"SOLID_WHITE\", 0.5).";
+    finds(name, base, &[(1, 5)], &[]);
+    // The same paint with no lane beyond it is the road's edge line.
+    nothing(name, &swap(base, "lane_neighbor(7, 8, \"left\").", ""));
+    // A dashed line divides lanes whatever the map links.
+    let dashed = swap(
+        &swap(base, "lane_neighbor(7, 8, \"left\").", ""),
+        "SOLID_WHITE",
+        "DASHED_WHITE",
+    );
+    finds(name, &dashed, &[(1, 5)], &[]);
+    // Only 0.2 m over; unpainted; while changing lanes; not a bus.
+    nothing(name, &swap(base, "0.5)", "0.2)"));
+    nothing(name, &swap(&dashed, "DASHED_WHITE", "NONE"));
+    nothing(name, &format!("{base} lane_change(1, 5, \"left\")."));
+    nothing(name, &swap(base, "\"BUS\"", "\"REGULAR_VEHICLE\""));
+}
+
+#[test]
+fn a_vehicle_moving_in_a_lane_turning_right_off_the_intersection_is_in_a_slip_lane() {
+    let name = "vehicle_turning_right_in_a_slip_lane";
+    let base = "category(1, \"REGULAR_VEHICLE\"). in_lane(1, 5, 7). speed(1, 5, 5.0).\n\
+                lane_turn(7, \"right\", -80.0).";
+    finds(name, base, &[(1, 5)], &[]);
+    // A right turn through the intersection, a lane bending left, a stopped car.
+    nothing(name, &format!("{base} intersection_lane(7)."));
+    nothing(name, &swap(base, "\"right\", -80.0", "\"left\", 80.0"));
+    nothing(name, &swap(base, "5.0)", "0.1)"));
+}
+
+#[test]
+fn a_vehicle_leaving_a_left_turn_lane_on_a_straight_lane_goes_straight_from_it() {
+    let name = "vehicle_going_straight_from_a_turn_lane";
+    let base = "category(1, \"REGULAR_VEHICLE\"). in_lane(1, 5, 7). lane_successor(7, 8).\n\
+                lane_turn(8, \"left\", 85.0). in_lane(1, 20, 9). intersection_lane(9).\n\
+                lane_turn(9, \"straight\", 2.0). intersection_lane(8).";
+    finds(name, base, &[(1, 20)], &[]);
+    // Lane 7 also leads straight on: no turn lane.
+    nothing(name, &format!("{base} lane_successor(7, 9)."));
+    // On the straight lane 12 s later; the lane it reaches turns too.
+    nothing(name, &swap(base, "in_lane(1, 20, 9)", "in_lane(1, 125, 9)"));
+    nothing(
+        name,
+        &swap(
+            base,
+            "lane_turn(9, \"straight\", 2.0)",
+            "lane_turn(9, \"left\", 90.0)",
+        ),
+    );
+}
+
+#[test]
+fn a_pedestrian_standing_off_the_road_within_a_metre_of_its_edge_is_at_the_curb() {
+    let name = "pedestrian_standing_at_the_curb";
+    let base =
+        "category(1, \"PEDESTRIAN\"). present(1, 5). speed(1, 5, 0.1). road_edge(1, 5, 0.6).";
+    finds(name, base, &[(1, 5)], &[]);
+    // In the road; 1.5 m back on the pavement; walking.
+    nothing(name, &format!("{base} in_drivable_area(1, 5)."));
+    nothing(name, &swap(base, "0.6)", "1.5)"));
+    nothing(name, &swap(base, "0.1)", "1.2)"));
+}
+
+#[test]
+fn a_vehicle_in_a_lane_with_no_lane_the_other_way_beside_it_is_on_a_one_way_road() {
+    let name = "vehicle_on_a_one_way_road";
+    let base = "category(1, \"REGULAR_VEHICLE\"). speed(1, 5, 8.0). in_lane(1, 5, 7).\n\
+                road_lanes(7, 2, 0).";
+    finds(name, base, &[(1, 5)], &[]);
+    nothing(
+        name,
+        &swap(base, "road_lanes(7, 2, 0)", "road_lanes(7, 2, 1)"),
+    );
+    nothing(name, &format!("{base} on_intersection(1, 5)."));
+    nothing(name, &swap(base, "8.0)", "0.1)"));
+}

@@ -430,3 +430,93 @@ fn vehicles_uphill_from_the_ego_are_on_the_hilly_log() {
     let tracks: BTreeSet<&String> = found.iter().map(|(_, r)| &r[0]).collect();
     assert_eq!(tracks.len(), 61);
 }
+
+/// The lanes of each log independently of the prelude: the relations `lane_turn`,
+/// `lane_successor` and `intersection_lane` read in Rust, a turn lane being a lane outside
+/// intersections with successors that all turn one way (8 on 3bffdcff, checked by hand: 6 left,
+/// 2 right, each leading into one or two intersection lanes turning 66-109°).
+#[test]
+fn turn_lanes_are_lanes_whose_successors_all_turn_one_way() {
+    use scenalog_facts::relation::Column;
+    use std::collections::BTreeMap;
+    let scenes = scenalog_testkit::sample_scenes();
+    let src = "tl(L, Dir) :- turn_lane(L, Dir).\nreferred(X, T) :- ego(X), present(X, T).";
+    let prelude = mine(src, scenes, "tl");
+    let mut total = 0;
+    for (i, scene) in scenes.iter().enumerate() {
+        let ex = Extractor::new(scene);
+        let get = |name: &str| ex.extract(&Request::all(name)).expect("extract");
+        let turn = get("lane_turn");
+        let succ = get("lane_successor");
+        let (Column::Lane(tl), Column::Str(td)) = (&turn.columns[0], &turn.columns[1]) else {
+            panic!("lane_turn columns")
+        };
+        let (Column::Lane(from), Column::Lane(to)) = (&succ.columns[0], &succ.columns[1]) else {
+            panic!("lane_successor columns")
+        };
+        let dir: BTreeMap<_, _> = tl
+            .iter()
+            .zip(td)
+            .map(|(l, d)| (*l, d.to_string()))
+            .collect();
+        let mut ways: BTreeMap<_, BTreeSet<String>> = BTreeMap::new();
+        for (a, b) in from.iter().zip(to) {
+            ways.entry(*a).or_default().insert(dir[b].clone());
+        }
+        let want: BTreeSet<(usize, Vec<String>)> = ways
+            .into_iter()
+            .filter(|(l, w)| {
+                let lane = scene.map.lane(*l).expect("a lane of the map");
+                !lane.is_intersection && w.len() == 1 && !w.contains("straight")
+            })
+            .map(|(l, w)| {
+                let d = w.into_iter().next().unwrap_or_default();
+                (
+                    i,
+                    vec![
+                        value_text(&Value::Lane(l)),
+                        value_text(&Value::Str(d.into())),
+                    ],
+                )
+            })
+            .collect();
+        let got: BTreeSet<_> = prelude.iter().filter(|(k, _)| *k == i).cloned().collect();
+        assert_eq!(got, want, "{}", scene.log_id);
+        total += got.len();
+    }
+    assert_eq!(
+        prelude.iter().filter(|(i, _)| *i == 1).count(),
+        8,
+        "{prelude:?}"
+    );
+    assert!(total >= 8);
+}
+
+/// No bus on the sample logs spills over a dividing line: the one bus whose box goes 0.3 m or
+/// more over a painted line (d1cc41fe on adcf7d18, up to 2 m over a dashed white line) does so
+/// while it changes lanes, which `over_the_line` leaves out; without that condition it is found.
+#[test]
+fn a_bus_changing_lanes_does_not_spill_over_the_line() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let src = std::fs::read_to_string(
+        scenalog_testkit::repo_root()
+            .join("rules/library/bus_spilling_over_the_lane_dividing_line.dl"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(mine(&src, scenes, "referred").is_empty());
+    let any_time = "referred(B, T) :- category(B, \"BUS\"), over_marking(B, T, _, M, D), \
+                    D >= 0.3 m, M != \"NONE\".";
+    let buses: BTreeSet<(usize, String)> = mine(any_time, scenes, "referred")
+        .into_iter()
+        .map(|(i, r)| (i, r[0].clone()))
+        .collect();
+    assert_eq!(buses.len(), 1, "{buses:?}");
+    let (log, bus) = buses.iter().next().expect("one bus");
+    assert_eq!(*log, 2);
+    let uuid = scenes[2]
+        .tracks
+        .iter()
+        .find(|t| value_text(&Value::Track(t.id)) == *bus)
+        .map(|t| t.uuid.as_str());
+    assert!(uuid.is_some_and(|u| u.starts_with("d1cc41fe")), "{uuid:?}");
+}
