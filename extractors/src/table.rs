@@ -38,6 +38,7 @@ const RELATIONS: &[(&str, Compute)] = &[
     ("refav_order", Compute::Scene(objects::refav_order)),
     ("elevation", Compute::Scene(objects::elevation)),
     ("refav_color", Compute::Fallible(objects::refav_color)),
+    ("attribute", Compute::Fallible(objects::attribute)),
     // Kinematics and events.
     (
         "speed",

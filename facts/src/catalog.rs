@@ -469,6 +469,12 @@ const CATALOG: &[RelationSpec] = &[
         doc: "T's time in seconds from the log's start",
         group: Group::Objects,
     },
+    RelationSpec {
+        name: "attribute",
+        columns: &[X, col("Name", ColType::Str), qty("Score", Unit::Count)],
+        doc: "a model looking at camera images said X is Name (any text, e.g. \"ambulance\", \"construction worker\", \"police\") with confidence Score in [0, 1]: read from the log's `attributes.csv` (columns track_uuid, name, score), and the colours of RefAV's colour cache with Score 1; empty for a log with neither (what only a camera shows is not in the boxes and the map), which `mine` says",
+        group: Group::Objects,
+    },
     // Kinematics
     RelationSpec {
         name: "speed",
@@ -899,10 +905,12 @@ mod tests {
         for r in catalog() {
             for c in r.columns {
                 match c.ty {
+                    // A plain number (a model's score) is a count's measure, no dimension.
                     ColType::Float => assert!(
-                        c.unit
-                            .measure()
-                            .is_some_and(|m| m.dims != crate::units::Dims::NONE),
+                        c.unit == Unit::Count
+                            || c.unit
+                                .measure()
+                                .is_some_and(|m| m.dims != crate::units::Dims::NONE),
                         "{}'s {} has no unit",
                         r.name,
                         c.name
@@ -950,7 +958,7 @@ mod tests {
         // concepts of issue #14: lane_direction, towing, in_between; RefAV's definitions for
         // imported programs and the relations its defects need (issue #30); next_sample (the
         // next moment of a track whatever its rate, issue #39).
-        const RELATIONS: usize = 57;
+        const RELATIONS: usize = 58;
         assert_eq!(catalog().len(), RELATIONS);
         for name in [
             "crossing_detail",

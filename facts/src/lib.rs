@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+pub mod attributes;
 pub mod catalog;
 pub mod color;
 pub mod conventions;
@@ -24,6 +25,7 @@ pub mod summary;
 pub mod time;
 pub mod units;
 
+pub use attributes::Attributes;
 pub use color::ColorCache;
 pub use error::LoadError;
 pub use intern::{Interner, Sym};

@@ -132,6 +132,7 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
         .unwrap_or_default();
 
     let color_cache = crate::color::read_color_cache(log_dir, |u| track_by_uuid.get(u).copied());
+    let attributes = crate::attributes::read_attributes(log_dir, |u| track_by_uuid.get(u).copied());
     Ok(Scene {
         log_id: log_id_of(log_dir),
         city,
@@ -142,6 +143,7 @@ pub fn load_scene(log_dir: &Path) -> Result<Scene, LoadError> {
         map,
         track_by_uuid,
         color_cache,
+        attributes,
     })
 }
 

@@ -204,6 +204,8 @@ pub struct Scene {
     pub track_by_uuid: HashMap<String, TrackId>,
     /// RefAV's colour cache of the log (`cache/color_cache.json`), for `refav_color`.
     pub color_cache: crate::color::ColorCache,
+    /// The log's attributes file (`attributes.csv`), for `attribute`.
+    pub attributes: crate::attributes::Attributes,
 }
 
 impl Scene {

@@ -57,6 +57,24 @@ pub fn library_files() -> Vec<PathBuf> {
     files
 }
 
+/// A copy of the sample log `id` (its files and its `map/`) made in `into/<id>`, for a test that
+/// adds files a user would (a colour cache, an attributes file); the copy's directory.
+pub fn copy_sample_log(id: &str, into: &Path) -> PathBuf {
+    let from = sample_log(id);
+    let to = into.join(id);
+    for rel in ["", "map"] {
+        std::fs::create_dir_all(to.join(rel)).unwrap_or_else(|e| panic!("{e}"));
+        for entry in std::fs::read_dir(from.join(rel)).unwrap_or_else(|e| panic!("{e}")) {
+            let path = entry.unwrap_or_else(|e| panic!("{e}")).path();
+            if path.is_file() {
+                let name = path.file_name().unwrap_or_default();
+                std::fs::copy(&path, to.join(rel).join(name)).unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
+    }
+    to
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

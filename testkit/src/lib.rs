@@ -12,8 +12,8 @@ pub mod rows;
 pub mod scene;
 
 pub use data::{
-    library_files, repo_root, sample_log, sample_log_dirs, sample_logs_dir, sample_scenes,
-    SAMPLE_LOGS,
+    copy_sample_log, library_files, repo_root, sample_log, sample_log_dirs, sample_logs_dir,
+    sample_scenes, SAMPLE_LOGS,
 };
 pub use rows::rows;
 pub use scene::{straight, SceneBuilder, Waypoint};

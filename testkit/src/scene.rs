@@ -192,6 +192,7 @@ impl SceneBuilder {
             map: VectorMap::new(self.lanes, self.crossings, self.areas),
             track_by_uuid,
             color_cache: scenalog_facts::ColorCache::Absent,
+            attributes: scenalog_facts::Attributes::Absent,
         }
     }
 }

@@ -960,3 +960,100 @@ fn w0508_on_swapped_columns_is_fixed_by_swapping_them_and_the_fix_mines_related_
     assert!(related("fixed", &fixed) > 0, "{fixed}");
     assert_eq!(related("wrong", &wrong), 0);
 }
+
+/// `attribute` as a team with camera data would use it: a copy of a sample log with a hand-made
+/// `attributes.csv` (as pandas writes it, index column included) and RefAV's colour cache, mined
+/// next to a log that has neither. The ambulance found is the one track the file scores 0.5 or
+/// more; the red one is the colour cache's (score 1, its `null` entry is no colour); the log
+/// without either is said once, after the run; a score that is no confidence fails the pair
+/// naming the file and line.
+#[test]
+fn attributes_from_a_file_and_the_colour_cache_are_mined_and_a_log_without_is_said_once() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let log = scenalog_testkit::copy_sample_log(OTHER_LOG, &tmp.path().join("logs"));
+    let scene = scenalog_facts::load_scene(&log).expect("scene");
+    let of = |category: &str| -> Vec<String> {
+        let tracks = scene.tracks.iter().filter(|t| t.category == category);
+        tracks.map(|t| t.uuid.clone()).collect()
+    };
+    let (large, cars) = (of("LARGE_VEHICLE"), of("REGULAR_VEHICLE"));
+    let (ambulance, unsure, red, no_crop) = (&large[0], &cars[0], &cars[1], &cars[2]);
+    fs::write(
+        log.join("attributes.csv"),
+        format!(
+            ",track_uuid,name,score\n0,{ambulance},ambulance,0.91\n1,{unsure},ambulance,0.2\n\
+             2,{unsure},\"construction worker, in vest\",0.7\n3,another-logs-track,ambulance,1.0\n"
+        ),
+    )
+    .expect("write");
+    fs::create_dir_all(log.join("cache")).expect("mkdir");
+    fs::write(
+        log.join("cache/color_cache.json"),
+        format!("{{\"{red}\": \"red\", \"{no_crop}\": null}}"),
+    )
+    .expect("write");
+    let rules = tmp.path().join("rules");
+    fs::create_dir_all(&rules).expect("mkdir");
+    for (name, body) in [
+        ("ambulance", "attribute(X, \"ambulance\", S), S >= 0.5"),
+        ("red_car", "attribute(X, \"red\", _)"),
+        (
+            "worker",
+            "attribute(X, \"construction worker, in vest\", _)",
+        ),
+    ] {
+        fs::write(
+            rules.join(format!("{name}.dl")),
+            format!("// description: {name}\nreferred(X, T) :- {body}, present(X, T).\n"),
+        )
+        .expect("write");
+    }
+    let other = logs_dir().join(FIXTURE_BICYCLE_LOG);
+    let out = tmp.path().join("out");
+    let args = [
+        "--rules",
+        &s(&rules),
+        "--logs",
+        &s(&log),
+        &s(&other),
+        "--out",
+        &s(&out),
+        "--format",
+        "json",
+    ];
+    let o = run("mine", &args.map(Path::new));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let found = |program: &str| -> Vec<(String, String)> {
+        let matches = report["matches"].as_array().expect("matches");
+        let mut v: Vec<(String, String)> = matches
+            .iter()
+            .filter(|m| m["description"] == program)
+            .map(|m| {
+                let text = |k: &str| m[k].as_str().unwrap_or_default().to_string();
+                (text("log_id"), text("track_uuid"))
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let here = |u: &String| (OTHER_LOG.to_string(), u.clone());
+    assert_eq!(found("ambulance"), vec![here(ambulance)]);
+    assert_eq!(found("red_car"), vec![here(red)]);
+    assert_eq!(found("worker"), vec![here(unsure)]);
+    let err = stderr(&o);
+    let note = "`attribute` is empty on 1 of 2 logs";
+    assert_eq!(err.matches(note).count(), 1, "{err}");
+    // A logit where a confidence belongs: the pairs fail, naming the file and the line.
+    fs::write(
+        log.join("attributes.csv"),
+        format!("track_uuid,name,score\n{ambulance},ambulance,2.3\n"),
+    )
+    .expect("write");
+    let o = run("mine", &args.map(Path::new));
+    let err = stderr(&o);
+    assert!(
+        err.contains("attributes.csv`: line 2: the score 2.3 is not in [0, 1]"),
+        "{err}"
+    );
+}

@@ -210,6 +210,8 @@ pub fn tracked_log(
             track_by_uuid,
             // RefAV's colour cache is per tracker log (keyed by its own uuids); not read.
             color_cache: scenalog_facts::ColorCache::Absent,
+            // Keyed by the log's uuids too: a tracker's tracks are not the annotations'.
+            attributes: scenalog_facts::Attributes::Absent,
         },
         scores,
         tracker_ids,

@@ -119,6 +119,39 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
     Ok(relation(q, rows))
 }
 
+/// `attribute(X, Name, Score)`: the rows of the log's attributes file
+/// (`scenalog_facts::attributes`) and each colour of its RefAV colour cache with score 1;
+/// nothing without either; an unreadable file is an error naming it.
+pub fn attribute(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query::ExtractError> {
+    use scenalog_facts::{Attributes, ColorCache};
+    let scene = ex.scene();
+    let unreadable = |message: &String| crate::query::ExtractError::BadInput {
+        relation: q.spec.name.into(),
+        message: message.clone(),
+    };
+    let mut rows = Vec::new();
+    match &scene.attributes {
+        Attributes::Absent => {}
+        Attributes::Read { rows: read, .. } => rows.extend(
+            read.iter()
+                .filter(|a| q.allows_track(0, a.track))
+                .map(|a| (a.track, s(&a.name), a.score)),
+        ),
+        Attributes::Unreadable(message) => return Err(unreadable(message)),
+    }
+    match &scene.color_cache {
+        ColorCache::Absent => {}
+        ColorCache::Read { colors, .. } => rows.extend(
+            colors
+                .iter()
+                .filter(|(&t, _)| q.allows_track(0, t))
+                .filter_map(|(&t, c)| Some((t, s(c.as_deref()?), 1.0))),
+        ),
+        ColorCache::Unreadable(message) => return Err(unreadable(message)),
+    }
+    Ok(relation(q, rows))
+}
+
 /// `elevation(X, T, Z)`: the height of the bottom of X's box (its centre's city-frame z less half
 /// its height), one tuple a box.
 pub fn elevation(ex: &Extractor, q: &Query) -> RelationData {

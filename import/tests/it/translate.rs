@@ -636,22 +636,9 @@ fn tracks_of(p: &Pairs) -> BTreeSet<u32> {
 /// A copy of the sample log 3b3570b4 in a temporary folder with `cache` as its
 /// `cache/color_cache.json`.
 fn log_with_color_cache(cache: &str) -> (tempfile::TempDir, std::path::PathBuf) {
-    let id = scenalog_testkit::SAMPLE_LOGS[0];
-    let from = scenalog_testkit::sample_log(id);
     let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
-    let to = tmp.path().join(id);
-    for rel in ["", "map", "cache"] {
-        std::fs::create_dir_all(to.join(rel)).unwrap_or_else(|e| panic!("{e}"));
-    }
-    for rel in ["", "map"] {
-        for entry in std::fs::read_dir(from.join(rel)).unwrap_or_else(|e| panic!("{e}")) {
-            let path = entry.unwrap_or_else(|e| panic!("{e}")).path();
-            if path.is_file() {
-                let name = path.file_name().unwrap_or_default();
-                std::fs::copy(&path, to.join(rel).join(name)).unwrap_or_else(|e| panic!("{e}"));
-            }
-        }
-    }
+    let to = scenalog_testkit::copy_sample_log(scenalog_testkit::SAMPLE_LOGS[0], tmp.path());
+    std::fs::create_dir_all(to.join("cache")).unwrap_or_else(|e| panic!("{e}"));
     std::fs::write(to.join("cache/color_cache.json"), cache).unwrap_or_else(|e| panic!("{e}"));
     (tmp, to)
 }

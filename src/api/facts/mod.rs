@@ -67,7 +67,7 @@ impl LogSummary {
 
 /// One relation extracted from a log.
 pub struct RelationFacts {
-    scene: Scene,
+    scene: Box<Scene>,
     spec: &'static RelationSpec,
     data: Arc<RelationData>,
     /// Milliseconds the extraction took (reading the log not included).
@@ -159,7 +159,7 @@ pub fn facts(request: &FactsRequest) -> Result<Facts, Error> {
     let data = extracted.map_err(|e| extraction_error(spec.name, &e))?;
     let extract_ms = start.elapsed().as_secs_f64() * 1e3;
     Ok(Facts::Relation(RelationFacts {
-        scene,
+        scene: Box::new(scene),
         spec,
         data,
         extract_ms,

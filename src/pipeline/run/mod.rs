@@ -18,7 +18,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -325,6 +325,7 @@ pub fn run_unpublished(
         indicatif::ProgressBar::hidden()
     };
     let load_time = Mutex::new(Duration::ZERO);
+    let without_attributes = AtomicUsize::new(0);
     type LogOutcome = (Vec<PairResult>, Option<Message>, Result<(), String>);
     let per_log: Vec<LogOutcome> = pool.install(|| {
         logs.par_iter()
@@ -334,7 +335,8 @@ pub fn run_unpublished(
                     staging: &staging,
                     log: i,
                 };
-                let (pairs, failure, load, part) = mine_log(log, scenarios, options, &bar, &sink);
+                let (pairs, failure, load, part) =
+                    mine_log(log, scenarios, options, &bar, &sink, &without_attributes);
                 if let Ok(mut t) = load_time.lock() {
                     *t += load;
                 }
@@ -346,6 +348,7 @@ pub fn run_unpublished(
     if cancelled(options) {
         return Err(CANCELLED.to_string());
     }
+    no_attributes_note(without_attributes.into_inner(), logs.len(), options);
     let mut pairs = Vec::with_capacity(total as usize);
     let mut log_failures = Vec::new();
     for (log, (p, failure, part)) in logs.iter().zip(per_log) {
@@ -478,6 +481,25 @@ fn no_color_cache_note(
     }
 }
 
+/// Whether a program of the log reads `attribute` and the log has nothing it is read from (no
+/// `attributes.csv`, no RefAV colour cache): the relation is empty there.
+fn lacks_attributes(scene: &Scene, scenarios: &[Scenario], indices: &[usize]) -> bool {
+    let reads = |i: &usize| scenarios[*i].program.predicates.contains_key("attribute");
+    scene.attributes == scenalog_facts::Attributes::Absent
+        && scene.color_cache == scenalog_facts::ColorCache::Absent
+        && indices.iter().any(reads)
+}
+
+/// Says once per run, after it, on how many logs `attribute` was empty for want of a file.
+fn no_attributes_note(without: usize, logs: usize, options: &RunOptions) {
+    if without > 0 && options.progress {
+        eprintln!(
+            "scenalog mine: `attribute` is empty on {without} of {logs} logs: they have no `{}` (nor RefAV's colour cache), so what only a camera shows is not known there (the README's \"Attributes from outside\" says how to write one)",
+            scenalog_facts::attributes::ATTRIBUTES_FILE
+        );
+    }
+}
+
 /// A log's scene and, for tracker input, each box's score (`scores[track][box]`).
 type LoadedLog = (Scene, Option<Vec<Vec<f32>>>);
 
@@ -578,6 +600,7 @@ fn mine_log(
     options: &RunOptions,
     bar: &indicatif::ProgressBar,
     sink: &PartSink,
+    without_attributes: &AtomicUsize,
 ) -> (
     Vec<PairResult>,
     Option<Message>,
@@ -614,6 +637,9 @@ fn mine_log(
     let extractor = Extractor::new(&scene);
     if options.progress {
         no_color_cache_note(log, &scene, scenarios, &indices, bar);
+    }
+    if lacks_attributes(&scene, scenarios, &indices) {
+        without_attributes.fetch_add(1, Ordering::Relaxed);
     }
     let ctx = PairContext {
         log,
