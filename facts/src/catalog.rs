@@ -803,7 +803,7 @@ pub fn render_text() -> String {
 }
 
 /// What descriptions ask for that no relation can hold: the catalog's last line.
-pub const NOT_IN_THE_DATA: &str = "\nNot in the data: traffic-light state (red, green, yellow), parking lots and parking spaces, and attributes only a camera sees (an ambulance, a police car, a construction worker; colours only through `refav_color`'s cache). A program asked for one writes what the data holds and says in a `//` comment that it approximates.\n";
+pub const NOT_IN_THE_DATA: &str = "\nNot in the data: traffic-light state (red, green, yellow), parking lots and parking spaces, and attributes only a camera sees (an ambulance, a police car, a construction worker), which only `attribute` holds, and only for a log that carries a camera model's `attributes.csv` (empty otherwise). A program asked for one writes what the data holds and says in a `//` comment that it approximates.\n";
 
 /// The relations written from descriptions, as text: every group but RefAV's definitions
 /// ([`Group::Refav`]), which only `scenalog import refav --semantics refav` targets, so a model

@@ -115,13 +115,13 @@ pub const CONVENTIONS: &[Convention] = &[
     },
     Convention {
         phrase: "a person waiting",
-        idiom: "the prelude's `waiting(P, T)` is a person stopped at a crosswalk, an intersection or a stop sign; waiting beside a bus (for it) is `stopped(P, T)` within 3 m of it: `stopped(P, T), near(P, B, T, D), D <= 3 m, category(B, \"BUS\")`; the map has no kerb, so \"at the kerb\" is `stopped(P, T), on_sidewalk(P, T)` and within 3 m of the road's vehicles or a crosswalk, said as an approximation",
+        idiom: "the prelude's `waiting(P, T)` is a person stopped at a crosswalk, an intersection or a stop sign; waiting beside a bus (for it) is `stopped(P, T)` within 3 m of it: `stopped(P, T), near(P, B, T, D), D <= 3 m, category(B, \"BUS\")`; \"at the kerb\" is `stopped(P, T), on_sidewalk(P, T), at_road_edge(P, T)` (off the road, within 1 m of its edge)",
         example: "referred(P, T) :- category(P, \"PEDESTRIAN\"), stopped(P, T), near(P, B, T, D), D <= 3 m, category(B, \"BUS\").",
         library: &[],
     },
     Convention {
         phrase: "a traffic light, a parking lot, what only a camera sees",
-        idiom: "not in the data (the catalog says so too): no traffic-light state, no parking lots or spaces, no attribute only a camera sees (an ambulance, a police car, a construction worker, a colour outside `refav_color`'s cache). Write what the data holds and say in a `//` comment that it approximates: \"stopped at a red light\" is `waiting(X, T), at_an_intersection(X, T)`, \"through a yellow light\" `moving(X, T), on_intersection(X, T)`, \"in a parking lot\" `on_sidewalk(X, T)` or beside `parked` vehicles",
+        idiom: "not in the data (the catalog says so too): no traffic-light state, no parking lots or spaces, no attribute only a camera sees (an ambulance, a police car, a construction worker) except through `attribute(X, Name, Score)`, which is empty unless a log carries a camera model's attributes file: write the body type (`category`) and, when the description names such a thing, say in a comment that `attribute(X, \"ambulance\", S), S >= 0.5` would say it where the logs carry attributes. Write what the data holds and say in a `//` comment that it approximates: \"stopped at a red light\" is `waiting(X, T), at_an_intersection(X, T)`, \"through a yellow light\" `moving(X, T), on_intersection(X, T)`, \"in a parking lot\" `on_sidewalk(X, T)` or beside `parked` vehicles",
         example: "referred(X, T) :- category(X, \"VEHICLE\"), waiting(X, T), at_an_intersection(X, T).",
         library: &[],
     },

@@ -1,6 +1,8 @@
 //! The map prepared for queries: lane, crossing and drivable-area polygons in `rstar` R-trees, lane
 //! centrelines and turn angles, predecessors derived from successors, the lane chains and road sides.
 
+use std::sync::OnceLock;
+
 use rstar::primitives::{GeomWithData, Line, Rectangle};
 use rstar::{RTree, AABB};
 use scenalog_facts::map::VectorMap;
@@ -35,7 +37,8 @@ pub struct MapIndex {
     intersection_edges: RTree<Line<Pt>>,
     crossing_tree: RTree<BoxEntry>,
     area_tree: RTree<BoxEntry>,
-    road_edges: RTree<Line<Pt>>,
+    /// The drivable area's outer edges ([`outer_edges`]), built when `road_edge` first asks.
+    road_edges: OnceLock<RTree<Line<Pt>>>,
 }
 
 fn xy(p: &[nalgebra::Point3<f64>]) -> Vec<Pt> {
@@ -156,7 +159,6 @@ impl MapIndex {
         );
         let crossing_tree = tree_of(crossings.iter().enumerate());
         let area_tree = tree_of(areas.iter().enumerate());
-        let road_edges = RTree::bulk_load(outer_edges(&areas, &area_tree));
         let chains = chain::build(&lanes);
         let sides = sides::build(map, &lanes);
         MapIndex {
@@ -170,7 +172,7 @@ impl MapIndex {
             intersection_edges,
             crossing_tree,
             area_tree,
-            road_edges,
+            road_edges: OnceLock::new(),
         }
     }
 
@@ -257,7 +259,10 @@ impl MapIndex {
         // Edges come nearest the centre first; the centre's distance less the half diagonal
         // bounds the box's from below, so the search stops once that passes the best.
         let mut best = f64::INFINITY;
-        for (e, d2) in self.road_edges.nearest_neighbor_iter_with_distance_2(c) {
+        let edges = self
+            .road_edges
+            .get_or_init(|| RTree::bulk_load(outer_edges(&self.areas, &self.area_tree)));
+        for (e, d2) in edges.nearest_neighbor_iter_with_distance_2(c) {
             let lb = d2.sqrt() - half_diag;
             if lb > best || lb > max {
                 break;
