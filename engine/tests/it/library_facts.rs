@@ -2367,6 +2367,14 @@ fn a_vehicle_leaving_a_left_turn_lane_on_a_straight_lane_goes_straight_from_it()
     finds(name, base, &[(1, 20)], &[]);
     // Lane 7 also leads straight on: no turn lane.
     nothing(name, &format!("{base} lane_successor(7, 9)."));
+    // It turned left on the way (a left turn, then a second junction crossed straight on).
+    nothing(name, &format!("{base} turning(1, 12, \"left\")."));
+    finds(
+        name,
+        &format!("{base} turning(1, 30, \"left\")."),
+        &[(1, 20)],
+        &[],
+    );
     // On the straight lane 12 s later; the lane it reaches turns too.
     nothing(name, &swap(base, "in_lane(1, 20, 9)", "in_lane(1, 125, 9)"));
     nothing(

@@ -520,3 +520,37 @@ fn a_bus_changing_lanes_does_not_spill_over_the_line() {
         .map(|t| t.uuid.as_str());
     assert!(uuid.is_some_and(|u| u.starts_with("d1cc41fe")), "{uuid:?}");
 }
+
+/// The car ae25a557 on 3bffdcff leaves a left-turn lane on its left-turn intersection lane,
+/// turns left (`turning` from frame 36) and then crosses the next junction on a straight lane
+/// (from frame 78): in a turn lane, then on a straight intersection lane within 10 s, but it did
+/// not go straight from the turn lane. The library's program, which asks that it did not turn
+/// the turn lane's way in between, finds nothing on the sample logs; without that it finds it.
+#[test]
+fn a_left_turn_then_a_straight_junction_is_not_straight_from_the_turn_lane() {
+    let scenes = scenalog_testkit::sample_scenes();
+    let src = std::fs::read_to_string(
+        scenalog_testkit::repo_root()
+            .join("rules/library/vehicle_going_straight_from_a_turn_lane.dl"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(mine(&src, scenes, "referred").is_empty());
+    let naive =
+        "referred(V, T) :- category(V, \"VEHICLE\"), in_lane(V, T0, L0), turn_lane(L0, _), \
+                 in_lane(V, T, L), intersection_lane(L), lane_turn(L, \"straight\", _), \
+                 T > T0, T - T0 <= 10 s.";
+    let tracks: BTreeSet<(usize, String)> = mine(naive, scenes, "referred")
+        .into_iter()
+        .map(|(i, r)| (i, r[0].clone()))
+        .collect();
+    let car = scenes[1]
+        .tracks
+        .iter()
+        .find(|t| t.uuid.starts_with("ae25a557"))
+        .map(|t| value_text(&Value::Track(t.id)));
+    assert_eq!(
+        tracks,
+        car.into_iter().map(|c| (1, c)).collect(),
+        "the naive program's finds"
+    );
+}

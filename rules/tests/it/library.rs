@@ -223,3 +223,106 @@ fn mirror_programs_use_the_same_thresholds() {
     }
     assert!(pairs >= 1, "no mirrored pair in the library");
 }
+
+/// The values a prelude relation's string column can hold, read from its clauses: the string
+/// constants written in that head position, and the closed values of every catalog column the
+/// head's variable is bound by in a body; `None` when a clause binds it otherwise (through
+/// another prelude relation), so the column's values are not known from its own clauses.
+fn prelude_column_values(
+    prelude: &scenalog_rules::ast::Program,
+    name: &str,
+    col: usize,
+) -> Option<std::collections::BTreeSet<&'static str>> {
+    use scenalog_rules::ast::{ExprKind, Literal};
+    let mut values = std::collections::BTreeSet::new();
+    for c in prelude.clauses.iter().filter(|c| c.head.pred == name) {
+        match &c.head.args.get(col)?.kind {
+            ExprKind::Str(s) => {
+                values.insert(scenalog_facts::catalog::catalog().iter().find_map(|r| {
+                    r.columns
+                        .iter()
+                        .flat_map(|c| c.values.iter())
+                        .find(|v| *v == s)
+                        .copied()
+                })?);
+            }
+            ExprKind::Var(v) => {
+                let mut bound = false;
+                for l in &c.body {
+                    let Literal::Pos(a) = l else { continue };
+                    let Some(r) = scenalog_facts::catalog::relation(&a.pred) else {
+                        continue;
+                    };
+                    for (j, arg) in a.args.iter().enumerate() {
+                        if matches!(&arg.kind, ExprKind::Var(w) if w == v)
+                            && !r.columns[j].values.is_empty()
+                        {
+                            values.extend(r.columns[j].values.iter().copied());
+                            bound = true;
+                        }
+                    }
+                }
+                if !bound {
+                    return None;
+                }
+            }
+            _ => return None,
+        }
+    }
+    Some(values)
+}
+
+/// Every string column of a prelude concept whose values its own clauses say, joined with every
+/// closed string column of the catalog sharing one of them (`turn_lane(L, Dir), turning(V, T,
+/// Dir)`), checks without an error placed in the prelude: the prelude is checked clean on its
+/// own, and a program's join narrowing one of its columns (to "left" and "right" here) must not
+/// make a comparison the prelude writes (once `Dir != "straight"`) an error the program's author
+/// cannot fix.
+#[test]
+fn prelude_concepts_joined_with_closed_columns_raise_no_error_in_the_prelude() {
+    use scenalog_facts::catalog::{catalog, ColType};
+    let (prelude, _) = scenalog_rules::parse(scenalog_rules::prelude::SOURCE);
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for p in scenalog_rules::prelude::relations() {
+        for (i, (_, ty)) in p.columns.iter().enumerate() {
+            if *ty != ColType::Str {
+                continue;
+            }
+            let Some(own) = prelude_column_values(&prelude, &p.name, i) else {
+                continue;
+            };
+            for r in catalog() {
+                for (j, c) in r.columns.iter().enumerate() {
+                    if !c.values.iter().any(|v| own.contains(v)) {
+                        continue;
+                    }
+                    let args = |n: usize, at: usize| -> String {
+                        (0..n)
+                            .map(|k| if k == at { "D" } else { "_" })
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    let src = format!(
+                        "referred(X, T) :- present(X, T), {}({}), {}({}).\n",
+                        p.name,
+                        args(p.columns.len(), i),
+                        r.name,
+                        args(r.columns.len(), j)
+                    );
+                    let out = check(&src, &CheckOptions::default());
+                    checked += 1;
+                    if let Some(d) = out
+                        .diagnostics
+                        .iter()
+                        .find(|d| d.message.starts_with("in the prelude"))
+                    {
+                        wrong.push(format!("{src}  {}", d.message));
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 10, "{checked}");
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
