@@ -37,6 +37,9 @@ enum Command {
     Synth(cli::synth::Args),
     /// Translate programs of another system into Scenalog programs (`import refav DIR -o OUT`).
     Import(cli::import::Args),
+    /// Serve the Language Server Protocol over standard input and output, for editors
+    /// (diagnostics as you type, hover documentation, completion, quick fixes).
+    Lsp(cli::lsp::Args),
 }
 
 /// A file grown past `ulimit -f` raises SIGXFSZ, whose default action kills the process without
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::Eval(a) => cli::eval::run(a),
         Command::Synth(a) => cli::synth::run(a),
         Command::Import(a) => cli::import::run(a),
+        Command::Lsp(a) => cli::lsp::run(a),
     };
     cli::stdout::exit_code(code)
 }

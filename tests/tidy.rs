@@ -33,7 +33,15 @@ const CLI: FrontEnd = FrontEnd {
     files: &["src/cli", "src/main.rs"],
     own: Some(&["api", "cli"]),
     scenalog: &["api", "cli"],
-    allowed: &["clap", "serde_json", "scenalog_view", "libc"],
+    allowed: &[
+        "clap",
+        "serde",
+        "serde_json",
+        "scenalog_view",
+        "libc",
+        "lsp_server",
+        "lsp_types",
+    ],
 };
 
 /// The Python binding: `scenalog::api`, its own modules, and plumbing.

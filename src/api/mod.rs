@@ -4,8 +4,9 @@
 //! and neither reaches past this module (a test, `tests/tidy.rs`, reads their sources).
 //!
 //! One module a request: [`facts`] (a log's summary or one relation), [`catalog`] (the
-//! relations a program can use), [`check`] (a program's diagnostics), [`run`] (a program on its
-//! own facts), [`mine`] (programs on logs), [`split`] (a split's (log, prompt) pairs),
+//! relations a program can use), [`check`] (a program's diagnostics), [`editor`] (what an
+//! editor asks while a program is typed: diagnostics placed, hover, completion), [`run`] (a
+//! program on its own facts), [`mine`] (programs on logs), [`split`] (a split's (log, prompt) pairs),
 //! [`explain`] (a track's proof or why-not report, and its picture), [`eval`] (the official
 //! metrics), [`synth`] (programs from descriptions with an LLM), [`import`] (RefAV's programs).
 //! Each is plain structs and functions over [`crate::pipeline`] and the workspace's crates;
@@ -16,6 +17,7 @@
 
 pub mod catalog;
 pub mod check;
+pub mod editor;
 pub mod error;
 pub mod eval;
 pub mod explain;

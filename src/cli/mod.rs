@@ -14,6 +14,7 @@ pub mod explain;
 pub mod facts;
 pub mod flags;
 pub mod import;
+pub mod lsp;
 pub mod mine;
 pub mod mine_options;
 pub mod run;

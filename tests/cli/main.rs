@@ -15,6 +15,7 @@ mod facts;
 mod hostile;
 mod hostile_input;
 mod import;
+mod lsp;
 mod mine;
 mod out_confined;
 mod output_folder;
