@@ -5,8 +5,9 @@
 //! Server Protocol's default), turned from and into byte offsets by [`LineIndex`].
 
 use scenalog_facts::catalog::{self, ColType};
+use scenalog_rules::ast::{Atom, Expr, ExprKind, Literal};
 use scenalog_rules::prelude;
-use scenalog_rules::{check, CheckOptions, Severity};
+use scenalog_rules::{check, CheckOptions, Program, Severity};
 
 use crate::api::catalog::Catalog;
 
@@ -217,7 +218,8 @@ fn in_string_or_comment(text: &str, offset: usize) -> Option<bool> {
 }
 
 /// The documentation of the relation or concept named at `pos`: its signature, doc, columns
-/// (types, units, closed values) or definition, as `scenalog catalog NAME` prints it.
+/// (types, units, closed values) or definition, as `scenalog catalog NAME` prints it; for a
+/// variable, its type and the column it comes from.
 pub fn hover(text: &str, pos: Position) -> Option<Hover> {
     let index = LineIndex::new(text);
     let (start, end) = word_at(text, index.offset(pos))?;
@@ -227,7 +229,10 @@ pub fn hover(text: &str, pos: Position) -> Option<Hover> {
     } else if let Some(r) = catalog::relation(name) {
         Catalog::Relation(r).text()
     } else {
-        return None;
+        let (program, _) = scenalog_rules::parse(text);
+        let all = names(&program);
+        let n = name_at(&all, start).filter(|n| n.start == start)?;
+        format!("{name}: {}\n", variable_type(text, &program, n)?)
     };
     Some(Hover {
         range: index.range(start, end),
@@ -399,6 +404,301 @@ fn value_completions(text: &str, offset: usize) -> Vec<Completion> {
             kind: CompletionKind::Value,
         })
         .collect()
+}
+
+/// What a name in a program is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NameKind {
+    /// A relation's name in an atom (in a head when `head`).
+    Relation { head: bool },
+    /// A variable, within its clause.
+    Variable { clause: usize },
+}
+
+/// One name written in a program: its text, its bytes and what it is.
+#[derive(Clone, Debug, PartialEq)]
+struct Name {
+    text: String,
+    start: usize,
+    end: usize,
+    kind: NameKind,
+}
+
+/// Every relation and variable name written in `program`, in source order.
+fn names(program: &Program) -> Vec<Name> {
+    fn expr(e: &Expr, clause: usize, out: &mut Vec<Name>) {
+        match &e.kind {
+            ExprKind::Var(v) => out.push(Name {
+                text: v.clone(),
+                start: e.span.start,
+                end: e.span.end,
+                kind: NameKind::Variable { clause },
+            }),
+            ExprKind::Neg(a) => expr(a, clause, out),
+            ExprKind::Binary(_, a, b) => {
+                expr(a, clause, out);
+                expr(b, clause, out);
+            }
+            ExprKind::Call(_, args) => args.iter().for_each(|a| expr(a, clause, out)),
+            _ => {}
+        }
+    }
+    fn atom(a: &Atom, head: bool, clause: usize, out: &mut Vec<Name>) {
+        out.push(Name {
+            text: a.pred.clone(),
+            start: a.pred_span.start,
+            end: a.pred_span.end,
+            kind: NameKind::Relation { head },
+        });
+        a.args.iter().for_each(|e| expr(e, clause, out));
+    }
+    fn literal(l: &Literal, clause: usize, out: &mut Vec<Name>) {
+        match l {
+            Literal::Pos(a) | Literal::Neg(a, _) => atom(a, false, clause, out),
+            Literal::Cmp(c) => {
+                expr(&c.lhs, clause, out);
+                expr(&c.rhs, clause, out);
+            }
+            Literal::Agg(g) => {
+                expr(&g.result, clause, out);
+                if let Some(t) = &g.target {
+                    expr(t, clause, out);
+                }
+                g.body.iter().for_each(|l| literal(l, clause, out));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (i, c) in program.clauses.iter().enumerate() {
+        atom(&c.head, true, i, &mut out);
+        c.body.iter().for_each(|l| literal(l, i, &mut out));
+    }
+    out.sort_by_key(|n| n.start);
+    out
+}
+
+/// The name at byte `offset` (its last byte's end counts: a cursor just after a name is on it).
+fn name_at(names: &[Name], offset: usize) -> Option<&Name> {
+    names.iter().find(|n| n.start <= offset && offset <= n.end)
+}
+
+/// The names that are the same as `n`: the relation's every use, or the variable's in its clause.
+fn same<'a>(names: &'a [Name], n: &Name) -> impl Iterator<Item = &'a Name> {
+    let (text, kind) = (n.text.clone(), n.kind);
+    names.iter().filter(move |m| {
+        m.text == text
+            && match (kind, m.kind) {
+                (NameKind::Relation { .. }, NameKind::Relation { .. }) => true,
+                (NameKind::Variable { clause: a }, NameKind::Variable { clause: b }) => a == b,
+                _ => false,
+            }
+    })
+}
+
+/// Where a name is defined.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Definition {
+    /// In the program itself: the heads of its rules (or the variable's first use).
+    Here(Vec<Range>),
+    /// In the prelude: its `.decl` line in [`prelude_file`].
+    Prelude(Range),
+}
+
+/// The prelude's file in the source tree this binary was built from, when it is there (an
+/// installed binary's tree may be gone; the prelude's text is in the binary either way).
+pub fn prelude_file() -> Option<std::path::PathBuf> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(prelude::PATH);
+    path.is_file().then_some(path)
+}
+
+/// Where the relation or variable at `pos` is defined: the program's rules for a relation it
+/// defines, the prelude's declaration for a prelude concept, a variable's first use in its
+/// clause; `None` for a catalog relation (computed, not written anywhere) or off a name.
+pub fn definition(text: &str, pos: Position) -> Option<Definition> {
+    let index = LineIndex::new(text);
+    let (program, _) = scenalog_rules::parse(text);
+    let all = names(&program);
+    let n = name_at(&all, index.offset(pos))?;
+    let uses: Vec<&Name> = same(&all, n).collect();
+    match n.kind {
+        NameKind::Variable { .. } => {
+            let first = uses.first()?;
+            Some(Definition::Here(vec![index.range(first.start, first.end)]))
+        }
+        NameKind::Relation { .. } => {
+            let heads: Vec<Range> = uses
+                .iter()
+                .filter(|m| m.kind == NameKind::Relation { head: true })
+                .map(|m| index.range(m.start, m.end))
+                .collect();
+            if !heads.is_empty() {
+                return Some(Definition::Here(heads));
+            }
+            prelude::relation(&n.text)?;
+            let decl = format!(".decl {}(", n.text);
+            let at = prelude::SOURCE.find(&decl)? + ".decl ".len();
+            let prelude_index = LineIndex::new(prelude::SOURCE);
+            Some(Definition::Prelude(
+                prelude_index.range(at, at + n.text.len()),
+            ))
+        }
+    }
+}
+
+/// Every use of the relation or variable at `pos` in the program (a variable's in its clause).
+pub fn references(text: &str, pos: Position) -> Vec<Range> {
+    let index = LineIndex::new(text);
+    let (program, _) = scenalog_rules::parse(text);
+    let all = names(&program);
+    let Some(n) = name_at(&all, index.offset(pos)) else {
+        return Vec::new();
+    };
+    same(&all, n).map(|m| index.range(m.start, m.end)).collect()
+}
+
+/// The edits renaming the relation or variable at `pos` to `new_name`: a relation the program
+/// defines (not `referred` or `related`, whose names are the program's answer, nor a catalog
+/// relation), or a variable within its clause. An error says why a rename cannot be done.
+pub fn rename(text: &str, pos: Position, new_name: &str) -> Result<Vec<TextEdit>, String> {
+    let index = LineIndex::new(text);
+    let (program, _) = scenalog_rules::parse(text);
+    let all = names(&program);
+    let n = name_at(&all, index.offset(pos)).ok_or("no relation or variable here")?;
+    let ident = |first: fn(char) -> bool| {
+        new_name.chars().next().is_some_and(first)
+            && new_name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_')
+    };
+    match n.kind {
+        NameKind::Variable { .. } => {
+            if !ident(|c| c.is_ascii_uppercase() || c == '_') || new_name == "_" {
+                return Err(format!(
+                    "`{new_name}` is not a variable name (a capital letter or `_`, then letters, digits, `_`)"
+                ));
+            }
+            let clash = all.iter().any(|m| {
+                m.text == new_name
+                    && matches!((m.kind, n.kind), (NameKind::Variable { clause: a }, NameKind::Variable { clause: b }) if a == b)
+            });
+            if clash {
+                return Err(format!("the clause already has a variable `{new_name}`"));
+            }
+        }
+        NameKind::Relation { .. } => {
+            if ["referred", "related"].contains(&n.text.as_str()) {
+                return Err(format!("`{}` names the program's answer", n.text));
+            }
+            if !same(&all, n).any(|m| m.kind == NameKind::Relation { head: true }) {
+                return Err(format!(
+                    "`{}` is not defined in this program (the catalog's and the prelude's names are fixed)",
+                    n.text
+                ));
+            }
+            if !ident(|c| c.is_ascii_lowercase()) {
+                return Err(format!(
+                    "`{new_name}` is not a relation name (a small letter, then letters, digits, `_`)"
+                ));
+            }
+            let taken = catalog::relation(new_name).is_some()
+                || prelude::relation(new_name).is_some()
+                || all
+                    .iter()
+                    .any(|m| m.text == new_name && matches!(m.kind, NameKind::Relation { .. }));
+            if taken {
+                return Err(format!("`{new_name}` is already a relation's name"));
+            }
+        }
+    }
+    Ok(same(&all, n)
+        .map(|m| TextEdit {
+            range: index.range(m.start, m.end),
+            new_text: new_name.to_string(),
+        })
+        .collect())
+}
+
+/// One rule of the program, for an outline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Symbol {
+    /// The relation the rule defines.
+    pub name: String,
+    /// The whole rule.
+    pub range: Range,
+    /// Its head's relation name.
+    pub selection: Range,
+}
+
+/// The program's rules, in order, each named by the relation it defines.
+pub fn symbols(text: &str) -> Vec<Symbol> {
+    let index = LineIndex::new(text);
+    let (program, _) = scenalog_rules::parse(text);
+    program
+        .clauses
+        .iter()
+        .map(|c| Symbol {
+            name: c.head.pred.clone(),
+            range: index.range(c.span.start, c.span.end),
+            selection: index.range(c.head.pred_span.start, c.head.pred_span.end),
+        })
+        .collect()
+}
+
+/// The type of the variable `n` from the first column it fills whose type is known (a catalog
+/// relation's, with its unit, a prelude concept's, or one the checker inferred for the program's
+/// own relations when it checks).
+fn variable_type(text: &str, program: &Program, n: &Name) -> Option<String> {
+    let NameKind::Variable { clause } = n.kind else {
+        return None;
+    };
+    let checked = check(text, &CheckOptions::default()).program;
+    let c = program.clauses.get(clause)?;
+    let atoms = std::iter::once(&c.head).chain(c.body.iter().filter_map(|l| match l {
+        Literal::Pos(a) | Literal::Neg(a, _) => Some(a),
+        _ => None,
+    }));
+    for a in atoms {
+        for (i, arg) in a.args.iter().enumerate() {
+            if !matches!(&arg.kind, ExprKind::Var(v) if *v == n.text) {
+                continue;
+            }
+            if let Some(col) = catalog::relation(&a.pred).and_then(|r| r.columns.get(i)) {
+                let unit = col.unit.symbol();
+                let ty = if unit.is_empty() || col.ty == ColType::Time {
+                    col.ty.to_string()
+                } else {
+                    format!("{}<{unit}>", col.ty)
+                };
+                return Some(format!(
+                    "{ty}, from `{}`'s column {} ({})",
+                    a.pred,
+                    i + 1,
+                    col.name
+                ));
+            }
+            if let Some((name, ty)) = prelude::relation(&a.pred).and_then(|p| p.columns.get(i)) {
+                return Some(format!(
+                    "{}, from `{}`'s column {} ({name})",
+                    ty.as_str(),
+                    a.pred,
+                    i + 1
+                ));
+            }
+            let inferred = checked
+                .as_ref()
+                .and_then(|p| p.predicates.get(&a.pred))
+                .and_then(|p| p.types.get(i));
+            if let Some(ty) = inferred {
+                return Some(format!(
+                    "{}, from `{}`'s column {}",
+                    ty.as_str(),
+                    a.pred,
+                    i + 1
+                ));
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]

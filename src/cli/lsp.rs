@@ -1,8 +1,10 @@
 //! `scenalog lsp`: a Language Server Protocol server over standard input and output, for editors
 //! (VS Code, Neovim, Helix…) editing `.dl` programs. It keeps the open documents' text and answers
 //! from [`crate::api::editor`]: the checker's diagnostics on open and on every change, the
-//! catalog's documentation on hover, relation names and closed values on completion, and the
-//! fixes the diagnostics carry as quick-fix code actions. The protocol (framing, JSON-RPC,
+//! catalog's documentation (or a variable's type) on hover, relation names and closed values on
+//! completion, the fixes the diagnostics carry as quick-fix code actions, the definition of a
+//! relation (the program's rules, the prelude's declaration) and a variable, references, rename
+//! and the outline of the program's rules. The protocol (framing, JSON-RPC,
 //! types) is `lsp-server` and `lsp-types`; this module only maps between them and the API.
 
 use std::collections::HashMap;
@@ -13,15 +15,20 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _,
     PublishDiagnostics,
 };
-use lsp_types::request::{CodeActionRequest, Completion, HoverRequest, Request as _};
+use lsp_types::request::{
+    CodeActionRequest, Completion, DocumentSymbolRequest, GotoDefinition, HoverRequest, References,
+    Rename, Request as _,
+};
 use lsp_types::{
     CodeAction, CodeActionKind, CodeActionOrCommand, CodeActionParams,
     CodeActionProviderCapability, CompletionItem, CompletionItemKind, CompletionOptions,
     CompletionParams, CompletionResponse, Diagnostic, DiagnosticRelatedInformation,
-    DiagnosticSeverity, Documentation, HoverContents, HoverParams, HoverProviderCapability,
-    InsertTextFormat, Location, MarkupContent, MarkupKind, NumberOrString,
-    PublishDiagnosticsParams, ServerCapabilities, TextDocumentSyncCapability, TextDocumentSyncKind,
-    TextEdit, Uri, WorkspaceEdit,
+    DiagnosticSeverity, DocumentSymbolParams, DocumentSymbolResponse, Documentation,
+    GotoDefinitionParams, GotoDefinitionResponse, HoverContents, HoverParams,
+    HoverProviderCapability, InsertTextFormat, Location, MarkupContent, MarkupKind, NumberOrString,
+    OneOf, PublishDiagnosticsParams, ReferenceParams, RenameParams, ServerCapabilities,
+    SymbolInformation, SymbolKind, TextDocumentSyncCapability, TextDocumentSyncKind, TextEdit, Uri,
+    WorkspaceEdit,
 };
 
 use crate::api::editor::{self, CompletionKind, EditorDiagnostic, Level};
@@ -63,6 +70,10 @@ fn capabilities() -> ServerCapabilities {
             ..CompletionOptions::default()
         }),
         code_action_provider: Some(CodeActionProviderCapability::Simple(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
+        rename_provider: Some(OneOf::Left(true)),
+        document_symbol_provider: Some(OneOf::Left(true)),
         ..ServerCapabilities::default()
     }
 }
@@ -235,6 +246,52 @@ fn answer(docs: &HashMap<String, String>, req: Request) -> Response {
             let text = text_of(docs, &uri);
             serde_json::to_value(code_actions(&uri, text, p.range))
         }),
+        GotoDefinition::METHOD => params::<GotoDefinitionParams>(&req).map(|p| {
+            let doc = &p.text_document_position_params;
+            let uri = doc.text_document.uri.clone();
+            let text = text_of(docs, &uri);
+            let found = editor::definition(text, from_lsp(doc.position));
+            serde_json::to_value(found.and_then(|d| definition_response(&uri, d)))
+        }),
+        References::METHOD => params::<ReferenceParams>(&req).map(|p| {
+            let doc = &p.text_document_position;
+            let uri = doc.text_document.uri.clone();
+            let text = text_of(docs, &uri);
+            let found: Vec<Location> = editor::references(text, from_lsp(doc.position))
+                .into_iter()
+                .map(|r| Location::new(uri.clone(), range(r)))
+                .collect();
+            serde_json::to_value(found)
+        }),
+        Rename::METHOD => match params::<RenameParams>(&req) {
+            Ok(p) => {
+                let doc = &p.text_document_position;
+                let uri = doc.text_document.uri.clone();
+                let text = text_of(docs, &uri);
+                match editor::rename(text, from_lsp(doc.position), &p.new_name) {
+                    Ok(edits) => Ok(serde_json::to_value(workspace_edit(&uri, &edits))),
+                    Err(why) => Err(error(id.clone(), ErrorCode::InvalidRequest, why)),
+                }
+            }
+            Err(e) => Err(e),
+        },
+        DocumentSymbolRequest::METHOD => params::<DocumentSymbolParams>(&req).map(|p| {
+            let uri = p.text_document.uri.clone();
+            let text = text_of(docs, &uri);
+            #[allow(deprecated)] // `deprecated` is a field every constructor must fill.
+            let found: Vec<SymbolInformation> = editor::symbols(text)
+                .into_iter()
+                .map(|s| SymbolInformation {
+                    name: s.name,
+                    kind: SymbolKind::FUNCTION,
+                    tags: None,
+                    deprecated: None,
+                    location: Location::new(uri.clone(), range(s.range)),
+                    container_name: None,
+                })
+                .collect();
+            serde_json::to_value(DocumentSymbolResponse::Flat(found))
+        }),
         other => Err(error(
             id.clone(),
             ErrorCode::MethodNotFound,
@@ -292,9 +349,39 @@ fn completion_item(c: editor::Completion) -> CompletionItem {
     }
 }
 
-/// A quick fix for every diagnostic with a fix whose range meets `at`.
+/// A definition as a location: in the document, or in the prelude's file when the source tree
+/// is there.
+fn definition_response(uri: &Uri, d: editor::Definition) -> Option<GotoDefinitionResponse> {
+    match d {
+        editor::Definition::Here(ranges) => Some(GotoDefinitionResponse::Array(
+            ranges
+                .into_iter()
+                .map(|r| Location::new(uri.clone(), range(r)))
+                .collect(),
+        )),
+        editor::Definition::Prelude(r) => {
+            let path = editor::prelude_file()?;
+            let file: Uri = format!("file://{}", path.display()).parse().ok()?;
+            Some(GotoDefinitionResponse::Scalar(Location::new(
+                file,
+                range(r),
+            )))
+        }
+    }
+}
+
+/// Edits of one document as a workspace edit.
 // `WorkspaceEdit` keys its changes by `Uri`, as lsp-types has it.
 #[allow(clippy::mutable_key_type)]
+fn workspace_edit(uri: &Uri, edits: &[editor::TextEdit]) -> WorkspaceEdit {
+    let edits = edits
+        .iter()
+        .map(|e| TextEdit::new(range(e.range), e.new_text.clone()))
+        .collect();
+    WorkspaceEdit::new(HashMap::from([(uri.clone(), edits)]))
+}
+
+/// A quick fix for every diagnostic with a fix whose range meets `at`.
 fn code_actions(uri: &Uri, text: &str, at: lsp_types::Range) -> Vec<CodeActionOrCommand> {
     let meets = |r: editor::Range| {
         let r = range(r);
@@ -304,17 +391,12 @@ fn code_actions(uri: &Uri, text: &str, at: lsp_types::Range) -> Vec<CodeActionOr
         .iter()
         .filter(|d| !d.fix.is_empty() && meets(d.range))
         .map(|d| {
-            let edits = d
-                .fix
-                .iter()
-                .map(|e| TextEdit::new(range(e.range), e.new_text.clone()))
-                .collect();
             let title = d.hint.clone().unwrap_or_else(|| format!("fix {}", d.code));
             CodeActionOrCommand::CodeAction(CodeAction {
                 title,
                 kind: Some(CodeActionKind::QUICKFIX),
                 diagnostics: Some(vec![to_lsp(uri, d)]),
-                edit: Some(WorkspaceEdit::new(HashMap::from([(uri.clone(), edits)]))),
+                edit: Some(workspace_edit(uri, &d.fix)),
                 is_preferred: Some(true),
                 ..CodeAction::default()
             })

@@ -141,9 +141,9 @@ fn covered<'a>(text: &'a str, range: &Value) -> &'a str {
     &line[a..b]
 }
 
-/// Applies one code action's edits (one line each) to `text`.
-fn apply(text: &str, action: &Value) -> String {
-    let edits = action["edit"]["changes"][URI].as_array().expect("edits");
+/// Applies a workspace edit's edits of the document (one line each) to `text`.
+fn apply(text: &str, edit: &Value) -> String {
+    let edits = edit["changes"][URI].as_array().expect("edits");
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let mut sorted: Vec<&Value> = edits.iter().collect();
     sorted.sort_by_key(|e| {
@@ -203,7 +203,7 @@ fn a_library_program_is_clean_and_a_broken_one_shows_its_diagnostics_where_they_
         .find(|a| a["diagnostics"][0]["code"] == "W0511")
         .unwrap_or_else(|| panic!("no fix for W0511 in {actions:?}"));
     assert_eq!(fix["kind"], "quickfix");
-    let fixed = apply(broken, fix).replace("PEDESTRAIN", "PEDESTRIAN");
+    let fixed = apply(broken, &fix["edit"]).replace("PEDESTRAIN", "PEDESTRIAN");
     assert!(fixed.contains("2.0 m/s"), "{fixed}");
     assert!(change(&mut server, 3, &fixed).is_empty(), "{fixed}");
     assert!(server.stop().success());
@@ -304,4 +304,122 @@ fn unknown_methods_and_malformed_messages_get_errors_never_a_crash() {
     assert_eq!(out.status.code(), Some(1), "{out:?}");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("scenalog lsp: "), "{err}");
+}
+
+#[test]
+fn definitions_references_rename_symbols_and_variable_types() {
+    let (mut server, caps) = Server::start();
+    for cap in [
+        "definitionProvider",
+        "referencesProvider",
+        "renameProvider",
+        "documentSymbolProvider",
+    ] {
+        assert_eq!(caps[cap], true, "{cap}");
+    }
+    let text = "close(X, Y, T) :- near(X, Y, T, D), D < 2 m.\n\
+                referred(X, T) :- close(X, Y, T), stopped(Y, T), category(Y, \"BUS\").\n";
+    assert!(open(&mut server, text).is_empty());
+    let line1 = text.lines().nth(1).expect("line 1");
+    let col = |line: &str, word: &str| line.find(word).expect("the word") as u32 + 1;
+    // The helper's use leads to its rule's head; the prelude concept to its declaration.
+    let def = server.request("textDocument/definition", at(1, col(line1, "close(")));
+    assert_eq!(
+        def["result"][0]["range"]["start"],
+        json!({ "line": 0, "character": 0 })
+    );
+    let def = server.request("textDocument/definition", at(1, col(line1, "stopped(")));
+    let location = &def["result"];
+    assert!(location["uri"]
+        .as_str()
+        .is_some_and(|u| u.starts_with("file://") && u.ends_with("rules/prelude.dl")));
+    let line = location["range"]["start"]["line"].as_u64().expect("line") as usize;
+    let prelude = std::fs::read_to_string(scenalog_testkit::repo_root().join("rules/prelude.dl"))
+        .expect("the prelude");
+    assert!(prelude
+        .lines()
+        .nth(line)
+        .is_some_and(|l| l.starts_with(".decl stopped(")));
+    // A catalog relation is written nowhere.
+    let def = server.request("textDocument/definition", at(1, col(line1, "category(")));
+    assert_eq!(def["result"], Value::Null);
+    // References: the helper in both clauses; `Y` in its clause only.
+    let refs = server.request(
+        "textDocument/references",
+        json!({
+        "textDocument": { "uri": URI }, "position": { "line": 0, "character": 1 },
+        "context": { "includeDeclaration": true } }),
+    );
+    assert_eq!(refs["result"].as_array().map(Vec::len), Some(2), "{refs}");
+    let refs = server.request("textDocument/references", json!({
+        "textDocument": { "uri": URI }, "position": { "line": 1, "character": col(line1, "Y,") - 1 },
+        "context": { "includeDeclaration": true } }));
+    let lines: Vec<u64> = refs["result"]
+        .as_array()
+        .expect("refs")
+        .iter()
+        .filter_map(|r| r["range"]["start"]["line"].as_u64())
+        .collect();
+    assert_eq!(lines, vec![1, 1, 1], "{refs}");
+    // Rename the helper everywhere; the edited program still checks clean.
+    let rename = |server: &mut Server, line: u32, character: u32, to: &str| {
+        server.request(
+            "textDocument/rename",
+            json!({ "textDocument": { "uri": URI }, "position": { "line": line, "character": character }, "newName": to }),
+        )
+    };
+    let renamed = rename(&mut server, 0, 2, "beside");
+    let edited = apply(text, &renamed["result"]);
+    assert_eq!(edited.matches("beside(").count(), 2, "{edited}");
+    assert!(change(&mut server, 2, &edited).is_empty(), "{edited}");
+    // A variable is renamed in its clause only.
+    let var = rename(&mut server, 1, col(line1, "X,") - 1, "Obj");
+    let lines: Vec<u64> = var["result"]["changes"][URI]
+        .as_array()
+        .expect("edits")
+        .iter()
+        .filter_map(|e| e["range"]["start"]["line"].as_u64())
+        .collect();
+    assert_eq!(lines, vec![1, 1], "{var}");
+    // What cannot be renamed says why.
+    for (line, character, to, why) in [
+        (1, 2, "answer", "names the program's answer"),
+        (
+            1,
+            col(line1, "stopped("),
+            "halted",
+            "not defined in this program",
+        ),
+        (0, 2, "near", "already a relation's name"),
+        (0, 2, "Beside", "not a relation name"),
+        (0, col(&edited, "X,") - 1, "Y", "already has a variable `Y`"),
+    ] {
+        let r = rename(&mut server, line, character, to);
+        let message = r["error"]["message"].as_str().unwrap_or_default();
+        assert!(message.contains(why), "{to}: {r}");
+    }
+    // The outline: one symbol a rule, named by its head.
+    let symbols = server.request(
+        "textDocument/documentSymbol",
+        json!({ "textDocument": { "uri": URI } }),
+    );
+    let names: Vec<&str> = symbols["result"]
+        .as_array()
+        .expect("symbols")
+        .iter()
+        .filter_map(|s| s["name"].as_str())
+        .collect();
+    assert_eq!(names, vec!["beside", "referred"]);
+    // A variable's type, from the catalog column it fills.
+    let edited_line0 = edited.lines().next().expect("line 0");
+    let d = edited_line0.rfind("D <").expect("D") as u32;
+    let hover = server.request("textDocument/hover", at(0, d));
+    let value = hover["result"]["contents"]["value"]
+        .as_str()
+        .unwrap_or_default();
+    assert!(
+        value.contains("D: float<m>, from `near`'s column 4 (D)"),
+        "{hover}"
+    );
+    assert!(server.stop().success());
 }
