@@ -555,6 +555,21 @@ impl Infer<'_> {
                 let tr = self.expr_ty(&cmp.rhs, scope);
                 self.domain_check(&cmp.lhs, &cmp.rhs, scope);
                 self.domain_check(&cmp.rhs, &cmp.lhs, scope);
+                let string = Ty::Known(ColType::Str);
+                let ordered = !matches!(cmp.op, crate::ast::CmpOp::Eq | crate::ast::CmpOp::Ne);
+                if ordered && (tl == string || tr == string) {
+                    self.push(
+                        error(
+                            diagnostics::STRING_ORDER,
+                            cmp.span,
+                            format!(
+                                "strings cannot be ordered with `{}`: the engine holds them as symbols, whose order is not the text's",
+                                cmp.op.as_str()
+                            ),
+                        )
+                        .with_hint("compare strings with `=` or `!=`; to keep one of two objects of a pair, order the objects (`X < Y` on tracks), not their names"),
+                    );
+                }
                 let time = Ty::Known(ColType::Time);
                 let float = |t: Ty, e: &Expr| t == Ty::Known(ColType::Float) || has_float(e);
                 if (tl == time || tr == time) && (float(tl, &cmp.lhs) || float(tr, &cmp.rhs)) {
