@@ -15,7 +15,8 @@ pub(crate) fn var_expr(name: &str) -> Expr {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SumOverflow;
 
-/// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group.
+/// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group; a
+/// `count` reads no target (its rows may have no column at all: `count : { a(1) }`).
 pub(crate) fn fold(
     func: AggFunc,
     rows: &Rows,
@@ -28,7 +29,10 @@ pub(crate) fn fold(
     for r in rows.iter() {
         let mut key = [0u64; WIDTH];
         key[..g_len].copy_from_slice(&r[..g_len]);
-        let x = decode(r[last], target_ty);
+        let x = match func {
+            AggFunc::Count => V::Int(0),
+            _ => decode(r[last], target_ty),
+        };
         let slot = acc.entry(key);
         match func {
             AggFunc::Count => {
@@ -191,7 +195,8 @@ pub(crate) fn agg_filter(
     let rows = crate::stratum::once::run_plan(&inner, ctx.complete, ctx.types, ctx.limits)?;
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let (out_ty, default) = result_type(g.func, target_ty);
-    let table = fold(g.func, &rows, g_len, head.len() - 1, target_ty, out_ty)
+    let last = head.len().saturating_sub(1);
+    let table = fold(g.func, &rows, g_len, last, target_ty, out_ty)
         .map_err(|SumOverflow| ctx.limits.sum_overflow())?;
     let group_slots = group
         .iter()
@@ -300,7 +305,7 @@ pub(crate) fn correlated(
         group: group_slots,
         func: g.func,
         g_len,
-        last: head.len() - 1,
+        last: head.len().saturating_sub(1),
         target_ty,
         out_ty,
         default,

@@ -797,3 +797,31 @@ fn recursive_stamps_aligned_on_first_read_give_each_tuples_round() {
         );
     }
 }
+
+/// A `count` whose braces hold no variable counts constant tuples (Soufflé's answers): 1 when
+/// the fact is there, 0 when not, and `{ b() }` for a fact of no columns. It panicked (an index
+/// past the empty head) before; no warning names a variable it does not have.
+#[test]
+fn a_count_over_braces_without_variables_counts_constant_tuples() {
+    let src = "a(1). b().\n\
+               c(N) :- N = count : { a(1) }.\n\
+               d(N) :- N = count : { a(2) }.\n\
+               e(N) :- N = count : { b() }.\n\
+               f(N) :- N = count : { a(_) }.\n";
+    let warned = check(
+        src,
+        &CheckOptions {
+            require_referred: false,
+        },
+    );
+    assert!(
+        warned.diagnostics.iter().all(|d| d.code != "W0505"),
+        "{:#?}",
+        warned.diagnostics
+    );
+    let e = run(src);
+    assert_eq!(ints(&e, "c"), vec![vec![1]]);
+    assert_eq!(ints(&e, "d"), vec![vec![0]]);
+    assert_eq!(ints(&e, "e"), vec![vec![1]]);
+    assert_eq!(ints(&e, "f"), vec![vec![1]]);
+}

@@ -52,7 +52,9 @@ pub fn check_clause(c: &Clause, diags: &mut Vec<Diagnostic>) {
                 a.args.iter().for_each(|e| vars(e, &mut inner));
             }
         }
-        if !has_atom || wildcard || inner.iter().any(|v| !outside(v)) {
+        // Braces with no variable (`count : { a(1) }`) count constant tuples: 0 or 1 on
+        // purpose, an existence test, with no variable to name.
+        if !has_atom || wildcard || inner.is_empty() || inner.iter().any(|v| !outside(v)) {
             continue;
         }
         let mut seen = HashSet::new();
