@@ -576,7 +576,7 @@ const CATALOG: &[RelationSpec] = &[
     RelationSpec {
         name: "road_lanes",
         columns: &[L, int_col("Same", Unit::Count), int_col("Opposite", Unit::Count)],
-        doc: "the road at lane L has Same lanes in L's direction (L and its same-direction neighbours, across the road) and Opposite lanes of the other direction beside them; Opposite 0 is a one-way road or a carriageway with a median before the other direction (the map links no lane across a median), and lanes the map file lacks are not counted",
+        doc: "the road at lane L has Same lanes in L's direction (L and the lanes beside it running its way, counted across the road from the map's geometry) and Opposite lanes of the other direction beside them; Opposite 0 is a one-way road or a carriageway with a median before the other direction (the map links no lane across a median), and lanes the map file lacks are not counted",
         group: Group::Map,
     },
     RelationSpec {
