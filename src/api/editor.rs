@@ -31,20 +31,17 @@ pub struct Range {
 
 /// Byte offsets of a text to editor positions and back.
 #[derive(Clone, Debug)]
-pub struct LineIndex {
-    text: String,
+pub struct LineIndex<'t> {
+    text: &'t str,
     line_starts: Vec<usize>,
 }
 
-impl LineIndex {
+impl<'t> LineIndex<'t> {
     /// The index of `text`.
-    pub fn new(text: &str) -> LineIndex {
+    pub fn new(text: &'t str) -> LineIndex<'t> {
         let mut line_starts = vec![0];
         line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        LineIndex {
-            text: text.to_string(),
-            line_starts,
-        }
+        LineIndex { text, line_starts }
     }
 
     /// The position of byte `offset` (clamped to the text; inside a character, its start).
@@ -177,6 +174,11 @@ pub struct Hover {
     pub markdown: String,
 }
 
+/// Whether `c` may be part of a name (a relation's or a variable's).
+fn is_ident(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
 /// The identifier around byte `offset`: its bytes, or `None` off an identifier or inside a
 /// string or a comment.
 fn word_at(text: &str, offset: usize) -> Option<(usize, usize)> {
@@ -184,16 +186,15 @@ fn word_at(text: &str, offset: usize) -> Option<(usize, usize)> {
     if in_string_or_comment(text, offset).is_some() {
         return None;
     }
-    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_';
     let start = text[..offset]
         .char_indices()
         .rev()
-        .take_while(|&(_, c)| is_word(c))
+        .take_while(|&(_, c)| is_ident(c))
         .last()
         .map_or(offset, |(i, _)| i);
     let end = text[offset..]
         .char_indices()
-        .find(|&(_, c)| !is_word(c))
+        .find(|&(_, c)| !is_ident(c))
         .map_or(text.len(), |(i, _)| offset + i);
     (start < end).then_some((start, end))
 }
@@ -297,7 +298,7 @@ fn enclosing_argument(text: &str, offset: usize) -> Option<(&str, usize)> {
                 let name_start = before[..name_end]
                     .char_indices()
                     .rev()
-                    .take_while(|&(_, c)| c.is_ascii_alphanumeric() || c == '_')
+                    .take_while(|&(_, c)| is_ident(c))
                     .last()
                     .map(|(k, _)| k)?;
                 return Some((&before[name_start..name_end], commas));
@@ -565,10 +566,7 @@ pub fn rename(text: &str, pos: Position, new_name: &str) -> Result<Vec<TextEdit>
     let all = names(&program);
     let n = name_at(&all, index.offset(pos)).ok_or("no relation or variable here")?;
     let ident = |first: fn(char) -> bool| {
-        new_name.chars().next().is_some_and(first)
-            && new_name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_')
+        new_name.chars().next().is_some_and(first) && new_name.chars().all(is_ident)
     };
     match n.kind {
         NameKind::Variable { .. } => {

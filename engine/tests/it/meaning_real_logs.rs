@@ -37,6 +37,12 @@ fn mine(src: &str, scenes: &[Scene], relation: &str) -> BTreeSet<(usize, Vec<Str
     out
 }
 
+/// The text of the library program `name` (`rules/library/NAME.dl`).
+fn library(name: &str) -> String {
+    let path = scenalog_testkit::repo_root().join(format!("rules/library/{name}.dl"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 fn value_text(v: &Value) -> String {
     format!("{v:?}")
 }
@@ -420,10 +426,7 @@ fn turns_are_not_u_turns_on_the_sample_logs() {
 #[test]
 fn vehicles_uphill_from_the_ego_are_on_the_hilly_log() {
     let scenes = scenalog_testkit::sample_scenes();
-    let src = std::fs::read_to_string(
-        scenalog_testkit::repo_root().join("rules/library/vehicle_uphill_from_the_ego_vehicle.dl"),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let src = library("vehicle_uphill_from_the_ego_vehicle");
     let found = mine(&src, scenes, "referred");
     let per_log: BTreeSet<usize> = found.iter().map(|(i, _)| *i).collect();
     assert_eq!(per_log, [1].into_iter().collect(), "{found:?}");
@@ -498,11 +501,7 @@ fn turn_lanes_are_lanes_whose_successors_all_turn_one_way() {
 #[test]
 fn a_bus_changing_lanes_does_not_spill_over_the_line() {
     let scenes = scenalog_testkit::sample_scenes();
-    let src = std::fs::read_to_string(
-        scenalog_testkit::repo_root()
-            .join("rules/library/bus_spilling_over_the_lane_dividing_line.dl"),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let src = library("bus_spilling_over_the_lane_dividing_line");
     assert!(mine(&src, scenes, "referred").is_empty());
     let any_time = "referred(B, T) :- category(B, \"BUS\"), over_marking(B, T, _, M, D), \
                     D >= 0.3 m, M != \"NONE\".";
@@ -529,11 +528,7 @@ fn a_bus_changing_lanes_does_not_spill_over_the_line() {
 #[test]
 fn a_left_turn_then_a_straight_junction_is_not_straight_from_the_turn_lane() {
     let scenes = scenalog_testkit::sample_scenes();
-    let src = std::fs::read_to_string(
-        scenalog_testkit::repo_root()
-            .join("rules/library/vehicle_going_straight_from_a_turn_lane.dl"),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let src = library("vehicle_going_straight_from_a_turn_lane");
     assert!(mine(&src, scenes, "referred").is_empty());
     let naive =
         "referred(V, T) :- category(V, \"VEHICLE\"), in_lane(V, T0, L0), turn_lane(L0, _), \

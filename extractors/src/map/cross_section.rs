@@ -8,7 +8,7 @@
 //! steps inside the same lanes (a lane and the lanes overlapping it where the road splits) is
 //! one lane, counted for the direction it runs.
 
-use super::geometry::{heading, nearest_on_polyline, Pt};
+use super::geometry::{heading, nearest_on_polyline, polyline_length, Pt};
 use super::index::MapIndex;
 use crate::kinematics::wrap_angle;
 
@@ -74,11 +74,7 @@ fn middle(line: &[Pt]) -> Option<(Pt, f64)> {
     if line.len() < 2 {
         return None;
     }
-    let total: f64 = line
-        .windows(2)
-        .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
-        .sum();
-    let mut left = total / 2.0;
+    let mut left = polyline_length(line) / 2.0;
     for w in line.windows(2) {
         let len = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
         if left <= len && len > 0.0 {

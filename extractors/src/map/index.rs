@@ -37,7 +37,8 @@ pub struct MapIndex {
     intersection_edges: RTree<Line<Pt>>,
     crossing_tree: RTree<BoxEntry>,
     area_tree: RTree<BoxEntry>,
-    /// The drivable area's outer edges ([`outer_edges`]), built when `road_edge` first asks.
+    /// The drivable area's outer edges ([`MapIndex::outer_edges`]), built when `road_edge` first
+    /// asks.
     road_edges: OnceLock<RTree<Line<Pt>>>,
 }
 
@@ -256,20 +257,41 @@ impl MapIndex {
     /// drivable area (a kerb; 0 when the box lies over it), if one lies within `max` metres.
     pub fn road_edge_distance(&self, shape: &Polygon, max: f64) -> Option<f64> {
         let (c, half_diag) = centre_and_reach(shape);
-        // Edges come nearest the centre first; the centre's distance less the half diagonal
-        // bounds the box's from below, so the search stops once that passes the best.
-        let mut best = f64::INFINITY;
         let edges = self
             .road_edges
-            .get_or_init(|| RTree::bulk_load(outer_edges(&self.areas, &self.area_tree)));
-        for (e, d2) in edges.nearest_neighbor_iter_with_distance_2(c) {
-            let lb = d2.sqrt() - half_diag;
-            if lb > best || lb > max {
-                break;
+            .get_or_init(|| RTree::bulk_load(self.outer_edges()));
+        nearest(
+            edges.nearest_neighbor_iter_with_distance_2(c),
+            half_diag,
+            max,
+            |e| segment_polygon_distance(e.from, e.to, shape),
+        )
+    }
+
+    /// The edges of the drivable areas that bound the road: AV2 tiles the drivable area into
+    /// several polygons, and an edge two tiles share (drivable area on both sides, probed at its
+    /// midpoint [`EDGE_PROBE_M`] either way) is no edge of the road.
+    fn outer_edges(&self) -> Vec<Line<Pt>> {
+        let mut out = Vec::new();
+        for poly in &self.areas {
+            for (a, b) in poly.edges() {
+                let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+                if len == 0.0 {
+                    continue;
+                }
+                let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+                let n = [
+                    -(b[1] - a[1]) / len * EDGE_PROBE_M,
+                    (b[0] - a[0]) / len * EDGE_PROBE_M,
+                ];
+                let inside_both = self.in_drivable_area([m[0] + n[0], m[1] + n[1]])
+                    && self.in_drivable_area([m[0] - n[0], m[1] - n[1]]);
+                if !inside_both {
+                    out.push(Line::new(a, b));
+                }
             }
-            best = best.min(segment_polygon_distance(e.from, e.to, shape));
         }
-        (best <= max).then_some(best)
+        out
     }
 
     /// Distance from the polygon `shape` (an object's ground box) to the nearest pedestrian
@@ -277,8 +299,9 @@ impl MapIndex {
     pub fn crossing_distance(&self, shape: &Polygon, max: f64) -> Option<f64> {
         let (c, half_diag) = centre_and_reach(shape);
         let polys = &self.crossings;
-        nearest(&self.crossing_tree, c, half_diag, max, |i| {
-            polys[i].distance_to_polygon(shape)
+        let candidates = self.crossing_tree.nearest_neighbor_iter_with_distance_2(c);
+        nearest(candidates, half_diag, max, |e| {
+            polys[e.data as usize].distance_to_polygon(shape)
         })
     }
 }
@@ -293,56 +316,27 @@ fn centre_and_reach(shape: &Polygon) -> (Pt, f64) {
     )
 }
 
-/// How far either side of a drivable area's edge [`outer_edges`] looks for drivable area.
+/// How far either side of a drivable area's edge [`MapIndex::outer_edges`] looks for drivable
+/// area.
 const EDGE_PROBE_M: f64 = 0.25;
 
-/// The edges of the drivable areas that bound the road: AV2 tiles the drivable area into several
-/// polygons, and an edge two tiles share (drivable area on both sides, probed at its midpoint
-/// [`EDGE_PROBE_M`] either way) is no edge of the road.
-fn outer_edges(areas: &[Polygon], tree: &RTree<BoxEntry>) -> Vec<Line<Pt>> {
-    let drivable = |p: Pt| {
-        tree.locate_all_at_point(p)
-            .any(|e| areas[e.data as usize].contains(p))
-    };
-    let mut out = Vec::new();
-    for poly in areas {
-        for (a, b) in poly.edges() {
-            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-            if len == 0.0 {
-                continue;
-            }
-            let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-            let n = [
-                -(b[1] - a[1]) / len * EDGE_PROBE_M,
-                (b[0] - a[0]) / len * EDGE_PROBE_M,
-            ];
-            let inside_both =
-                drivable([m[0] + n[0], m[1] + n[1]]) && drivable([m[0] - n[0], m[1] - n[1]]);
-            if !inside_both {
-                out.push(Line::new(a, b));
-            }
-        }
-    }
-    out
-}
-
-/// Exact nearest distance through an R-tree of bounding boxes: candidates come in order of their
-/// box distance from `p`; that distance minus `slack` (how far the query shape reaches from `p`)
-/// bounds the exact distance from below, so the search stops once it passes the best exact one.
-fn nearest(
-    tree: &RTree<BoxEntry>,
-    p: Pt,
+/// Exact nearest distance over an R-tree's candidates in order of their squared distance from a
+/// point (`nearest_neighbor_iter_with_distance_2`): that distance minus `slack` (how far the
+/// query shape reaches from the point) bounds the exact distance from below, so the search stops
+/// once it passes the best exact one.
+fn nearest<T>(
+    candidates: impl Iterator<Item = (T, f64)>,
     slack: f64,
     max: f64,
-    exact: impl Fn(usize) -> f64,
+    exact: impl Fn(T) -> f64,
 ) -> Option<f64> {
     let mut best = f64::INFINITY;
-    for (e, d2) in tree.nearest_neighbor_iter_with_distance_2(p) {
+    for (e, d2) in candidates {
         let lb = d2.sqrt() - slack;
         if lb > best || lb > max {
             break;
         }
-        best = best.min(exact(e.data as usize));
+        best = best.min(exact(e));
     }
     (best <= max).then_some(best)
 }

@@ -3,7 +3,7 @@
 
 use scenalog_facts::relation::RelationData;
 use scenalog_facts::scene::{is_construction_category, is_vehicle_category, SUPER_CATEGORIES};
-use scenalog_facts::TrackBox;
+use scenalog_facts::{TrackBox, TrackId};
 
 use super::s;
 use crate::cache::Extractor;
@@ -40,14 +40,18 @@ pub fn ego(ex: &Extractor, q: &Query) -> RelationData {
 
 /// `present(X, T)`: one tuple per annotated box.
 pub fn present(ex: &Extractor, q: &Query) -> RelationData {
+    let rows: Vec<_> = boxes(ex, q).map(|(t, b)| (t, b.frame)).collect();
+    relation(q, rows)
+}
+
+/// Every box the query allows (tracks in column 0, times in column 1), with its track.
+fn boxes<'e>(ex: &'e Extractor, q: &'e Query) -> impl Iterator<Item = (TrackId, &'e TrackBox)> {
     let scene = ex.scene();
-    let mut rows = Vec::new();
-    for t in q.tracks(scene, 0) {
+    q.tracks(scene, 0).flat_map(move |t| {
         let boxes = &scene.track(t).boxes;
         let r = q.boxes_range(1, scene.num_frames(), boxes);
-        rows.extend(boxes[r].iter().map(|b| (t, b.frame)));
-    }
-    relation(q, rows)
+        boxes[r].iter().map(move |b| (t, b))
+    })
 }
 
 /// `next_sample(X, T, T2)`: each box of X's track and the next one, whatever the rate and gaps.
@@ -109,14 +113,17 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
                 }
             }
         }
-        ColorCache::Unreadable(message) => {
-            return Err(crate::query::ExtractError::BadInput {
-                relation: q.spec.name.into(),
-                message: message.clone(),
-            })
-        }
+        ColorCache::Unreadable(message) => return Err(unreadable(q, message)),
     }
     Ok(relation(q, rows))
+}
+
+/// The error of a relation read from a log's file that cannot be read (`message` names it).
+fn unreadable(q: &Query, message: &str) -> crate::query::ExtractError {
+    crate::query::ExtractError::BadInput {
+        relation: q.spec.name.into(),
+        message: message.to_string(),
+    }
 }
 
 /// `attribute(X, Name, Score)`: the rows of the log's attributes file
@@ -125,10 +132,6 @@ pub fn refav_color(ex: &Extractor, q: &Query) -> Result<RelationData, crate::que
 pub fn attribute(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query::ExtractError> {
     use scenalog_facts::{Attributes, ColorCache};
     let scene = ex.scene();
-    let unreadable = |message: &String| crate::query::ExtractError::BadInput {
-        relation: q.spec.name.into(),
-        message: message.clone(),
-    };
     let mut rows = Vec::new();
     match &scene.attributes {
         Attributes::Absent => {}
@@ -137,7 +140,7 @@ pub fn attribute(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query
                 .filter(|a| q.allows_track(0, a.track))
                 .map(|a| (a.track, s(&a.name), a.score)),
         ),
-        Attributes::Unreadable(message) => return Err(unreadable(message)),
+        Attributes::Unreadable(message) => return Err(unreadable(q, message)),
     }
     match &scene.color_cache {
         ColorCache::Absent => {}
@@ -147,7 +150,7 @@ pub fn attribute(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query
                 .filter(|(&t, _)| q.allows_track(0, t))
                 .filter_map(|(&t, c)| Some((t, s(c.as_deref()?), 1.0))),
         ),
-        ColorCache::Unreadable(message) => return Err(unreadable(message)),
+        ColorCache::Unreadable(message) => return Err(unreadable(q, message)),
     }
     Ok(relation(q, rows))
 }
@@ -155,13 +158,7 @@ pub fn attribute(ex: &Extractor, q: &Query) -> Result<RelationData, crate::query
 /// `elevation(X, T, Z)`: the height of the bottom of X's box (its centre's city-frame z less half
 /// its height), one tuple a box.
 pub fn elevation(ex: &Extractor, q: &Query) -> RelationData {
-    let scene = ex.scene();
-    let mut rows = Vec::new();
-    for t in q.tracks(scene, 0) {
-        let boxes = &scene.track(t).boxes;
-        let r = q.boxes_range(1, scene.num_frames(), boxes);
-        let bottom = |b: &TrackBox| b.city_center().z - b.size[2] / 2.0;
-        rows.extend(boxes[r].iter().map(|b| (t, b.frame, bottom(b))));
-    }
+    let bottom = |b: &TrackBox| b.city_center().z - b.size[2] / 2.0;
+    let rows: Vec<_> = boxes(ex, q).map(|(t, b)| (t, b.frame, bottom(b))).collect();
     relation(q, rows)
 }

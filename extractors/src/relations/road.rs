@@ -3,9 +3,11 @@
 //! (`over_marking`) and how far it is from the road's edge (`road_edge`).
 
 use scenalog_facts::relation::RelationData;
+use scenalog_facts::TrackId;
 
 use super::s;
 use crate::cache::Extractor;
+use crate::kinematics::TrackKinematics;
 use crate::map::cross_section::lanes_across;
 use crate::map::geometry::{box_corners, lateral_offset};
 use crate::query::Query;
@@ -47,72 +49,71 @@ pub fn road_lanes(ex: &Extractor, q: &Query) -> RelationData {
     relation(q, rows.collect::<Vec<_>>())
 }
 
-/// `lane_offset(X, T, Off, W)`: X's centre measured across its assigned lane: from the centre
-/// line (+ left), and the lane's width there (between its two boundaries' lines).
-pub fn lane_offset(ex: &Extractor, q: &Query) -> RelationData {
-    let (kin, index, lanes) = (ex.kinematics(), ex.map_index(), ex.lane_indices());
+/// Calls `each(t, k, i, lane)` for every box `i` the query allows whose object has an assigned
+/// lane there (`in_lane`'s), `k` the track's kinematics, `lane` the lane's index in the map.
+fn boxes_in_lanes(
+    ex: &Extractor,
+    q: &Query,
+    mut each: impl FnMut(TrackId, &TrackKinematics, usize, usize),
+) {
+    let (kin, lanes) = (ex.kinematics(), ex.lane_indices());
     let n = ex.scene().num_frames();
-    let mut rows = Vec::new();
     for t in q.tracks(ex.scene(), 0) {
         let k = &kin.tracks[t.index()];
         for i in q.box_range(1, n, &k.frames) {
-            let Some(l) = lanes[t.index()][i].map(|l| &index.lanes[l]) else {
-                continue;
-            };
-            let c = k.center[i];
-            let (Some(off), Some(to_left), Some(to_right)) = (
-                lateral_offset(&l.centerline, c),
-                lateral_offset(&l.left, c),
-                lateral_offset(&l.right, c),
-            ) else {
-                continue;
-            };
-            rows.push((t, k.frames[i], off, to_right - to_left));
+            if let Some(lane) = lanes[t.index()][i] {
+                each(t, k, i, lane);
+            }
         }
     }
+}
+
+/// `lane_offset(X, T, Off, W)`: X's centre measured across its assigned lane: from the centre
+/// line (+ left), and the lane's width there (between its two boundaries' lines).
+pub fn lane_offset(ex: &Extractor, q: &Query) -> RelationData {
+    let index = ex.map_index();
+    let mut rows = Vec::new();
+    boxes_in_lanes(ex, q, |t, k, i, lane| {
+        let (l, c) = (&index.lanes[lane], k.center[i]);
+        if let (Some(off), Some(to_left), Some(to_right)) = (
+            lateral_offset(&l.centerline, c),
+            lateral_offset(&l.left, c),
+            lateral_offset(&l.right, c),
+        ) {
+            rows.push((t, k.frames[i], off, to_right - to_left));
+        }
+    });
     relation(q, rows)
 }
 
 /// `over_marking(X, T, Side, Mark, D)`: how far the farthest corner of X's box lies past each
 /// boundary of its assigned lane (square to the boundary's nearest segment), when it does.
 pub fn over_marking(ex: &Extractor, q: &Query) -> RelationData {
-    let (scene, kin, index, lanes) = (
-        ex.scene(),
-        ex.kinematics(),
-        ex.map_index(),
-        ex.lane_indices(),
-    );
-    let n = scene.num_frames();
+    let (scene, index) = (ex.scene(), ex.map_index());
     let (left, right) = (s("left"), s("right"));
     let mut rows = Vec::new();
-    for t in q.tracks(scene, 0) {
-        let k = &kin.tracks[t.index()];
-        let boxes = &scene.track(t).boxes;
-        for i in q.box_range(1, n, &k.frames) {
-            let Some(li) = lanes[t.index()][i] else {
-                continue;
-            };
-            let (geom, seg) = (&index.lanes[li], &scene.map.lanes[li]);
-            let corners = box_corners(k.center[i], k.yaw[i], boxes[i].size[0], boxes[i].size[1]);
-            // Past the left boundary is its left (+), past the right one its right (-).
-            let past = |line: &[[f64; 2]], sign: f64| {
-                corners
-                    .iter()
-                    .filter_map(|&c| lateral_offset(line, c))
-                    .map(|o| sign * o)
-                    .fold(f64::NEG_INFINITY, f64::max)
-            };
-            for (side, line, sign, mark) in [
-                (&left, &geom.left, 1.0, &seg.left_mark_type),
-                (&right, &geom.right, -1.0, &seg.right_mark_type),
-            ] {
-                let d = past(line, sign);
-                if d > 0.0 {
-                    rows.push((t, k.frames[i], side.clone(), s(mark), d));
-                }
+    boxes_in_lanes(ex, q, |t, k, i, lane| {
+        let (geom, seg) = (&index.lanes[lane], &scene.map.lanes[lane]);
+        let size = scene.track(t).boxes[i].size;
+        let corners = box_corners(k.center[i], k.yaw[i], size[0], size[1]);
+        // Past the left boundary is its left (+), past the right one its right (-).
+        let past = |line: &[[f64; 2]], sign: f64| {
+            corners
+                .iter()
+                .filter_map(|&c| lateral_offset(line, c))
+                .map(|o| sign * o)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        for (side, line, sign, mark) in [
+            (&left, &geom.left, 1.0, &seg.left_mark_type),
+            (&right, &geom.right, -1.0, &seg.right_mark_type),
+        ] {
+            let d = past(line, sign);
+            if d > 0.0 {
+                rows.push((t, k.frames[i], side.clone(), s(mark), d));
             }
         }
-    }
+    });
     relation(q, rows)
 }
 
