@@ -1057,3 +1057,80 @@ fn attributes_from_a_file_and_the_colour_cache_are_mined_and_a_log_without_is_sa
         "{err}"
     );
 }
+
+/// An `attributes.csv` written by Python's own `csv` module as a user's script writes one
+/// (`csv.DictWriter`: CRLF line ends, quotes only where needed, an extra column, rows of another
+/// log's tracks): `scenalog facts --relation attribute` reads exactly the rows of the log's
+/// tracks. Skipped (saying so) only where there is no python3.
+#[test]
+fn an_attributes_file_written_by_pythons_csv_module_is_read() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let log = scenalog_testkit::copy_sample_log(OTHER_LOG, tmp.path());
+    let scene = scenalog_facts::load_scene(&log).expect("scene");
+    let uuids: Vec<&str> = scene
+        .tracks
+        .iter()
+        .take(3)
+        .map(|t| t.uuid.as_str())
+        .collect();
+    let script = format!(
+        "import csv, sys\n\
+         rows = [('{a}', 'ambulance', 0.91), ('{b}', 'worker, in \"vest\"', 0.5), \
+         ('{c}', 'police', 1.0), ('not-this-log', 'police', 0.3)]\n\
+         with open(sys.argv[1], 'w', newline='') as f:\n\
+         \x20   w = csv.DictWriter(f, fieldnames=['model', 'track_uuid', 'name', 'score'])\n\
+         \x20   w.writeheader()\n\
+         \x20   for u, n, s in rows:\n\
+         \x20       w.writerow({{'model': 'vlm-7b', 'track_uuid': u, 'name': n, 'score': s}})\n",
+        a = uuids[0],
+        b = uuids[1],
+        c = uuids[2]
+    );
+    let file = log.join("attributes.csv");
+    let made = std::process::Command::new("python3")
+        .args(["-c", &script])
+        .arg(&file)
+        .output();
+    let Ok(made) = made else {
+        eprintln!("skipped: no python3 to write the file");
+        return;
+    };
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let written = fs::read(&file).expect("read");
+    assert!(
+        written.windows(2).any(|w| w == b"\r\n"),
+        "CRLF as csv writes it"
+    );
+    let o = run(
+        "facts",
+        &[
+            log.as_path(),
+            Path::new("--relation"),
+            Path::new("attribute"),
+            Path::new("--json"),
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let mut got: Vec<(String, String, f64)> = rows
+        .as_array()
+        .expect("rows")
+        .iter()
+        .map(|r| {
+            let text = |i: usize| r[i].as_str().unwrap_or_default().to_string();
+            (text(0), text(1), r[2].as_f64().unwrap_or(f64::NAN))
+        })
+        .collect();
+    got.sort_by(|x, y| x.0.cmp(&y.0));
+    let mut want = vec![
+        (uuids[0].to_string(), "ambulance".to_string(), 0.91),
+        (uuids[1].to_string(), "worker, in \"vest\"".to_string(), 0.5),
+        (uuids[2].to_string(), "police".to_string(), 1.0),
+    ];
+    want.sort_by(|x, y| x.0.cmp(&y.0));
+    assert_eq!(got, want);
+}
