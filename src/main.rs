@@ -40,6 +40,9 @@ enum Command {
     /// Serve the Language Server Protocol over standard input and output, for editors
     /// (diagnostics as you type, hover documentation, completion, quick fixes).
     Lsp(cli::lsp::Args),
+    /// Open a local web app to write a rule and watch its matches on a map as you type
+    /// (127.0.0.1 only unless asked).
+    Studio(cli::studio::Args),
 }
 
 /// A file grown past `ulimit -f` raises SIGXFSZ, whose default action kills the process without
@@ -69,6 +72,7 @@ fn main() -> ExitCode {
         Command::Synth(a) => cli::synth::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Lsp(a) => cli::lsp::run(a),
+        Command::Studio(a) => cli::studio::run(a),
     };
     cli::stdout::exit_code(code)
 }

@@ -41,6 +41,8 @@ const CLI: FrontEnd = FrontEnd {
         "libc",
         "lsp_server",
         "lsp_types",
+        "axum",
+        "tokio",
     ],
 };
 

@@ -85,22 +85,52 @@ pub fn explain(request: &ExplainRequest) -> Result<Explained, ExplainError> {
     request.limits.check().map_err(unusable)?;
     let limits = request.limits.engine(1);
     let rules = &request.rules;
-    let display = rules.display().to_string();
     let source = crate::input::read_text(rules).map_err(|e| ExplainError::new(2, e))?;
     let scenario = scenario_from_source(rules, source).map_err(|e| ExplainError::new(1, e))?;
     let scene = load_scene(&request.log).map_err(|e| ExplainError::new(2, e.to_string()))?;
     let track = find_track(&scene, &request.track).map_err(|e| ExplainError::new(2, e))?;
+    let extractor = Extractor::new(&scene);
+    let (explanation, related) = explain_on(
+        &scenario,
+        &extractor,
+        track,
+        request.at,
+        request.why_not,
+        &limits,
+    )?;
+    drop(extractor);
+    Ok(Explained {
+        scene,
+        scenario,
+        explanation,
+        related,
+        limits,
+    })
+}
+
+/// Explains `track` of the extractor's scene as [`explain`] does (the frame nearest `at`, the
+/// why-not report when asked or not referred), with the scene already loaded: the explanation
+/// and the objects `related` names at its frame. The studio calls it for every click.
+pub(crate) fn explain_on(
+    scenario: &Scenario,
+    extractor: &Extractor<'_>,
+    track: &Track,
+    at: Option<f64>,
+    why_not_too: bool,
+    limits: &scenalog_engine::Options,
+) -> Result<(Explanation, Vec<TrackId>), ExplainError> {
+    let scene = extractor.scene();
+    let display = scenario.path.display().to_string();
     let failed = |e: crate::pipeline::scenario::EvaluationError| {
         ExplainError::new(
             1,
             e.message(&format!("evaluating {display} on log {}: ", scene.log_id)),
         )
     };
-    let extractor = Extractor::new(&scene);
-    let ev = evaluate_for_explain(&extractor, &scenario.program, false, &limits).map_err(failed)?;
+    let ev = evaluate_for_explain(extractor, &scenario.program, false, limits).map_err(failed)?;
     let frames = referred_frames(&ev, track.id);
-    let frame: Frame = match request.at {
-        Some(at) => frame_at(&scene, at).map_err(|e| ExplainError::new(2, e))?,
+    let frame: Frame = match at {
+        Some(at) => frame_at(scene, at).map_err(|e| ExplainError::new(2, e))?,
         None => match frames.first() {
             Some(f) => *f,
             None => match track.frame_span() {
@@ -112,15 +142,16 @@ pub fn explain(request: &ExplainRequest) -> Result<Explained, ExplainError> {
     let tuple = [Value::Track(track.id), Value::Time(frame)];
     let proof = prove(&scenario.program, &ev, "referred", &tuple)
         .map_err(|e| ExplainError::new(1, format!("{display}: {e}")))?;
-    let why = if request.why_not || proof.is_none() {
+    let why = if why_not_too || proof.is_none() {
         let whole =
-            evaluate_for_explain(&extractor, &scenario.program, true, &limits).map_err(failed)?;
+            evaluate_for_explain(extractor, &scenario.program, true, limits).map_err(failed)?;
         let report = why_not(&scenario.program, &whole, "referred", &tuple)
             .map_err(|e| ExplainError::new(1, format!("{display}: {e}")))?;
         Some(report)
     } else {
         None
     };
+    let related = related_at(&ev, track.id, frame);
     let explanation = Explanation {
         track: track.id,
         frame,
@@ -128,20 +159,11 @@ pub fn explain(request: &ExplainRequest) -> Result<Explained, ExplainError> {
         proof,
         why_not: why,
     };
-    let related = related_at(&ev, track.id, frame);
-    drop(ev);
-    drop(extractor);
-    Ok(Explained {
-        scene,
-        scenario,
-        explanation,
-        related,
-        limits,
-    })
+    Ok((explanation, related))
 }
 
 /// The track with this uuid, or the only one whose uuid starts with it.
-fn find_track<'s>(scene: &'s Scene, uuid: &str) -> Result<&'s Track, String> {
+pub(crate) fn find_track<'s>(scene: &'s Scene, uuid: &str) -> Result<&'s Track, String> {
     if let Some(t) = scene.track_by_uuid(uuid) {
         return Ok(t);
     }

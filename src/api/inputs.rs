@@ -201,6 +201,17 @@ pub fn log_dirs(paths: &[PathBuf]) -> Result<(Vec<LogInput>, Vec<String>), Error
     Ok((logs, problems))
 }
 
+/// The logs of `logs` as [`log_dirs`] finds them, or the bundled sample logs when none are
+/// given (`missing` is the error's text when they are not bundled either); duplicates left out.
+pub fn logs_or_samples(logs: &[PathBuf], missing: &str) -> Result<Vec<LogInput>, Error> {
+    let paths: Vec<PathBuf> = if logs.is_empty() {
+        vec![bundled(SAMPLE_LOGS).ok_or_else(|| Error::about(Field::Logs, missing))?]
+    } else {
+        logs.to_vec()
+    };
+    Ok(log_dirs(&paths)?.0)
+}
+
 /// Checks every program; those that do not check, and those whose description another program
 /// already has (predictions are keyed by it), are failures. Names are made unique (`name-2`…)
 /// so every pair has its own files.

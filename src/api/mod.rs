@@ -29,6 +29,7 @@ pub mod mine;
 pub mod outputs;
 pub mod run;
 pub mod split;
+pub mod studio;
 pub mod synth;
 pub mod synth_evidence;
 mod synth_fixture;

@@ -14,7 +14,7 @@ use scenalog_extractors::cache::Extractor;
 use scenalog_synth::{Evidence, MatchKey, Matcher};
 
 use crate::api::error::{Error, Field};
-use crate::api::inputs::{bundled, log_dirs, SAMPLE_LOGS};
+use crate::api::inputs::logs_or_samples;
 use crate::api::limits::Limits;
 use crate::pipeline::run::referred_tuples;
 use crate::pipeline::scenario::{evaluate_on, scenario_from_source};
@@ -26,17 +26,10 @@ use crate::pipeline::scenario::{evaluate_on, scenario_from_source};
 /// # Errors
 /// No logs are given and the sample logs are not bundled, or a log cannot be found or read.
 pub fn search_logs(logs: &[PathBuf], limits: &Limits) -> Result<(Matcher, Evidence), Error> {
-    let logs: Vec<PathBuf> = if logs.is_empty() {
-        vec![bundled(SAMPLE_LOGS).ok_or_else(|| {
-            Error::about(
-                Field::Logs,
-                "a search runs its candidates on logs: give some (the sample logs are not here)",
-            )
-        })?]
-    } else {
-        logs.to_vec()
-    };
-    let (inputs, _duplicates) = log_dirs(&logs)?;
+    let inputs = logs_or_samples(
+        logs,
+        "a search runs its candidates on logs: give some (the sample logs are not here)",
+    )?;
     let mut scenes = Vec::with_capacity(inputs.len());
     for log in &inputs {
         let scene = scenalog_facts::load_scene(&log.dir).map_err(|e| {

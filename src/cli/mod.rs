@@ -19,4 +19,5 @@ pub mod mine;
 pub mod mine_options;
 pub mod run;
 pub mod split;
+pub mod studio;
 pub mod synth;

@@ -22,5 +22,6 @@ mod output_folder;
 mod pictures;
 mod run;
 mod split;
+mod studio;
 mod synth;
 mod tracker_rates;

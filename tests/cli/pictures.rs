@@ -11,6 +11,8 @@ use scenalog::pipeline::scenario::scenario_from_source;
 use scenalog_view::track_path::animation_frames;
 use scenalog_view::{decode_png, PathPicture, Picture, Reference};
 
+use crate::util::browser;
+
 const LOG: &str = "tests/data/av2/logs/3b3570b4-7b0b-3268-a571-b0889dbf40b6";
 const RULES: &str = "rules/library/vehicle_with_bicycle_to_its_right.dl";
 /// A vehicle this program refers from 7.3 s to 13.7 s, a bicycle on its right.
@@ -111,15 +113,6 @@ fn explain_picture_errors_are_clear() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--frames `9..3`"));
     assert!(!dir.path().join("x.png").exists());
-}
-
-/// The first browser found on PATH.
-fn browser() -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .flat_map(|name| std::env::split_paths(&path).map(move |d| d.join(name)))
-        .find(|p| p.is_file())
 }
 
 fn headless(browser: &Path, extra: &[&str], url: &str) -> Output {
