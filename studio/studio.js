@@ -381,20 +381,28 @@ function frameAt(scene, seconds) {
   return best;
 }
 
+/// Opens what the address's fragment names (`#program=…&log=…&track=…&t=…`, as `mine` prints
+/// and the report links): the program, the log, the frame nearest `t` seconds, the track's proof.
+async function applyHash() {
+  const hash = new URLSearchParams(location.hash.slice(1));
+  const log = state.logs.find((l) => l.id === hash.get("log")) ? hash.get("log") : state.log || (state.logs[0] && state.logs[0].id);
+  if (log && log !== state.log) await openLog(log);
+  const program = hash.get("program") || (state.programName ? null : state.programs.includes("stopped_car") ? "stopped_car" : state.programs[0]);
+  if (program && program !== state.programName) await openProgram(program);
+  const scene = state.scenes[state.log];
+  if (scene && hash.get("t") !== null) state.frame = frameAt(scene, Number(hash.get("t")));
+  if (hash.get("track")) { state.track = hash.get("track"); explainSoon(0); }
+  showMatches();
+  draw();
+}
+
 async function start() {
   const answer = await api("/api/logs");
   state.logs = answer.logs;
   state.programs = answer.programs;
   for (const p of state.programs) $("program").append(new Option(p, p));
   for (const l of state.logs) $("log").append(new Option(`${l.id.slice(0, 8)} (${l.city}, ${l.tracks} tracks)`, l.id));
-  const hash = new URLSearchParams(location.hash.slice(1));
-  const log = state.logs.find((l) => l.id === hash.get("log")) ? hash.get("log") : state.logs[0] && state.logs[0].id;
-  if (log) await openLog(log);
-  const program = hash.get("program") || (state.programs.includes("stopped_car") ? "stopped_car" : state.programs[0]);
-  if (program) await openProgram(program);
-  const scene = state.scenes[state.log];
-  if (scene && hash.get("t") !== null) state.frame = frameAt(scene, Number(hash.get("t")));
-  if (hash.get("track")) { state.track = hash.get("track"); explainSoon(0); }
+  await applyHash();
   draw();
 
   $("text").addEventListener("input", edited);
@@ -454,6 +462,7 @@ async function start() {
     draw();
   }, { passive: false });
   window.addEventListener("resize", draw);
+  window.addEventListener("hashchange", applyHash);
 }
 
 start().catch((e) => status(`the studio failed to start: ${e}`));

@@ -23,6 +23,7 @@ use crate::pipeline::output::{OutputNames, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{pairs_json, run_unpublished, PairStatus, RunOptions};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source};
+use crate::pipeline::studio_link::{studio_command, studio_url};
 use crate::pipeline::summary::{render_score, render_table, score};
 
 pub use crate::pipeline::output::Match;
@@ -333,14 +334,35 @@ impl MineOutcome {
         self.scored.as_ref().map(render_score)
     }
 
-    /// A `scenalog explain` command for the run's first match (by program, then log).
-    pub fn explain_hint(&self) -> Option<String> {
-        let (report, scenarios, logs) = (&self.report, &self.scenarios, &self.logs);
-        let pair = report
+    /// The `scenalog studio` command for the run's programs and logs, and the address that
+    /// opens its first match (by program, then log) there.
+    pub fn studio_hint(&self) -> Option<(String, String)> {
+        let pair = self.first_matched_pair()?;
+        let m = pair.matches.first()?;
+        let scenario = &self.scenarios[pair.scenario];
+        Some((
+            studio_command(
+                self.scenarios.iter().map(|s| s.path.as_path()),
+                self.logs.iter().map(|l| l.dir.as_path()),
+            ),
+            studio_url(&scenario.name, &m.log_id, &m.track_uuid, m.first_s),
+        ))
+    }
+
+    /// The pair of the run's first match, by program, then log.
+    fn first_matched_pair(&self) -> Option<&crate::pipeline::run::PairResult> {
+        let logs = &self.logs;
+        self.report
             .pairs
             .iter()
             .filter(|p| !p.matches.is_empty())
-            .min_by_key(|p| (p.scenario, logs.iter().position(|l| l.log_id == p.log_id)))?;
+            .min_by_key(|p| (p.scenario, logs.iter().position(|l| l.log_id == p.log_id)))
+    }
+
+    /// A `scenalog explain` command for the run's first match (by program, then log).
+    pub fn explain_hint(&self) -> Option<String> {
+        let (scenarios, logs) = (&self.scenarios, &self.logs);
+        let pair = self.first_matched_pair()?;
         let m = pair.matches.first()?;
         let log = logs.iter().find(|l| l.log_id == pair.log_id)?;
         Some(format!(

@@ -27,6 +27,8 @@ use crate::api::limits::Limits;
 use crate::pipeline::explain::{explanation_text, Renderer};
 use crate::pipeline::scenario::{evaluate_on, scenario_from_source, Scenario};
 
+pub use crate::pipeline::studio_link::DEFAULT_PORT;
+
 /// Most bytes of a program the studio evaluates (a rule is a few hundred).
 pub const MAX_PROGRAM_BYTES: usize = 256 * 1024;
 

@@ -168,6 +168,11 @@ pub fn run(args: Args) -> ExitCode {
             if let Some(hint) = outcome.explain_hint() {
                 outln!("\nwhy did a track match? for example:\n  {hint}");
             }
+            if let Some((command, url)) = outcome.studio_hint() {
+                outln!(
+                    "or see it on the map, with the rule to edit:\n  {command}\n  then open {url}"
+                );
+            }
             match (&outcome.scored, outcome.score_text(), &outcome.gt) {
                 (Some(s), Some(text), Some(p)) => {
                     outln!("\nscore against {}:", p.display());

@@ -24,7 +24,7 @@ use axum::Router;
 use serde::Deserialize;
 use serde_json::{json, Value as Json};
 
-use crate::api::studio::{self, Studio, StudioRequest, MAX_PROGRAM_BYTES};
+use crate::api::studio::{self, Studio, StudioRequest, DEFAULT_PORT, MAX_PROGRAM_BYTES};
 use crate::api::{Limits, Names};
 
 /// The page and its script and style, served as they are in the repository.
@@ -42,7 +42,7 @@ pub struct Args {
     #[arg(long, num_args = 1..)]
     rules: Vec<PathBuf>,
     /// The port (0: any free one; the address is printed).
-    #[arg(long, default_value_t = 7878)]
+    #[arg(long, default_value_t = DEFAULT_PORT)]
     port: u16,
     /// The address to listen on. Only loopback addresses are accepted without
     /// `--expose-logs-to-network`.

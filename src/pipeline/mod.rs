@@ -5,7 +5,7 @@
 //! frames, the related-object range); [`predictions`] turns those into the evaluation's data model;
 //! [`run`] mines every (log, program) pair of a run in parallel and writes what [`output`]
 //! describes; [`summary`] renders a run for a person and scores it against ground truth;
-//! [`limits`] sizes a pair's default tuple budget and time limit; [`lock`] keeps one writer per
+//! [`studio_link`] is the address that opens a match in `scenalog studio`; [`limits`] sizes a pair's default tuple budget and time limit; [`lock`] keeps one writer per
 //! output folder.
 
 pub mod explain;
@@ -17,5 +17,6 @@ pub mod predictions;
 pub mod report;
 pub mod run;
 pub mod scenario;
+pub mod studio_link;
 pub mod summary;
 pub mod tracks;

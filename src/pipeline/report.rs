@@ -27,6 +27,7 @@ use super::output::Match;
 use super::picture::{explanation_picture, related_at};
 use super::run::{LogInput, PairStatus, RunReport};
 use super::scenario::Scenario;
+use super::studio_link::{studio_command, studio_url};
 use crate::message::Names;
 
 /// The report's directory under the run's output directory.
@@ -257,6 +258,14 @@ pub fn write_run_report(
         },
         out.display()
     )];
+    notes.push(format!(
+        "Each match's \"open in the studio\" link opens it in `{}` (rule, map and proof as you \
+         edit).",
+        studio_command(
+            scenarios.iter().map(|s| s.path.as_path()),
+            logs.iter().map(|l| l.dir.as_path())
+        )
+    ));
     let mut matches: Vec<ReportMatch> = all
         .iter()
         .map(|(s, l, m)| {
@@ -277,6 +286,7 @@ pub fn write_run_report(
                     m.track_uuid,
                     m.first_s
                 ),
+                studio: studio_url(&scenario.name, &m.log_id, &m.track_uuid, m.first_s),
             }
         })
         .collect();

@@ -156,8 +156,15 @@ fn mine_report_opens_from_disk_and_its_scrubber_changes_the_frame() {
     assert!(html.contains("vehicle_with_bicycle_to_its_right"));
     assert!(html.contains("type=\"range\""));
     assert!(html.contains("Proof:"));
-    // No network: nothing is loaded from another host.
-    assert!(!html.contains("http://") && !html.contains("https://"));
+    // No network: nothing is loaded from another host; the only addresses are the links that
+    // open a match in the studio on this machine.
+    let studio_links = html
+        .matches("href=\"http://127.0.0.1:7878/#program=")
+        .count();
+    assert!(studio_links >= 1, "no studio link");
+    assert_eq!(html.matches("http://").count(), studio_links);
+    assert!(!html.contains("https://"));
+    assert!(html.contains("scenalog studio --rules rules/library --logs"));
     // One pictured match (the cap), the others listed.
     assert_eq!(html.matches("<section class=\"match\"").count(), 1);
     assert!(html.contains("Matches without pictures"));

@@ -125,6 +125,24 @@ impl Drop for Studio {
     }
 }
 
+/// `scenalog mine` of the test's program on the test's log, into `out`.
+fn mine(out: &std::path::Path) -> std::process::Output {
+    crate::util::scenalog()
+        .args([
+            "mine",
+            "--rules",
+            RULES,
+            "--logs",
+            LOG,
+            "--threads",
+            "1",
+            "--out",
+        ])
+        .arg(out)
+        .output()
+        .expect("mine")
+}
+
 fn program(path: &str) -> String {
     std::fs::read_to_string(path).expect("program")
 }
@@ -155,20 +173,7 @@ fn studio_matches_are_mines_and_its_answers_are_what_the_page_needs() {
         })
         .collect();
     let out = tempfile::tempdir().expect("tempdir");
-    let o = crate::util::scenalog()
-        .args([
-            "mine",
-            "--rules",
-            RULES,
-            "--logs",
-            LOG,
-            "--threads",
-            "1",
-            "--out",
-        ])
-        .arg(out.path())
-        .output()
-        .expect("mine");
+    let o = mine(out.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let matches: Value = serde_json::from_str(
         &std::fs::read_to_string(out.path().join("matches.json")).expect("matches.json"),
@@ -570,6 +575,34 @@ fn studio_page_shows_diagnostics_matches_and_the_proof_of_a_clicked_track() {
     assert!(
         why_not.contains("EGO_VEHICLE") && why_not.contains("✗ category(V, \"PEDESTRIAN\")"),
         "{why_not}"
+    );
+
+    // The address `mine` prints for its first match opens the studio at that match (here as a
+    // new address in the same tab, as when a link is pasted).
+    let out = tempfile::tempdir().expect("tempdir");
+    let o = mine(out.path());
+    let printed = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        printed.contains(&format!(
+            "scenalog studio --rules rules/library --logs {LOG}"
+        )),
+        "{printed}"
+    );
+    let url = printed
+        .split_whitespace()
+        .find(|w| w.starts_with("http://127.0.0.1:7878/#program=stopped_car&log="))
+        .unwrap_or_else(|| panic!("no studio address in: {printed}"));
+    let track = url
+        .split("track=")
+        .nth(1)
+        .and_then(|r| r.split('&').next())
+        .expect("track")
+        .to_string();
+    let here = url.replacen("127.0.0.1:7878", &studio.address, 1);
+    page.call("Page.navigate", json!({ "url": here }));
+    page.wait_for(
+        &format!("document.getElementById('proof').textContent.includes('track {track}') && document.getElementById('proof').textContent.includes('Proof:') && document.getElementById('program').value === 'stopped_car'"),
+        "the match mine printed, opened from its address",
     );
     drop(page);
     let (code, err) = studio.interrupt();

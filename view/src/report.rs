@@ -46,6 +46,8 @@ pub struct ReportMatch {
     pub frames: Vec<ReportFrame>,
     /// The `scenalog explain` command that explains it.
     pub command: String,
+    /// The address that opens it in `scenalog studio` (started on the run's rules and logs).
+    pub studio: String,
 }
 
 /// Everything the page shows.
@@ -214,7 +216,7 @@ pub fn report_html(r: &Report) -> String {
              <div class=\"label{}\">t = {:.1} s (frame {}){}</div></div>\
              <div class=\"text\"><b>{}</b> · {} <br>log {} · track {} ({})<br>\
              referred in {} frames, from {:.1} s to {:.1} s\
-             <pre class=\"cmd\">{}</pre><details open><summary>proof at the frame shown</summary>",
+             <pre class=\"cmd\">{}</pre><a class=\"studio\" href=\"{}\">open in the studio</a><details open><summary>proof at the frame shown</summary>",
             frames_json(&m.frames),
             escape(&m.track_uuid),
             f0.seconds,
@@ -233,6 +235,7 @@ pub fn report_html(r: &Report) -> String {
             m.span.0,
             m.span.1,
             escape(&m.command),
+            escape(&m.studio),
         );
         for (j, f) in m.frames.iter().enumerate() {
             let _ = write!(
@@ -249,21 +252,22 @@ pub fn report_html(r: &Report) -> String {
         let _ = writeln!(
             h,
             "<details class=\"rest\"><summary><h2>Matches without pictures ({}): past --report-max-pictures</h2></summary>\
-             <table class=\"counts\"><tr><th>program</th><th>log</th><th>track</th><th>span</th><th>picture</th></tr>",
+             <table class=\"counts\"><tr><th>program</th><th>log</th><th>track</th><th>span</th><th>picture</th><th>studio</th></tr>",
             rest.len()
         );
         for m in rest {
             let short: String = m.log_id.chars().take(8).collect();
             let _ = writeln!(
                 h,
-                "<tr><td>{}</td><td>{}</td><td>{} ({})</td><td>{:.1}–{:.1} s</td><td><code>{} --picture out.png</code></td></tr>",
+                "<tr><td>{}</td><td>{}</td><td>{} ({})</td><td>{:.1}–{:.1} s</td><td><code>{} --picture out.png</code></td><td><a href=\"{}\">open</a></td></tr>",
                 escape(&m.program),
                 escape(&short),
                 escape(&m.track_uuid),
                 escape(&m.category),
                 m.span.0,
                 m.span.1,
-                escape(&m.command)
+                escape(&m.command),
+                escape(&m.studio)
             );
         }
         h.push_str("</table></details>\n");
