@@ -401,6 +401,25 @@ async function start() {
   state.logs = answer.logs;
   state.programs = answer.programs;
   for (const p of state.programs) $("program").append(new Option(p, p));
+  $("describe").hidden = !answer.synthesize;
+  $("describe").addEventListener("submit", async (e) => {
+    e.preventDefault();
+    const description = $("description").value;
+    $("write").disabled = true;
+    status("the LLM is writing the rule…");
+    try {
+      const written = await api("/api/synth", { description });
+      if (typeof written.program === "string") {
+        state.programName = "";
+        $("program").value = "";
+        $("text").value = written.program;
+        edited();
+      }
+      status(written.error || `written in ${written.rounds} round(s); checking and mining…`);
+    } finally {
+      $("write").disabled = false;
+    }
+  });
   for (const l of state.logs) $("log").append(new Option(`${l.id.slice(0, 8)} (${l.city}, ${l.tracks} tracks)`, l.id));
   await applyHash();
   draw();

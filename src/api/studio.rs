@@ -24,6 +24,7 @@ use crate::api::error::{invalid, Error, Field};
 use crate::api::explain::{explain_on, find_track};
 use crate::api::inputs::{bundled, logs_or_samples, LIBRARY};
 use crate::api::limits::Limits;
+use crate::api::synth::{config, synthesizer, Outcome, SynthSettings, Synthesizer};
 use crate::pipeline::explain::{explanation_text, Renderer};
 use crate::pipeline::scenario::{evaluate_on, scenario_from_source, Scenario};
 
@@ -41,6 +42,9 @@ pub struct StudioRequest {
     pub rules: Vec<PathBuf>,
     /// One evaluation's limits (a program deriving forever stops with an error).
     pub limits: Limits,
+    /// Write programs from descriptions with this LLM server's settings (`None`: the page
+    /// offers no synthesis).
+    pub synth: Option<SynthSettings>,
 }
 
 /// One open log: its scene (loaded once, kept for the studio's life) and its extractor.
@@ -59,6 +63,7 @@ pub struct Studio {
     logs: Vec<OpenLog>,
     programs: Vec<(String, PathBuf)>,
     limits: scenalog_engine::Options,
+    synthesizer: Option<Synthesizer>,
 }
 
 impl std::fmt::Debug for Studio {
@@ -104,10 +109,15 @@ pub fn open(request: &StudioRequest) -> Result<Studio, Error> {
     }
     programs.sort();
     programs.dedup_by(|a, b| a.0 == b.0);
+    let synthesizer = match &request.synth {
+        Some(settings) => Some(synthesizer(config(settings, None)?.config)?),
+        None => None,
+    };
     Ok(Studio {
         logs,
         programs,
         limits: request.limits.engine(1),
+        synthesizer,
     })
 }
 
@@ -166,6 +176,38 @@ impl Studio {
                 })
                 .collect(),
         )
+    }
+
+    /// Whether the studio writes programs from descriptions (an LLM server is configured).
+    pub fn can_synthesize(&self) -> bool {
+        self.synthesizer.is_some()
+    }
+
+    /// A program written from `description` by the configured LLM server, repaired on the
+    /// checker's diagnostics as `scenalog synth` does: the program (absent when the server gave
+    /// none), whether it checked clean, and what went wrong otherwise.
+    pub fn synthesize_json(&self, description: &str) -> Json {
+        let Some(synth) = &self.synthesizer else {
+            return json!({"error": "no LLM server is configured (start the studio with --base-url, or set SCENALOG_LLM_BASE_URL)"});
+        };
+        if description.trim().is_empty() {
+            return json!({"error": "the description is empty"});
+        }
+        if description.len() > MAX_PROGRAM_BYTES {
+            return json!({"error": "the description is too long"});
+        }
+        let transcript = synth.synthesize(description.trim());
+        let (clean, error) = match &transcript.outcome {
+            Outcome::Clean { .. } => (true, None),
+            Outcome::Failed => (false, Some("no round gave a program that checks clean: the last one is shown with its diagnostics".to_string())),
+            Outcome::Unreachable { error } | Outcome::OverBudget { error } => (false, Some(error.clone())),
+        };
+        json!({
+            "program": transcript.program(),
+            "clean": clean,
+            "rounds": transcript.rounds.len(),
+            "error": error,
+        })
     }
 
     /// The programs offered (their names, sorted).

@@ -92,6 +92,33 @@ pub struct SynthSettings {
 
 pub use scenalog_synth::GrammarField;
 
+impl Default for SynthSettings {
+    /// `scenalog synth`'s defaults: 3 rounds at temperature 0, 8 examples, one candidate, 300 s
+    /// a completion with 4 retries, no cache, no token budget, no grammar; the server from the
+    /// environment.
+    fn default() -> SynthSettings {
+        SynthSettings {
+            cache_dir: None,
+            rounds: 3,
+            base_url: None,
+            model: None,
+            api_key: None,
+            temperature: Some(0.0),
+            timeout: Duration::from_secs(300),
+            retries: 4,
+            examples: Some(8),
+            library: None,
+            held_out: false,
+            candidates: 1,
+            match_logs: Vec::new(),
+            match_limits: Limits::default(),
+            max_tokens: None,
+            evidence_rounds: None,
+            grammar: None,
+        }
+    }
+}
+
 /// The grammar `--grammar` sends for a program (GBNF; the evidence round's also allows `KEEP`).
 pub fn grammar() -> String {
     scenalog_rules::grammar::gbnf(scenalog_rules::grammar::Answer::Program)

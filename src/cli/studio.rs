@@ -1,7 +1,8 @@
 //! `scenalog studio`: a local web app to write a rule and watch its matches. The page (the files
 //! of `studio/`, compiled into the binary: nothing is fetched from a network) edits a program,
 //! shows the checker's diagnostics as it is typed, re-mines the open logs on every clean edit,
-//! draws a log from above with a time scrubber, and explains a clicked track at the frame shown.
+//! draws a log from above with a time scrubber, and explains a clicked track at the frame shown;
+//! with an LLM server configured, it also writes a rule from a description.
 //! Every answer comes from [`crate::api::studio`]; this module maps HTTP (axum) to it.
 //!
 //! It listens on 127.0.0.1 unless `--address` names another address and
@@ -25,6 +26,7 @@ use serde::Deserialize;
 use serde_json::{json, Value as Json};
 
 use crate::api::studio::{self, Studio, StudioRequest, DEFAULT_PORT, MAX_PROGRAM_BYTES};
+use crate::api::synth::{SynthSettings, ENV_BASE_URL};
 use crate::api::{Limits, Names};
 
 /// The page and its script and style, served as they are in the repository.
@@ -58,6 +60,13 @@ pub struct Args {
     /// Longest one evaluation may take, in milliseconds (default: 120000).
     #[arg(long)]
     timeout_ms: Option<u64>,
+    /// The OpenAI-compatible LLM server that writes rules from descriptions in the page
+    /// (default: $SCENALOG_LLM_BASE_URL; without either, the page offers no synthesis).
+    #[arg(long, value_name = "URL")]
+    base_url: Option<String>,
+    /// The model's name (default: $SCENALOG_LLM_MODEL).
+    #[arg(long)]
+    model: Option<String>,
 }
 
 /// Runs the studio until Ctrl-C or SIGTERM: 0 on a clean stop, 2 on unusable arguments (logs,
@@ -71,6 +80,7 @@ pub fn run(args: Args) -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    let configured = args.base_url.is_some() || std::env::var_os(ENV_BASE_URL).is_some();
     let request = StudioRequest {
         logs: args.logs,
         rules: args.rules,
@@ -78,6 +88,11 @@ pub fn run(args: Args) -> ExitCode {
             max_tuples: args.max_tuples,
             timeout_ms: args.timeout_ms,
         },
+        synth: configured.then(|| SynthSettings {
+            base_url: args.base_url,
+            model: args.model,
+            ..SynthSettings::default()
+        }),
     };
     let studio = match studio::open(&request) {
         Ok(s) => s,
@@ -163,6 +178,7 @@ async fn serve(studio: Studio, address: SocketAddr, exposed: bool) -> ExitCode {
         .route("/api/check", post(check_handler))
         .route("/api/mine", post(mine_handler))
         .route("/api/explain", post(explain_handler))
+        .route("/api/synth", post(synth_handler))
         .fallback(|| async { error(StatusCode::NOT_FOUND, "no such page") })
         .layer(middleware::from_fn_with_state(shared.clone(), guard))
         .layer(DefaultBodyLimit::max(MAX_PROGRAM_BYTES + 64 * 1024))
@@ -283,6 +299,7 @@ async fn logs_handler(State(shared): State<Arc<Shared>>) -> Response {
     answer(json!({
         "logs": shared.studio.logs_json(),
         "programs": shared.studio.programs_json(),
+        "synthesize": shared.studio.can_synthesize(),
     }))
 }
 
@@ -369,6 +386,23 @@ async fn explain_handler(
             })
             .await
         }
+        Err((status, message)) => error(status, &message),
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DescriptionBody {
+    description: String,
+}
+
+async fn synth_handler(
+    State(shared): State<Arc<Shared>>,
+    headers: HeaderMap,
+    bytes: Bytes,
+) -> Response {
+    match body::<DescriptionBody>(&headers, &bytes) {
+        Ok(b) => blocking(shared, move |s| s.synthesize_json(&b.description)).await,
         Err((status, message)) => error(status, &message),
     }
 }

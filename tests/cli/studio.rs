@@ -30,6 +30,7 @@ impl Studio {
         let mut child = crate::util::scenalog()
             .args(["studio", "--port", "0", "--logs", LOG])
             .args(extra)
+            .env_remove("SCENALOG_LLM_BASE_URL")
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -315,6 +316,55 @@ fn studio_refuses_hostile_requests_and_keeps_serving() {
     );
     let (code, err) = studio.interrupt();
     assert_eq!(code, Some(0), "{err}");
+}
+
+#[test]
+fn studio_writes_a_rule_from_a_description_with_the_configured_llm_server() {
+    let rule = "referred(V, T) :-\n    category(V, \"PEDESTRIAN\"),\n    stopped(V, T).";
+    let llm = crate::server::Server::start(move |_, _| crate::server::program(rule));
+    let studio = Studio::start(&["--base-url", &llm.base_url()]);
+    let (_, logs) = studio.get("/api/logs");
+    assert!(logs.contains("\"synthesize\":true"), "{logs}");
+    let (status, written) = studio.post_json(
+        "/api/synth",
+        &json!({ "description": "stopped pedestrian" }),
+    );
+    assert_eq!(status, 200);
+    assert_eq!(
+        written["program"],
+        format!("// description: stopped pedestrian\n{rule}\n"),
+        "{written}"
+    );
+    assert_eq!(written["clean"], true);
+    assert!(llm.requests()[0]
+        .description()
+        .contains("stopped pedestrian"));
+    let (_, empty) = studio.post_json("/api/synth", &json!({ "description": "  " }));
+    assert!(empty["error"].as_str().expect("error").contains("empty"));
+
+    // In the page: the description's rule lands in the editor and is mined.
+    if let Some(binary) = browser() {
+        let mut page = Browser::open(&binary, &format!("http://{}/", studio.address));
+        page.wait_for(
+            "document.getElementById('describe').hidden === false && document.querySelectorAll('#matches button.match').length > 0",
+            "the page with its description field",
+        );
+        page.eval("(() => { document.getElementById('description').value = 'stopped pedestrian'; document.getElementById('write').click(); return true; })()");
+        page.wait_for(
+            "document.getElementById('text').value.includes('PEDESTRIAN') && document.querySelectorAll('#matches button.match').length > 0 && [...document.querySelectorAll('#matches button.match')].every(b => b.textContent.includes(' PEDESTRIAN '))",
+            "the written rule's matches",
+        );
+    }
+
+    // Without a server, the page offers no synthesis and the request says why.
+    let plain = Studio::start(&[]);
+    let (_, logs) = plain.get("/api/logs");
+    assert!(logs.contains("\"synthesize\":false"), "{logs}");
+    let (_, refused) = plain.post_json("/api/synth", &json!({ "description": "bus" }));
+    assert!(refused["error"]
+        .as_str()
+        .expect("error")
+        .contains("no LLM server"));
 }
 
 #[test]
