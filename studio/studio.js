@@ -139,7 +139,9 @@ function showMatches() {
   const box = $("matches");
   box.innerHTML = "";
   if (!state.mined) return;
-  for (const l of state.mined.logs) {
+  // The log on the map first.
+  const logs = state.mined.logs.slice().sort((a, b) => (b.log === state.log) - (a.log === state.log));
+  for (const l of logs) {
     const h = document.createElement("h3");
     const n = l.tracks ? l.tracks.length : 0;
     h.textContent = `log ${l.log.slice(0, 8)}: ${l.error ? "failed" : `${n} tracks`}` +
@@ -164,6 +166,8 @@ function showMatches() {
       box.append(b);
     }
   }
+  const chosen = box.querySelector("button.selected");
+  if (chosen) chosen.scrollIntoView({ block: "nearest" });
 }
 
 // ---- the map -----------------------------------------------------------------------------------
@@ -308,6 +312,20 @@ function draw() {
   $("scrubber").value = String(state.frame);
 }
 
+/// Moves the view so that track `uuid`'s box at the shown frame is in it, when it is not.
+function centreOn(uuid) {
+  const scene = state.scenes[state.log];
+  const t = scene && scene.byUuid[uuid];
+  const b = t && boxAt(t, state.frame);
+  if (!b || !state.view) return;
+  const [px, py] = toPixel(b[0], b[1]);
+  const c = $("map");
+  if (px < 40 || py < 40 || px > c.width - 40 || py > c.height - 40) {
+    state.view.cx = b[0];
+    state.view.cy = b[1];
+  }
+}
+
 /// The object under a click at the shown frame (inside its box, or within 2 m).
 function objectAt(px, py) {
   const scene = state.scenes[state.log];
@@ -333,6 +351,7 @@ async function select(log, uuid, frame) {
   if (log !== state.log && !(await openLog(log))) return;
   state.track = uuid;
   if (frame !== undefined) state.frame = frame;
+  centreOn(uuid);
   draw();
   showMatches();
   explainSoon(0);
@@ -391,7 +410,14 @@ async function applyHash() {
   if (program && program !== state.programName) await openProgram(program);
   const scene = state.scenes[state.log];
   if (scene && hash.get("t") !== null) state.frame = frameAt(scene, Number(hash.get("t")));
-  if (hash.get("track")) { state.track = hash.get("track"); explainSoon(0); }
+  if (hash.get("track")) {
+    const scene = state.scenes[state.log];
+    const uuid = hash.get("track");
+    const full = scene ? scene.tracks.find((t) => t.uuid.startsWith(uuid)) : null;
+    state.track = full ? full.uuid : uuid;
+    centreOn(state.track);
+    explainSoon(0);
+  }
   showMatches();
   draw();
 }
