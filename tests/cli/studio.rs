@@ -612,9 +612,10 @@ fn studio_page_shows_diagnostics_matches_and_the_proof_of_a_clicked_track() {
         "{hash}"
     );
 
-    // Click the ego vehicle on the map: why it is not referred, with the failing literal.
+    // Click the ego vehicle on the map (brought into view as panning would): why it is not
+    // referred, with the failing literal.
     let at = page.eval(
-        "(() => { const s = state.scenes[state.log]; const ego = s.tracks.find(t => t.category === 'EGO_VEHICLE'); const b = boxAt(ego, state.frame); const [px, py] = toPixel(b[0], b[1]); const r = document.getElementById('map').getBoundingClientRect(); const k = r.width / document.getElementById('map').width; return [r.x + px * k, r.y + py * k]; })()",
+        "(() => { const s = state.scenes[state.log]; const ego = s.tracks.find(t => t.category === 'EGO_VEHICLE'); centreOn(ego.uuid); draw(); const b = boxAt(ego, state.frame); const [px, py] = toPixel(b[0], b[1]); const r = document.getElementById('map').getBoundingClientRect(); const k = r.width / document.getElementById('map').width; return [r.x + px * k, r.y + py * k]; })()",
     );
     page.click(at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
     page.wait_for(
