@@ -54,6 +54,8 @@ pub enum Field {
     PictureSize,
     /// The frames a picture shows (`--frames`, `frames`).
     Frames,
+    /// The Rerun recording of an explanation (`--rerun`, `rerun`).
+    Rerun,
     /// Candidate programs per description (`--candidates`, `candidates`).
     Candidates,
     /// Evidence rounds after a synthesis search (`--evidence-rounds`, `evidence_rounds`).
@@ -85,6 +87,7 @@ impl Field {
             Field::OnlyPredicted => "--only-predicted",
             Field::Picture => "--picture",
             Field::PictureSize => "--picture-size",
+            Field::Rerun => "--rerun",
             Field::Frames => "--frames",
             Field::Candidates => "--candidates",
             Field::EvidenceRounds => "--evidence-rounds",
@@ -114,6 +117,7 @@ impl Field {
             Field::OnlyPredicted => "only_predicted",
             Field::Picture => "picture",
             Field::PictureSize => "picture_size",
+            Field::Rerun => "rerun",
             Field::Frames => "frames",
             Field::Candidates => "candidates",
             Field::EvidenceRounds => "evidence_rounds",

@@ -238,6 +238,43 @@ impl Explained {
         explanation_json(&self.renderer(), &self.explanation)
     }
 
+    /// Writes the track explained at every frame of its log as a Rerun recording (`.rrd`): the
+    /// map, every object's box per frame (referred, related, ego, other), the proof or why-not
+    /// report per frame (see `pipeline::recording`). Needs the `rerun` feature; without it, an
+    /// error saying so.
+    pub fn record(&self, out: &Path) -> Result<(), ExplainError> {
+        if out.extension().is_none_or(|e| e != "rrd") {
+            return Err(ExplainError::new(
+                2,
+                invalid(
+                    Field::Rerun,
+                    format!("expected a `.rrd` file, got `{}`", out.display()),
+                ),
+            ));
+        }
+        #[cfg(feature = "rerun")]
+        {
+            crate::pipeline::recording::write_recording(
+                &self.renderer(),
+                self.explanation.track,
+                &self.limits,
+                out,
+            )
+            .map_err(|e| ExplainError::new(2, Error::about(Field::Rerun, e)))
+        }
+        #[cfg(not(feature = "rerun"))]
+        {
+            Err(ExplainError::new(
+                2,
+                Error::about(
+                    Field::Rerun,
+                    "this scenalog was built without Rerun: build it with `--features rerun` \
+                     (cargo install --path . --features rerun)",
+                ),
+            ))
+        }
+    }
+
     /// Draws the picture the request asks for (see [`PictureRequest`]): the scene at the frame
     /// explained, or the track's path over frames (a `.gif`: an animation, each frame with its
     /// own proof, the program evaluated again within the explanation's limits).

@@ -54,6 +54,11 @@ pub struct Args {
     /// Also draw the scene from above into this file (.png, .svg, or .gif for an animation).
     #[arg(long, value_name = "OUT")]
     pub picture: Option<PathBuf>,
+    /// Also write the track explained at every frame as a Rerun recording (OUT.rrd): boxes,
+    /// map, referred and related marked, the proof at each frame (needs a build with
+    /// `--features rerun`).
+    #[arg(long, value_name = "OUT.rrd")]
+    pub rerun: Option<PathBuf>,
     /// The picture's width and height in pixels.
     #[arg(long, default_value_t = 800, value_name = "PX", value_parser = clap::value_parser!(u32).range(200..=4000))]
     pub picture_size: u32,
@@ -143,6 +148,11 @@ pub fn run(args: Args) -> ExitCode {
             frames,
         };
         if let Err(e) = explained.draw(&picture) {
+            return failed(e);
+        }
+    }
+    if let Some(out) = &args.rerun {
+        if let Err(e) = explained.record(out) {
             return failed(e);
         }
     }

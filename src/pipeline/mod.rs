@@ -14,6 +14,8 @@ pub mod lock;
 pub mod output;
 pub mod picture;
 pub mod predictions;
+#[cfg(feature = "rerun")]
+pub mod recording;
 pub mod report;
 pub mod run;
 pub mod scenario;

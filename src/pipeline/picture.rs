@@ -313,20 +313,27 @@ pub fn explanation_picture<'a>(
     p
 }
 
-/// The picture of each frame from `first` to `last` (inclusive) of `like.referred`'s track,
-/// each with its own proof (or, where the track is not referred, its own why-not report) and
-/// related objects, drawn as `like` is (point of view, size, extent): an animation's frames.
-/// The program is evaluated again within `limits`.
-pub fn frame_pictures<'a>(
-    r: &Renderer<'a>,
-    like: &Picture<'a>,
+/// A track explained at every frame of a span, and what the evaluation derived at each: what an
+/// animation and a Rerun recording show.
+pub struct FrameExplanations {
+    /// Per frame from the first to the last: the track's proof (or why-not report where it is
+    /// present and not referred) and the objects related to it there.
+    pub frames: Vec<(Explanation, Vec<TrackId>)>,
+    /// Every `referred(X, T)` the program derives, sorted.
+    pub referred: Vec<(TrackId, Frame)>,
+    /// Every `related(X, Y, T)` it derives, sorted.
+    pub related: Vec<(TrackId, TrackId, Frame)>,
+}
+
+/// Explains `track` at each frame from `first` to `last` (inclusive), the program evaluated
+/// again within `limits` (once, and once whole when some frame needs a why-not report).
+pub fn frame_explanations(
+    r: &Renderer<'_>,
+    track: TrackId,
     first: Frame,
     last: Frame,
     limits: &Options,
-) -> Result<Vec<Picture<'a>>, Message> {
-    let Some(track) = like.referred else {
-        return Ok(Vec::new());
-    };
+) -> Result<FrameExplanations, Message> {
     let failed = |e: EvaluationError| {
         e.message(&format!(
             "evaluating {} on log {}: ",
@@ -352,7 +359,7 @@ pub fn frame_pictures<'a>(
     } else {
         None
     };
-    let mut out = Vec::new();
+    let mut frames = Vec::new();
     for frame in first..=last {
         let tuple = [Value::Track(track), Value::Time(frame)];
         let proof = explain(&r.scenario.program, &ev, "referred", &tuple).map_err(text)?;
@@ -369,7 +376,53 @@ pub fn frame_pictures<'a>(
             proof,
             why_not,
         };
-        let mut p = explanation_picture(r, &e, related_at(&ev, track, frame), like.reference);
+        frames.push((e, related_at(&ev, track, frame)));
+    }
+    let mut all_referred: Vec<(TrackId, Frame)> = ev
+        .tuples("referred")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(x), Value::Time(f)] => Some((*x, *f)),
+            _ => None,
+        })
+        .collect();
+    all_referred.sort_unstable();
+    let mut all_related: Vec<(TrackId, TrackId, Frame)> = ev
+        .tuples("related")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(x), Value::Track(o), Value::Time(f)] => Some((*x, *o, *f)),
+            _ => None,
+        })
+        .collect();
+    all_related.sort_unstable();
+    Ok(FrameExplanations {
+        frames,
+        referred: all_referred,
+        related: all_related,
+    })
+}
+
+/// The picture of each frame from `first` to `last` (inclusive) of `like.referred`'s track,
+/// each with its own proof (or, where the track is not referred, its own why-not report) and
+/// related objects, drawn as `like` is (point of view, size, extent): an animation's frames.
+/// The program is evaluated again within `limits`.
+pub fn frame_pictures<'a>(
+    r: &Renderer<'a>,
+    like: &Picture<'a>,
+    first: Frame,
+    last: Frame,
+    limits: &Options,
+) -> Result<Vec<Picture<'a>>, Message> {
+    let Some(track) = like.referred else {
+        return Ok(Vec::new());
+    };
+    let explained = frame_explanations(r, track, first, last, limits)?;
+    let mut out = Vec::new();
+    for (e, related) in &explained.frames {
+        let mut p = explanation_picture(r, e, related.clone(), like.reference);
         p.width = like.width;
         p.height = like.height;
         p.half_extent = like.half_extent;

@@ -20,6 +20,7 @@ mod mine;
 mod out_confined;
 mod output_folder;
 mod pictures;
+mod rerun;
 mod run;
 mod split;
 mod studio;
