@@ -266,11 +266,7 @@ impl Explained {
         {
             Err(ExplainError::new(
                 2,
-                Error::about(
-                    Field::Rerun,
-                    "this scenalog was built without Rerun: build it with `--features rerun` \
-                     (cargo install --path . --features rerun)",
-                ),
+                Error::about(Field::Rerun, crate::api::mine::WITHOUT_RERUN),
             ))
         }
     }

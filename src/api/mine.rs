@@ -7,7 +7,7 @@
 //! failures itself.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -19,7 +19,7 @@ use crate::api::inputs::{
 use crate::api::limits::Limits;
 use crate::api::outputs::Outputs;
 use crate::api::synth::{check_jobs, synthesize, Synthesis};
-use crate::pipeline::output::{OutputNames, SCORED_PICKLE};
+use crate::pipeline::output::{OutputNames, MATCHES_RRD, SCORED_PICKLE};
 use crate::pipeline::report::write_run_report;
 use crate::pipeline::run::{pairs_json, run_unpublished, PairStatus, RunOptions};
 use crate::pipeline::scenario::{load_scenario, scenario_from_source};
@@ -66,6 +66,9 @@ pub struct MineRequest {
     pub limits: Limits,
     /// Also write the report `OUT/report/index.html`, picturing at most this many matches.
     pub report: Option<usize>,
+    /// Also write the run's matches as a Rerun recording, `OUT/matches.rrd` (needs the `rerun`
+    /// feature; without it the plan is refused).
+    pub rerun: bool,
     /// Draw a progress bar and print failures on stderr as they happen (the command).
     pub progress: bool,
     /// Set from another thread to stop the run without publishing it.
@@ -87,6 +90,7 @@ impl Default for MineRequest {
             eval_timestamps: None,
             limits: Limits::default(),
             report: None,
+            rerun: false,
             progress: false,
             cancel: None,
         }
@@ -120,6 +124,9 @@ pub struct MinePlan {
 pub fn plan(request: &MineRequest) -> Result<MinePlan, Error> {
     check_threads(request.threads)?;
     request.limits.check()?;
+    if request.rerun && !cfg!(feature = "rerun") {
+        return Err(Error::about(Field::Rerun, WITHOUT_RERUN));
+    }
     if let Some(d) = &request.descriptions {
         check_jobs(d.synthesis.jobs)?;
     }
@@ -299,6 +306,9 @@ pub struct MineOutcome {
     pub score_errors: Vec<String>,
     /// With a report: the page's path, or why it could not be written.
     pub report_page: Option<Result<PathBuf, String>>,
+    /// With `rerun`: the recording's path and the logs or programs it had to leave out, or why
+    /// it could not be written.
+    pub recording: Option<Result<(PathBuf, Vec<String>), String>>,
     /// Whether the outputs were published (the generation switched in), or why not.
     pub published: Result<(), String>,
     /// The files published.
@@ -414,9 +424,16 @@ pub fn run(request: &MineRequest, plan: MinePlan) -> Result<MineOutcome, Error> 
             &crate::pipeline::report::scored_prompts(plan.gt.as_ref().map(|(_, g)| g)),
         )
     });
+    let recording = request
+        .rerun
+        .then(|| write_recording(&generation.path(MATCHES_RRD), &plan, &report, &options));
     let published = generation.publish();
     let page = report_page.as_ref().and_then(|r| r.as_ref().ok().cloned());
-    let outputs = Outputs::of(&plan.out, &options.names, scored_written, page);
+    let mut outputs = Outputs::of(&plan.out, &options.names, scored_written, page);
+    if matches!(recording, Some(Ok(_))) {
+        outputs.rerun = Some(plan.out.join(MATCHES_RRD));
+    }
+    let recording = recording.map(|r| r.map(|notes| (plan.out.join(MATCHES_RRD), notes)));
     let failures = rolled_up(&plan, &report);
     let MinePlan {
         scenarios,
@@ -433,10 +450,44 @@ pub fn run(request: &MineRequest, plan: MinePlan) -> Result<MineOutcome, Error> 
         gt: gt.map(|(p, _)| p),
         score_errors,
         report_page,
+        recording,
         published,
         outputs,
     })
 }
+
+/// The run's matches written as a Rerun recording at `path` (the programs evaluated again on
+/// each log with matches, within one pair's limits); the logs or programs left out.
+#[cfg(feature = "rerun")]
+fn write_recording(
+    path: &Path,
+    plan: &MinePlan,
+    report: &crate::pipeline::run::RunReport,
+    options: &RunOptions,
+) -> Result<Vec<String>, String> {
+    crate::pipeline::recording::write_run_recording(
+        path,
+        &plan.scenarios,
+        &plan.logs,
+        &report.pairs,
+        &options.engine,
+    )
+}
+
+#[cfg(not(feature = "rerun"))]
+fn write_recording(
+    _: &Path,
+    _: &MinePlan,
+    _: &crate::pipeline::run::RunReport,
+    _: &RunOptions,
+) -> Result<Vec<String>, String> {
+    Err(WITHOUT_RERUN.to_string())
+}
+
+/// What a request for a Rerun recording gets from a build without the `rerun` feature.
+pub const WITHOUT_RERUN: &str =
+    "this scenalog was built without Rerun: build it with `--features rerun` \
+     (cargo install --locked --path . --features rerun)";
 
 /// Plans and runs a request ([`plan`], then [`run`]).
 pub fn mine(request: &MineRequest) -> Result<MineOutcome, Error> {

@@ -45,6 +45,8 @@ pub struct Outputs {
     pub report: Option<PathBuf>,
     /// The per-pair records `resume` reads (`pairs/`).
     pub pairs: PathBuf,
+    /// With `mine --rerun`: the Rerun recording (`matches.rrd`).
+    pub rerun: Option<PathBuf>,
 }
 
 impl Outputs {
@@ -67,6 +69,7 @@ impl Outputs {
             scored: scored.then(|| OutputFile::new(dir, SCORED_PICKLE)),
             report,
             pairs: dir.join(PAIRS_DIR),
+            rerun: None,
         }
     }
 }

@@ -79,6 +79,7 @@ fn request(args: &Options) -> Result<MineRequest, String> {
         eval_timestamps: args.eval_timestamps.clone(),
         limits: limits(args),
         report: args.report.then_some(args.report_max_pictures),
+        rerun: args.rerun,
         progress: true,
         cancel: None,
     })
@@ -121,6 +122,23 @@ pub fn run(args: Args) -> ExitCode {
         Some(Ok(page)) => eprintln!("scenalog mine: wrote the report {}", page.display()),
         Some(Err(e)) => {
             eprintln!("scenalog mine: the report: {e}");
+            score_failed = true;
+        }
+        None => {}
+    }
+    match &outcome.recording {
+        Some(Ok((path, notes))) => {
+            eprintln!(
+                "scenalog mine: wrote the Rerun recording {} (open it with `rerun {}`)",
+                path.display(),
+                path.display()
+            );
+            for n in notes {
+                eprintln!("scenalog mine: the recording left out {n}");
+            }
+        }
+        Some(Err(e)) => {
+            eprintln!("scenalog mine: the Rerun recording: {e}");
             score_failed = true;
         }
         None => {}

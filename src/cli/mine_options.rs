@@ -71,6 +71,11 @@ pub struct Options {
     /// pictures of the matches; opens from disk, works offline).
     #[arg(long)]
     pub report: bool,
+    /// Also write the run's matches as a Rerun recording, OUT/matches.rrd: per log the map, every
+    /// box per frame, each program's referred and related objects (needs a build with
+    /// `--features rerun`).
+    #[arg(long)]
+    pub rerun: bool,
     /// Most matches the report pictures, never fewer than the first match of every program
     /// that matched (the rest are listed with the command that pictures them).
     #[arg(long, default_value_t = 40, value_name = "N")]

@@ -54,6 +54,8 @@ pub const SUMMARY_JSON: &str = "summary.json";
 pub const PAIRS_DIR: &str = "pairs";
 /// The report's directory (`scenalog mine --report`).
 pub const REPORT_DIR: &str = "report";
+/// `mine --rerun`: the run's matches as a Rerun recording.
+pub const MATCHES_RRD: &str = "matches.rrd";
 pub use super::lock::CURRENT;
 
 /// Every output a generation may hold: its path in `OUT/` is a link through [`CURRENT`].
@@ -66,6 +68,7 @@ pub const GENERATION_NAMES: &[&str] = &[
     MATCHES_JSON,
     SUMMARY_JSON,
     REPORT_DIR,
+    MATCHES_RRD,
 ];
 
 /// One referred track of one (log, program) pair.

@@ -378,26 +378,8 @@ pub fn frame_explanations(
         };
         frames.push((e, related_at(&ev, track, frame)));
     }
-    let mut all_referred: Vec<(TrackId, Frame)> = ev
-        .tuples("referred")
-        .unwrap_or_default()
-        .iter()
-        .filter_map(|t| match t.as_slice() {
-            [Value::Track(x), Value::Time(f)] => Some((*x, *f)),
-            _ => None,
-        })
-        .collect();
-    all_referred.sort_unstable();
-    let mut all_related: Vec<(TrackId, TrackId, Frame)> = ev
-        .tuples("related")
-        .unwrap_or_default()
-        .iter()
-        .filter_map(|t| match t.as_slice() {
-            [Value::Track(x), Value::Track(o), Value::Time(f)] => Some((*x, *o, *f)),
-            _ => None,
-        })
-        .collect();
-    all_related.sort_unstable();
+    let all_referred = super::scenario::referred_pairs(&ev);
+    let all_related = super::scenario::related_triples(&ev);
     Ok(FrameExplanations {
         frames,
         referred: all_referred,

@@ -4,7 +4,9 @@
 //! objects related to the explained track, the ego vehicle and the others each an entity of its
 //! own, coloured as in the pictures — and the explained track's proof (or why-not report) at that
 //! frame as text. Two timelines: `frame` (the 10 Hz frame) and `time` (seconds from the log's
-//! start). Built only with the `rerun` feature.
+//! start). [`write_run_recording`] writes a whole run's matches: each log with matches under
+//! `logs/<log id>/`, its map and every box, and per program that matched there its referred and
+//! related objects per frame. Built only with the `rerun` feature.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -225,4 +227,154 @@ fn record(
             .map_err(failed)?;
     }
     rec.flush_blocking().map_err(|e| e.to_string())
+}
+
+/// An entity path from parts taken as they are (names may hold `/` or spaces).
+fn entity(parts: &[&str]) -> rerun::EntityPath {
+    rerun::EntityPath::new(
+        parts
+            .iter()
+            .map(|p| rerun::EntityPathPart::new(*p))
+            .collect(),
+    )
+}
+
+/// The (track, frame) pairs a program marks on a log, as referred or as related.
+type Marks = BTreeSet<(TrackId, Frame)>;
+
+/// The matches of a run as one Rerun recording at `path`: per log with matches, under
+/// `logs/<log id>/`, the map once, every object's box per frame (`objects`), and per program
+/// that matched there `programs/<name>/referred` and `programs/<name>/related` per frame, the
+/// programs evaluated again on the log within `limits`. Logs that cannot be read or programs
+/// that fail are skipped and named in the returned notes.
+pub fn write_run_recording(
+    path: &Path,
+    scenarios: &[super::scenario::Scenario],
+    logs: &[super::run::LogInput],
+    pairs: &[super::run::PairResult],
+    limits: &scenalog_engine::Options,
+) -> Result<Vec<String>, String> {
+    let failed = |e: rerun::RecordingStreamError| format!("cannot write `{}`: {e}", path.display());
+    let rec = rerun::RecordingStreamBuilder::new("scenalog")
+        .recording_id("scenalog-mine")
+        .save(path)
+        .map_err(failed)?;
+    let colour = |c: [u8; 3]| rerun::Color::from_rgb(c[0], c[1], c[2]);
+    let mut notes = Vec::new();
+    for log in logs {
+        let matched: Vec<usize> = pairs
+            .iter()
+            .filter(|p| p.log_id == log.log_id && !p.matches.is_empty())
+            .map(|p| p.scenario)
+            .collect();
+        if matched.is_empty() {
+            continue;
+        }
+        let scene = match scenalog_facts::load_scene(&log.dir) {
+            Ok(s) => s,
+            Err(e) => {
+                notes.push(format!("log {}: {e}", log.log_id));
+                continue;
+            }
+        };
+        let extractor = scenalog_extractors::cache::Extractor::new(&scene);
+        let id = scene.log_id.as_str();
+        let map = &scene.map;
+        for (name, strips, c) in [
+            (
+                "lanes",
+                map.lanes
+                    .iter()
+                    .map(|l| ring(&l.right_boundary, &l.left_boundary))
+                    .collect::<Vec<Strip>>(),
+                LANE,
+            ),
+            (
+                "crossings",
+                map.crossings
+                    .iter()
+                    .map(|c| ring(&c.edge1, &c.edge2))
+                    .collect(),
+                CROSSING,
+            ),
+        ] {
+            rec.log_static(
+                entity(&["logs", id, "map", name]),
+                &rerun::LineStrips3D::new(strips).with_colors([colour(c)]),
+            )
+            .map_err(failed)?;
+        }
+        // Per program: its referred and related (track, frame) on this log.
+        let mut programs: Vec<(&str, Marks, Marks)> = Vec::new();
+        for s in matched {
+            let Some(scenario) = scenarios.get(s) else {
+                continue;
+            };
+            let ev = match super::scenario::evaluate_on(&extractor, &scenario.program, limits) {
+                Ok(ev) => ev,
+                Err(e) => {
+                    notes.push(
+                        e.message(&format!("{} on log {id}: ", scenario.name))
+                            .render(crate::message::Names::Flags),
+                    );
+                    continue;
+                }
+            };
+            let referred = super::scenario::referred_pairs(&ev).into_iter().collect();
+            let related = super::scenario::related_triples(&ev)
+                .into_iter()
+                .map(|(_, o, f)| (o, f))
+                .collect();
+            programs.push((scenario.name.as_str(), referred, related));
+        }
+        let start = scene
+            .timeline
+            .frames()
+            .first()
+            .and_then(|f| scene.timeline.seconds(*f))
+            .unwrap_or(0.0);
+        for &frame in scene.timeline.frames() {
+            rec.set_time_sequence("frame", i64::from(frame));
+            rec.set_duration_secs(
+                "time",
+                scene.timeline.seconds(frame).unwrap_or(start) - start,
+            );
+            let present: Vec<(TrackId, &TrackBox, String)> = scene
+                .tracks
+                .iter()
+                .filter_map(|t| {
+                    let b = t.box_at(frame)?;
+                    Some((
+                        t.id,
+                        b,
+                        format!("{} ({})", &t.uuid[..t.uuid.len().min(8)], t.category),
+                    ))
+                })
+                .collect();
+            let all: Vec<(&TrackBox, String)> =
+                present.iter().map(|(_, b, l)| (*b, l.clone())).collect();
+            rec.log(entity(&["logs", id, "objects"]), &boxes(&all, OTHER))
+                .map_err(failed)?;
+            for (name, referred, related) in &programs {
+                for (kind, set, c) in [
+                    ("referred", referred, REFERRED),
+                    ("related", related, RELATED),
+                ] {
+                    let these: Vec<(&TrackBox, String)> = present
+                        .iter()
+                        .filter(|(t, _, _)| set.contains(&(*t, frame)))
+                        .map(|(_, b, l)| (*b, l.clone()))
+                        .collect();
+                    rec.log(
+                        entity(&["logs", id, "programs", name, kind]),
+                        &boxes(&these, c),
+                    )
+                    .map_err(failed)?;
+                }
+            }
+        }
+    }
+    rec.flush_blocking()
+        .map_err(|e| format!("cannot write `{}`: {e}", path.display()))?;
+    Ok(notes)
 }

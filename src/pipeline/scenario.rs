@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_extractors::cache::Extractor;
 use scenalog_extractors::{Budget, ExtractError};
-use scenalog_facts::relation::{RelationData, Request};
+use scenalog_facts::relation::{RelationData, Request, Value};
+use scenalog_facts::scene::{Frame, TrackId};
 use scenalog_rules::{check, render_human, CheckOptions, CheckedProgram};
 
 use crate::message::{Field, Message};
@@ -187,6 +188,37 @@ fn evaluate_with(
         over_budget: over_budget && matches!(engine, EngineError::Provider { .. }),
         engine,
     })
+}
+
+/// The (track, frame) pairs an evaluation derived as `referred`, sorted.
+pub fn referred_pairs(ev: &Evaluation) -> Vec<(TrackId, Frame)> {
+    let mut all: Vec<(TrackId, Frame)> = ev
+        .tuples("referred")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(x), Value::Time(f)] => Some((*x, *f)),
+            _ => None,
+        })
+        .collect();
+    all.sort_unstable();
+    all
+}
+
+/// The (referred track, related track, frame) triples an evaluation derived as `related`,
+/// sorted.
+pub fn related_triples(ev: &Evaluation) -> Vec<(TrackId, TrackId, Frame)> {
+    let mut all: Vec<(TrackId, TrackId, Frame)> = ev
+        .tuples("related")
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|t| match t.as_slice() {
+            [Value::Track(x), Value::Track(o), Value::Time(f)] => Some((*x, *o, *f)),
+            _ => None,
+        })
+        .collect();
+    all.sort_unstable();
+    all
 }
 
 #[cfg(test)]

@@ -29,9 +29,39 @@ fn rerun_wants_an_rrd_file() {
     assert!(err.contains("--rerun") && err.contains(".rrd"), "{err}");
 }
 
+/// `scenalog mine --rerun` of the bicycle program and the stopped-car one on the test's log.
+fn mine_rerun(out: &Path) -> std::process::Output {
+    crate::util::scenalog()
+        .args([
+            "mine",
+            "--rules",
+            RULES,
+            "rules/library/stopped_car.dl",
+            "--logs",
+            LOG,
+            "--threads",
+            "1",
+            "--rerun",
+            "--out",
+        ])
+        .arg(out)
+        .output()
+        .expect("run mine")
+}
+
 #[cfg(not(feature = "rerun"))]
 #[test]
 fn rerun_without_the_feature_says_how_to_get_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let o = mine_rerun(&dir.path().join("out"));
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--rerun") && err.contains("--features rerun"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out/matches.rrd").exists());
+
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("x.rrd");
     let o = explain_rerun(&out);
@@ -41,11 +71,81 @@ fn rerun_without_the_feature_says_how_to_get_it() {
     assert!(!out.exists());
 }
 
+/// The recording at `out` as `tests/support/read_rrd.py` reads it with rerun-sdk.
+#[cfg(feature = "rerun")]
+fn read_back(out: &Path) -> serde_json::Value {
+    const SDK: &str = "0.36.3";
+    let python = std::env::var("SCENALOG_RERUN_PYTHON").unwrap_or_else(|_| "python3".into());
+    let read = std::process::Command::new(&python)
+        .arg("tests/support/read_rrd.py")
+        .arg(out)
+        .arg(SDK)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
+    assert!(
+        read.status.success(),
+        "reading the recording with rerun-sdk {SDK} failed (pip install rerun-sdk=={SDK}; \
+         SCENALOG_RERUN_PYTHON names the Python): {}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    serde_json::from_slice(&read.stdout).expect("json")
+}
+
+#[cfg(feature = "rerun")]
+#[test]
+fn rerun_recording_of_a_run_holds_each_programs_matches() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let o = mine_rerun(&out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("wrote the Rerun recording"), "{err}");
+    let got = read_back(&out.join("matches.rrd"));
+    let log_id = LOG.rsplit('/').next().expect("log id");
+    let entities = &got["entities"];
+    assert_eq!(
+        entities[format!("/logs/{log_id}/map/lanes")]["static"],
+        true
+    );
+    // Per program, the tracks it refers to over the log are the run's matches (matches.json).
+    let matches: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("matches.json")).expect("matches.json"),
+    )
+    .expect("json");
+    for program in ["vehicle_with_bicycle_to_its_right", "stopped_car"] {
+        let rows = entities[format!("/logs/{log_id}/programs/{program}/referred")]["rows"]
+            .as_array()
+            .unwrap_or_else(|| panic!("no referred entity of {program}"))
+            .clone();
+        let recorded: std::collections::BTreeSet<String> = rows
+            .iter()
+            .flat_map(|r| r["labels"].as_array().cloned().unwrap_or_default())
+            .filter_map(|l| l.as_str().map(|l| l[..8].to_string()))
+            .collect();
+        let mined: std::collections::BTreeSet<String> = matches
+            .as_array()
+            .expect("matches")
+            .iter()
+            .filter(|m| m["program"] == program)
+            .map(|m| m["track_uuid"].as_str().expect("uuid")[..8].to_string())
+            .collect();
+        assert!(!mined.is_empty(), "{program}");
+        assert_eq!(recorded, mined, "{program}");
+    }
+    // Every object at every frame (157 frames).
+    assert_eq!(
+        entities[format!("/logs/{log_id}/objects")]["rows"]
+            .as_array()
+            .expect("objects")
+            .len(),
+        157
+    );
+}
+
 #[cfg(feature = "rerun")]
 #[test]
 fn rerun_recording_holds_the_map_the_boxes_and_the_proof_at_every_frame() {
     use serde_json::Value;
-    const SDK: &str = "0.36.3";
 
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("match.rrd");
@@ -59,20 +159,7 @@ fn rerun_recording_holds_the_map_the_boxes_and_the_proof_at_every_frame() {
         .collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
 
-    let python = std::env::var("SCENALOG_RERUN_PYTHON").unwrap_or_else(|_| "python3".into());
-    let read = std::process::Command::new(&python)
-        .arg("tests/support/read_rrd.py")
-        .arg(&out)
-        .arg(SDK)
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
-    assert!(
-        read.status.success(),
-        "reading the recording with rerun-sdk {SDK} failed (pip install rerun-sdk=={SDK}; \
-         SCENALOG_RERUN_PYTHON names the Python): {}",
-        String::from_utf8_lossy(&read.stderr)
-    );
-    let got: Value = serde_json::from_slice(&read.stdout).expect("json");
+    let got = read_back(&out);
     assert_eq!(got["recordings"], serde_json::json!(["scenalog"]));
     let entities = &got["entities"];
     let rows = |e: &str| -> Vec<Value> {
