@@ -4,7 +4,7 @@
 use std::cmp::Ordering;
 use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
-use std::sync::Arc;
+use std::sync::{Arc, RwLock};
 
 use scenalog_facts::catalog::ColType;
 use scenalog_facts::map::LaneId;
@@ -107,10 +107,54 @@ pub fn dec_float(u: u64) -> f64 {
 }
 
 /// Strings interned for one evaluation.
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Default)]
 pub struct Symbols {
     ids: HashMap<Arc<str>, u64>,
     names: Vec<Arc<str>>,
+    texts: Texts,
+}
+
+impl Clone for Symbols {
+    /// A copy with its own [`Texts`] (a shared one would see the copy's new strings under
+    /// ids the original gives to others).
+    fn clone(&self) -> Symbols {
+        Symbols {
+            ids: self.ids.clone(),
+            names: self.names.clone(),
+            texts: Texts(Arc::new(RwLock::new(self.names.clone()))),
+        }
+    }
+}
+
+/// The text of each interned string by id, shared by the comparisons that order strings by
+/// text (`<` on strings, `min` and `max` of strings): strings interned after a comparison was
+/// planned (a later clause's constants, a later stratum's inputs) are seen by it too.
+#[derive(Debug, Default, Clone)]
+pub struct Texts(Arc<RwLock<Vec<Arc<str>>>>);
+
+impl Texts {
+    /// The order of two interned strings' texts; `None` for an id never interned.
+    pub fn cmp(&self, a: u64, b: u64) -> Option<Ordering> {
+        if a == b {
+            return Some(Ordering::Equal);
+        }
+        let names = self.0.read().unwrap_or_else(|e| e.into_inner());
+        let x = names.get(usize::try_from(a).ok()?)?;
+        let y = names.get(usize::try_from(b).ok()?)?;
+        Some(x.as_ref().cmp(y.as_ref()))
+    }
+
+    /// Orders two values: strings by text, anything else as [`V::compare`] does.
+    pub fn compare(&self, a: V, b: V) -> Option<Ordering> {
+        match (a, b) {
+            (V::Sym(x), V::Sym(y)) => self.cmp(x, y),
+            _ => a.compare(b),
+        }
+    }
+
+    fn push(&self, s: Arc<str>) {
+        self.0.write().unwrap_or_else(|e| e.into_inner()).push(s);
+    }
 }
 
 impl Symbols {
@@ -122,6 +166,7 @@ impl Symbols {
         let id = self.names.len() as u64;
         let a: Arc<str> = Arc::from(s);
         self.names.push(a.clone());
+        self.texts.push(a.clone());
         self.ids.insert(a, id);
         id
     }
@@ -133,8 +178,14 @@ impl Symbols {
         }
         let id = self.names.len() as u64;
         self.names.push(s.clone());
+        self.texts.push(s.clone());
         self.ids.insert(s.clone(), id);
         id
+    }
+
+    /// The texts of this table's strings, for comparisons by text (see [`Texts`]).
+    pub fn texts(&self) -> Texts {
+        self.texts.clone()
     }
 
     /// The id of `s` if it was interned.
@@ -194,7 +245,8 @@ impl V {
         }
     }
 
-    /// Compares two values: numerically across int and float, by identity for symbols.
+    /// Compares two values: numerically across int and float, by identity for symbols (strings
+    /// by text need their [`Texts`]: [`Texts::compare`]).
     pub fn compare(self, other: V) -> Option<Ordering> {
         match (self, other) {
             (V::Int(a), V::Int(b)) => Some(a.cmp(&b)),

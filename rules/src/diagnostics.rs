@@ -65,9 +65,6 @@ pub const PRELUDE_ARITY: &str = "E0407";
 pub const UNIT_MISMATCH: &str = "E0105";
 /// A bare number added to a time (an instant): `T + 1` is a frame, not a duration.
 pub const INSTANT_PLUS_NUMBER: &str = "E0106";
-/// Strings ordered with `<`, `<=`, `>`, `>=`: the engine holds strings as symbols, so the order
-/// would not be the text's.
-pub const STRING_ORDER: &str = "E0107";
 /// A bare number compared with or added to a quantity with a unit: read in that unit.
 pub const BARE_NUMBER: &str = "W0511";
 /// A duration measured by counting samples (`N = count : { p(X, U), … }, N >= 31`): the

@@ -16,14 +16,14 @@ pub(crate) fn var_expr(name: &str) -> Expr {
 pub struct SumOverflow;
 
 /// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group; a
-/// `count` reads no target (its rows may have no column at all: `count : { a(1) }`).
+/// `count` reads no target (its rows may have no column at all: `count : { a(1) }`). `min`
+/// and `max` of strings order them by text (`texts`).
 pub(crate) fn fold(
     func: AggFunc,
     rows: &Rows,
-    g_len: usize,
-    last: usize,
-    target_ty: ColType,
-    out_ty: ColType,
+    (g_len, last): (usize, usize),
+    (target_ty, out_ty): (ColType, ColType),
+    texts: &Texts,
 ) -> Result<FastMap<Row, u64>, SumOverflow> {
     let mut acc: FastMap<Row, V> = FastMap::default();
     for r in rows.iter() {
@@ -60,8 +60,12 @@ pub(crate) fn fold(
                 } else {
                     std::cmp::Ordering::Greater
                 };
+                let order = |x: V, e: V| match target_ty {
+                    ColType::Str => texts.compare(x, e),
+                    _ => x.compare(e),
+                };
                 slot.and_modify(|e| {
-                    if x.compare(*e) == Some(want) {
+                    if order(x, *e) == Some(want) {
                         *e = x;
                     }
                 })
@@ -91,6 +95,8 @@ pub struct Correlated {
     pub(crate) last: usize,
     pub(crate) target_ty: ColType,
     pub(crate) out_ty: ColType,
+    /// The strings' texts, for `min` and `max` of strings.
+    pub(crate) texts: Texts,
     pub(crate) default: Option<u64>,
     /// Set when a `sum` overflowed for some binding; the evaluation then fails (see
     /// [`Plan::sum_overflowed`]) instead of using a wrong number.
@@ -126,10 +132,9 @@ impl Correlated {
         let table = match fold(
             self.func,
             &rows,
-            self.g_len,
-            self.last,
-            self.target_ty,
-            self.out_ty,
+            (self.g_len, self.last),
+            (self.target_ty, self.out_ty),
+            &self.texts,
         ) {
             Ok(t) => t,
             Err(SumOverflow) => {
@@ -196,7 +201,8 @@ pub(crate) fn agg_filter(
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let (out_ty, default) = result_type(g.func, target_ty);
     let last = head.len().saturating_sub(1);
-    let table = fold(g.func, &rows, g_len, last, target_ty, out_ty)
+    let texts = ctx.symbols.texts();
+    let table = fold(g.func, &rows, (g_len, last), (target_ty, out_ty), &texts)
         .map_err(|SumOverflow| ctx.limits.sum_overflow())?;
     let group_slots = group
         .iter()
@@ -308,6 +314,7 @@ pub(crate) fn correlated(
         last: head.len().saturating_sub(1),
         target_ty,
         out_ty,
+        texts: ctx.symbols.texts(),
         default,
         overflowed: std::sync::atomic::AtomicBool::new(false),
     };

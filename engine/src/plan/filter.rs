@@ -22,6 +22,8 @@ pub enum Filter {
     CmpRaw(CmpOp, usize, Raw),
     /// A comparison of two integer expressions.
     CmpInt(CmpOp, IExpr, IExpr),
+    /// An order comparison (`<`, `<=`, `>`, `>=`) of strings, by their text.
+    CmpText(CmpOp, CExpr, CExpr, Texts),
     /// `a - b op c` (`abs(a - b) op c` with `abs`) on int slots `a`, `b` and a constant:
     /// the common shape of distance and duration checks, evaluated without an expression
     /// tree (the same results as [`Filter::CmpInt`]: an overflow fails the comparison).
@@ -146,6 +148,17 @@ pub(crate) fn holds(op: CmpOp, ord: std::cmp::Ordering) -> bool {
     }
 }
 
+/// The filter for `a op b` in a rule: strings ordered by text ([`Filter::CmpText`]; their
+/// encoded words are interning ids, equal exactly when the strings are), anything else as
+/// [`cmp_filter`] compiles it.
+pub fn compare_filter(op: CmpOp, a: CExpr, b: CExpr, symbols: &Symbols) -> Filter {
+    let ordering = !matches!(op, CmpOp::Eq | CmpOp::Ne);
+    if ordering && (expr_type(&a) == ColType::Str || expr_type(&b) == ColType::Str) {
+        return Filter::CmpText(op, a, b, symbols.texts());
+    }
+    cmp_filter(op, a, b)
+}
+
 /// The filter for `a op b`: on encoded words when one side is a slot and the other a slot of
 /// the same type or a constant that encodes exactly in that type, else on decoded values.
 pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
@@ -251,6 +264,11 @@ pub(crate) fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
             Filter::Cmp(op, a, b) => {
                 let ord = a.eval(row)?.compare(b.eval(row)?)?;
                 if !holds(*op, ord) {
+                    return None;
+                }
+            }
+            Filter::CmpText(op, a, b, texts) => {
+                if !holds(*op, texts.compare(a.eval(row)?, b.eval(row)?)?) {
                     return None;
                 }
             }

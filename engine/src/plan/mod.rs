@@ -14,7 +14,7 @@ use scenalog_rules::ast::{
 
 use crate::limits::Limits;
 use crate::rows::Rows;
-use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, V, WIDTH};
+use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, Texts, V, WIDTH};
 use crate::EngineError;
 use scenalog_rules::walk::{aggregate_vars as agg_vars, expr_vars};
 
@@ -286,11 +286,9 @@ pub(crate) fn plan_seeded(
                 let f = match l {
                     BodyLit::Cmp(op, a, b) => {
                         if scope.bound(a) && scope.bound(b) {
-                            Some(cmp_filter(
-                                *op,
-                                compile_expr(a, &scope, ctx.symbols)?,
-                                compile_expr(b, &scope, ctx.symbols)?,
-                            ))
+                            let x = compile_expr(a, &scope, ctx.symbols)?;
+                            let y = compile_expr(b, &scope, ctx.symbols)?;
+                            Some(compare_filter(*op, x, y, ctx.symbols))
                         } else if *op == CmpOp::Eq {
                             let (var, e) = match (a.as_var(), b.as_var()) {
                                 (Some(v), _) if !scope.slots.contains_key(v) && scope.bound(b) => {

@@ -246,7 +246,11 @@ pub(crate) fn order_comparisons(after: &mut [Filter], ranks: &[u8]) {
     let is_cmp = |f: &Filter| {
         matches!(
             f,
-            Filter::Cmp(..) | Filter::CmpRaw(..) | Filter::CmpInt(..) | Filter::CmpDiff { .. }
+            Filter::Cmp(..)
+                | Filter::CmpRaw(..)
+                | Filter::CmpInt(..)
+                | Filter::CmpDiff { .. }
+                | Filter::CmpText(..)
         )
     };
     let mut i = 0;

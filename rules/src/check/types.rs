@@ -541,6 +541,28 @@ impl Infer<'_> {
         }
     }
 
+    /// The type of `min`'s or `max`'s target, which must be a number or a string (strings
+    /// are ordered by text).
+    fn ordered(&mut self, e: &Expr, scope: &mut HashMap<String, usize>, func: AggFunc) -> Ty {
+        let t = self.expr_ty(e, scope);
+        if t.numeric_ok() || t == Ty::Known(ColType::Str) {
+            return t;
+        }
+        self.push(
+            error(
+                diagnostics::TYPE_MISMATCH,
+                e.span,
+                format!(
+                    "type mismatch: `{}` needs numbers or strings, found {}",
+                    func.as_str(),
+                    a_ty(t)
+                ),
+            )
+            .with_hint("`min` and `max` order numbers by value and strings by text"),
+        );
+        Ty::Unknown
+    }
+
     fn clause_exprs(&mut self, c: &Clause, scope: &mut HashMap<String, usize>) {
         for l in &c.body {
             self.literal_exprs(l, scope);
@@ -555,21 +577,6 @@ impl Infer<'_> {
                 let tr = self.expr_ty(&cmp.rhs, scope);
                 self.domain_check(&cmp.lhs, &cmp.rhs, scope);
                 self.domain_check(&cmp.rhs, &cmp.lhs, scope);
-                let string = Ty::Known(ColType::Str);
-                let ordered = !matches!(cmp.op, crate::ast::CmpOp::Eq | crate::ast::CmpOp::Ne);
-                if ordered && (tl == string || tr == string) {
-                    self.push(
-                        error(
-                            diagnostics::STRING_ORDER,
-                            cmp.span,
-                            format!(
-                                "strings cannot be ordered with `{}`: the engine holds them as symbols, whose order is not the text's",
-                                cmp.op.as_str()
-                            ),
-                        )
-                        .with_hint("compare strings with `=` or `!=`; to keep one of two objects of a pair, order the objects (`X < Y` on tracks), not their names"),
-                    );
-                }
                 let time = Ty::Known(ColType::Time);
                 let float = |t: Ty, e: &Expr| t == Ty::Known(ColType::Float) || has_float(e);
                 if (tl == time || tr == time) && (float(tl, &cmp.lhs) || float(tr, &cmp.rhs)) {
@@ -625,6 +632,7 @@ impl Infer<'_> {
                 }
                 let result = match (g.func, &g.target) {
                     (AggFunc::Count, _) => Ty::Known(ColType::Int),
+                    (AggFunc::Min | AggFunc::Max, Some(t)) => self.ordered(t, scope, g.func),
                     (_, Some(t)) => self.numeric(t, scope, &format!("`{}`", g.func.as_str())),
                     (_, None) => Ty::Unknown,
                 };
