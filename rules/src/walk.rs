@@ -116,6 +116,23 @@ pub fn aggregate_vars(g: &Aggregate) -> Vec<&str> {
     vs
 }
 
+/// The distinct named variables an aggregate's braces bind at their own level, in order of
+/// first occurrence: those of its atoms, comparisons and target, and of a nested aggregate
+/// only its result (what is inside the nested braces is local to them). The tuples a `count`
+/// or `sum` folds are distinct in these.
+pub fn aggregate_level_vars(g: &Aggregate) -> Vec<&str> {
+    let mut vs = Vec::new();
+    for l in &g.body {
+        outer_vars(l, &mut vs);
+    }
+    if let Some(t) = &g.target {
+        expr_vars(t, &mut vs);
+    }
+    let mut seen = std::collections::HashSet::new();
+    vs.retain(|v| seen.insert(*v));
+    vs
+}
+
 /// Every atom of a clause's body, including inside aggregates, with whether it is negated.
 pub fn body_atoms(body: &[Literal]) -> Vec<(&Atom, bool)> {
     let mut out = Vec::new();

@@ -165,7 +165,7 @@ pub(crate) fn agg_filter(
     let mut head: Vec<Expr> = group.iter().map(|v| var_expr(v)).collect();
     let g_len = head.len();
     if matches!(g.func, AggFunc::Count | AggFunc::Sum) {
-        for v in agg_vars(g) {
+        for v in scenalog_rules::walk::aggregate_level_vars(g) {
             if !group.contains(&v) {
                 head.push(var_expr(v));
             }

@@ -248,13 +248,14 @@ pub(crate) fn plan_seeded(
         scope.new_slot(v, *ty)?;
     }
     let mut done = vec![false; lits.len()];
-    let mut outer: HashSet<&str> = HashSet::new();
-    {
-        let mut vs = Vec::new();
-        for e in head {
-            expr_vars(e, &mut vs);
-        }
-        for l in lits {
+    // Per literal, the variables it shows to the rest of the body (of an aggregate only its
+    // result): an aggregate is grouped by those of its variables that the seed or another
+    // literal shows, as Soufflé scopes it. A variable only in its own result or the head is
+    // local to its braces (`Y = min Z + Y : { a(Z), a(Y) }`: the inner `Y` is not the result).
+    let shown: Vec<Vec<&str>> = lits
+        .iter()
+        .map(|l| {
+            let mut vs = Vec::new();
             match l {
                 BodyLit::Pos(a) | BodyLit::Neg(a) => {
                     a.args.iter().for_each(|e| expr_vars(e, &mut vs))
@@ -265,20 +266,52 @@ pub(crate) fn plan_seeded(
                 }
                 BodyLit::Agg(g) => expr_vars(&g.result, &mut vs),
             }
+            vs
+        })
+        .collect();
+    let outside = |i: usize| -> HashSet<&str> {
+        let mut o: HashSet<&str> = seed.iter().map(|(v, _)| *v).collect();
+        for (j, vs) in shown.iter().enumerate() {
+            if j != i {
+                o.extend(vs.iter().copied());
+            }
         }
-        outer.extend(vs);
-    }
+        o
+    };
     let mut start = Vec::new();
     let mut atoms: Vec<AtomStep> = Vec::new();
     // Per atom, per filter after it: its rank among comparisons (see `cmp_rank`); the body
     // literals whose comparisons bound an atom's range.
     let mut ranks: Vec<Vec<u8>> = Vec::new();
     let mut windowed: HashSet<usize> = HashSet::new();
+    // Expression arguments joined before their variables were bound (`g(X + 1)` joined before
+    // `v(X)`, `p(2 * N, N)`): each read into a hidden slot, then compared with the expression
+    // once its variables are bound.
+    let mut pending: Vec<(usize, ColType, &Expr)> = Vec::new();
     loop {
         // Ready filters first (comparisons, bindings, negations).
         let mut progress = true;
         while progress {
             progress = false;
+            let mut k = 0;
+            while k < pending.len() {
+                let (slot, ty, e) = pending[k];
+                if !scope.bound(e) {
+                    k += 1;
+                    continue;
+                }
+                pending.swap_remove(k);
+                let ce = compile_expr(e, &scope, ctx.symbols)?;
+                let f = compare_filter(CmpOp::Eq, CExpr::Slot(slot, ty), ce, ctx.symbols);
+                place(
+                    f,
+                    cmp_rank(CmpOp::Eq, false),
+                    &mut atoms,
+                    &mut ranks,
+                    &mut start,
+                );
+                progress = true;
+            }
             for (i, l) in lits.iter().enumerate() {
                 if done[i] {
                     continue;
@@ -319,6 +352,7 @@ pub(crate) fn plan_seeded(
                         }
                     }
                     BodyLit::Agg(g) => {
+                        let outer = outside(i);
                         let group: Vec<&str> = agg_vars(g)
                             .into_iter()
                             .filter(|v| outer.contains(v))
@@ -348,18 +382,27 @@ pub(crate) fn plan_seeded(
                 }
             }
         }
-        // Next atom: the one with most bound or constant arguments.
-        let mut best: Option<(usize, usize)> = None;
+        // Next atom: the one with most bound or constant arguments, on a tie one whose
+        // expression arguments can all be computed (it is looked up, not read whole).
+        let mut best: Option<(usize, (usize, bool))> = None;
         for (i, l) in lits.iter().enumerate() {
             if let (false, BodyLit::Pos(a)) = (done[i], l) {
-                let score = a
+                let bound = a
                     .args
                     .iter()
                     .filter(|e| !matches!(e.kind, ExprKind::Wildcard) && scope.bound(e))
                     .count();
+                let computable = a.args.iter().all(|e| {
+                    matches!(e.kind, ExprKind::Wildcard | ExprKind::Var(_)) || scope.bound(e)
+                });
                 let forced = atoms.is_empty() && first == Some(i);
-                if forced || best.is_none_or(|(_, s)| score > s) {
-                    best = Some((i, if forced { usize::MAX } else { score }));
+                let score = if forced {
+                    (usize::MAX, true)
+                } else {
+                    (bound, computable)
+                };
+                if best.is_none_or(|(_, s)| score > s) {
+                    best = Some((i, score));
                 }
             }
         }
@@ -398,10 +441,10 @@ pub(crate) fn plan_seeded(
                     }
                 }
                 _ => {
-                    return Err(EngineError::Unsupported(format!(
-                        "an expression argument of `{}` uses a variable bound nowhere before it",
-                        a.pred
-                    )))
+                    let hidden = format!("#arg{}", scope.slots.len());
+                    let s = scope.new_slot(&hidden, ty)?;
+                    pending.push((s, ty, e));
+                    Arg::New(s)
                 }
             };
             args.push(arg);
@@ -433,8 +476,7 @@ pub(crate) fn plan_seeded(
     for (a, r) in atoms.iter_mut().zip(&ranks) {
         order_comparisons(&mut a.after, r);
     }
-    if let Some(i) = done.iter().position(|d| !d) {
-        let _ = i;
+    if done.iter().any(|d| !d) || !pending.is_empty() {
         return Err(EngineError::Unsupported(
             "a rule body whose variables cannot all be bound".to_string(),
         ));

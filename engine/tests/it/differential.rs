@@ -1,6 +1,6 @@
 //! The engine against a small, obviously-correct naive evaluator on hundreds of seeded random
 //! programs and databases: recursion (self and mutual), negation, comparisons, bindings with
-//! arithmetic, constants in atoms, and count/min aggregates (with `_` columns and variables local
+//! arithmetic, constants and expressions (`V + 1`, possibly joined before `V` is bound) in atoms, and count/min aggregates (with `_` columns and variables local
 //! to the braces).
 //!
 //! The expected answer is [`crate::oracle`]'s (the same naive evaluator as `naive.rs`'s), run
@@ -35,6 +35,8 @@ enum Term {
     Var(usize),
     Const(i64),
     Wild,
+    /// `V + c`, in an atom after one that binds `V` (the engine may join it first).
+    Add(usize, i64),
 }
 
 #[derive(Clone, Debug)]
@@ -141,6 +143,8 @@ fn gen_rule(rng: &mut Rng, head: usize, arity: &[usize; 9]) -> Rule {
         for _ in 0..arity[pred] {
             let t = if rng.chance(12) {
                 Term::Const(rng.below(4) as i64)
+            } else if !bound.is_empty() && rng.chance(10) {
+                Term::Add(bound[rng.below(bound.len())], rng.below(3) as i64 - 1)
             } else if !bound.is_empty() && rng.chance(50) {
                 Term::Var(bound[rng.below(bound.len())])
             } else {
@@ -254,6 +258,7 @@ fn term_text(t: &Term) -> String {
         Term::Var(v) => format!("V{v}"),
         Term::Const(c) => c.to_string(),
         Term::Wild => "_".to_string(),
+        Term::Add(v, c) => format!("V{v} + {c}"),
     }
 }
 
@@ -342,7 +347,7 @@ fn check_proofs(
 fn engine_matches_the_naive_evaluator_on_random_programs() {
     let mut rng = Rng(0x5eed_cafe_f00d_0001);
     let (mut compared, mut nonempty, mut with_neg, mut with_agg) = (0, 0, 0, 0);
-    let mut with_agg_wild = 0;
+    let (mut with_agg_wild, mut with_expr_arg) = (0, 0);
     for case in 0..400 {
         let g = gen(&mut rng);
         let text = program_text(&g);
@@ -387,11 +392,17 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
                 matches!(l, Lit::Agg(_, _, a) if a.args.iter().any(|t| matches!(t, Term::Wild)))
             })
         }));
+        with_expr_arg += usize::from(g.rules.iter().any(|r| {
+            r.body.iter().any(
+                |l| matches!(l, Lit::Pos(a) if a.args.iter().any(|t| matches!(t, Term::Add(..)))),
+            )
+        }));
         compared += 1;
     }
     eprintln!(
         "{compared} programs: {nonempty} non-empty derived relations, {with_neg} with negation, \
-         {with_agg} with aggregates ({with_agg_wild} with `_` in the braces)"
+         {with_agg} with aggregates ({with_agg_wild} with `_` in the braces), {with_expr_arg} \
+         with an expression in an atom"
     );
     assert_eq!(compared, 400);
     // The generator must exercise what it claims to.
@@ -404,5 +415,9 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
     assert!(
         with_agg_wild > 20,
         "only {with_agg_wild} programs with `_` in an aggregate"
+    );
+    assert!(
+        with_expr_arg > 50,
+        "only {with_expr_arg} programs with an expression in an atom"
     );
 }

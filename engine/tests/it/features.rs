@@ -184,6 +184,34 @@ fn strings_are_ordered_by_text_in_comparisons_min_and_max() {
 }
 
 #[test]
+fn expression_arguments_are_joined_before_or_after_what_binds_them() {
+    // Soufflé's answers: g = {1, 2, 3} (with the fact 4), c = {2, 3}.
+    let e = run("g(4). v(1). v(2). v(3).\ng(X) :- g(X + 1), v(X).\n");
+    assert_eq!(ints(&e, "g"), vec![vec![1], vec![2], vec![3], vec![4]]);
+    let e = run("p(4, 2). p(6, 3). p(5, 1).\nc(N) :- p(2 * N, N).\n");
+    assert_eq!(ints(&e, "c"), vec![vec![2], vec![3]]);
+    // Written the other way round, the same answer.
+    let e = run("g(4). v(1). v(2). v(3).\ng(X) :- v(X), g(X + 1).\n");
+    assert_eq!(ints(&e, "g"), vec![vec![1], vec![2], vec![3], vec![4]]);
+}
+
+#[test]
+fn aggregates_are_scoped_as_souffle_scopes_them() {
+    // The result's name reused inside the braces names a variable local to them: r(2).
+    let e = run("a(1). a(2).\nr(Y) :- Y = min Z + Y : { a(Z), a(Y) }.\n");
+    assert_eq!(ints(&e, "r"), vec![vec![2]]);
+    // A nested aggregate grouped by the variables of the braces around it: 0 + 1 + 2.
+    let e = run("p(1). p(2). p(3).\nd(S) :- S = sum Y : { p(N), Y = count : { p(Z), Z < N } }.\n");
+    assert_eq!(ints(&e, "d"), vec![vec![3]]);
+    // Braces with no variable: the count of matching tuples (one or none).
+    let e = run("a(1).\nc(N) :- N = count : { a(1) }.\nd(N) :- N = count : { a(2) }.\n");
+    assert_eq!(ints(&e, "c"), vec![vec![1]]);
+    assert_eq!(ints(&e, "d"), vec![vec![0]]);
+    let e = run("a().\nc(N) :- N = count : { a() }.\n");
+    assert_eq!(ints(&e, "c"), vec![vec![1]]);
+}
+
+#[test]
 fn a_relation_that_grows_past_the_limit_is_named() {
     let src = ".decl n(X: int)\nn(0).\nn(Y) :- n(X), Y = X + 1.\n";
     let options = Options {
