@@ -41,6 +41,10 @@ pub struct AtomStep {
     /// The body literal this atom is (its index among the body's literals): the same in
     /// every plan of one clause, whatever the join order.
     pub lit: usize,
+    /// Whether the atom only tests that a matching tuple exists (`e(_)`, `p(X, _)` with `X`
+    /// bound): it binds no variable used anywhere else, so every matching tuple gives the
+    /// same binding and the join goes on with the first one (a semi-join, not a product).
+    pub existential: bool,
 }
 
 impl AtomStep {
@@ -75,6 +79,7 @@ impl AtomStep {
             sames,
             narrow: None,
             lit: 0,
+            existential: false,
         }
     }
 

@@ -269,6 +269,25 @@ pub(crate) fn plan_seeded(
             vs
         })
         .collect();
+    // How often each variable occurs in the head, the body (inside aggregates too) and the
+    // seed: one bound by an atom and used nowhere else is dead, and an atom binding only dead
+    // variables is an existence test (`AtomStep::existential`).
+    let mut uses: HashMap<&str, usize> = HashMap::new();
+    {
+        let mut vs: Vec<&str> = seed.iter().map(|(v, _)| *v).collect();
+        for e in head {
+            expr_vars(e, &mut vs);
+        }
+        for (l, shows) in lits.iter().zip(&shown) {
+            vs.extend(shows.iter().copied());
+            if let BodyLit::Agg(g) = l {
+                vs.extend(agg_vars(g));
+            }
+        }
+        for v in vs {
+            *uses.entry(v).or_default() += 1;
+        }
+    }
     let outside = |i: usize| -> HashSet<&str> {
         let mut o: HashSet<&str> = seed.iter().map(|(v, _)| *v).collect();
         for (j, vs) in shown.iter().enumerate() {
@@ -449,8 +468,16 @@ pub(crate) fn plan_seeded(
             };
             args.push(arg);
         }
+        let dead = a.args.iter().all(|e| match &e.kind {
+            ExprKind::Var(v) => {
+                scope.slots.get(v).is_some_and(|&(s, _)| s < from)
+                    || uses.get(v.as_str()) == Some(&1)
+            }
+            _ => true,
+        });
         let mut step = AtomStep::new(a.pred.clone(), args, Vec::new());
         step.lit = i;
+        step.existential = dead && !pending_from(&pending, from);
         // The comparisons ready once this atom is joined may bound one of its new columns.
         let mut ready = Vec::new();
         let mut ready_lits = Vec::new();
@@ -495,6 +522,12 @@ pub(crate) fn plan_seeded(
         atoms,
         head: out,
     })
+}
+
+/// Whether an expression argument of the atom just planned (its hidden slots start at
+/// `from`) waits to be compared: the atom's tuples then differ in what is checked later.
+fn pending_from(pending: &[(usize, ColType, &Expr)], from: usize) -> bool {
+    pending.iter().any(|&(s, _, _)| s >= from)
 }
 
 pub(crate) fn neg_filter(

@@ -375,6 +375,16 @@ impl<const W: usize> Join<'_, W> {
                 progress.limits.check(out.len())?;
             }
             match leaf {
+                Some(leaf) if depth + 1 == self.plan.atoms.len() && step.existential => {
+                    // An existence test last: the first candidate that passes stands for all.
+                    for t in matches {
+                        let before = out.len();
+                        Self::last(leaf, step, acc, b, std::slice::from_ref(t), out);
+                        if out.len() > before {
+                            return Ok(());
+                        }
+                    }
+                }
                 Some(leaf) if depth + 1 == self.plan.atoms.len() => {
                     Self::last(leaf, step, acc, b, matches, out)
                 }
@@ -396,6 +406,11 @@ impl<const W: usize> Join<'_, W> {
                             match exists {
                                 Some(leaf) => self.exists(b, out, progress, leaf),
                                 None => self.step(depth + 1, b, out, progress, leaf)?,
+                            }
+                            if step.existential {
+                                // An existence test: every other candidate gives the same
+                                // binding, so the same results.
+                                return Ok(());
                             }
                         }
                     }

@@ -212,6 +212,28 @@ fn aggregates_are_scoped_as_souffle_scopes_them() {
 }
 
 #[test]
+fn atoms_that_only_test_existence_are_not_enumerated() {
+    // 1,001 facts: the product of three `e(_)` is 10^9 bindings, all the same; the budget of
+    // 5,000 tuples would stop an evaluation that enumerated them.
+    let mut src: String = (0..1001).map(|i| format!("e({i}).\n")).collect();
+    src.push_str("n(1). n(2). n(3).\nk(2, 7). k(2, 8). k(3, 9).\n");
+    src.push_str("q(1) :- e(_), e(_), e(_).\n");
+    // Existence tests between, before and after atoms that bind, with a filter after them.
+    src.push_str("r(X) :- n(X), e(_), k(X, _), e(Y), X < 3.\n");
+    src.push_str("s(X, Z) :- e(_), n(X), k(X, Z), e(W), W > 999.\n");
+    let options = Options {
+        max_tuples: 5000,
+        timeout: None,
+        provenance: false,
+        pushdown: true,
+    };
+    let e = run_with(&src, &options).expect("evaluates within the budget");
+    assert_eq!(ints(&e, "q"), vec![vec![1]]);
+    assert_eq!(ints(&e, "r"), vec![vec![2]]);
+    assert_eq!(ints(&e, "s"), vec![vec![2, 7], vec![2, 8], vec![3, 9]]);
+}
+
+#[test]
 fn a_relation_that_grows_past_the_limit_is_named() {
     let src = ".decl n(X: int)\nn(0).\nn(Y) :- n(X), Y = X + 1.\n";
     let options = Options {
