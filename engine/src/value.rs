@@ -210,6 +210,21 @@ pub(crate) fn int_op(op: scenalog_rules::ast::BinOp, x: i64, y: i64) -> Option<i
         BinOp::Sub => x.checked_sub(y),
         BinOp::Mul => x.checked_mul(y),
         BinOp::Div => x.checked_div(y),
+        BinOp::Mod => x.checked_rem(y),
+        BinOp::Pow => int_pow(x, y),
+    }
+}
+
+/// `x ^ y` on integers: `None` on overflow; a negative exponent gives the power's integer
+/// part, truncated toward zero as Soufflé's does (`2 ^ -1` is 0, `-1 ^ -3` is -1).
+fn int_pow(x: i64, y: i64) -> Option<i64> {
+    match x {
+        0 if y < 0 => None,
+        0 => Some(i64::from(y == 0)),
+        1 => Some(1),
+        -1 => Some(if y % 2 == 0 { 1 } else { -1 }),
+        _ if y < 0 => Some(0),
+        _ => x.checked_pow(u32::try_from(y).ok()?),
     }
 }
 
@@ -221,6 +236,8 @@ pub(crate) fn float_op(op: scenalog_rules::ast::BinOp, x: f64, y: f64) -> Option
         BinOp::Sub => x - y,
         BinOp::Mul => x * y,
         BinOp::Div => x / y,
+        BinOp::Mod => x % y,
+        BinOp::Pow => x.powf(y),
     };
     r.is_finite().then_some(r)
 }

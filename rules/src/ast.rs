@@ -219,6 +219,11 @@ pub enum BinOp {
     Mul,
     /// `/`
     Div,
+    /// `mod`: the remainder of an integer division, with the dividend's sign (Soufflé's `%`;
+    /// `%` starts a comment here).
+    Mod,
+    /// `^`: power (right-associative, binding tighter than a sign: `-2 ^ 2` is -4).
+    Pow,
 }
 
 impl BinOp {
@@ -229,6 +234,8 @@ impl BinOp {
             BinOp::Sub => "-",
             BinOp::Mul => "*",
             BinOp::Div => "/",
+            BinOp::Mod => "mod",
+            BinOp::Pow => "^",
         }
     }
 }

@@ -229,7 +229,7 @@ pub fn rules(answer: Answer) -> Vec<(&'static str, G)> {
                 r("unary"),
                 star(seq(vec![
                     r("ws"),
-                    alt(vec![lit("*"), lit("/")]),
+                    alt(vec![lit("*"), lit("/"), lit("mod")]),
                     r("ws"),
                     r("unary"),
                 ])),
@@ -237,7 +237,14 @@ pub fn rules(answer: Answer) -> Vec<(&'static str, G)> {
         ),
         (
             "unary",
-            alt(vec![seq(vec![lit("-"), r("ws"), r("unary")]), r("primary")]),
+            alt(vec![seq(vec![lit("-"), r("ws"), r("unary")]), r("power")]),
+        ),
+        (
+            "power",
+            seq(vec![
+                r("primary"),
+                opt(seq(vec![r("ws"), lit("^"), r("ws"), r("unary")])),
+            ]),
         ),
         (
             "primary",

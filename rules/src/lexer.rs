@@ -56,6 +56,8 @@ pub enum Tok<'a> {
     Star,
     /// `/`
     Slash,
+    /// `^` (power)
+    Caret,
     /// Text the lexer could not read, with the reason.
     Error(String),
     /// The end of the text.
@@ -90,6 +92,7 @@ impl Tok<'_> {
             Tok::Minus => "`-`".into(),
             Tok::Star => "`*`".into(),
             Tok::Slash => "`/`".into(),
+            Tok::Caret => "`^`".into(),
             Tok::Error(m) => m.clone(),
             Tok::Eof => "the end of the program".into(),
         }
@@ -168,6 +171,7 @@ pub fn lex(source: &str) -> (Vec<Token<'_>>, Option<String>) {
             b'-' => one(Tok::Minus),
             b'*' => one(Tok::Star),
             b'/' => one(Tok::Slash),
+            b'^' => one(Tok::Caret),
             b'"' => {
                 let (tok, len) = lex_string(source, i);
                 if matches!(&tok, Tok::Error(m) if m.contains("unterminated")) {

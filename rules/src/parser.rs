@@ -545,6 +545,7 @@ impl<'a> Parser<'a> {
             let op = match self.peek() {
                 Tok::Star => BinOp::Mul,
                 Tok::Slash => BinOp::Div,
+                Tok::Ident("mod") => BinOp::Mod,
                 _ => return Ok(lhs),
             };
             self.bump();
@@ -563,8 +564,11 @@ impl<'a> Parser<'a> {
     fn unary(&mut self) -> PResult<Expr> {
         if matches!(self.peek(), Tok::Minus) {
             let start = self.bump();
-            // `-` directly before a number is a negative constant.
+            // `-` directly before a number is a negative constant (not before a power:
+            // `-2 ^ 2` is -(2 ^ 2)).
+            let power = matches!(self.peek_at(1), Tok::Caret);
             match self.peek().clone() {
+                _ if power => {}
                 Tok::Int(text) if self.span().start == start.end => {
                     let span = start.to(self.bump());
                     let e = int_literal(&format!("-{text}"), span)?;
@@ -589,7 +593,27 @@ impl<'a> Parser<'a> {
                 kind: ExprKind::Neg(Box::new(inner)),
             });
         }
-        self.primary()
+        self.power()
+    }
+
+    /// `primary ^ unary`: power, right-associative (`2 ^ 3 ^ 2` is 2 ^ 9) and above a sign.
+    fn power(&mut self) -> PResult<Expr> {
+        let base = self.primary()?;
+        if !matches!(self.peek(), Tok::Caret) {
+            return Ok(base);
+        }
+        self.bump();
+        self.enter()?;
+        let exponent = self.unary();
+        self.depth -= 1;
+        let exponent = exponent?;
+        if expr_height(&base).max(expr_height(&exponent)) + 1 > MAX_EXPR_HEIGHT {
+            return Err(self.too_tall(base.span));
+        }
+        Ok(Expr {
+            span: base.span.to(exponent.span),
+            kind: ExprKind::Binary(BinOp::Pow, Box::new(base), Box::new(exponent)),
+        })
     }
 
     fn primary(&mut self) -> PResult<Expr> {
@@ -720,6 +744,10 @@ impl Parser<'_> {
             return Ok(number);
         };
         if matches!(self.peek_at(1), Tok::LParen) {
+            return Ok(number);
+        }
+        if first == "mod" {
+            // `7 mod 2`: the operator, not a unit.
             return Ok(number);
         }
         if units::literal_unit(first).is_none() {

@@ -100,7 +100,9 @@ pub fn print_expr(e: &Expr) -> String {
 fn prec(op: BinOp) -> u8 {
     match op {
         BinOp::Add | BinOp::Sub => 1,
-        BinOp::Mul | BinOp::Div => 2,
+        BinOp::Mul | BinOp::Div | BinOp::Mod => 2,
+        // Above a sign's 3... and 4 for the right-associative power; see `write_expr`.
+        BinOp::Pow => 4,
     }
 }
 
@@ -163,9 +165,15 @@ fn write_expr(out: &mut String, e: &Expr, min: u8) {
             if paren {
                 out.push('(');
             }
-            write_expr(out, l, p);
+            // Left-associative operators group to the left, power to the right.
+            let (left, right) = if *op == BinOp::Pow {
+                (p + 1, p)
+            } else {
+                (p, p + 1)
+            };
+            write_expr(out, l, left);
             let _ = write!(out, " {} ", op.as_str());
-            write_expr(out, r, p + 1);
+            write_expr(out, r, right);
             if paren {
                 out.push(')');
             }

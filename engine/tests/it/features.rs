@@ -234,6 +234,42 @@ fn atoms_that_only_test_existence_are_not_enumerated() {
 }
 
 #[test]
+fn modulo_and_power_as_souffle_computes_them() {
+    // Soufflé's `%` (written `mod`) keeps the dividend's sign; `^` of integers is an integer,
+    // a negative exponent truncated toward zero; by zero, or past 64 bits, no tuple.
+    let src = "n(7). n(-7). n(2). n(0).\n\
+        r(X, Y, Z) :- n(X), n(Y), Z = X mod Y.\n\
+        p(X, Z) :- n(X), Z = X ^ 2 - 2 ^ -1 + 1 ^ 99999999999.\n\
+        big(Z) :- n(X), X > 0, Z = X ^ 40.\n\
+        s(A, B, C) :- A = -2 ^ 2, B = 2 ^ 3 ^ 2, C = 7 mod 2 * 3.\n";
+    let e = run(src);
+    assert_eq!(
+        ints(&e, "r"),
+        vec![
+            vec![-7, -7, 0],
+            vec![-7, 2, -1],
+            vec![-7, 7, 0],
+            vec![0, -7, 0],
+            vec![0, 2, 0],
+            vec![0, 7, 0],
+            vec![2, -7, 2],
+            vec![2, 2, 0],
+            vec![2, 7, 2],
+            vec![7, -7, 0],
+            vec![7, 2, 1],
+            vec![7, 7, 0],
+        ]
+    );
+    assert_eq!(
+        ints(&e, "p"),
+        vec![vec![-7, 50], vec![0, 1], vec![2, 5], vec![7, 50]]
+    );
+    // 2^40 fits; 7^40 does not.
+    assert_eq!(ints(&e, "big"), vec![vec![1 << 40]]);
+    assert_eq!(ints(&e, "s"), vec![vec![-4, 512, 3]]);
+}
+
+#[test]
 fn a_relation_that_grows_past_the_limit_is_named() {
     let src = ".decl n(X: int)\nn(0).\nn(Y) :- n(X), Y = X + 1.\n";
     let options = Options {

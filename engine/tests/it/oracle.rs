@@ -23,6 +23,10 @@ fn eval_expr(e: &Expr, env: &Env) -> Option<i64> {
                 BinOp::Sub => Some(x - y),
                 BinOp::Mul => Some(x * y),
                 BinOp::Div => x.checked_div(y),
+                BinOp::Mod => x.checked_rem(y),
+                BinOp::Pow if y >= 0 => x.checked_pow(u32::try_from(y).ok()?),
+                BinOp::Pow if x == 0 => None,
+                BinOp::Pow => Some((x as f64).powf(y as f64).trunc() as i64),
             }
         }
         _ => None,

@@ -285,6 +285,14 @@ fn measure(e: &Expr, env: &Env) -> U {
             match op {
                 BinOp::Add | BinOp::Sub => add(*op, ua, ub).0,
                 BinOp::Mul | BinOp::Div => mul(*op, ua, ub),
+                // A remainder is in its dividend's unit (`D mod 5 m`, both sides alike).
+                BinOp::Mod => add(BinOp::Sub, ua, ub).0,
+                // A power of a bare number is a bare number; of a quantity, a unit this check
+                // does not follow.
+                BinOp::Pow => match (ua, ub) {
+                    (U::Bare(_), U::Bare(_)) => U::Bare(None),
+                    _ => U::Unknown,
+                },
             }
         }
         ExprKind::Call(Func::Abs, args) => args.first().map_or(U::Unknown, |a| measure(a, env)),

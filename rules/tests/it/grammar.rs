@@ -93,6 +93,7 @@ fn what_does_not_parse_is_refused() {
         "referred(V, T) :- !stationary(V), c(V, \"a \\\"b\\\" \\\\ c\").",
         "referred(V, T) :- speed(V, T, S), S > 50 km/h, S < 30m/s, T2 - T < 3 s.",
         ".decl q(V: track, S: float<m/s>)\nq(V, S) :- speed(V, _, S).",
+        "r(X, Y) :- n(X), Y = X mod 3 + -2 ^ 2 ^ X, Y > 7 mod 2.\n",
     ] {
         accepts(&grammar, good).unwrap_or_else(|e| panic!("{good}: {e}"));
         let (_, diags) = scenalog_rules::parser::parse(good);

@@ -122,3 +122,31 @@ fn a_run_of_stray_tokens_is_one_error() {
     assert_eq!(d.len(), 2, "a new run after a good clause: {d:#?}");
     assert_eq!(prog.clauses.len(), 2);
 }
+
+#[test]
+fn modulo_is_mod_and_power_binds_tighter_than_a_sign() {
+    use scenalog_rules::printer::print_expr;
+    let (p, diags) =
+        parse("r(A, B, C, D) :- n(X), A = X mod 3 * 2, B = -2 ^ 2, C = 2 ^ 3 ^ 2, D = 7 mod 2.\n");
+    assert!(diags.is_empty(), "{diags:?}");
+    let sides: Vec<String> = p.clauses[0]
+        .body
+        .iter()
+        .filter_map(|l| match l {
+            Literal::Cmp(c) => Some(print_expr(&c.rhs)),
+            _ => None,
+        })
+        .collect();
+    // `mod` is multiplicative and left-associative; `^` is right-associative and above `-`.
+    assert_eq!(sides, ["X mod 3 * 2", "-(2 ^ 2)", "2 ^ 3 ^ 2", "7 mod 2"]);
+    let Literal::Cmp(c) = &p.clauses[0].body[3] else {
+        panic!("a comparison")
+    };
+    let ExprKind::Binary(BinOp::Pow, _, right) = &c.rhs.kind else {
+        panic!("a power: {:?}", c.rhs)
+    };
+    assert!(matches!(right.kind, ExprKind::Binary(BinOp::Pow, ..)));
+    // `%` stays a comment (Prolog's habit): what follows it on the line is not read.
+    let (p, diags) = parse("r(X) :- n(X). % X mod 2\n");
+    assert!(diags.is_empty() && p.clauses.len() == 1, "{diags:?}");
+}

@@ -110,7 +110,9 @@ fn expr() -> impl Strategy<Value = Expr> {
             Just(BinOp::Add),
             Just(BinOp::Sub),
             Just(BinOp::Mul),
-            Just(BinOp::Div)
+            Just(BinOp::Div),
+            Just(BinOp::Mod),
+            Just(BinOp::Pow)
         ];
         prop_oneof![
             inner.clone().prop_map(|e| ex(ExprKind::Neg(Box::new(e)))),
