@@ -34,40 +34,198 @@ fn clamp(source: &str, s: Span) -> std::ops::Range<usize> {
     start..fix(s.end).max(start)
 }
 
+/// Lines longer than this (in bytes) are shown as a window around the span, so that many
+/// diagnostics on one long line (a generated rule of thousands of atoms) cost their window
+/// each, not the line.
+const LONG_LINE: usize = 200;
+
+/// Bytes of context shown on either side of a span on a long line.
+const CONTEXT: usize = 60;
+
 /// Renders diagnostics as text with the source line and a caret under each span, like rustc.
+/// On a line longer than [`LONG_LINE`] bytes, the line is cut to a window around the span
+/// (`…` where it is cut), with the real line and column numbers.
 pub fn render_human(diags: &[Diagnostic], source: &str, file_name: &str, color: bool) -> String {
     let file = SimpleFile::new(file_name, source);
+    let starts: Vec<usize> = codespan_reporting::files::line_starts(source).collect();
     let config = Config::default();
     let mut out = String::new();
     for d in diags {
-        let mut labels = vec![Label::primary((), clamp(source, d.span))];
-        for (s, m) in &d.related {
-            labels.push(Label::secondary((), clamp(source, *s)).with_message(m.clone()));
-        }
         let severity = match d.severity {
             Severity::Error => CsSeverity::Error,
             Severity::Warning => CsSeverity::Warning,
         };
-        let mut cs = CsDiagnostic::new(severity)
-            .with_code(d.code)
-            .with_message(d.message.clone())
-            .with_labels(labels);
+        let mut notes = Vec::new();
         if let Some(h) = &d.hint {
-            cs = cs.with_notes(vec![format!("hint: {h}")]);
+            notes.push(format!("hint: {h}"));
         }
-        let text = if color {
-            let mut w = Ansi::new(Vec::new());
-            match term::emit_to_write_style(&mut w, &config, &file, &cs) {
-                Ok(()) => String::from_utf8_lossy(&w.into_inner()).into_owned(),
-                Err(_) => plain(d, source, file_name),
-            }
-        } else {
-            term::emit_into_string(&config, &file, &cs)
-                .unwrap_or_else(|_| plain(d, source, file_name))
+        let cs = |labels: Vec<Label<()>>, notes: Vec<String>| {
+            CsDiagnostic::new(severity)
+                .with_code(d.code)
+                .with_message(d.message.clone())
+                .with_labels(labels)
+                .with_notes(notes)
         };
-        out.push_str(&text);
+        let emitted = match Window::around(source, &starts, file_name, clamp(source, d.span)) {
+            Some(w) => {
+                let mut labels = vec![Label::primary((), w.map(clamp(source, d.span)))];
+                for (s, m) in &d.related {
+                    let r = clamp(source, *s);
+                    if w.holds(&r) {
+                        labels.push(Label::secondary((), w.map(r)).with_message(m.clone()));
+                    } else {
+                        let (l, c) = line_column(source, r.start);
+                        notes.push(format!("{l}:{c}: {m}"));
+                    }
+                }
+                emit(&config, &w, &cs(labels, notes), color)
+            }
+            None => {
+                let mut labels = vec![Label::primary((), clamp(source, d.span))];
+                for (s, m) in &d.related {
+                    labels.push(Label::secondary((), clamp(source, *s)).with_message(m.clone()));
+                }
+                emit(&config, &file, &cs(labels, notes), color)
+            }
+        };
+        out.push_str(&emitted.unwrap_or_else(|| plain(d, source, file_name)));
     }
     out
+}
+
+/// One diagnostic rendered by `codespan-reporting`, with colour or without; `None` if it fails.
+fn emit<'f, F: codespan_reporting::files::Files<'f, FileId = ()>>(
+    config: &Config,
+    files: &'f F,
+    cs: &CsDiagnostic<()>,
+    color: bool,
+) -> Option<String> {
+    if color {
+        let mut w = Ansi::new(Vec::new());
+        term::emit_to_write_style(&mut w, config, files, cs).ok()?;
+        Some(String::from_utf8_lossy(&w.into_inner()).into_owned())
+    } else {
+        term::emit_into_string(config, files, cs).ok()
+    }
+}
+
+/// A window of one long line, as a one-line file that reports the real line and columns.
+struct Window<'a> {
+    name: &'a str,
+    /// `…`, the window's text, `…` (each mark only where the line is cut).
+    text: String,
+    /// Where the window starts in the source.
+    from: usize,
+    /// Where it ends in the source.
+    to: usize,
+    /// The bytes of the leading mark (0 or 3).
+    mark: usize,
+    /// The real 1-based line.
+    line: usize,
+    /// The real 1-based column of the window's first character.
+    column: usize,
+}
+
+impl<'a> Window<'a> {
+    /// The window around `span` when its line (found in `starts`, the lines' first bytes) is
+    /// longer than [`LONG_LINE`]; `None` for a line short enough to show whole.
+    fn around(
+        source: &str,
+        starts: &[usize],
+        name: &'a str,
+        span: std::ops::Range<usize>,
+    ) -> Option<Window<'a>> {
+        let index = starts
+            .partition_point(|&s| s <= span.start)
+            .saturating_sub(1);
+        let line_start = *starts.get(index)?;
+        let line_end = starts
+            .get(index + 1)
+            .map_or(source.len(), |&s| s.saturating_sub(1))
+            .max(line_start);
+        if line_end - line_start <= LONG_LINE {
+            return None;
+        }
+        let boundary = |mut i: usize| {
+            while !source.is_char_boundary(i) {
+                i -= 1;
+            }
+            i
+        };
+        let from = boundary(span.start.saturating_sub(CONTEXT).max(line_start));
+        // A span longer than the window is shown from its start.
+        let to = boundary((span.end.min(span.start + 2 * CONTEXT) + CONTEXT).min(line_end));
+        let mark = if from > line_start { "…".len() } else { 0 };
+        let mut text = String::with_capacity(to - from + 6);
+        if mark > 0 {
+            text.push('…');
+        }
+        text.push_str(source.get(from..to)?.trim_end_matches('\r'));
+        if to < line_end {
+            text.push('…');
+        }
+        Some(Window {
+            name,
+            text,
+            from,
+            to,
+            mark,
+            line: index + 1,
+            column: source.get(line_start..from)?.chars().count() + 1,
+        })
+    }
+
+    /// Whether a source range lies in the window.
+    fn holds(&self, r: &std::ops::Range<usize>) -> bool {
+        r.start >= self.from && r.start <= self.to
+    }
+
+    /// A source range as a range of the window's text (cut at the window's end).
+    fn map(&self, r: std::ops::Range<usize>) -> std::ops::Range<usize> {
+        let at = |i: usize| i.clamp(self.from, self.to) - self.from + self.mark;
+        at(r.start)..at(r.end)
+    }
+}
+
+impl<'a> codespan_reporting::files::Files<'a> for Window<'a> {
+    type FileId = ();
+    type Name = &'a str;
+    type Source = &'a str;
+
+    fn name(&'a self, (): ()) -> Result<&'a str, codespan_reporting::files::Error> {
+        Ok(self.name)
+    }
+
+    fn source(&'a self, (): ()) -> Result<&'a str, codespan_reporting::files::Error> {
+        Ok(&self.text)
+    }
+
+    fn line_index(&'a self, (): (), _: usize) -> Result<usize, codespan_reporting::files::Error> {
+        Ok(0)
+    }
+
+    fn line_number(&'a self, (): (), _: usize) -> Result<usize, codespan_reporting::files::Error> {
+        Ok(self.line)
+    }
+
+    fn column_number(
+        &'a self,
+        (): (),
+        _: usize,
+        byte: usize,
+    ) -> Result<usize, codespan_reporting::files::Error> {
+        let byte = byte.clamp(self.mark, self.text.len());
+        let before = self.text.get(self.mark..byte).unwrap_or_default();
+        Ok(self.column + before.chars().count())
+    }
+
+    fn line_range(
+        &'a self,
+        (): (),
+        _: usize,
+    ) -> Result<std::ops::Range<usize>, codespan_reporting::files::Error> {
+        Ok(0..self.text.len())
+    }
 }
 
 /// A one-line fallback should the renderer fail.
