@@ -61,6 +61,8 @@ pub const UNTIED_AGGREGATE: &str = "W0510";
 pub const REDEFINED_PRELUDE: &str = "W0509";
 /// A program defines a relation of a prelude concept's name with another number of columns.
 pub const PRELUDE_ARITY: &str = "E0407";
+/// A `.decl` that names two of its columns alike.
+pub const DUPLICATE_COLUMN: &str = "E0408";
 /// Two units that cannot meet: a speed compared with a distance, two instants added.
 pub const UNIT_MISMATCH: &str = "E0105";
 /// A bare number added to a time (an instant): `T + 1` is a frame, not a duration.
@@ -149,6 +151,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         PRELUDE_ARITY,
         Severity::Error,
         "prelude concept redefined with another arity",
+    ),
+    (
+        DUPLICATE_COLUMN,
+        Severity::Error,
+        "two columns of a declaration named alike",
     ),
     (SINGLETON, Severity::Warning, "variable used once"),
     (

@@ -87,6 +87,17 @@ pub fn collect(
             );
             continue;
         }
+        let mut named = std::collections::HashSet::new();
+        if let Some((twice, _)) = d.columns.iter().find(|(c, _)| !named.insert(c.as_str())) {
+            diags.push(
+                error(
+                    diagnostics::DUPLICATE_COLUMN,
+                    d.span,
+                    format!("`{}` names two columns `{twice}`", d.name),
+                )
+                .with_hint("give each column its own name"),
+            );
+        }
         if let Some(prev) = table.preds.get(&d.name) {
             let mut diag = error(
                 diagnostics::DUPLICATE_DECL,

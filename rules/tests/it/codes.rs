@@ -922,3 +922,17 @@ fn strings_may_be_ordered_and_min_max_taken_of_them() {
         "{d:#?}"
     );
 }
+
+#[test]
+fn e0408_a_declaration_naming_two_columns_alike() {
+    let src = ".decl pair(a: track, a: track)\npair(X, Y) :- near(X, Y, _, _).\nreferred(X, T) :- present(X, T), pair(X, _).\n";
+    let d = expect(
+        src,
+        "E0408",
+        ".decl pair(a: track, a: track)",
+        "its own name",
+    );
+    assert!(d.message.contains("`a`"), "{}", d.message);
+    let fine = ".decl pair(a: track, b: track)\npair(X, Y) :- near(X, Y, _, _).\nreferred(X, T) :- present(X, T), pair(X, _).\n";
+    assert!(diags(fine).iter().all(|d| d.code != "E0408"));
+}
