@@ -187,10 +187,12 @@ pub(crate) fn agg_filter(
             "an aggregate with more than {WIDTH} variables"
         )));
     }
+    // The group variables the braces' atoms bind themselves (as a plain argument: in `u(B + 1)`
+    // `B` is computed from, not bound); otherwise the body runs per outer binding.
     let mut in_atoms = Vec::new();
     for l in &lits {
         if let BodyLit::Pos(a) = l {
-            a.args.iter().for_each(|e| expr_vars(e, &mut in_atoms));
+            in_atoms.extend(a.args.iter().filter_map(|e| e.as_var()));
         }
     }
     if !group.iter().all(|v| in_atoms.contains(v)) {

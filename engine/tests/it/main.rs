@@ -9,6 +9,7 @@ mod library;
 mod library_facts;
 mod meaning_real_logs;
 mod naive;
+mod no_panic;
 mod oracle;
 mod pushdown;
 mod real_logs;
