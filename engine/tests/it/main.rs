@@ -13,4 +13,5 @@ mod no_panic;
 mod oracle;
 mod pushdown;
 mod real_logs;
+mod rng;
 mod why_not;

@@ -9,27 +9,7 @@ use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, CheckOptions};
 
 use crate::oracle::{int_tuples, naive};
-
-/// A tiny deterministic generator (xorshift64*).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    fn chance(&mut self, p: f64) -> bool {
-        (self.next() % 1000) as f64 / 1000.0 < p
-    }
-    fn pick<'a, T>(&mut self, xs: &'a [T]) -> &'a T {
-        &xs[self.below(xs.len() as u64) as usize]
-    }
-}
+use crate::rng::Rng;
 
 const DERIVED: [(&str, usize); 4] = [("p0", 2), ("p1", 2), ("p2", 1), ("p3", 2)];
 const EDB: [(&str, usize); 3] = [("e1", 2), ("e2", 2), ("u", 1)];
@@ -69,9 +49,9 @@ fn gen_rule(rng: &mut Rng, i: usize, head: &str, arity: usize) -> String {
         let (p, n) = *rng.pick(&pos);
         let args: Vec<String> = (0..n)
             .map(|_| {
-                if rng.chance(0.15) {
+                if rng.odds(0.15) {
                     rng.below(6).to_string()
-                } else if rng.chance(0.08) {
+                } else if rng.odds(0.08) {
                     "_".to_string()
                 } else {
                     let v = *rng.pick(&VARS);
@@ -88,28 +68,28 @@ fn gen_rule(rng: &mut Rng, i: usize, head: &str, arity: usize) -> String {
         bound.push("X");
         body.push("u(X)".to_string());
     }
-    if rng.chance(0.4) {
+    if rng.odds(0.4) {
         let ops = ["<", "<=", ">", ">=", "=", "!="];
         let a = *rng.pick(&bound);
-        let b = if rng.chance(0.5) {
+        let b = if rng.odds(0.5) {
             rng.pick(&bound).to_string()
         } else {
             rng.below(6).to_string()
         };
-        let a = if rng.chance(0.3) {
+        let a = if rng.odds(0.3) {
             format!("{a} + 1")
         } else {
             a.to_string()
         };
         body.push(format!("{a} {} {b}", rng.pick(&ops)));
     }
-    if rng.chance(0.3) {
+    if rng.odds(0.3) {
         let (p, n) = *rng.pick(&neg);
         let args: Vec<String> = (0..n)
             .map(|_| {
-                if rng.chance(0.2) {
+                if rng.odds(0.2) {
                     "_".to_string()
-                } else if rng.chance(0.2) {
+                } else if rng.odds(0.2) {
                     rng.below(6).to_string()
                 } else {
                     rng.pick(&bound).to_string()
@@ -119,9 +99,9 @@ fn gen_rule(rng: &mut Rng, i: usize, head: &str, arity: usize) -> String {
         body.push(format!("!{p}({})", args.join(", ")));
     }
     let mut head_args: Vec<String> = (0..arity).map(|_| rng.pick(&bound).to_string()).collect();
-    if arity == 2 && rng.chance(0.2) {
+    if arity == 2 && rng.odds(0.2) {
         let g = *rng.pick(&bound);
-        let e = if rng.chance(0.5) { "e1" } else { "e2" };
+        let e = if rng.odds(0.5) { "e1" } else { "e2" };
         let agg = match rng.below(7) {
             0 => format!("N = count : {{ {e}({g}, V) }}"),
             1 => format!("N = sum V : {{ {e}({g}, V) }}"),
@@ -134,7 +114,7 @@ fn gen_rule(rng: &mut Rng, i: usize, head: &str, arity: usize) -> String {
         };
         body.push(agg);
         head_args = vec![g.to_string(), "N".to_string()];
-    } else if arity == 2 && rng.chance(0.15) {
+    } else if arity == 2 && rng.odds(0.15) {
         // Arithmetic binding, bounded so recursion terminates.
         let a = *rng.pick(&bound);
         body.push(format!("{a} < 8"));

@@ -15,29 +15,13 @@ use scenalog_engine::{evaluate, EngineError, Options};
 use scenalog_facts::relation::{RelationData, Request};
 use scenalog_rules::{check, CheckOptions};
 
-/// xorshift64*: deterministic, seeded.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn pick<'a>(&mut self, xs: &[&'a str]) -> &'a str {
-        xs[self.below(xs.len())]
-    }
-}
+use crate::rng::Rng;
 
 const VARS: [&str; 5] = ["A", "B", "C", "D", "E"];
 
 /// An integer argument: a variable, a constant, `_`, or an expression over a variable.
 fn int_arg(rng: &mut Rng) -> String {
-    let v = rng.pick(&VARS);
+    let v = *rng.pick(&VARS);
     match rng.below(12) {
         0 => format!("{}", rng.below(4)),
         1 => "_".to_string(),
@@ -75,7 +59,7 @@ fn atom(rng: &mut Rng, upto: usize) -> String {
 /// An aggregate literal over relations below `upto` binding `R` (or a variable named inside),
 /// its braces possibly nested, grouped by outer variables or not.
 fn aggregate(rng: &mut Rng, upto: usize, depth: usize) -> String {
-    let v = rng.pick(&VARS);
+    let v = *rng.pick(&VARS);
     let func = match rng.below(4) {
         0 => "count".to_string(),
         1 => format!("min {v}"),
@@ -90,7 +74,7 @@ fn aggregate(rng: &mut Rng, upto: usize, depth: usize) -> String {
         inner.push(aggregate(rng, upto, depth + 1).replacen("R =", "Q =", 1));
     }
     if rng.below(3) == 0 {
-        inner.push(format!("{} < {}", rng.pick(&VARS), rng.pick(&VARS)));
+        inner.push(format!("{} < {}", *rng.pick(&VARS), *rng.pick(&VARS)));
     }
     let result = if rng.below(4) == 0 { v } else { "R" };
     format!("{result} = {func} : {{ {} }}", inner.join(", "))
@@ -103,8 +87,8 @@ fn literal(rng: &mut Rng, head: usize) -> String {
         0 => format!("!{}", atom(rng, head)),
         1 => format!(
             "{} {} {}",
-            rng.pick(&VARS),
-            rng.pick(&["<", "<=", "!=", "=", ">="]),
+            *rng.pick(&VARS),
+            *rng.pick(&["<", "<=", "!=", "=", ">="]),
             int_arg(rng)
         ),
         2 => "S < \"c\", s(S)".to_string(),
