@@ -256,17 +256,11 @@ impl Studio {
                 })
             })
             .collect();
-        let first = scene
-            .timeline
-            .frames()
-            .first()
-            .and_then(|f| scene.timeline.seconds(*f))
-            .unwrap_or(0.0);
         let times: Vec<Json> = scene
             .timeline
             .frames()
             .iter()
-            .map(|f| cm(scene.timeline.seconds(*f).unwrap_or(first) - first))
+            .map(|f| cm(scene.timeline.seconds(*f).unwrap_or(0.0)))
             .collect();
         let tracks: Vec<Json> = scene
             .tracks
@@ -405,10 +399,8 @@ impl Studio {
             Ok(t) => t,
             Err(e) => return json!({ "error": e }),
         };
-        let Some(at) = scene.timeline.seconds(frame).and_then(|s| {
-            let first = scene.timeline.seconds(*scene.timeline.frames().first()?)?;
-            Some(s - first)
-        }) else {
+        // `Timeline::seconds` counts from the log's first timestamp.
+        let Some(at) = scene.timeline.seconds(frame) else {
             return json!({"error": format!("no frame {frame} in log {log}")});
         };
         match explain_on(

@@ -163,19 +163,10 @@ fn record(
         &rerun::TextDocument::new(r.scenario.source.clone()),
     )
     .map_err(failed)?;
-    let start = scene
-        .timeline
-        .frames()
-        .first()
-        .and_then(|f| scene.timeline.seconds(*f))
-        .unwrap_or(0.0);
     for (explanation, related) in &explained.frames {
         let frame: Frame = explanation.frame;
         rec.set_time_sequence("frame", i64::from(frame));
-        rec.set_duration_secs(
-            "time",
-            scene.timeline.seconds(frame).unwrap_or(start) - start,
-        );
+        rec.set_duration_secs("time", scene.timeline.seconds(frame).unwrap_or(0.0));
         let referred: BTreeSet<TrackId> = explained
             .referred
             .iter()
@@ -327,18 +318,9 @@ pub fn write_run_recording(
                 .collect();
             programs.push((scenario.name.as_str(), referred, related));
         }
-        let start = scene
-            .timeline
-            .frames()
-            .first()
-            .and_then(|f| scene.timeline.seconds(*f))
-            .unwrap_or(0.0);
         for &frame in scene.timeline.frames() {
             rec.set_time_sequence("frame", i64::from(frame));
-            rec.set_duration_secs(
-                "time",
-                scene.timeline.seconds(frame).unwrap_or(start) - start,
-            );
+            rec.set_duration_secs("time", scene.timeline.seconds(frame).unwrap_or(0.0));
             let present: Vec<(TrackId, &TrackBox, String)> = scene
                 .tracks
                 .iter()
