@@ -288,15 +288,26 @@ pub(crate) fn plan_seeded(
             *uses.entry(v).or_default() += 1;
         }
     }
-    let outside = |i: usize| -> HashSet<&str> {
-        let mut o: HashSet<&str> = seed.iter().map(|(v, _)| *v).collect();
-        for (j, vs) in shown.iter().enumerate() {
-            if j != i {
-                o.extend(vs.iter().copied());
+    // Per aggregate literal, its group: computed once, whatever the join order.
+    let groups: Vec<Vec<&str>> = lits
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let BodyLit::Agg(g) = l else {
+                return Vec::new();
+            };
+            let mut outer: HashSet<&str> = seed.iter().map(|(v, _)| *v).collect();
+            for (j, vs) in shown.iter().enumerate() {
+                if j != i {
+                    outer.extend(vs.iter().copied());
+                }
             }
-        }
-        o
-    };
+            agg_vars(g)
+                .into_iter()
+                .filter(|v| outer.contains(v))
+                .collect()
+        })
+        .collect();
     let mut start = Vec::new();
     let mut atoms: Vec<AtomStep> = Vec::new();
     // Per atom, per filter after it: its rank among comparisons (see `cmp_rank`); the body
@@ -371,13 +382,9 @@ pub(crate) fn plan_seeded(
                         }
                     }
                     BodyLit::Agg(g) => {
-                        let outer = outside(i);
-                        let group: Vec<&str> = agg_vars(g)
-                            .into_iter()
-                            .filter(|v| outer.contains(v))
-                            .collect();
+                        let group = &groups[i];
                         if group.iter().all(|v| scope.slots.contains_key(*v)) {
-                            let (f, extra) = agg_filter(g, &group, &mut scope, ctx)?;
+                            let (f, extra) = agg_filter(g, group, &mut scope, ctx)?;
                             if let Some(x) = extra {
                                 place(f, 0, &mut atoms, &mut ranks, &mut start);
                                 Some(x)
