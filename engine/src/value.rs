@@ -106,11 +106,11 @@ pub fn dec_float(u: u64) -> f64 {
     }
 }
 
-/// Strings interned for one evaluation.
+/// Strings interned for one evaluation: an id per distinct string, in the order first met;
+/// the texts by id are the [`Texts`] the comparisons by text share.
 #[derive(Debug, Default)]
 pub struct Symbols {
     ids: HashMap<Arc<str>, u64>,
-    names: Vec<Arc<str>>,
     texts: Texts,
 }
 
@@ -120,8 +120,7 @@ impl Clone for Symbols {
     fn clone(&self) -> Symbols {
         Symbols {
             ids: self.ids.clone(),
-            names: self.names.clone(),
-            texts: Texts(Arc::new(RwLock::new(self.names.clone()))),
+            texts: Texts(Arc::new(RwLock::new(self.texts.read().clone()))),
         }
     }
 }
@@ -138,7 +137,7 @@ impl Texts {
         if a == b {
             return Some(Ordering::Equal);
         }
-        let names = self.0.read().unwrap_or_else(|e| e.into_inner());
+        let names = self.read();
         let x = names.get(usize::try_from(a).ok()?)?;
         let y = names.get(usize::try_from(b).ok()?)?;
         Some(x.as_ref().cmp(y.as_ref()))
@@ -152,6 +151,10 @@ impl Texts {
         }
     }
 
+    fn read(&self) -> std::sync::RwLockReadGuard<'_, Vec<Arc<str>>> {
+        self.0.read().unwrap_or_else(|e| e.into_inner())
+    }
+
     fn push(&self, s: Arc<str>) {
         self.0.write().unwrap_or_else(|e| e.into_inner()).push(s);
     }
@@ -160,26 +163,25 @@ impl Texts {
 impl Symbols {
     /// The id of `s`, interning it if new.
     pub fn intern(&mut self, s: &str) -> u64 {
-        if let Some(&id) = self.ids.get(s) {
-            return id;
+        match self.ids.get(s) {
+            Some(&id) => id,
+            None => self.insert(Arc::from(s)),
         }
-        let id = self.names.len() as u64;
-        let a: Arc<str> = Arc::from(s);
-        self.names.push(a.clone());
-        self.texts.push(a.clone());
-        self.ids.insert(a, id);
-        id
     }
 
     /// The id of an `Arc<str>` (no copy of the text when new).
     pub fn intern_arc(&mut self, s: &Arc<str>) -> u64 {
-        if let Some(&id) = self.ids.get(s) {
-            return id;
+        match self.ids.get(s) {
+            Some(&id) => id,
+            None => self.insert(s.clone()),
         }
-        let id = self.names.len() as u64;
-        self.names.push(s.clone());
+    }
+
+    /// Interns a string not interned yet: the next id.
+    fn insert(&mut self, s: Arc<str>) -> u64 {
+        let id = self.ids.len() as u64;
         self.texts.push(s.clone());
-        self.ids.insert(s.clone(), id);
+        self.ids.insert(s, id);
         id
     }
 
@@ -195,7 +197,8 @@ impl Symbols {
 
     /// The string of an id.
     pub fn name(&self, id: u64) -> Arc<str> {
-        self.names
+        self.texts
+            .read()
             .get(id as usize)
             .cloned()
             .unwrap_or_else(|| Arc::from("?"))
