@@ -106,7 +106,7 @@ fn engine_run(p: &CheckedProgram, provenance: bool) -> Evaluation {
         max_tuples: 100_000_000,
         timeout: None,
         provenance,
-        pushdown: true,
+        ..Options::default()
     };
     match evaluate(p, &mut provider, &opts) {
         Ok(e) => e,

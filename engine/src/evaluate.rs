@@ -13,9 +13,9 @@ use crate::demand;
 pub(crate) use crate::limits::Limits;
 use crate::plan::{body_lits, plan, plan_first, BodyLit, Ctx, Plan};
 pub(crate) use crate::prove::Origins;
-use crate::prove::{Provenance, Stamps};
+use crate::prove::{Proofs, Provenance, Stamps};
 use crate::rows::Rows;
-use crate::value::{cmp_value, encode_value, Symbols, WIDTH};
+use crate::value::{cmp_value, encode_value, Symbols, WIDEST, WIDTH};
 use crate::{Encoded, EngineError, Evaluation, Options};
 
 /// Evaluates a checked program. Catalog relations the program uses are asked from `provider`,
@@ -27,6 +27,36 @@ pub fn evaluate(
     provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
     options: &Options,
 ) -> Result<Evaluation, EngineError> {
+    let width = row_width(program);
+    if width <= WIDTH && !options.wide_rows {
+        evaluate_at::<WIDTH>(program, provider, options)
+    } else if width <= WIDEST {
+        evaluate_at::<WIDEST>(program, provider, options)
+    } else {
+        Err(EngineError::Unsupported(format!(
+            "a rule or relation {width} values wide; at most {WIDEST} are supported"
+        )))
+    }
+}
+
+/// The binding-row width `program` needs: its widest relation and the most binding slots of any
+/// clause ([`scenalog_rules::walk::binding_slots`], an upper bound on what the planner uses).
+pub(crate) fn row_width(program: &CheckedProgram) -> usize {
+    let relations = program.predicates.values().map(|p| p.types.len());
+    let clauses = program
+        .program
+        .clauses
+        .iter()
+        .map(scenalog_rules::walk::binding_slots);
+    relations.chain(clauses).max().unwrap_or(0)
+}
+
+/// [`evaluate`] with binding rows of `R` words (the program's widest relation and rule fit).
+fn evaluate_at<const R: usize>(
+    program: &CheckedProgram,
+    provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
+    options: &Options,
+) -> Result<Evaluation, EngineError> {
     let start = Instant::now();
     let mut symbols = Symbols::default();
     let types: HashMap<String, Vec<ColType>> = program
@@ -34,12 +64,6 @@ pub fn evaluate(
         .iter()
         .map(|(k, p)| (k.clone(), p.types.clone()))
         .collect();
-    if let Some((name, t)) = types.iter().find(|(_, t)| t.len() > WIDTH) {
-        return Err(EngineError::Unsupported(format!(
-            "`{name}` has {} columns; at most {WIDTH} are supported",
-            t.len()
-        )));
-    }
     let mut complete: HashMap<String, Rows> = HashMap::new();
     // Tuples held by completed relations, inputs included: one budget for the whole evaluation.
     let mut held = 0usize;
@@ -66,7 +90,7 @@ pub fn evaluate(
     let mut loaded_for: HashMap<String, usize> = HashMap::new();
     let clauses = &program.program.clauses;
     let mut stamps: HashMap<String, Stamps> = HashMap::new();
-    let mut all_plans: Vec<Vec<(String, Plan, usize)>> = Vec::new();
+    let mut all_plans: Vec<Vec<(String, Plan<R>, usize)>> = Vec::new();
     // Per stratum: whether it holds facts alone (evaluated without plans).
     let mut facts_only: Vec<bool> = Vec::new();
     for (si, stratum) in program.strata.iter().enumerate() {
@@ -99,7 +123,7 @@ pub fn evaluate(
                 stratum_clauses.iter().map(|&(_, c)| c).collect();
             let cx = (options, start, held);
             let (derived, origins) =
-                crate::ground::facts(&heads, &defined, &types, &mut symbols, cx)?;
+                crate::ground::facts::<R>(&heads, &defined, &types, &mut symbols, cx)?;
             held += derived.values().map(Rows::len).sum::<usize>();
             complete.extend(derived);
             let clause_of = stratum_clauses.iter().map(|&(ci, _)| ci).collect();
@@ -111,9 +135,9 @@ pub fn evaluate(
             continue;
         }
         facts_only.push(false);
-        let mut plans: Vec<(String, Plan)> = Vec::new();
+        let mut plans: Vec<(String, Plan<R>)> = Vec::new();
         // Per plan: the plans of its semi-naive variants, by the recursive literal read first.
-        let mut variants: Vec<Vec<(usize, Plan)>> = Vec::new();
+        let mut variants: Vec<Vec<(usize, Plan<R>)>> = Vec::new();
         let mut clause_of: Vec<usize> = Vec::new();
         for &ci in &stratum.clauses {
             let Some(clause) = clauses.get(ci) else {
@@ -200,8 +224,8 @@ pub fn evaluate(
         symbols,
         rels,
     });
-    let provenance = options.provenance.then(|| {
-        Arc::new(Provenance {
+    let provenance = options.provenance.then(|| -> Arc<dyn Proofs> {
+        Arc::new(Provenance::<R> {
             encoded: encoded.clone(),
             stamps,
             plans: all_plans,
@@ -379,9 +403,10 @@ fn load(
             c.len()
         )));
     }
-    let mut rows = vec![[0u64; WIDTH]; n];
+    let stride = types.len().max(1);
+    let mut flat = vec![0u64; n * stride];
     for (ci, (col, &ty)) in data.columns.iter().zip(types).enumerate() {
-        for (ri, row) in rows.iter_mut().enumerate() {
+        for (ri, row) in flat.chunks_exact_mut(stride).enumerate() {
             let v = col
                 .get(ri)
                 .ok_or_else(|| bad(format!("column {ci} ends early")))?;
@@ -389,10 +414,7 @@ fn load(
                 .ok_or_else(|| bad(format!("column {ci}, tuple {ri}: {v:?} is not a {ty:?}")))?;
         }
     }
-    let mut out = Rows::new(types.len());
-    for r in &rows {
-        out.push(r);
-    }
+    let mut out = Rows::from_flat(types.len(), flat);
     out.sort_dedup();
     Ok(out)
 }
@@ -410,11 +432,11 @@ mod tests {
         &[scenalog_rules::ast::Expr],
         Option<&[ColType]>,
         &mut Ctx<'_>,
-    ) -> Result<Plan, EngineError>;
+    ) -> Result<Plan<WIDTH>, EngineError>;
 
     /// Plans the first (`last`: the last) clause defining `head` in a program without catalog
     /// relations with `plan_with(literals, head arguments, head types, context)`.
-    fn plan_clause(src: &str, head: &str, last: bool, plan_with: &PlanWith) -> Plan {
+    fn plan_clause(src: &str, head: &str, last: bool, plan_with: &PlanWith) -> Plan<WIDTH> {
         let outcome = check(
             src,
             &CheckOptions {
@@ -466,7 +488,7 @@ mod tests {
     }
 
     /// Plans the first clause defining `head` as the evaluation does.
-    fn plan_of(src: &str, head: &str) -> Plan {
+    fn plan_of(src: &str, head: &str) -> Plan<WIDTH> {
         plan_clause(src, head, false, &|l, h, t, c| plan(l, h, t, c))
     }
 
@@ -512,7 +534,7 @@ mod tests {
         assert_eq!(n.col, 1);
         // Both comparisons still run on the candidates in the range.
         assert_eq!(p.atoms[1].after.len(), 2);
-        let mut b = [0u64; crate::value::WIDTH];
+        let mut b = [0u64; WIDTH];
         b[1] = 5; // T1 (slot 1, after V)
 
         // `T2 > T1` is `T2 >= 6` on times; `T2 - T1 <= 10` includes its end.
@@ -546,7 +568,7 @@ mod tests {
         };
         // XB is narrowed by `abs(XA - XB) < 100`: with XA = 10 (slot 2), 10 - 99 ..= 10 + 99.
         assert_eq!(n.col, 2);
-        let mut b = [0u64; crate::value::WIDTH];
+        let mut b = [0u64; WIDTH];
         b[2] = crate::value::enc_int(10);
         let dec = crate::value::dec_int;
         let range = n.range(&b).map(|(lo, hi)| (dec(lo), dec(hi)));

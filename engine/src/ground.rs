@@ -16,11 +16,11 @@ use crate::plan::{apply, ground_head, Plan};
 use crate::prove::Origins;
 use crate::rows::stored_width;
 use crate::rows::Rows;
-use crate::value::{Row, Symbols, WIDTH};
+use crate::value::{Row, Symbols};
 use crate::{EngineError, Options};
 
 /// Whether every clause of a stratum (its plans) is atom-free, so [`run`] can evaluate it.
-pub(crate) fn applies(plans: &[(String, Plan)]) -> bool {
+pub(crate) fn applies<const R: usize>(plans: &[(String, Plan<R>)]) -> bool {
     plans.iter().all(|(_, p)| p.atoms.is_empty())
 }
 
@@ -28,8 +28,8 @@ pub(crate) fn applies(plans: &[(String, Plan)]) -> bool {
 /// head. Returns the relations the stratum defines (sorted, distinct) and, with provenance,
 /// the first plan (in order) that derived each tuple, all in round 0: the same answer and
 /// stamps as running the plans on datafrog.
-pub(crate) fn run(
-    plans: &[(String, Plan)],
+pub(crate) fn run<const R: usize>(
+    plans: &[(String, Plan<R>)],
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     options: &Options,
@@ -37,7 +37,7 @@ pub(crate) fn run(
     held: usize,
 ) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
     let heads = plans.iter().map(|(head, p)| {
-        let tuple = apply(&p.start, [0u64; WIDTH]).and_then(|b| p.project(&b));
+        let tuple = apply(&p.start, [0u64; R]).and_then(|b| p.project(&b));
         if p.sum_overflowed() {
             let limits = Limits {
                 relation: head,
@@ -56,7 +56,7 @@ pub(crate) fn run(
 /// without planning them: each head's expressions are computed and encoded as the plan of a
 /// fact would ([`ground_head`]). The `i`th clause is plan `i` of the stamps, as in [`run`].
 /// A stratum of thousands of facts would otherwise plan each one.
-pub(crate) fn facts(
+pub(crate) fn facts<const R: usize>(
     clauses: &[&Clause],
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
@@ -76,7 +76,7 @@ pub(crate) fn facts(
                 t
             }
         };
-        Ok((pred, ground_head(&c.head.args, ty, symbols)?))
+        Ok((pred, ground_head::<R>(&c.head.args, ty, symbols)?))
     });
     collect(heads, defined, types, options, start, held)
 }
@@ -84,8 +84,8 @@ pub(crate) fn facts(
 /// The relations of an atom-free stratum from each clause's head (in clause order; `None`
 /// for a clause that derives nothing): sorted and distinct, and with provenance each tuple's
 /// first clause, in round 0. Heads of relations the stratum does not define are skipped.
-fn collect<'a>(
-    heads: impl Iterator<Item = Result<(&'a str, Option<Row>), EngineError>>,
+fn collect<'a, const R: usize>(
+    heads: impl Iterator<Item = Result<(&'a str, Option<Row<R>>), EngineError>>,
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     options: &Options,

@@ -128,6 +128,10 @@ pub struct Options {
     /// relations are the same either way; the catalog relations in the [`Evaluation`] then hold
     /// only the demanded tuples (off: every use's common constraints, asked once up front).
     pub pushdown: bool,
+    /// Evaluate with rows of [`value::WIDEST`] words even when the program fits rows of
+    /// [`value::WIDTH`] (off by default): the same answers, a little slower; the tests run
+    /// programs both ways to cover the path wide programs take.
+    pub wide_rows: bool,
 }
 
 impl Default for Options {
@@ -137,6 +141,7 @@ impl Default for Options {
             timeout: None,
             provenance: false,
             pushdown: true,
+            wide_rows: false,
         }
     }
 }
@@ -153,7 +158,7 @@ pub struct Evaluation {
     /// Names of the relations the program's clauses define (not catalog inputs).
     pub derived: Vec<String>,
     /// Stamps and plans for proofs, with [`Options::provenance`].
-    pub(crate) provenance: Option<Arc<prove::Provenance>>,
+    pub(crate) provenance: Option<Arc<dyn prove::Proofs>>,
 }
 
 /// What an evaluation computed, still encoded.
@@ -214,10 +219,7 @@ impl Evaluation {
     /// are put in its tuples' order when they are first read (here, by [`Evaluation::stamp`] or
     /// by a proof), not during the evaluation.
     pub fn stamped(&self, relation: &str) -> usize {
-        self.provenance
-            .as_ref()
-            .and_then(|p| p.stamps.get(relation))
-            .map_or(0, |s| s.packed.get().len())
+        self.provenance.as_ref().map_or(0, |p| p.stamped(relation))
     }
 
     /// A derivation tree of a tuple whose leaves are input facts (catalog tuples, or ground

@@ -1,4 +1,4 @@
-//! Provenance and proofs: every derived tuple is stamped with the stratum, round and clause that
+//! Provenance<R> and proofs: every derived tuple is stamped with the stratum, round and clause that
 //! first derived it; a proof re-runs that clause over tuples of earlier rounds only, so the
 //! derivation tree is finite and its leaves are input facts (catalog tuples or ground facts).
 
@@ -10,7 +10,7 @@ use scenalog_facts::relation::Value;
 use crate::plan::{apply, Plan};
 use crate::rows::Rows;
 use crate::stratum::access::Access;
-use crate::value::{encode, Row, V, WIDTH};
+use crate::value::{encode, Row, V};
 
 /// Per derived relation, aligned with its sorted tuples: the round and plan index that first
 /// derived each tuple (with provenance on), packed by [`pack`], or what computes
@@ -159,13 +159,13 @@ impl Drop for Proof {
 
 /// What an evaluation keeps to answer proofs.
 #[derive(Debug)]
-pub(crate) struct Provenance {
+pub(crate) struct Provenance<const R: usize> {
     /// The evaluation's relations, types and symbols (shared with the [`crate::Evaluation`]).
     pub(crate) encoded: std::sync::Arc<crate::Encoded>,
     /// Per derived relation, aligned with its sorted tuples in `encoded.rels`.
     pub(crate) stamps: HashMap<String, Stamps>,
     /// Per stratum: head, plan and clause index (none for a stratum of facts alone).
-    pub(crate) plans: Vec<Vec<(String, Plan, usize)>>,
+    pub(crate) plans: Vec<Vec<(String, Plan<R>, usize)>>,
     /// Per stratum: whether it holds facts alone, evaluated without plans: a tuple stamped by
     /// one of its clauses is that fact, a leaf.
     pub(crate) facts_only: Vec<bool>,
@@ -173,14 +173,38 @@ pub(crate) struct Provenance {
     pub(crate) strata: Vec<Vec<String>>,
 }
 
-impl Provenance {
+/// What an [`crate::Evaluation`] asks of its provenance, whatever the width of its rows.
+pub(crate) trait Proofs: std::fmt::Debug + Send + Sync {
+    /// See [`crate::Evaluation::stamp`].
+    fn stamp(&self, rel: &str, tuple: &[Value]) -> Option<Stamp>;
+    /// See [`crate::Evaluation::stamped`].
+    fn stamped(&self, rel: &str) -> usize;
+    /// See [`crate::Evaluation::prove`].
+    fn prove(&self, rel: &str, tuple: &[Value]) -> Option<Proof>;
+}
+
+impl<const R: usize> Proofs for Provenance<R> {
+    fn stamp(&self, rel: &str, tuple: &[Value]) -> Option<Stamp> {
+        Provenance::stamp(self, rel, tuple)
+    }
+
+    fn stamped(&self, rel: &str) -> usize {
+        self.stamps.get(rel).map_or(0, |s| s.packed.get().len())
+    }
+
+    fn prove(&self, rel: &str, tuple: &[Value]) -> Option<Proof> {
+        Provenance::prove(self, rel, tuple)
+    }
+}
+
+impl<const R: usize> Provenance<R> {
     /// Encodes a decoded tuple, without interning: `None` if a value cannot be in the relation.
-    fn encode_tuple(&self, rel: &str, tuple: &[Value]) -> Option<Row> {
+    fn encode_tuple(&self, rel: &str, tuple: &[Value]) -> Option<Row<R>> {
         let types = self.encoded.types.get(rel)?;
         if types.len() != tuple.len() {
             return None;
         }
-        let mut row = [0u64; WIDTH];
+        let mut row = [0u64; R];
         for (i, (v, &ty)) in tuple.iter().zip(types).enumerate() {
             row[i] = match (v, ty) {
                 (Value::Str(s), ColType::Str) => self.encoded.symbols.lookup(s)?,
@@ -195,7 +219,7 @@ impl Provenance {
         Some(row)
     }
 
-    fn decode(&self, rel: &str, row: &Row) -> Vec<Value> {
+    fn decode(&self, rel: &str, row: &Row<R>) -> Vec<Value> {
         self.encoded
             .types
             .get(rel)
@@ -226,10 +250,10 @@ impl Provenance {
     /// a derivation thousands of rounds deep cannot overflow the call stack): each node is
     /// visited, its body tuples found by [`find_derivation`], its children visited in order,
     /// and the node assembled from the last proofs built once they are all done.
-    fn prove_row(&self, rel: &str, row: &Row) -> Option<Proof> {
-        enum Task<'a> {
-            Visit(&'a str, Row),
-            Build(&'a str, Row, usize, usize),
+    fn prove_row(&self, rel: &str, row: &Row<R>) -> Option<Proof> {
+        enum Task<'a, const R: usize> {
+            Visit(&'a str, Row<R>),
+            Build(&'a str, Row<R>, usize, usize),
         }
         let mut indexes = Indexes::default();
         let mut tasks = vec![Task::Visit(rel, *row)];
@@ -288,11 +312,11 @@ impl Provenance {
     /// its relation sorted with its constants and key columns first.
     fn find_derivation(
         &self,
-        plan: &Plan,
+        plan: &Plan<R>,
         stamp: Stamp,
-        target: &Row,
-        indexes: &mut Indexes,
-    ) -> Option<Vec<Row>> {
+        target: &Row<R>,
+        indexes: &mut Indexes<R>,
+    ) -> Option<Vec<Row<R>>> {
         let same: HashSet<&str> = self
             .strata
             .get(stamp.stratum)
@@ -303,10 +327,10 @@ impl Provenance {
             let acc = Access::of(a, crate::rows::stored_width(&self.encoded.types, &a.pred));
             let key = (a.pred.clone(), acc.sig.perm.clone());
             if !indexes.sorted.contains_key(&key) {
-                let mut copy: Vec<(Row, u32)> = Vec::new();
+                let mut copy: Vec<(Row<R>, u32)> = Vec::new();
                 if let Some(rows) = self.encoded.rels.get(&a.pred) {
                     for (i, t) in rows.iter().enumerate() {
-                        let mut r = [0u64; WIDTH];
+                        let mut r = [0u64; R];
                         for (o, &c) in r.iter_mut().zip(&acc.sig.perm) {
                             *o = t.get(c).copied().unwrap_or(0);
                         }
@@ -343,7 +367,7 @@ impl Provenance {
             indexes,
             target,
         };
-        let b = apply(&plan.start, [0u64; WIDTH])?;
+        let b = apply(&plan.start, [0u64; R])?;
         let mut trail = Vec::new();
         search.go(0, b, &mut trail).then_some(trail)
     }
@@ -355,26 +379,26 @@ type CopyKey = (String, Vec<usize>);
 /// Sorted, permuted copies of relations for one proof: (relation, column order) to the
 /// permuted tuples with the index of each in the stored relation.
 #[derive(Default)]
-struct Indexes {
-    sorted: HashMap<CopyKey, Vec<(Row, u32)>>,
+struct Indexes<const R: usize> {
+    sorted: HashMap<CopyKey, Vec<(Row<R>, u32)>>,
     /// Per relation with stamps: (round, index) of every tuple, latest round first.
     by_round: HashMap<String, Vec<(usize, u32)>>,
 }
 
 /// The search for one derivation of `target` by `plan`.
-struct Search<'a> {
-    prov: &'a Provenance,
-    plan: &'a Plan,
+struct Search<'a, const R: usize> {
+    prov: &'a Provenance<R>,
+    plan: &'a Plan<R>,
     stamp: Stamp,
     same: &'a HashSet<&'a str>,
     accesses: &'a [(Access, CopyKey)],
-    indexes: &'a Indexes,
-    target: &'a Row,
+    indexes: &'a Indexes<R>,
+    target: &'a Row<R>,
 }
 
-impl Search<'_> {
+impl<const R: usize> Search<'_, R> {
     /// Extends binding `b` from atom `depth` on; the body tuples so far are in `trail`.
-    fn go(&self, depth: usize, b: Row, trail: &mut Vec<Row>) -> bool {
+    fn go(&self, depth: usize, b: Row<R>, trail: &mut Vec<Row<R>>) -> bool {
         let (Some(step), Some((acc, key))) = (self.plan.atoms.get(depth), self.accesses.get(depth))
         else {
             return self.plan.project(&b).as_ref() == Some(self.target);

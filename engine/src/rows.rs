@@ -4,7 +4,7 @@
 //! dispatches once on the stride to code over `[u64; N]` chunks, which the compiler compares
 //! and moves as fixed-size values. No tuple is ever a heap allocation of its own.
 
-use crate::value::{Row, WIDTH};
+use crate::value::Row;
 
 /// A set or bag of tuples of one arity, stored flat.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -13,7 +13,8 @@ pub struct Rows {
     data: Vec<u64>,
 }
 
-/// Calls `$f::<N>($args…)` for the stride `N` of `$stride` (1 to [`WIDTH`]).
+/// Calls `$f::<N>($args…)` for the stride `N` of `$stride` (1 to [`WIDTH`]), or for a wider
+/// stride `wide::$f($stride, $args…)`, the same on slices (relations that wide are rare).
 macro_rules! by_stride {
     ($stride:expr, $f:ident ( $($a:expr),* )) => {
         match $stride {
@@ -28,7 +29,8 @@ macro_rules! by_stride {
             9 => $f::<9>($($a),*),
             10 => $f::<10>($($a),*),
             11 => $f::<11>($($a),*),
-            _ => $f::<WIDTH>($($a),*),
+            12 => $f::<12>($($a),*),
+            s => wide::$f(s, $($a),*),
         }
     };
 }
@@ -250,17 +252,17 @@ pub(crate) fn gallop<T>(s: &[T], pred: impl Fn(&T) -> bool) -> usize {
 }
 
 impl Rows {
-    /// An empty set of tuples of `arity` columns (at most [`WIDTH`]).
+    /// An empty set of tuples of `arity` columns.
     pub fn new(arity: usize) -> Rows {
         Rows {
-            stride: arity.clamp(1, WIDTH),
+            stride: arity.max(1),
             data: Vec::new(),
         }
     }
 
     /// Tuples of `arity` columns from their words, in the order given (not sorted).
     pub fn from_flat(arity: usize, data: Vec<u64>) -> Rows {
-        let stride = arity.clamp(1, WIDTH);
+        let stride = arity.max(1);
         let mut data = data;
         data.truncate(data.len() / stride * stride);
         Rows { stride, data }
@@ -304,13 +306,13 @@ impl Rows {
     }
 
     /// Appends the first columns of a full-width row.
-    pub fn push(&mut self, row: &Row) {
+    pub fn push<const R: usize>(&mut self, row: &Row<R>) {
         self.data.extend_from_slice(&row[..self.stride]);
     }
 
     /// A tuple widened to a full row (zeros past the arity).
-    pub fn row(t: &[u64]) -> Row {
-        let mut r = [0u64; WIDTH];
+    pub fn row<const R: usize>(t: &[u64]) -> Row<R> {
+        let mut r = [0u64; R];
         r[..t.len()].copy_from_slice(t);
         r
     }
@@ -372,6 +374,77 @@ impl Rows {
     }
 }
 
+/// The operations of [`Rows`] on tuples wider than [`crate::value::WIDTH`] words, on slices of
+/// `stride` words (the arrays of the narrow paths would be monomorphised for every width).
+mod wide {
+    use std::cmp::Ordering;
+
+    fn tuples(data: &[u64], stride: usize) -> impl Iterator<Item = &[u64]> {
+        data.chunks_exact(stride)
+    }
+
+    fn nth(data: &[u64], stride: usize, i: usize) -> &[u64] {
+        &data[i * stride..(i + 1) * stride]
+    }
+
+    /// The index of the first tuple not below `key`.
+    fn lower_bound(data: &[u64], stride: usize, key: &[u64]) -> usize {
+        let (mut lo, mut hi) = (0, data.len() / stride);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if nth(data, stride, mid) < key {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    pub(super) fn sort_dedup_n(stride: usize, data: &mut Vec<u64>) {
+        let mut ts: Vec<&[u64]> = tuples(data, stride).collect();
+        ts.sort_unstable();
+        ts.dedup();
+        *data = ts.concat();
+    }
+
+    pub(super) fn merge_n(stride: usize, a: &[u64], b: &[u64]) -> Vec<u64> {
+        let mut out = Vec::with_capacity(a.len() + b.len());
+        let (mut a, mut b) = (tuples(a, stride).peekable(), tuples(b, stride).peekable());
+        loop {
+            let next = match (a.peek(), b.peek()) {
+                (Some(x), Some(y)) if x.cmp(y) == Ordering::Less => a.next(),
+                (Some(_), Some(_)) | (None, Some(_)) => b.next(),
+                (Some(_), None) => a.next(),
+                (None, None) => break,
+            };
+            out.extend_from_slice(next.unwrap_or_default());
+        }
+        out
+    }
+
+    pub(super) fn positions_n(stride: usize, all: &[u64], subset: &[u64]) -> Vec<usize> {
+        tuples(subset, stride)
+            .map(|x| lower_bound(all, stride, x))
+            .collect()
+    }
+
+    pub(super) fn contains_n(stride: usize, data: &[u64], row: &[u64]) -> bool {
+        let key = &row[..stride];
+        let i = lower_bound(data, stride, key);
+        data.get(i * stride..(i + 1) * stride) == Some(key)
+    }
+
+    pub(super) fn contains_from_n(
+        stride: usize,
+        data: &[u64],
+        row: &[u64],
+        _hint: &std::sync::atomic::AtomicUsize,
+    ) -> bool {
+        contains_n(stride, data, row)
+    }
+}
+
 /// Words a stored tuple of relation `name` takes, as [`Rows`] stores it: its arity, or one for
 /// a nullary (or unknown) relation.
 pub(crate) fn stored_width(
@@ -388,7 +461,9 @@ mod tests {
     fn rows(arity: usize, ts: &[&[u64]]) -> Rows {
         let mut r = Rows::new(arity);
         for t in ts {
-            r.push(&Rows::row(t));
+            let mut w = t.to_vec();
+            w.resize(r.arity().max(t.len()), 0);
+            r.push_slice(&w);
         }
         r
     }
@@ -410,9 +485,51 @@ mod tests {
         let mut unit = rows(0, &[&[], &[]]);
         unit.sort_dedup();
         assert_eq!(unit.len(), 1);
-        let mut wide = rows(WIDTH, &[&[1; WIDTH], &[0; WIDTH], &[1; WIDTH]]);
+        let mut wide = rows(12, &[&[1; 12], &[0; 12], &[1; 12]]);
         wide.sort_dedup();
         assert_eq!(wide.len(), 2);
+    }
+
+    /// Relations wider than the arrays' widths take the slice path: the same sets, unions,
+    /// positions and lookups as a sorted set of vectors.
+    #[test]
+    fn wide_tuples_sort_merge_and_search_as_a_sorted_set_does() {
+        use std::collections::BTreeSet;
+        let mut seed = 11u64;
+        let mut next = || crate::stratum::join::tests::lcg(&mut seed);
+        for stride in [13, 20, 64] {
+            for _ in 0..20 {
+                let mut make = |n: usize| {
+                    let ts: Vec<Vec<u64>> = (0..n)
+                        .map(|_| (0..stride).map(|c| next() % (2 + c as u64 % 3)).collect())
+                        .collect();
+                    let mut r = Rows::new(stride);
+                    for t in &ts {
+                        r.push_slice(t);
+                    }
+                    r.sort_dedup();
+                    (r, ts.into_iter().collect::<BTreeSet<_>>())
+                };
+                let (a, sa) = make(40);
+                let (b, sb) = make(30);
+                let listed = |r: &Rows| r.iter().map(<[u64]>::to_vec).collect::<Vec<_>>();
+                assert_eq!(listed(&a), sa.iter().cloned().collect::<Vec<_>>());
+                let m = a.merge(&b);
+                let mut union: Vec<Vec<u64>> = sa.iter().chain(&sb).cloned().collect();
+                union.sort();
+                assert_eq!(listed(&m), union, "a merge keeps both sides' tuples");
+                let hint = std::sync::atomic::AtomicUsize::new(0);
+                for (i, t) in a.iter().enumerate() {
+                    assert_eq!(a.position(t), Some(i));
+                    assert!(a.contains(t) && a.contains_from(t, &hint));
+                }
+                for t in sb.difference(&sa) {
+                    assert!(!a.contains(t) && !a.contains_from(t, &hint));
+                    assert_eq!(a.position(t), None);
+                }
+                assert_eq!(m.positions(&a).len(), a.len());
+            }
+        }
     }
 
     #[test]
@@ -470,7 +587,7 @@ mod tests {
             let n = (next() % 300) as usize;
             let mut r = Rows::new(2);
             for _ in 0..n {
-                r.push(&Rows::row(&[next() % 40, next() % 40]));
+                r.push_slice(&[next() % 40, next() % 40]);
             }
             r.sort_dedup();
             let hint = std::sync::atomic::AtomicUsize::new((next() % 400) as usize);
@@ -482,7 +599,7 @@ mod tests {
                 } else {
                     [key[0] + next() % 2, next() % 42]
                 };
-                let t = Rows::row(&key);
+                let t = Rows::row::<{ crate::value::WIDTH }>(&key);
                 assert_eq!(r.contains_from(&t, &hint), r.contains(&t), "{key:?}");
             }
         }

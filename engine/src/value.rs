@@ -11,11 +11,19 @@ use scenalog_facts::map::LaneId;
 use scenalog_facts::relation::Value;
 use scenalog_facts::scene::TrackId;
 
-/// Widest row the engine evaluates (relation arity and variables per rule).
+/// The binding-row width of most programs: every relation at most this wide and every rule
+/// binding at most this many slots ([`scenalog_rules::walk::binding_slots`]). Such programs are
+/// evaluated with rows of this width, the engine's fast path.
 pub const WIDTH: usize = 12;
 
-/// One tuple or one rule's variable bindings: fixed width, no heap allocation.
-pub type Row = [u64; WIDTH];
+/// The widest row the engine evaluates: programs with a relation or a rule wider than
+/// [`WIDTH`] and at most this wide are evaluated with rows of this width (the checker's limit,
+/// E0406, `scenalog_rules::check::meaning::MAX_VARIABLES`, which a test keeps equal).
+pub const WIDEST: usize = 64;
+
+/// One tuple or one rule's variable bindings: `R` words (the evaluation's width, [`WIDTH`] or
+/// [`WIDEST`]), no heap allocation.
+pub type Row<const R: usize = WIDTH> = [u64; R];
 
 const SIGN: u64 = 1 << 63;
 
@@ -371,9 +379,9 @@ mod tests {
 
 #[cfg(test)]
 mod width_tests {
-    /// The checker rejects (E0406) exactly the rules the engine's tuples cannot hold.
+    /// The checker rejects (E0406) exactly the rules the engine's widest tuples cannot hold.
     #[test]
     fn the_checker_and_the_engine_agree_on_the_widest_rule() {
-        assert_eq!(super::WIDTH, scenalog_rules::check::meaning::MAX_VARIABLES);
+        assert_eq!(super::WIDEST, scenalog_rules::check::meaning::MAX_VARIABLES);
     }
 }

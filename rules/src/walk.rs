@@ -5,7 +5,7 @@
 //! Every walk visits named variables only (never `_`) in source order, repeats included; the
 //! `*_spanned` forms keep each occurrence's span for diagnostics.
 
-use crate::ast::{Aggregate, Atom, Expr, ExprKind, Literal, Span};
+use crate::ast::{Aggregate, Atom, Clause, Expr, ExprKind, Literal, Span};
 
 /// Calls `f` with each named variable of `e` and its span, in order.
 pub fn each_var<'a>(e: &'a Expr, f: &mut dyn FnMut(&'a str, Span)) {
@@ -147,6 +147,42 @@ pub fn body_atoms(body: &[Literal]) -> Vec<(&Atom, bool)> {
     out
 }
 
+/// An upper bound on the binding slots the engine's plans of `clause` use, the width its rows
+/// need: each distinct named variable, each `_` inside an aggregate's braces (the braces fold
+/// distinct tuples, so their wildcards are bound too), each argument of a positive atom that is
+/// neither a variable nor `_` and holds a variable (read into a hidden slot when joined before its
+/// variables are bound) and each aggregate (its result). The checker's E0406 and the engine's
+/// choice of row width both use it, so they agree on what runs.
+pub fn binding_slots(clause: &Clause) -> usize {
+    fn literals(body: &[Literal], in_braces: bool, n: &mut usize) {
+        for l in body {
+            match l {
+                Literal::Pos(a) => {
+                    for e in &a.args {
+                        *n += match e.kind {
+                            ExprKind::Var(_) => 0,
+                            ExprKind::Wildcard => usize::from(in_braces),
+                            _ => usize::from(!expr_names(e).is_empty()),
+                        };
+                    }
+                }
+                Literal::Neg(..) | Literal::Cmp(_) => {}
+                Literal::Agg(g) => {
+                    *n += 1;
+                    literals(&g.body, true, n);
+                }
+            }
+        }
+    }
+    let mut names: Vec<&str> = clause.head.args.iter().flat_map(expr_names).collect();
+    literal_vars(&clause.body, &mut names);
+    let mut seen = std::collections::HashSet::new();
+    names.retain(|v| seen.insert(*v));
+    let mut n = names.len();
+    literals(&clause.body, false, &mut n);
+    n
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -186,5 +222,19 @@ mod tests {
         expr_vars_spanned(&cmp.lhs, &mut spanned);
         assert_eq!(spanned.len(), 2);
         assert!(spanned[0].1.start < spanned[1].1.start);
+    }
+
+    #[test]
+    fn binding_slots_count_variables_braced_wildcards_computed_arguments_and_aggregates() {
+        // A, B, T; no computed argument, no aggregate.
+        assert_eq!(
+            binding_slots(&clause("h(A, T) :- p(A, B, T), !q(A, _), B > 1.")),
+            3
+        );
+        // X, N; X + 1 in an atom; -3 holds no variable.
+        assert_eq!(binding_slots(&clause("g(X) :- g(X + 1), v(X, -3).")), 2);
+        // N, C, Z (nested result and brace variables once), two `_` in braces, two aggregates.
+        let c = clause("c(N, C) :- a(N), C = count : { b(N, _, Z), Z = min W : { d(W, _) } }.");
+        assert_eq!(binding_slots(&c), 4 + 2 + 2);
     }
 }

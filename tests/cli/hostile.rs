@@ -117,7 +117,7 @@ fn programs_at_the_limits_run_through_mine() {
     let deep = format!("referred(A, T) :- present(A, T), {}.\n", nest(60));
     let deep = write(dir.path(), "deep_aggregates.dl", &deep);
     // The checker rejects what the engine's tuples cannot hold (E0406), so `check` and `mine`
-    // agree: the nested aggregates' braces hold more variables than the engine's 12.
+    // agree: sixty nested aggregates bind more values than the engine's widest rows (64).
     let (code, stdout, stderr) = scenalog(&["check", &deep], "");
     assert_eq!(code, 1, "{stdout}{stderr}");
     assert!(

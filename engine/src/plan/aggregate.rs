@@ -1,5 +1,5 @@
 //! Aggregates in a plan: folding a body's tuples by group ([`fold`], integer `sum` overflow
-//! an error), correlated aggregates run per outer binding ([`Correlated`]), and the filter that
+//! an error), correlated aggregates run per outer binding ([`Correlated<R>`]), and the filter that
 //! looks an aggregate's result up.
 
 use super::*;
@@ -18,16 +18,16 @@ pub struct SumOverflow;
 /// Aggregates rows `group prefix (g_len columns) ++ … ++ target (column last)` by group; a
 /// `count` reads no target (its rows may have no column at all: `count : { a(1) }`). `min`
 /// and `max` of strings order them by text (`texts`).
-pub(crate) fn fold(
+pub(crate) fn fold<const R: usize>(
     func: AggFunc,
     rows: &Rows,
     (g_len, last): (usize, usize),
     (target_ty, out_ty): (ColType, ColType),
     texts: &Texts,
-) -> Result<FastMap<Row, u64>, SumOverflow> {
-    let mut acc: FastMap<Row, V> = FastMap::default();
+) -> Result<FastMap<Row<R>, u64>, SumOverflow> {
+    let mut acc: FastMap<Row<R>, V> = FastMap::default();
     for r in rows.iter() {
-        let mut key = [0u64; WIDTH];
+        let mut key = [0u64; R];
         key[..g_len].copy_from_slice(&r[..g_len]);
         let x = match func {
             AggFunc::Count => V::Int(0),
@@ -85,10 +85,10 @@ pub(crate) fn fold(
 /// An aggregate whose body uses outer variables only in comparisons or expressions: its body
 /// is run for each outer binding, with the group variables bound first.
 #[derive(Debug)]
-pub struct Correlated {
-    pub(crate) plan: Plan,
+pub struct Correlated<const R: usize> {
+    pub(crate) plan: Plan<R>,
     /// Per inner atom: its selected tuples by join key.
-    pub(crate) indexes: Vec<FastMap<Row, Vec<Row>>>,
+    pub(crate) indexes: Vec<FastMap<Row<R>, Vec<Row<R>>>>,
     pub(crate) group: Vec<usize>,
     pub(crate) func: AggFunc,
     pub(crate) g_len: usize,
@@ -103,13 +103,13 @@ pub struct Correlated {
     pub(crate) overflowed: std::sync::atomic::AtomicBool,
 }
 
-impl Correlated {
-    pub(crate) fn run(&self, outer: &Row) -> Option<u64> {
-        let mut start = [0u64; WIDTH];
+impl<const R: usize> Correlated<R> {
+    pub(crate) fn run(&self, outer: &Row<R>) -> Option<u64> {
+        let mut start = [0u64; R];
         for (i, s) in self.group.iter().enumerate() {
             start[i] = outer[*s];
         }
-        let mut bindings: Vec<Row> = apply(&self.plan.start, start).into_iter().collect();
+        let mut bindings: Vec<Row<R>> = apply(&self.plan.start, start).into_iter().collect();
         for (step, index) in self.plan.atoms.iter().zip(&self.indexes) {
             let mut next = Vec::new();
             for b in &bindings {
@@ -129,7 +129,7 @@ impl Correlated {
             }
         }
         rows.sort_dedup();
-        let table = match fold(
+        let table = match fold::<R>(
             self.func,
             &rows,
             (self.g_len, self.last),
@@ -152,12 +152,12 @@ impl Correlated {
 
 /// Evaluates an aggregate's body over the completed relations and returns the filter that
 /// looks its result up by group, plus a comparison when the result is not a fresh variable.
-pub(crate) fn agg_filter(
+pub(crate) fn agg_filter<const R: usize>(
     g: &Aggregate,
     group: &[&str],
     scope: &mut Scope,
     ctx: &mut Ctx<'_>,
-) -> Result<(Filter, Option<Filter>), EngineError> {
+) -> Result<(Filter<R>, Option<Filter<R>>), EngineError> {
     // The body's matching tuples, not its named bindings: `_` columns are fresh variables.
     let named = crate::agg_body::name_wildcards(g);
     let g = &named;
@@ -182,9 +182,9 @@ pub(crate) fn agg_filter(
             }
         }
     }
-    if head.len() > WIDTH {
+    if head.len() > R {
         return Err(EngineError::Unsupported(format!(
-            "an aggregate with more than {WIDTH} variables"
+            "an aggregate with more than {R} variables"
         )));
     }
     // The group variables the braces' atoms bind themselves (as a plain argument: in `u(B + 1)`
@@ -198,7 +198,7 @@ pub(crate) fn agg_filter(
     if !group.iter().all(|v| in_atoms.contains(v)) {
         return correlated(g, group, head, g_len, scope, ctx);
     }
-    let inner = plan(&lits, &head, None, ctx)?;
+    let inner = plan::<R>(&lits, &head, None, ctx)?;
     let rows = crate::stratum::once::run_plan(&inner, ctx.complete, ctx.types, ctx.limits)?;
     let target_ty = inner.head.last().map_or(ColType::Int, |(_, t)| *t);
     let (out_ty, default) = result_type(g.func, target_ty);
@@ -240,13 +240,13 @@ fn result_type(func: AggFunc, target_ty: ColType) -> (ColType, Option<u64>) {
 /// The filter `make` builds for the slot holding an aggregate's result: the result variable's
 /// own slot when the variable is new here, else a fresh slot and a second filter comparing it
 /// with the result expression.
-fn bind_result(
+fn bind_result<const R: usize>(
     g: &Aggregate,
     out_ty: ColType,
     scope: &mut Scope,
     ctx: &mut Ctx<'_>,
-    make: impl FnOnce(usize) -> Filter,
-) -> Result<(Filter, Option<Filter>), EngineError> {
+    make: impl FnOnce(usize) -> Filter<R>,
+) -> Result<(Filter<R>, Option<Filter<R>>), EngineError> {
     let fresh = match g.result.as_var() {
         Some(v) if !scope.slots.contains_key(v) => Some(v),
         _ => None,
@@ -267,15 +267,15 @@ fn bind_result(
     Ok((f, Some(cmp)))
 }
 
-/// Plans a correlated aggregate (see [`Correlated`]).
-pub(crate) fn correlated(
+/// Plans a correlated aggregate (see [`Correlated<R>`]).
+pub(crate) fn correlated<const R: usize>(
     g: &Aggregate,
     group: &[&str],
     head: Vec<Expr>,
     g_len: usize,
     scope: &mut Scope,
     ctx: &mut Ctx<'_>,
-) -> Result<(Filter, Option<Filter>), EngineError> {
+) -> Result<(Filter<R>, Option<Filter<R>>), EngineError> {
     let lits = body_lits(&g.body);
     let mut seed = Vec::new();
     let mut group_slots = Vec::new();
@@ -293,7 +293,7 @@ pub(crate) fn correlated(
         .atoms
         .iter()
         .map(|step| {
-            let mut index: FastMap<Row, Vec<Row>> = FastMap::default();
+            let mut index: FastMap<Row<R>, Vec<Row<R>>> = FastMap::default();
             for t in ctx.complete.get(&step.pred).unwrap_or(&empty).iter() {
                 if step.selects(t) {
                     index

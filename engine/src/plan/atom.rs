@@ -1,4 +1,4 @@
-//! One atom of a join ([`AtomStep`]): its arguments relative to what is bound before it, its
+//! One atom of a join ([`AtomStep<R>`]): its arguments relative to what is bound before it, its
 //! key, and the bounds ([`BoundExpr`]) a range-narrowed column is read between.
 
 use super::*;
@@ -20,13 +20,13 @@ pub enum Arg {
 
 /// One atom to join.
 #[derive(Debug, Clone)]
-pub struct AtomStep {
+pub struct AtomStep<const R: usize> {
     /// The predicate.
     pub pred: String,
     /// One per column.
     pub args: Vec<Arg>,
     /// Filters to apply after this atom is joined.
-    pub after: Vec<Filter>,
+    pub after: Vec<Filter<R>>,
     /// Derived from `args`: (column, slot) of each new variable.
     pub(crate) news: Vec<(usize, usize)>,
     /// Derived from `args`: the key columns, in order.
@@ -47,9 +47,9 @@ pub struct AtomStep {
     pub existential: bool,
 }
 
-impl AtomStep {
+impl<const R: usize> AtomStep<R> {
     /// A step joining `pred` with these arguments, then applying `after`.
-    pub fn new(pred: String, args: Vec<Arg>, after: Vec<Filter>) -> AtomStep {
+    pub fn new(pred: String, args: Vec<Arg>, after: Vec<Filter<R>>) -> Self {
         let mut news = Vec::new();
         let mut keys = Vec::new();
         let mut consts = Vec::new();
@@ -89,7 +89,7 @@ impl AtomStep {
     }
 
     /// The binding row extended with the atom's new variables.
-    pub fn extend(&self, mut b: Row, t: &[u64]) -> Row {
+    pub fn extend(&self, mut b: Row<R>, t: &[u64]) -> Row<R> {
         for &(i, s) in &self.news {
             b[s] = t[i];
         }
@@ -97,8 +97,8 @@ impl AtomStep {
     }
 
     /// The join key of a stored tuple (its key columns).
-    pub fn tuple_key(&self, t: &[u64]) -> Row {
-        let mut k = [0u64; WIDTH];
+    pub fn tuple_key(&self, t: &[u64]) -> Row<R> {
+        let mut k = [0u64; R];
         for (n, &i) in self.keys.iter().enumerate() {
             k[n] = t[i];
         }
@@ -107,7 +107,7 @@ impl AtomStep {
 
     /// The join key computed from a binding row, written to `out` (one word per key column);
     /// `false` if a value does not fit its column ([`AtomStep::binding_key`] writes it into a row).
-    pub fn key_into(&self, b: &Row, out: &mut [u64]) -> bool {
+    pub fn key_into(&self, b: &Row<R>, out: &mut [u64]) -> bool {
         for (o, &c) in out.iter_mut().zip(&self.keys) {
             let Some(Arg::Key(e, ty)) = self.args.get(c) else {
                 return false;
@@ -121,8 +121,8 @@ impl AtomStep {
     }
 
     /// The join key computed from a binding row; `None` if a value does not fit its column.
-    pub fn binding_key(&self, b: &Row) -> Option<Row> {
-        let mut k = [0u64; WIDTH];
+    pub fn binding_key(&self, b: &Row<R>) -> Option<Row<R>> {
+        let mut k = [0u64; R];
         self.key_into(b, &mut k[..self.keys.len()]).then_some(k)
     }
 }
@@ -164,7 +164,7 @@ impl BoundExpr {
     /// The bound as a number; floats come with the slack their rounding needs (the
     /// comparison computes `X - E` where the bound computes `E + C`), so the range is never
     /// narrower than what the filter accepts.
-    pub(crate) fn value(&self, row: &Row) -> Option<NumBound> {
+    pub(crate) fn value<const R: usize>(&self, row: &Row<R>) -> Option<NumBound> {
         // Int slots and int constants, alone or one plus or minus the other (`XA - 100`,
         // `300 + XA`): read directly, with the results of the general path.
         let int = |e: &CExpr| match e {
@@ -189,7 +189,12 @@ impl BoundExpr {
     /// [`BoundExpr::value`] moved one step inward when the bound is strict and integer and
     /// the column holds integers (`x > 5` is `x >= 6` there); a float bound, or one at the
     /// end of the `i64` range, stays inclusive, which admits a superset.
-    pub(crate) fn value_on(&self, row: &Row, ty: ColType, lower: bool) -> Option<NumBound> {
+    pub(crate) fn value_on<const R: usize>(
+        &self,
+        row: &Row<R>,
+        ty: ColType,
+        lower: bool,
+    ) -> Option<NumBound> {
         match self.value(row)? {
             NumBound::Int(i) if self.strict && matches!(ty, ColType::Int | ColType::Time) => {
                 let step = if lower {
@@ -204,7 +209,7 @@ impl BoundExpr {
     }
 
     /// [`BoundExpr::value`] through the expressions.
-    pub(crate) fn value_of_exprs(&self, row: &Row) -> Option<NumBound> {
+    pub(crate) fn value_of_exprs<const R: usize>(&self, row: &Row<R>) -> Option<NumBound> {
         let a = self.base.eval(row)?;
         let Some((op, e)) = &self.off else {
             return NumBound::of(a, 0.0);

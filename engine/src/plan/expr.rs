@@ -24,7 +24,7 @@ impl CExpr {
     /// in the column. A slot of the column's own type is copied, and an int or time slot plus
     /// or minus an int constant (`T - 1`, `T + 1`) computed on its word without decoding.
     #[inline]
-    pub fn word(&self, row: &Row, ty: ColType) -> Option<Option<u64>> {
+    pub fn word<const R: usize>(&self, row: &Row<R>, ty: ColType) -> Option<Option<u64>> {
         match self {
             // Decoding then encoding a stored word of the same type gives it back.
             CExpr::Slot(s, t) if *t == ty => return Some(Some(row[*s])),
@@ -50,7 +50,7 @@ impl CExpr {
     }
 
     /// Evaluates; `None` on a type error, overflow or division by zero.
-    pub fn eval(&self, row: &Row) -> Option<V> {
+    pub fn eval<const R: usize>(&self, row: &Row<R>) -> Option<V> {
         match self {
             CExpr::Slot(s, ty) => Some(decode(row[*s], *ty)),
             CExpr::Const(v) => Some(*v),
@@ -138,7 +138,7 @@ impl IExpr {
     }
 
     /// Evaluates; `None` on overflow or division by zero.
-    pub fn eval(&self, row: &Row) -> Option<i64> {
+    pub fn eval<const R: usize>(&self, row: &Row<R>) -> Option<i64> {
         match self {
             IExpr::Int(s) => Some(crate::value::dec_int(row[*s])),
             IExpr::Time(s) => Some(row[*s] as i64),

@@ -1,5 +1,5 @@
-//! The checks and computations run on a binding row ([`Filter`]): comparisons on encoded
-//! words or decoded values, bindings, negation lookups ([`NegSet`]), applied in place.
+//! The checks and computations run on a binding row ([`Filter<R>`]): comparisons on encoded
+//! words or decoded values, bindings, negation lookups ([`NegSet<R>`]), applied in place.
 
 use super::*;
 
@@ -14,7 +14,7 @@ pub enum Raw {
 
 /// A check or computation on a binding row.
 #[derive(Debug, Clone)]
-pub enum Filter {
+pub enum Filter<const R: usize> {
     /// A comparison that must hold.
     Cmp(CmpOp, CExpr, CExpr),
     /// A comparison of a slot with a slot or constant of its own type, done on the encoded
@@ -42,16 +42,16 @@ pub enum Filter {
     /// `X = expr` binding a new slot.
     Bind(usize, CExpr, ColType),
     /// A negated atom: the key built from the row must not be in the set.
-    Neg(Arc<NegSet>),
-    /// An aggregate run for each binding (see [`Correlated`]), writing its result to a slot.
-    AggRun(Arc<Correlated>, usize),
+    Neg(Arc<NegSet<R>>),
+    /// An aggregate run for each binding (see [`Correlated<R>`]), writing its result to a slot.
+    AggRun(Arc<Correlated<R>>, usize),
     /// An aggregate: the group key (outer slots) looks up the encoded result, written to a slot;
     /// a group with no binding gets the default (0 for count and sum, none for min and max).
     Agg {
         /// Slots of the grouping variables.
         group: Vec<usize>,
         /// Encoded result by group key.
-        table: Arc<FastMap<Row, u64>>,
+        table: Arc<FastMap<Row<R>, u64>>,
         /// Result of an empty group.
         default: Option<u64>,
         /// Slot receiving the result.
@@ -61,7 +61,7 @@ pub enum Filter {
 
 /// The tuples of a negated atom (a completed relation), keyed for lookups by binding.
 #[derive(Debug)]
-pub struct NegSet {
+pub struct NegSet<const R: usize> {
     /// How each argument is computed.
     pub(crate) args: Vec<KeyArg>,
     /// When every argument is a wildcard or a slot of its column's own type: the slot of each
@@ -73,12 +73,12 @@ pub struct NegSet {
     /// searched by binary search without building a set.
     pub(crate) rows: Rows,
     /// Otherwise: the tuples, wildcard columns zeroed.
-    pub(crate) set: FastSet<Row>,
+    pub(crate) set: FastSet<Row<R>>,
     /// Where the last search of `rows` ended (see [`Rows::contains_from`]).
     pub(crate) hint: std::sync::atomic::AtomicUsize,
 }
 
-impl NegSet {
+impl<const R: usize> NegSet<R> {
     /// With one key column copied from a slot: that slot and the set of values it must not
     /// take.
     pub(crate) fn single(&self) -> Option<(usize, &FastSet<u64>)> {
@@ -90,7 +90,7 @@ impl NegSet {
 
     /// Whether the binding's key is in the relation; `None` when an argument fails to
     /// evaluate.
-    pub(crate) fn contains(&self, row: &Row) -> Option<bool> {
+    pub(crate) fn contains(&self, row: &Row<R>) -> Option<bool> {
         if let Some([(_, s)]) = self.slots.as_deref() {
             return Some(self.one.contains(&row[*s]));
         }
@@ -108,8 +108,8 @@ impl NegSet {
     /// The binding's key in column order, wildcard columns zero: copied from slots when it
     /// can be, else computed. `None` when an argument fails to evaluate, `Some(None)` when a
     /// value cannot be stored in its column.
-    pub(crate) fn key(&self, row: &Row) -> Option<Option<Row>> {
-        let mut key = [0u64; WIDTH];
+    pub(crate) fn key(&self, row: &Row<R>) -> Option<Option<Row<R>>> {
+        let mut key = [0u64; R];
         if let Some(slots) = self.slots.as_deref() {
             for &(c, s) in slots {
                 key[c] = row[s];
@@ -151,7 +151,12 @@ pub(crate) fn holds(op: CmpOp, ord: std::cmp::Ordering) -> bool {
 /// The filter for `a op b` in a rule: strings ordered by text ([`Filter::CmpText`]; their
 /// encoded words are interning ids, equal exactly when the strings are), anything else as
 /// [`cmp_filter`] compiles it.
-pub fn compare_filter(op: CmpOp, a: CExpr, b: CExpr, symbols: &Symbols) -> Filter {
+pub fn compare_filter<const R: usize>(
+    op: CmpOp,
+    a: CExpr,
+    b: CExpr,
+    symbols: &Symbols,
+) -> Filter<R> {
     let ordering = !matches!(op, CmpOp::Eq | CmpOp::Ne);
     if ordering && (expr_type(&a) == ColType::Str || expr_type(&b) == ColType::Str) {
         return Filter::CmpText(op, a, b, symbols.texts());
@@ -161,7 +166,7 @@ pub fn compare_filter(op: CmpOp, a: CExpr, b: CExpr, symbols: &Symbols) -> Filte
 
 /// The filter for `a op b`: on encoded words when one side is a slot and the other a slot of
 /// the same type or a constant that encodes exactly in that type, else on decoded values.
-pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
+pub fn cmp_filter<const R: usize>(op: CmpOp, a: CExpr, b: CExpr) -> Filter<R> {
     let raw = |x: &CExpr, y: &CExpr| -> Option<(usize, Raw)> {
         let CExpr::Slot(s, ty) = x else { return None };
         match y {
@@ -210,13 +215,13 @@ pub fn cmp_filter(op: CmpOp, a: CExpr, b: CExpr) -> Filter {
 }
 
 /// Applies filters in order; `None` if one fails.
-pub fn apply(filters: &[Filter], mut row: Row) -> Option<Row> {
+pub fn apply<const R: usize>(filters: &[Filter<R>], mut row: Row<R>) -> Option<Row<R>> {
     apply_mut(filters, &mut row).then_some(row)
 }
 
 /// Applies filters in order to `row` in place (bindings write their slots); `false` if one
 /// fails, the row's later slots then holding partial results.
-pub fn apply_mut(filters: &[Filter], row: &mut Row) -> bool {
+pub fn apply_mut<const R: usize>(filters: &[Filter<R>], row: &mut Row<R>) -> bool {
     apply_in(filters, row).is_some()
 }
 
@@ -239,7 +244,7 @@ pub(crate) fn diff_holds(op: CmpOp, a: u64, b: u64, abs: bool, c: i64) -> bool {
     }
 }
 
-pub(crate) fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
+pub(crate) fn apply_in<const R: usize>(filters: &[Filter<R>], row: &mut Row<R>) -> Option<()> {
     for f in filters {
         match f {
             Filter::CmpRaw(op, a, b) => {
@@ -285,7 +290,7 @@ pub(crate) fn apply_in(filters: &[Filter], row: &mut Row) -> Option<()> {
                 default,
                 out,
             } => {
-                let mut key = [0u64; WIDTH];
+                let mut key = [0u64; R];
                 for (i, s) in group.iter().enumerate() {
                     key[i] = row[*s];
                 }

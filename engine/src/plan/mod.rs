@@ -14,7 +14,7 @@ use scenalog_rules::ast::{
 
 use crate::limits::Limits;
 use crate::rows::Rows;
-use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, Texts, V, WIDTH};
+use crate::value::{decode, encode, FastMap, FastSet, Row, Symbols, Texts, V};
 use crate::EngineError;
 use scenalog_rules::walk::{aggregate_vars as agg_vars, expr_vars};
 
@@ -34,16 +34,16 @@ pub use narrow::*;
 
 /// A compiled body: filters on the empty binding, then atoms in join order, then a projection.
 #[derive(Debug, Clone)]
-pub struct Plan {
+pub struct Plan<const R: usize> {
     /// Filters before any atom (bodies without atoms, constant comparisons).
-    pub start: Vec<Filter>,
+    pub start: Vec<Filter<R>>,
     /// Atoms in join order, each with the filters that become ready after it.
-    pub atoms: Vec<AtomStep>,
+    pub atoms: Vec<AtomStep<R>>,
     /// The output row: one expression per column, with its type.
     pub head: Vec<(CExpr, ColType)>,
 }
 
-impl Plan {
+impl<const R: usize> Plan<R> {
     /// Whether a correlated `sum` of this plan (or of an aggregate nested in it) overflowed
     /// the 64-bit integer range while it ran.
     pub fn sum_overflowed(&self) -> bool {
@@ -60,8 +60,8 @@ impl Plan {
     }
 
     /// The output row of a complete binding.
-    pub fn project(&self, b: &Row) -> Option<Row> {
-        let mut out = [0u64; WIDTH];
+    pub fn project(&self, b: &Row<R>) -> Option<Row<R>> {
+        let mut out = [0u64; R];
         for (i, (e, ty)) in self.head.iter().enumerate() {
             out[i] = e.word(b, *ty)??;
         }
@@ -83,6 +83,8 @@ pub struct Ctx<'a> {
 
 pub(crate) struct Scope {
     pub(crate) slots: HashMap<String, (usize, ColType)>,
+    /// The binding row's width: slots past it cannot be held.
+    pub(crate) width: usize,
 }
 
 impl Scope {
@@ -92,11 +94,21 @@ impl Scope {
         vs.iter().all(|v| self.slots.contains_key(*v))
     }
 
+    /// Whether every variable of `e` has a slot below `from` (bound before the atom whose
+    /// slots start there).
+    pub(crate) fn bound_before(&self, e: &Expr, from: usize) -> bool {
+        let mut vs = Vec::new();
+        expr_vars(e, &mut vs);
+        vs.iter()
+            .all(|v| self.slots.get(*v).is_some_and(|&(s, _)| s < from))
+    }
+
     pub(crate) fn new_slot(&mut self, name: &str, ty: ColType) -> Result<usize, EngineError> {
         let s = self.slots.len();
-        if s >= WIDTH {
+        if s >= self.width {
             return Err(EngineError::Unsupported(format!(
-                "a rule has more than {WIDTH} variables"
+                "a rule has more than {} variables",
+                self.width
             )));
         }
         self.slots.insert(name.to_string(), (s, ty));
@@ -130,40 +142,41 @@ pub fn body_lits(body: &[Literal]) -> Vec<BodyLit<'_>> {
 
 /// Plans a body and a head (output expressions; `head_types` gives the output column types,
 /// `None` to infer them from the expressions).
-pub fn plan(
+pub fn plan<const R: usize>(
     lits: &[BodyLit<'_>],
     head: &[Expr],
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
-) -> Result<Plan, EngineError> {
+) -> Result<Plan<R>, EngineError> {
     plan_seeded(lits, head, head_types, ctx, &[], None)
 }
 
 /// [`plan`] with the positive atom `lits[first]` joined first (the semi-naive variant that
 /// reads that atom's recent tuples scans them and looks the other atoms up).
-pub fn plan_first(
+pub fn plan_first<const R: usize>(
     lits: &[BodyLit<'_>],
     head: &[Expr],
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
     first: usize,
-) -> Result<Plan, EngineError> {
+) -> Result<Plan<R>, EngineError> {
     plan_seeded(lits, head, head_types, ctx, &[], Some(first))
 }
 
 /// The tuple a ground fact's head derives (`None` if a value cannot be stored in its column),
 /// computed as the plan of a body-less clause would ([`plan`] then [`Plan::project`]), without
 /// building the plan. `head_types` gives the column types, `None` to infer them.
-pub(crate) fn ground_head(
+pub(crate) fn ground_head<const R: usize>(
     head: &[Expr],
     head_types: Option<&[ColType]>,
     symbols: &mut Symbols,
-) -> Result<Option<Row>, EngineError> {
+) -> Result<Option<Row<R>>, EngineError> {
     let scope = Scope {
         slots: HashMap::new(),
+        width: R,
     };
-    let empty = [0u64; WIDTH];
-    let mut out = [0u64; WIDTH];
+    let empty = [0u64; R];
+    let mut out = [0u64; R];
     for (i, e) in head.iter().enumerate() {
         // A literal (`3`, `-2`, `1.5`, `"BUS"`: nearly every argument of a fact) is its value;
         // anything else is compiled and evaluated as a plan would.
@@ -213,18 +226,19 @@ pub(crate) fn literal(e: &Expr, symbols: &mut Symbols) -> Option<V> {
 }
 
 /// [`plan`] with variables already bound, in slots `0..seed.len()`.
-pub(crate) fn plan_seeded(
+pub(crate) fn plan_seeded<const R: usize>(
     lits: &[BodyLit<'_>],
     head: &[Expr],
     head_types: Option<&[ColType]>,
     ctx: &mut Ctx<'_>,
     seed: &[(&str, ColType)],
     first: Option<usize>,
-) -> Result<Plan, EngineError> {
+) -> Result<Plan<R>, EngineError> {
     if lits.is_empty() && seed.is_empty() {
         // A ground fact (or a head over no body): nothing to schedule.
         let scope = Scope {
             slots: HashMap::new(),
+            width: R,
         };
         let mut out = Vec::new();
         for (i, e) in head.iter().enumerate() {
@@ -243,6 +257,7 @@ pub(crate) fn plan_seeded(
     }
     let mut scope = Scope {
         slots: HashMap::new(),
+        width: R,
     };
     for (v, ty) in seed {
         scope.new_slot(v, *ty)?;
@@ -309,7 +324,7 @@ pub(crate) fn plan_seeded(
         })
         .collect();
     let mut start = Vec::new();
-    let mut atoms: Vec<AtomStep> = Vec::new();
+    let mut atoms: Vec<AtomStep<R>> = Vec::new();
     // Per atom, per filter after it: its rank among comparisons (see `cmp_rank`); the body
     // literals whose comparisons bound an atom's range.
     let mut ranks: Vec<Vec<u8>> = Vec::new();
@@ -456,7 +471,9 @@ pub(crate) fn plan_seeded(
                     Some(_) => Arg::Key(compile_expr(e, &scope, ctx.symbols)?, ty),
                     None => Arg::New(scope.new_slot(v, ty)?),
                 },
-                _ if scope.bound(e) => {
+                // A key computed before the lookup: only from variables bound before this
+                // atom (`t(N, N + 1)` reads N from the same tuple, so it is compared after).
+                _ if scope.bound_before(e, from) => {
                     let ce = compile_expr(e, &scope, ctx.symbols)?;
                     match ce {
                         CExpr::Const(c) => match encode(c, ty) {
@@ -537,11 +554,11 @@ fn pending_from(pending: &[(usize, ColType, &Expr)], from: usize) -> bool {
     pending.iter().any(|&(s, _, _)| s >= from)
 }
 
-pub(crate) fn neg_filter(
+pub(crate) fn neg_filter<const R: usize>(
     a: &Atom,
     scope: &Scope,
     ctx: &mut Ctx<'_>,
-) -> Result<Filter, EngineError> {
+) -> Result<Filter<R>, EngineError> {
     let types = ctx.types.get(&a.pred).cloned().unwrap_or_default();
     let mut args = Vec::new();
     for (e, &ty) in a.args.iter().zip(&types) {

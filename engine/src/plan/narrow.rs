@@ -75,7 +75,7 @@ impl Narrow {
     /// The inclusive range of encoded words the column may hold under binding `b`; `None`
     /// when it is empty. Every candidate outside it fails a comparison the planner applies
     /// after the atom (which still runs on the candidates inside it).
-    pub fn range(&self, b: &Row) -> Option<(u64, u64)> {
+    pub fn range<const R: usize>(&self, b: &Row<R>) -> Option<(u64, u64)> {
         let mut lo = 0u64;
         let mut hi = u64::MAX;
         for e in &self.lo {
@@ -224,12 +224,12 @@ pub(crate) fn cmp_rank(op: CmpOp, windowed: bool) -> u8 {
 
 /// Places a ready filter after the last atom planned, with its rank (`ranks` stays aligned
 /// with each atom's `after`), or before any atom when none is planned yet.
-pub(crate) fn place(
-    f: Filter,
+pub(crate) fn place<const R: usize>(
+    f: Filter<R>,
     rank: u8,
-    atoms: &mut [AtomStep],
+    atoms: &mut [AtomStep<R>],
     ranks: &mut [Vec<u8>],
-    start: &mut Vec<Filter>,
+    start: &mut Vec<Filter<R>>,
 ) {
     match (atoms.last_mut(), ranks.last_mut()) {
         (Some(a), Some(r)) => {
@@ -242,8 +242,8 @@ pub(crate) fn place(
 
 /// Puts each run of consecutive comparisons in `after` in the order of `ranks` (stable);
 /// bindings, negations and aggregates stay where they are, and nothing moves across them.
-pub(crate) fn order_comparisons(after: &mut [Filter], ranks: &[u8]) {
-    let is_cmp = |f: &Filter| {
+pub(crate) fn order_comparisons<const R: usize>(after: &mut [Filter<R>], ranks: &[u8]) {
+    let is_cmp = |f: &Filter<R>| {
         matches!(
             f,
             Filter::Cmp(..)
@@ -260,7 +260,7 @@ pub(crate) fn order_comparisons(after: &mut [Filter], ranks: &[u8]) {
             j += 1;
         }
         if j - i > 1 {
-            let mut run: Vec<(u8, Filter)> = after[i..j]
+            let mut run: Vec<(u8, Filter<R>)> = after[i..j]
                 .iter()
                 .zip(&ranks[i..j])
                 .map(|(f, &r)| (r, f.clone()))

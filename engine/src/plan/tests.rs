@@ -2,7 +2,7 @@
 //! evaluator and hand-computed cases.
 
 use super::*;
-use crate::value::enc_int;
+use crate::value::{enc_int, WIDTH};
 
 #[test]
 fn integer_expressions_agree_with_the_general_evaluator() {

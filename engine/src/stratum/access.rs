@@ -80,13 +80,17 @@ pub(crate) struct Access {
 
 impl Access {
     /// The access for an atom step over a relation of `arity` stored words.
-    pub(crate) fn of(step: &AtomStep, arity: usize) -> Access {
+    pub(crate) fn of<const R: usize>(step: &AtomStep<R>, arity: usize) -> Access {
         Access::ordered(step, arity, &[])
     }
 
     /// [`Access::of`] with the copy sorted, after its constants, keys and narrowed column, by
     /// the columns `lead` (see [`lead_columns`]).
-    pub(crate) fn ordered(step: &AtomStep, arity: usize, lead: &[usize]) -> Access {
+    pub(crate) fn ordered<const R: usize>(
+        step: &AtomStep<R>,
+        arity: usize,
+        lead: &[usize],
+    ) -> Access {
         let mut perm: Vec<usize> = step.consts.iter().map(|&(c, _)| c).collect();
         perm.extend(step.keys.iter().copied());
         // A range-narrowed column comes right after the keys, so that within one prefix
@@ -128,7 +132,12 @@ impl Access {
     /// Writes the prefix a binding looks up into `out[..self.prefix_len()]`: the constants,
     /// then the key values computed from `b` (`step` is the atom this access reads). `false`
     /// when a key value does not fit its column: the atom then matches no tuple.
-    pub(crate) fn prefix_into(&self, step: &AtomStep, b: &Row, out: &mut [u64]) -> bool {
+    pub(crate) fn prefix_into<const R: usize>(
+        &self,
+        step: &AtomStep<R>,
+        b: &Row<R>,
+        out: &mut [u64],
+    ) -> bool {
         let nc = self.consts.len();
         out[..nc].copy_from_slice(&self.consts);
         self.nkeys == 0 || step.key_into(b, &mut out[nc..self.prefix_len()])
@@ -148,7 +157,7 @@ pub(crate) fn range<'a, const W: usize>(s: &'a [Tup<W>], p: &[u64]) -> &'a [Tup<
 /// leading keys, then the one its window bounds are computed from (`abs(XA - XB) < 100`
 /// bounds `XB` by `XA ± 100`, which grow with `XA`). Each lookup then gallops on from the
 /// previous one, or reuses it, instead of searching the whole copy (a merge join).
-pub(crate) fn lead_columns(first: &AtomStep, next: &AtomStep) -> Vec<usize> {
+pub(crate) fn lead_columns<const R: usize>(first: &AtomStep<R>, next: &AtomStep<R>) -> Vec<usize> {
     let col_of = |e: &CExpr| match e {
         CExpr::Slot(s, _) => first
             .news

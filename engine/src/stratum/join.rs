@@ -11,7 +11,7 @@ use crate::plan::{apply_mut, diff_holds, raw_holds, Arg, AtomStep, CExpr, Filter
 use crate::stratum::access::{
     prefix_cmp, range_span, range_span_from, within_span, within_span_from, Access, Tup,
 };
-use crate::value::{Row, WIDTH};
+use crate::value::Row;
 use crate::EngineError;
 use scenalog_rules::ast::CmpOp;
 
@@ -19,9 +19,9 @@ use scenalog_rules::ast::CmpOp;
 const CHECK_EVERY: usize = 1 << 16;
 
 /// One plan's join: the plan, how each atom is read, and the sorted parts each atom reads.
-pub(crate) struct Join<'a, const W: usize> {
+pub(crate) struct Join<'a, const R: usize, const W: usize> {
     /// The plan.
-    pub(crate) plan: &'a Plan,
+    pub(crate) plan: &'a Plan<R>,
     /// One access per atom.
     pub(crate) access: &'a [Access],
     /// Per atom: the sorted slices whose union it reads.
@@ -29,12 +29,12 @@ pub(crate) struct Join<'a, const W: usize> {
 }
 
 /// Candidate and output counts, for the periodic limit checks, and the last lookup per atom.
-struct Progress<'l> {
+struct Progress<'l, const R: usize> {
     limits: &'l Limits<'l>,
     candidates: usize,
     /// Per atom: its last lookup, reused while the prefix and window stay the same (the
     /// later atoms of a product, e.g. `parent(Y, B)` for every `X` of one `sg(A, B)`).
-    memo: Vec<Memo>,
+    memo: Vec<Memo<R>>,
     /// Per atom: whether its lookup (keys and window) reads no slot the previous atom or
     /// that atom's filters write, so it is the same for all of the previous atom's
     /// candidates.
@@ -53,13 +53,13 @@ const MEMO_PARTS: usize = 32;
 /// searches the whole part. An existence test ([`Join::exists`]) keeps only where its last
 /// key was in each part, as the start of each range.
 #[derive(Clone, Copy)]
-struct Memo {
+struct Memo<const R: usize> {
     valid: bool,
     /// Set when the lookup was made under the current binding of every atom before the
     /// previous one and is invariant (see `Progress::invariant`): reused without computing
     /// the key. The previous atom clears it each time it starts over its candidates.
     fresh: bool,
-    prefix: Row,
+    prefix: Row<R>,
     window: Option<(u64, u64)>,
     ranges: [(usize, usize); MEMO_PARTS],
     spans: [(usize, usize); MEMO_PARTS],
@@ -76,7 +76,7 @@ enum From {
 /// The last atom's fast path, for heads that are a projection of slots: head tuples are
 /// written straight from the binding and the candidate tuple (no binding row built when the
 /// atom has no filters after it, and no recursion either way).
-struct Leaf {
+struct Leaf<const R: usize> {
     /// Per head column, from the binding before the last atom or its tuple.
     direct: Vec<From>,
     /// Per head column, its slot (after the last atom's filters ran on the full binding).
@@ -117,7 +117,7 @@ impl Check {
     /// Whether the candidate `t` under binding `b` passes, as the filter would on the row
     /// the general path writes.
     #[inline(always)]
-    fn holds<const W: usize>(self, b: &Row, t: &Tup<W>) -> bool {
+    fn holds<const R: usize, const W: usize>(self, b: &Row<R>, t: &Tup<W>) -> bool {
         let word = |w: Word| match w {
             Word::Slot(From::Tuple(p)) => t[p],
             Word::Slot(From::Binding(s)) => b[s],
@@ -130,10 +130,10 @@ impl Check {
     }
 }
 
-impl Leaf {
+impl<const R: usize> Leaf<R> {
     /// The head tuple from the binding before the last atom and the last atom's tuple `t`.
     #[inline]
-    fn project<const W: usize>(&self, b: &Row, t: &Tup<W>) -> Tup<W> {
+    fn project<const W: usize>(&self, b: &Row<R>, t: &Tup<W>) -> Tup<W> {
         let mut o = [0u64; W];
         for (o, f) in o.iter_mut().zip(&self.direct) {
             *o = match *f {
@@ -144,7 +144,7 @@ impl Leaf {
         o
     }
 
-    fn of(plan: &Plan, last: &Access) -> Option<Leaf> {
+    fn of(plan: &Plan<R>, last: &Access) -> Option<Leaf<R>> {
         let negated = match plan.atoms.last().map(|a| a.after.as_slice()) {
             Some([Filter::Neg(n)]) => n.single().and_then(|(slot, _)| {
                 last.news
@@ -198,7 +198,7 @@ impl Leaf {
 
 /// Per atom of a plan: whether its keys and window read none of the slots the atom before it
 /// binds (its new variables and its filters' results).
-fn invariant(plan: &Plan) -> Vec<bool> {
+fn invariant<const R: usize>(plan: &Plan<R>) -> Vec<bool> {
     let mut out = vec![false; plan.atoms.len()];
     for (d, pair) in plan.atoms.windows(2).enumerate() {
         let [prev, step] = pair else { continue };
@@ -235,21 +235,21 @@ fn reads(e: &CExpr, slots: &[usize]) -> bool {
     }
 }
 
-impl<const W: usize> Join<'_, W> {
+impl<const R: usize, const W: usize> Join<'_, R, W> {
     /// Runs the join, appending head tuples to `out`.
     pub(crate) fn run(
         &self,
         out: &mut Vec<Tup<W>>,
         limits: &Limits<'_>,
     ) -> Result<(), EngineError> {
-        let mut b = [0u64; WIDTH];
+        let mut b = [0u64; R];
         if !apply_mut(&self.plan.start, &mut b) {
             return Ok(());
         }
         let memo = Memo {
             valid: false,
             fresh: false,
-            prefix: [0u64; WIDTH],
+            prefix: [0u64; R],
             window: None,
             ranges: [(0, 0); MEMO_PARTS],
             spans: [(0, 0); MEMO_PARTS],
@@ -273,10 +273,10 @@ impl<const W: usize> Join<'_, W> {
     fn step(
         &self,
         depth: usize,
-        b: &mut Row,
+        b: &mut Row<R>,
         out: &mut Vec<Tup<W>>,
-        progress: &mut Progress<'_>,
-        leaf: Option<&Leaf>,
+        progress: &mut Progress<'_, R>,
+        leaf: Option<&Leaf<R>>,
     ) -> Result<(), EngineError> {
         let (Some(step), Some(acc), Some(parts)) = (
             self.plan.atoms.get(depth),
@@ -296,7 +296,7 @@ impl<const W: usize> Join<'_, W> {
         let fresh = remembered && progress.memo[depth].fresh;
         let mut searched = Vec::new();
         if !fresh {
-            let mut prefix = [0u64; WIDTH];
+            let mut prefix = [0u64; R];
             let l = acc.prefix_len();
             if !acc.prefix_into(step, b, &mut prefix) {
                 return Ok(());
@@ -446,7 +446,13 @@ impl<const W: usize> Join<'_, W> {
     /// from where the previous key was (a gallop when keys come in ascending order, see
     /// [`crate::rows::search_from`]), and the head projected for each part that holds it, as
     /// the general path would.
-    fn exists(&self, b: &Row, out: &mut Vec<Tup<W>>, progress: &mut Progress<'_>, leaf: &Leaf) {
+    fn exists(
+        &self,
+        b: &Row<R>,
+        out: &mut Vec<Tup<W>>,
+        progress: &mut Progress<'_, R>,
+        leaf: &Leaf<R>,
+    ) {
         let d = self.plan.atoms.len() - 1;
         let (Some(step), Some(acc), Some(parts), Some(m)) = (
             self.plan.atoms.get(d),
@@ -469,12 +475,12 @@ impl<const W: usize> Join<'_, W> {
         }
     }
 
-    /// The last atom's candidates through the fast path (see [`Leaf`]).
+    /// The last atom's candidates through the fast path (see [`Leaf<R>`]).
     fn last(
-        leaf: &Leaf,
-        step: &AtomStep,
+        leaf: &Leaf<R>,
+        step: &AtomStep<R>,
         acc: &Access,
-        b: &mut Row,
+        b: &mut Row<R>,
         matches: &[Tup<W>],
         out: &mut Vec<Tup<W>>,
     ) {
@@ -526,6 +532,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::plan::cmp_filter;
     use crate::rows::Rows;
+    use crate::value::WIDTH;
     use crate::value::{enc_int, V};
     use crate::Options;
     use scenalog_facts::catalog::ColType;
@@ -545,7 +552,7 @@ pub(crate) mod tests {
     }
 
     /// The join's output under default options, sorted.
-    fn sorted_output(join: &Join<'_, 2>) -> Vec<Tup<2>> {
+    fn sorted_output(join: &Join<'_, 12, 2>) -> Vec<Tup<2>> {
         let options = Options::default();
         let limits = Limits {
             relation: "out",
@@ -562,7 +569,7 @@ pub(crate) mod tests {
     }
 
     /// `out(X, Z) :- a(X, Y), [c(W),] b(Y, Z), <filters>` with head `heads`, joined by
-    /// [`Join`] over `b` split into sorted parts, against a nested loop over the plain
+    /// [`Join<R>`] over `b` split into sorted parts, against a nested loop over the plain
     /// tuples. With `c` (when `mid` is not empty) `b`'s lookup does not depend on the atom
     /// before it, so it is made once per `a` tuple and reused over `c`'s. With `merge`, `a`
     /// is read in `Y` order (`b`'s keys ascending: forward gallops), else in `X` order
@@ -571,7 +578,7 @@ pub(crate) mod tests {
         a: &[(i64, i64)],
         mid: &[i64],
         b: &[(i64, i64)],
-        after: Vec<Filter>,
+        after: Vec<Filter<WIDTH>>,
         head: Vec<(CExpr, ColType)>,
         merge: bool,
     ) {

@@ -10,39 +10,19 @@
 //! Negation and aggregates are the planner's filters (our own antijoin by hash lookup against
 //! completed lower strata: datafrog 2.0.1's `Relation::from_antijoin` returns nothing).
 
-/// Evaluates `$body` with the const `$W` set to the tuple width that serves `$width` stored
-/// words: the widths the stratum code is monomorphised for (1, 2, 3, 4, 6, 8 and [`WIDTH`]).
+/// Calls `$f::<$R, W>($args…)` with `W` the tuple width that serves `$width` stored words: the
+/// widths the stratum code is monomorphised for (1, 2, 3, 4, 6, 8 and the binding width `$R`,
+/// [`crate::value::WIDTH`] for most programs).
 macro_rules! with_width {
-    ($width:expr, $W:ident => $body:expr) => {
+    ($width:expr, $f:ident::<$R:ident>($($a:expr),*)) => {
         match $width {
-            1 => {
-                const $W: usize = 1;
-                $body
-            }
-            2 => {
-                const $W: usize = 2;
-                $body
-            }
-            3 => {
-                const $W: usize = 3;
-                $body
-            }
-            4 => {
-                const $W: usize = 4;
-                $body
-            }
-            5 | 6 => {
-                const $W: usize = 6;
-                $body
-            }
-            7 | 8 => {
-                const $W: usize = 8;
-                $body
-            }
-            _ => {
-                const $W: usize = WIDTH;
-                $body
-            }
+            1 => $f::<$R, 1>($($a),*),
+            2 => $f::<$R, 2>($($a),*),
+            3 => $f::<$R, 3>($($a),*),
+            4 => $f::<$R, 4>($($a),*),
+            5 | 6 => $f::<$R, 6>($($a),*),
+            7 | 8 => $f::<$R, 8>($($a),*),
+            _ => $f::<$R, $R>($($a),*),
         }
     };
 }
@@ -63,7 +43,6 @@ use crate::plan::Plan;
 use crate::prove::Origins;
 pub(crate) use crate::rows::stored_width;
 use crate::rows::Rows;
-use crate::value::WIDTH;
 use crate::{EngineError, Options};
 use access::{Access, Sig, Tup};
 use join::Join;
@@ -82,9 +61,9 @@ pub(crate) struct StratumLimits<'a> {
 /// Runs one stratum to its fixpoint on datafrog. Returns the relations it defines (sorted,
 /// distinct) and, with provenance, the (round, plan) that first derived each tuple, aligned
 /// with them.
-pub(crate) fn run_stratum(
-    plans: &[(String, Plan)],
-    variants: &[Vec<(usize, Plan)>],
+pub(crate) fn run_stratum<const R: usize>(
+    plans: &[(String, Plan<R>)],
+    variants: &[Vec<(usize, Plan<R>)>],
     defined: &HashSet<&str>,
     types: &HashMap<String, Vec<ColType>>,
     complete: &HashMap<String, Rows>,
@@ -109,14 +88,21 @@ pub(crate) fn run_stratum(
         complete,
         limits,
     };
-    with_width!(width, W => s.run::<W>())
+    with_width!(width, run_at::<R>(&s))
+}
+
+/// [`Stratum::run`] with tuples of `W` words.
+fn run_at<const R: usize, const W: usize>(
+    s: &Stratum<'_, R>,
+) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
+    s.run::<W>()
 }
 
 /// The inputs of one stratum's run.
-struct Stratum<'a> {
-    plans: &'a [(String, Plan)],
+struct Stratum<'a, const R: usize> {
+    plans: &'a [(String, Plan<R>)],
     /// Per plan: (recursive literal, plan joining it first) of its semi-naive variants.
-    variants: &'a [Vec<(usize, Plan)>],
+    variants: &'a [Vec<(usize, Plan<R>)>],
     defined: &'a HashSet<&'a str>,
     stored: &'a dyn Fn(&str) -> usize,
     complete: &'a HashMap<String, Rows>,
@@ -144,7 +130,7 @@ impl<const W: usize> Parts<'_, W> {
     }
 }
 
-impl Stratum<'_> {
+impl<const R: usize> Stratum<'_, R> {
     fn run<const W: usize>(&self) -> Result<(HashMap<String, Rows>, Origins), EngineError> {
         let StratumLimits {
             options,
@@ -274,7 +260,7 @@ impl Stratum<'_> {
                     // tuples. Recursive atoms of earlier literals read the stable batches,
                     // later ones stable and recent alike (one fixed order per clause,
                     // whichever order each variant joins in).
-                    let mut runs_of: Vec<(&Plan, usize, Option<usize>)> = Vec::new();
+                    let mut runs_of: Vec<(&Plan<R>, usize, Option<usize>)> = Vec::new();
                     if first {
                         runs_of.push((p, pi, None));
                     }

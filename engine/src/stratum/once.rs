@@ -13,13 +13,12 @@ use crate::limits::Limits;
 use crate::plan::Plan;
 use crate::rows::stored_width;
 use crate::rows::Rows;
-use crate::value::WIDTH;
 use crate::EngineError;
 
 /// The distinct head tuples of `plan` over `complete` (an absent relation is empty), sorted;
 /// `types` gives the relations' column types.
-pub(crate) fn run_plan(
-    plan: &Plan,
+pub(crate) fn run_plan<const R: usize>(
+    plan: &Plan<R>,
     complete: &HashMap<String, Rows>,
     types: &HashMap<String, Vec<ColType>>,
     limits: &Limits<'_>,
@@ -31,11 +30,11 @@ pub(crate) fn run_plan(
         .chain([plan.head.len(), 1])
         .max()
         .unwrap_or(1);
-    with_width!(width, W => run::<W>(plan, complete, types, limits))
+    with_width!(width, run::<R>(plan, complete, types, limits))
 }
 
-fn run<const W: usize>(
-    plan: &Plan,
+fn run<const R: usize, const W: usize>(
+    plan: &Plan<R>,
     complete: &HashMap<String, Rows>,
     types: &HashMap<String, Vec<ColType>>,
     limits: &Limits<'_>,

@@ -5,7 +5,8 @@ use scenalog_engine::{evaluate, EngineError, Evaluation, Options};
 use scenalog_facts::relation::{RelationData, Request, Value};
 use scenalog_rules::{check, CheckOptions};
 
-fn run_with(src: &str, options: &Options) -> Result<Evaluation, EngineError> {
+/// Checks `src` (no `referred` needed) and evaluates it with no catalog.
+pub(crate) fn run_with(src: &str, options: &Options) -> Result<Evaluation, EngineError> {
     let outcome = check(
         src,
         &CheckOptions {
@@ -28,7 +29,8 @@ fn run(src: &str) -> Evaluation {
     }
 }
 
-fn ints(e: &Evaluation, rel: &str) -> Vec<Vec<i64>> {
+/// The tuples of `rel`, every value an integer (or time).
+pub(crate) fn ints(e: &Evaluation, rel: &str) -> Vec<Vec<i64>> {
     e.tuples(rel)
         .unwrap_or_default()
         .iter()
@@ -193,6 +195,14 @@ fn expression_arguments_are_joined_before_or_after_what_binds_them() {
     // Written the other way round, the same answer.
     let e = run("g(4). v(1). v(2). v(3).\ng(X) :- v(X), g(X + 1).\n");
     assert_eq!(ints(&e, "g"), vec![vec![1], vec![2], vec![3], vec![4]]);
+    // An expression of a variable the same atom binds earlier is compared after the lookup,
+    // not computed before it (that read an unbound slot and found nothing: Soufflé's `tak`).
+    let src = "t(0, 0, 1, 7). t(1, 0, 2, 8). t(1, 0, 3, 9). t(2, 1, 4, 4).\n\
+               q(N, Q) :- t(N, 0, N + 1, Q).\n\
+               r(N, Q) :- t(N, Z, N + Z + 1, Q).\n";
+    let e = run(src);
+    assert_eq!(ints(&e, "q"), vec![vec![0, 7], vec![1, 8]]);
+    assert_eq!(ints(&e, "r"), vec![vec![0, 7], vec![1, 8], vec![2, 4]]);
 }
 
 #[test]
@@ -226,6 +236,7 @@ fn atoms_that_only_test_existence_are_not_enumerated() {
         timeout: None,
         provenance: false,
         pushdown: true,
+        wide_rows: false,
     };
     let e = run_with(&src, &options).expect("evaluates within the budget");
     assert_eq!(ints(&e, "q"), vec![vec![1]]);
@@ -277,6 +288,7 @@ fn a_relation_that_grows_past_the_limit_is_named() {
         timeout: None,
         provenance: false,
         pushdown: true,
+        wide_rows: false,
     };
     match run_with(src, &options) {
         Err(EngineError::TooManyTuples { relation, limit }) => {
@@ -295,6 +307,7 @@ fn a_timeout_is_reported_with_the_relation() {
         timeout: Some(std::time::Duration::from_millis(50)),
         provenance: false,
         pushdown: true,
+        wide_rows: false,
     };
     match run_with(src, &options) {
         Err(EngineError::Timeout { relation, .. }) => assert_eq!(relation, "n"),
@@ -639,6 +652,7 @@ fn the_tuple_budget_counts_every_relation_together() {
         timeout: None,
         provenance: false,
         pushdown: true,
+        wide_rows: false,
     };
     match run_with(src, &options) {
         Err(EngineError::TooManyTuples { relation, limit }) => {

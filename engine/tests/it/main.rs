@@ -15,3 +15,4 @@ mod pushdown;
 mod real_logs;
 mod rng;
 mod why_not;
+mod wide;

@@ -25,10 +25,10 @@ use crate::diagnostics::{self, error, warning};
 use crate::walk::{self, expr_names};
 use crate::Diagnostic;
 
-/// Most variables one rule (or one aggregate's braces) may bind, and most columns a relation may
-/// have: the width of the engine's tuples (`scenalog_engine::value::WIDTH`, which a test there
+/// Most values one rule may bind ([`walk::binding_slots`]), and most columns a relation may have:
+/// the width of the engine's widest tuples (`scenalog_engine::value::WIDEST`, which a test there
 /// keeps equal to this).
-pub const MAX_VARIABLES: usize = 12;
+pub const MAX_VARIABLES: usize = 64;
 
 /// Most W0506 warnings one body gets: past that, the rest are the same mistake again.
 const MAX_CROSS_PRODUCTS: usize = 64;
@@ -264,53 +264,23 @@ pub(super) fn literal_names(l: &Literal) -> Vec<&str> {
     out
 }
 
-/// E0406 for one clause: its variables outside aggregates, and each aggregate's own.
+/// E0406 for one clause: more binding slots ([`walk::binding_slots`]: its variables, each `_` in
+/// braces, each computed atom argument, each aggregate) than the engine's widest row.
 fn too_many_variables(c: &Clause, diags: &mut Vec<Diagnostic>) {
-    let mut outer: Vec<&str> = c.head.args.iter().flat_map(expr_names).collect();
-    for l in &c.body {
-        walk::outer_vars(l, &mut outer);
-    }
-    let n = distinct(outer).len();
+    let n = walk::binding_slots(c);
     if n > MAX_VARIABLES {
         diags.push(
             error(
                 diagnostics::TOO_MANY_VARIABLES,
                 c.head.span,
-                format!("this rule has {n} variables; the engine holds at most {MAX_VARIABLES} in one rule"),
+                format!(
+                    "this rule binds {n} values (its variables, each `_` inside braces, each computed atom argument and each aggregate); the engine holds at most {MAX_VARIABLES} in one rule"
+                ),
             )
             .with_hint(
                 "move some atoms into a helper rule whose head keeps only the variables the rest of the rule needs",
             ),
         );
-    }
-    for l in &c.body {
-        let Literal::Agg(g) = l else { continue };
-        let inner = walk::aggregate_vars(g);
-        let wild = g
-            .body
-            .iter()
-            .map(|l| match l {
-                Literal::Pos(a) => a
-                    .args
-                    .iter()
-                    .filter(|e| matches!(e.kind, ExprKind::Wildcard))
-                    .count(),
-                _ => 0,
-            })
-            .sum::<usize>();
-        let n = inner.len() + wild;
-        if n > MAX_VARIABLES {
-            diags.push(
-                error(
-                    diagnostics::TOO_MANY_VARIABLES,
-                    g.span,
-                    format!(
-                        "this aggregate's braces have {n} variables (each `_` is one); the engine holds at most {MAX_VARIABLES}"
-                    ),
-                )
-                .with_hint("move some atoms of the braces into a helper rule and aggregate over it"),
-            );
-        }
     }
 }
 

@@ -496,20 +496,40 @@ fn e0407_a_prelude_concept_redefined_with_another_arity() {
 
 #[test]
 fn e0406_a_rule_wider_than_the_engine_holds() {
-    let wide = "p(A, B, C, D, E, F, T) :- present(A, T), present(B, T), present(C, T), present(D, T), present(E, T), present(F, T).\n\
-                q(G, H, I, J, K, L, T) :- p(G, H, I, J, K, L, T).\n\
-                referred(A, T) :- p(A, B, C, D, E, F, T), q(G, H, I, J, K, L, T), A != G, B != H, C != I, D != J, E != K, F != L.\n";
-    let d = expect(wide, "E0406", "referred(A, T)", "helper rule");
-    assert!(d.message.contains("13 variables"), "{}", d.message);
-    // Twelve is the engine's width: that rule checks.
-    let twelve = wide.replace(", F != L", "").replace(
-        "F, T), q(G, H, I, J, K, L, T)",
-        "F, T), q(G, H, I, J, K, F, T)",
+    // `wide(n)`: a rule joining n presences, 2n variables; the engine's widest row holds 64.
+    let wide = |n: usize| {
+        let head: Vec<String> = (0..n).map(|i| format!("A{i}")).collect();
+        let body: Vec<String> = (0..n).map(|i| format!("present(A{i}, T{i})")).collect();
+        format!(
+            "p({}) :- {}.\nreferred(A0, T) :- p({}), present(A0, T).\n",
+            head.join(", "),
+            body.join(", "),
+            head.join(", ")
+        )
+    };
+    let over = wide(33);
+    let d = expect(
+        &over,
+        "E0406",
+        &over[..over.find(" :-").unwrap_or(0)],
+        "helper rule",
+    );
+    assert!(d.message.contains("binds 66 values"), "{}", d.message);
+    // Sixty-four is the engine's widest row: that rule checks (and runs: engine/tests/it/wide.rs).
+    assert!(
+        diags(&wide(32)).iter().all(|x| x.code != "E0406"),
+        "{:#?}",
+        diags(&wide(32))
+    );
+    // Each `_` inside braces, computed atom argument and aggregate takes a value of the row too.
+    let braces: Vec<String> = (0..31).map(|i| format!("present(A{i}, _)")).collect();
+    let counted = format!(
+        "referred(A0, T) :- present(A0, T), N = count : {{ {} }}, N > 1.\n",
+        braces.join(", ")
     );
     assert!(
-        diags(&twelve).iter().all(|x| x.code != "E0406"),
-        "{:#?}",
-        diags(&twelve)
+        diags(&counted).iter().any(|x| x.code == "E0406"),
+        "31 variables, 31 `_` and one aggregate, with N and T: 65"
     );
 }
 
