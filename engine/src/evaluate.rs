@@ -43,10 +43,13 @@ pub fn evaluate(
 /// clause ([`scenalog_rules::walk::binding_slots`], an upper bound on what the planner uses).
 pub(crate) fn row_width(program: &CheckedProgram) -> usize {
     let relations = program.predicates.values().map(|p| p.types.len());
+    // A clause without a body (a fact; the checker makes its head ground) binds nothing: skipped
+    // without a walk, since a program may hold many thousands of facts.
     let clauses = program
         .program
         .clauses
         .iter()
+        .filter(|c| !c.body.is_empty())
         .map(scenalog_rules::walk::binding_slots);
     relations.chain(clauses).max().unwrap_or(0)
 }
