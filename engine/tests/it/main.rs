@@ -14,5 +14,6 @@ mod oracle;
 mod pushdown;
 mod real_logs;
 mod rng;
+mod souffle;
 mod why_not;
 mod wide;
