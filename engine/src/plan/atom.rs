@@ -45,6 +45,10 @@ pub struct AtomStep<const R: usize> {
     /// bound): it binds no variable used anywhere else, so every matching tuple gives the
     /// same binding and the join goes on with the first one (a semi-join, not a product).
     pub existential: bool,
+    /// When this atom starts a run of atoms up to this one (two or more) that binds nothing
+    /// any later atom, filter or the head reads: the join stops trying this atom's candidates
+    /// once one has reached past the run (see `plan::dead`).
+    pub dead_until: Option<usize>,
 }
 
 impl<const R: usize> AtomStep<R> {
@@ -80,6 +84,7 @@ impl<const R: usize> AtomStep<R> {
             narrow: None,
             lit: 0,
             existential: false,
+            dead_until: None,
         }
     }
 

@@ -20,6 +20,7 @@ use scenalog_rules::walk::{aggregate_vars as agg_vars, expr_vars};
 
 mod aggregate;
 mod atom;
+mod dead;
 mod expr;
 mod filter;
 mod narrow;
@@ -541,6 +542,7 @@ pub(crate) fn plan_seeded<const R: usize>(
         };
         out.push((ce, ty));
     }
+    dead::mark_dead_runs(&mut atoms, &out);
     Ok(Plan {
         start,
         atoms,

@@ -41,6 +41,9 @@ struct Progress<'l, const R: usize> {
     invariant: Vec<bool>,
     /// Whether the last atom only tests that its key is a tuple (see [`Join::exists`]).
     exists: bool,
+    /// Per depth: how many times the join went on to that atom (for runs of atoms that only
+    /// test existence, [`AtomStep::dead_until`]: whether a candidate reached past its run).
+    arrivals: Vec<u64>,
 }
 
 /// Parts an atom may read for its lookups to be remembered (datafrog keeps about log2(n)
@@ -260,6 +263,7 @@ impl<const R: usize, const W: usize> Join<'_, R, W> {
             memo: vec![memo; self.plan.atoms.len()],
             invariant: invariant(self.plan),
             exists: false,
+            arrivals: vec![0; self.plan.atoms.len() + 1],
         };
         let leaf = self.access.last().and_then(|a| Leaf::of(self.plan, a));
         progress.exists = leaf.is_some() && self.exists_last();
@@ -398,11 +402,19 @@ impl<const R: usize, const W: usize> Join<'_, R, W> {
                         }
                         _ => None,
                     };
+                    // A run of atoms from this one that only tests existence: where to see
+                    // that a candidate got past it.
+                    let past = step.dead_until.map(|e| e + 1);
                     for t in matches {
                         for &(pos, slot) in &acc.news {
                             b[slot] = t[pos];
                         }
                         if apply_mut(&step.after, b) {
+                            let before = match past {
+                                Some(p) if p < progress.arrivals.len() - 1 => progress.arrivals[p],
+                                _ => out.len() as u64,
+                            };
+                            progress.arrivals[depth + 1] += 1;
                             match exists {
                                 Some(leaf) => self.exists(b, out, progress, leaf),
                                 None => self.step(depth + 1, b, out, progress, leaf)?,
@@ -410,6 +422,18 @@ impl<const R: usize, const W: usize> Join<'_, R, W> {
                             if step.existential {
                                 // An existence test: every other candidate gives the same
                                 // binding, so the same results.
+                                return Ok(());
+                            }
+                            let got_past = match past {
+                                Some(p) if p < progress.arrivals.len() - 1 => {
+                                    progress.arrivals[p] > before
+                                }
+                                Some(_) => out.len() as u64 > before,
+                                None => false,
+                            };
+                            if got_past {
+                                // The run was satisfied: its other ways give the rest of the
+                                // join the same binding.
                                 return Ok(());
                             }
                         }

@@ -245,6 +245,31 @@ fn atoms_that_only_test_existence_are_not_enumerated() {
 }
 
 #[test]
+fn a_run_of_atoms_nothing_later_reads_is_joined_until_it_matches() {
+    // Soufflé's independent_body: `c(Y), d(Y)` shares no variable with the rest of the body,
+    // so one matching pair stands for all 1,000; enumerating them would push 100 x 1,000 head
+    // tuples, past the budget of 5,000.
+    let mut src: String = (0..100).map(|i| format!("b({i}).\n")).collect();
+    src.extend((0..1000).map(|i| format!("c({i}). d({i}).\n")));
+    src.push_str("a(X) :- b(X), c(Y), d(Y).\n");
+    // A run in the middle, with a filter inside it, then an atom that binds again.
+    src.push_str("m(X, Z) :- b(X), c(Y), d(W), W = Y + 999, b(Z), Z = X + 1.\n");
+    // Not a run: the head reads Y, so every pair counts (two of them pass the filter).
+    src.push_str("h(X, Y) :- b(X), X < 2, c(Y), d(Y), Y > 997.\n");
+    let options = Options {
+        max_tuples: 5000,
+        ..Options::default()
+    };
+    let e = run_with(&src, &options).expect("evaluates within the budget");
+    assert_eq!(ints(&e, "a").len(), 100);
+    assert_eq!(ints(&e, "m").len(), 99);
+    assert_eq!(
+        ints(&e, "h"),
+        vec![vec![0, 998], vec![0, 999], vec![1, 998], vec![1, 999]]
+    );
+}
+
+#[test]
 fn modulo_and_power_as_souffle_computes_them() {
     // Soufflé's `%` (written `mod`) keeps the dividend's sign; `^` of integers is an integer,
     // a negative exponent truncated toward zero; by zero, or past 64 bits, no tuple.

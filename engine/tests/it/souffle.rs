@@ -121,7 +121,7 @@ fn run_case(case: &str, timeout: Duration) -> Result<(), String> {
         Err(format!("no catalog here (asked for {})", r.name))
     };
     let options = Options {
-        max_tuples: 2_000_000,
+        max_tuples: 5_000_000,
         timeout: Some(timeout),
         ..Options::default()
     };
