@@ -85,7 +85,6 @@ UNSUPPORTED_DIRECTIVES = {
     "override": "components",
     "functor": "user-defined functors",
     "limitsize": ".limitsize",
-    "printsize": ".printsize",
     "include": ".include",
     "once": ".once",
 }
@@ -140,7 +139,7 @@ def directive_end(name, toks, i):
     at = lambda j: toks[j][1] if j < n else None
     if name in UNSUPPORTED_DIRECTIVES:
         raise Unsupported(UNSUPPORTED_DIRECTIVES[name])
-    if name in ("decl", "input", "output"):
+    if name in ("decl", "input", "output", "printsize"):
         while i < n and toks[i][0] == "ident":
             i += 1
             if at(i) == "(":
@@ -226,6 +225,7 @@ class Program:
         self.outputs = {}  # name -> params
         self.clauses = []  # token lists
         self.duplicates = []  # relations declared twice
+        self.printsizes = []  # relations whose size Soufflé prints
 
     def base(self, t):
         seen = set()
@@ -306,6 +306,9 @@ def read_directive(p, s):
             if n in p.decls:
                 p.duplicates.append(n)
             p.decls[n] = cols
+        return
+    if name == "printsize":
+        p.printsizes.extend(t for k, t in body if k == "ident")
         return
     if name in ("input", "output"):
         i = 0
@@ -600,6 +603,14 @@ def translate(repo, commit, suite, name, files):
             if delim != "\t":
                 olines = ["\t".join(l.split(delim)) for l in olines]
             expected[rel] = "".join(l + "\n" for l in olines)
+        out = git_show(repo, commit, f"{base}/{name}.out") or ""
+        for rel in p.printsizes:
+            if rel not in types:
+                raise Unsupported("a .printsize of an undeclared relation")
+            sizes = [l.split("\t")[1] for l in out.splitlines() if l.startswith(rel + "\t")]
+            if len(sizes) != 1:
+                raise Unsupported(f"no printed size of {rel}")
+            expected[rel + ".size"] = sizes[0].strip() + "\n"
         if not expected:
             raise Unsupported("no output to compare")
     program = "\n".join(lines) + "\n"
@@ -638,7 +649,9 @@ def main():
             with open(os.path.join(d, "rejected"), "w") as f:
                 f.write("Soufflé refuses this program.\n")
         for rel, csv in expected.items():
-            with open(os.path.join(d, f"{rel}.csv"), "w") as f:
+            # `REL.size`: the size `.printsize REL` prints; `REL.csv`: the relation.
+            fname = rel if rel.endswith(".size") else f"{rel}.csv"
+            with open(os.path.join(d, fname), "w") as f:
                 f.write(csv)
         kept += 1
     with open(os.path.join(here, "excluded.tsv"), "w") as f:
