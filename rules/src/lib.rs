@@ -21,7 +21,11 @@
 //!   (`< <= > >= = !=`), bindings `X = expr` (binds `X` when it is otherwise unbound and `expr`'s
 //!   variables are bound), aggregates `N = count : { … }`, `M = min E : { … }`, `max`, `sum`
 //!   (grouped by the variables the braces share with the rest of the clause; as in Soufflé they
-//!   fold over the matching tuples of the braces, each `_` there a fresh variable).
+//!   fold over the matching tuples of the braces, each `_` there a fresh variable). A variable of
+//!   a `min`'s or `max`'s braces that the rest of the rule uses but does not bind is a witness
+//!   (Soufflé's): it takes the values of the tuples that reach the minimum or maximum
+//!   (`nearest(V, P) :- D = min X : { near(V, P, T, X) }, …` names the nearest `P`) — see
+//!   [`witness`].
 //! - Optional `.decl name(Col: type, …)` lines declare a helper's column types (track, time, lane,
 //!   str, float, int); without them the types are inferred by unification, and a `.decl` wins.
 //!   Arithmetic on a time gives a time; int, float and time compare freely (a time against a
@@ -61,6 +65,7 @@ pub mod printer;
 pub mod render;
 pub mod strata;
 pub mod walk;
+pub mod witness;
 
 pub use parser::parse;
 pub use printer::print_program;

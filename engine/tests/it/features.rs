@@ -222,6 +222,44 @@ fn aggregates_are_scoped_as_souffle_scopes_them() {
 }
 
 #[test]
+fn min_and_max_witnesses_are_the_tuples_that_reach_them() {
+    // Soufflé's aggregate_witnesses, with its answers.
+    let src = "student(\"Anna\", 170). student(\"Rachel\", 177). student(\"Quarantina\", 180).\n\
+               tallest(S, N) :- N = max H : { student(S, H) }.\n\
+               a(1, 2). a(5, 6). a(-50, 3). a(54, 5).\n\
+               min_sum(X, Y, S) :- S = min W : { a(X, Y), W = X + Y }.\n\
+               min_sum_not_reduced(X, Y, S) :- S = min X + Y : { a(X, Y) }.\n\
+               d(1, 1). d(1, 2). d(1, 3). d(1, 4).\n\
+               h(1, 2, 3). h(24, 5, 6). h(7, 8, 9). h(10, 11, 12).\n\
+               two(X, Y) :- _ = min X + Y : { d(X, Y) }.\n\
+               one(R, W) :- R = min 2 * W : { d(W, _) }.\n\
+               sides(R, W1, W2) :- R = max X : { h(X, W1, W2) }.\n\
+               tie(W) :- _ = max Y : { d(Y, W) }.\n\
+               per(X, W) :- d(X, _), _ = max Z : { d(X, Z), W = Z * 10 }.\n";
+    let e = run(src);
+    assert_eq!(
+        e.tuples("tallest").unwrap_or_default(),
+        &[vec![Value::Str("Quarantina".into()), Value::Int(180)]]
+    );
+    assert_eq!(ints(&e, "min_sum"), vec![vec![-50, 3, -47]]);
+    assert_eq!(ints(&e, "min_sum_not_reduced"), vec![vec![-50, 3, -47]]);
+    assert_eq!(ints(&e, "two"), vec![vec![1, 1]]);
+    assert_eq!(ints(&e, "one"), vec![vec![2, 1]]);
+    assert_eq!(ints(&e, "sides"), vec![vec![24, 5, 6]]);
+    // On a tie every witness is an answer; a group variable bound outside keeps grouping.
+    assert_eq!(ints(&e, "tie"), vec![vec![1], vec![2], vec![3], vec![4]]);
+    assert_eq!(ints(&e, "per"), vec![vec![1, 40]]);
+    // `count` and `sum` have no witnesses: a head variable bound only in their braces is unsafe.
+    let outcome = check(
+        "d(1, 1).\nc(W, N) :- N = count : { d(W, _) }.\n",
+        &CheckOptions {
+            require_referred: false,
+        },
+    );
+    assert!(outcome.diagnostics.iter().any(|d| d.code == "E0201"));
+}
+
+#[test]
 fn atoms_that_only_test_existence_are_not_enumerated() {
     // 1,001 facts: the product of three `e(_)` is 10^9 bindings, all the same; the budget of
     // 5,000 tuples would stop an evaluation that enumerated them.

@@ -352,9 +352,8 @@ def translate_clause(p, toks):
         body = unparenthesise_targets(body)
         for lit in split_top(body, ","):
             check_aggregate_place(lit)
-    for _, t in heads:
-        if t in AGGREGATES:
-            raise Unsupported("aggregates inside expressions or atom arguments")
+    if any(is_aggregate(heads, k) for k in range(len(heads))):
+        raise Unsupported("aggregates inside expressions or atom arguments")
     head_atoms = split_top(heads, ",")
     out = []
     body_text = render(p, body) if body is not None else None
@@ -389,10 +388,21 @@ def unparenthesise_targets(toks):
 
 
 def check_aggregate_place(lit):
-    """Scenalog writes an aggregate as a literal of its own, `V = agg ... : { ... }`."""
+    """Scenalog writes an aggregate as a literal of its own, `V = agg ... : { ... }`, in a body
+    or in an aggregate's braces."""
+    lit = brace_aggregates(lit)
     for i in range(len(lit)):
         if is_aggregate(lit, i):
-            if not (i == 2 and lit[0][0] == "ident" and lit[1][1] == "="):
+            if not (i == 2 and lit[0][0] in ("ident",) and lit[1][1] == "="):
+                raise Unsupported("aggregates inside expressions or atom arguments")
+            # The braces' literals, then nothing after them.
+            j = next((k for k in range(i, len(lit)) if lit[k][1] == "{"), None)
+            if j is None:
+                raise Unsupported("an aggregate form")
+            end = group_end(lit, j)
+            for inner in split_top(lit[j + 1:end - 1], ","):
+                check_aggregate_place(inner)
+            if any(is_aggregate(lit, k) for k in range(i + 1, j)) or end != len(lit):
                 raise Unsupported("aggregates inside expressions or atom arguments")
             return
 

@@ -158,6 +158,8 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
         }
         let (names, shadowed) = crate::prelude::extend(&mut program, prelude_at);
         diags.extend(shadowed);
+        // Witnesses of `min` and `max` become plain joins before anything checks the rules.
+        crate::witness::expand(&mut program);
         names
     };
     let table = preds::collect(&program, &parsed.broken_heads, options, &mut diags);

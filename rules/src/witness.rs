@@ -1,0 +1,223 @@
+//! Aggregate witnesses, as Soufflé means them: in a `min` or `max` aggregate, a variable of the
+//! braces that the rest of the rule uses but nothing outside binds (`tallest(S, H) :- H = max X :
+//! { height(S, X) }.`) takes the values of the tuples that reach the minimum or maximum: "the
+//! student whose height is the maximum", every such student on a tie.
+//!
+//! [`expand`] rewrites such an aggregate before the checks, so the checker and the engine see
+//! plain Datalog: the aggregate with its witnesses made local to the braces, then the braces'
+//! literals again outside them with the target equal to the result:
+//!
+//! ```text
+//! tallest(S, H) :- H = max X : { height(_w1_S, X) }, height(S, _w1_X), _w1_X = H.
+//! ```
+//!
+//! The copy's other variables are renamed (`_wN_…`, so they clash with nothing and are not
+//! singletons), its spans kept. `count` and `sum` have no witnesses (Soufflé refuses them too): a
+//! variable bound only in their braces stays unsafe (E0201). A variable bound only in a nested
+//! aggregate's braces is not a witness of the outer one.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::ast::{AggFunc, Aggregate, CmpOp, Comparison, Expr, ExprKind, Literal, Program};
+use crate::walk::{self, expr_names};
+
+/// Calls `f` on each variable name of `e` (in place).
+fn rename_expr(e: &mut Expr, f: &dyn Fn(&str) -> Option<String>) {
+    match &mut e.kind {
+        ExprKind::Var(v) => {
+            if let Some(n) = f(v) {
+                *v = n;
+            }
+        }
+        ExprKind::Neg(x) => rename_expr(x, f),
+        ExprKind::Binary(_, a, b) => {
+            rename_expr(a, f);
+            rename_expr(b, f);
+        }
+        ExprKind::Call(_, args) => args.iter_mut().for_each(|a| rename_expr(a, f)),
+        ExprKind::Wildcard
+        | ExprKind::Str(_)
+        | ExprKind::Int(_)
+        | ExprKind::Float(_)
+        | ExprKind::Quantity(_) => {}
+    }
+}
+
+/// Renames the variables of a literal (inside aggregates too).
+fn rename_literal(l: &mut Literal, f: &dyn Fn(&str) -> Option<String>) {
+    match l {
+        Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter_mut().for_each(|e| rename_expr(e, f)),
+        Literal::Cmp(c) => {
+            rename_expr(&mut c.lhs, f);
+            rename_expr(&mut c.rhs, f);
+        }
+        Literal::Agg(g) => {
+            rename_expr(&mut g.result, f);
+            if let Some(t) = &mut g.target {
+                rename_expr(t, f);
+            }
+            g.body.iter_mut().for_each(|l| rename_literal(l, f));
+        }
+    }
+}
+
+/// The variables a literal outside an aggregate binds for the rest of the rule: those of its
+/// positive atoms, the result of an aggregate, either side of an `=`.
+fn binds_outside(l: &Literal, out: &mut BTreeSet<String>) {
+    match l {
+        Literal::Pos(a) => {
+            for e in &a.args {
+                out.extend(expr_names(e).into_iter().map(str::to_string));
+            }
+        }
+        Literal::Agg(g) => out.extend(expr_names(&g.result).into_iter().map(str::to_string)),
+        Literal::Cmp(c) if c.op == CmpOp::Eq => {
+            out.extend(expr_names(&c.lhs).into_iter().map(str::to_string));
+            out.extend(expr_names(&c.rhs).into_iter().map(str::to_string));
+        }
+        Literal::Neg(..) | Literal::Cmp(_) => {}
+    }
+}
+
+/// The witnesses of the aggregate at `body[i]`: variables of its braces' own level that the head
+/// or another literal uses and no other literal binds.
+fn witnesses(head: &[Expr], body: &[Literal], i: usize, g: &Aggregate) -> Vec<String> {
+    if !matches!(g.func, AggFunc::Min | AggFunc::Max) {
+        return Vec::new();
+    }
+    let mut bound_outside = BTreeSet::new();
+    let mut used_outside: BTreeSet<String> = head
+        .iter()
+        .flat_map(expr_names)
+        .map(str::to_string)
+        .collect();
+    for (j, l) in body.iter().enumerate() {
+        if j != i {
+            binds_outside(l, &mut bound_outside);
+            let mut vs = Vec::new();
+            walk::outer_vars(l, &mut vs);
+            used_outside.extend(vs.into_iter().map(str::to_string));
+        }
+    }
+    let result: BTreeSet<&str> = expr_names(&g.result).into_iter().collect();
+    // The braces' own variables (their atoms, comparisons and target; a nested aggregate's
+    // result): the copy outside binds them as the braces do, or the checker says it cannot.
+    walk::aggregate_level_vars(g)
+        .into_iter()
+        .map(str::to_string)
+        .filter(|v| {
+            used_outside.contains(v) && !bound_outside.contains(v) && !result.contains(v.as_str())
+        })
+        .collect()
+}
+
+/// Rewrites every `min`/`max` aggregate with witnesses (see the module documentation).
+pub fn expand(program: &mut Program) {
+    let mut next = 0usize;
+    for clause in &mut program.clauses {
+        let mut i = 0;
+        while i < clause.body.len() {
+            let Literal::Agg(g) = &clause.body[i] else {
+                i += 1;
+                continue;
+            };
+            let ws = witnesses(&clause.head.args, &clause.body, i, g);
+            if ws.is_empty() {
+                i += 1;
+                continue;
+            }
+            next += 1;
+            let tag = format!("_w{next}_");
+            let mut g = g.clone();
+            // Variables the rest of the rule binds group the aggregate and keep their names.
+            let mut outside = BTreeSet::new();
+            for (j, l) in clause.body.iter().enumerate() {
+                if j != i {
+                    binds_outside(l, &mut outside);
+                }
+            }
+            // The aggregate itself: the witnesses become local to its braces.
+            let local: BTreeMap<String, String> = ws
+                .iter()
+                .map(|w| (w.clone(), format!("{tag}{w}")))
+                .collect();
+            g.body
+                .iter_mut()
+                .for_each(|l| rename_literal(l, &|v| local.get(v).cloned()));
+            if let Some(t) = &mut g.target {
+                rename_expr(t, &|v| local.get(v).cloned());
+            }
+            // A `_` result gets a name, for the copy's equality.
+            if matches!(g.result.kind, ExprKind::Wildcard) {
+                g.result = Expr {
+                    kind: ExprKind::Var(format!("{tag}result")),
+                    span: g.result.span,
+                };
+            }
+            // The copy: the witnesses and the group keep their names, the rest is renamed.
+            let keep: BTreeSet<String> = ws.iter().cloned().chain(outside).collect();
+            let rename = |v: &str| (!keep.contains(v)).then(|| format!("{tag}{v}"));
+            let mut copy: Vec<Literal> = g.body.clone();
+            // `g.body` has the witnesses renamed local; the copy starts from the original.
+            if let Literal::Agg(original) = &clause.body[i] {
+                copy = original.body.clone();
+            }
+            copy.iter_mut().for_each(|l| rename_literal(l, &rename));
+            let target = match &clause.body[i] {
+                Literal::Agg(original) => original.target.clone(),
+                _ => None,
+            };
+            if let Some(mut t) = target {
+                rename_expr(&mut t, &rename);
+                let span = g.span;
+                copy.push(Literal::Cmp(Comparison {
+                    op: CmpOp::Eq,
+                    lhs: t,
+                    rhs: g.result.clone(),
+                    span,
+                }));
+            }
+            let n = copy.len();
+            clause.body[i] = Literal::Agg(g);
+            clause.body.splice(i + 1..i + 1, copy);
+            i += 1 + n;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn expanded(src: &str) -> String {
+        let (mut program, diags) = crate::parser::parse(src);
+        assert!(diags.is_empty(), "{diags:?}");
+        expand(&mut program);
+        let text = crate::printer::print_program(&program);
+        text.split_whitespace().collect::<Vec<_>>().join(" ")
+    }
+
+    #[test]
+    fn min_and_max_witnesses_are_joined_again_outside_the_braces() {
+        let out = expanded("tallest(S, H) :- H = max X : { height(S, X) }.\n");
+        assert!(
+            out.contains("H = max X : { height(_w1_S, X) }, height(S, _w1_X), _w1_X = H"),
+            "{out}"
+        );
+        // A group variable bound outside keeps its name in both; count has no witnesses.
+        let out = expanded("r(A, S, D) :- a(A), D = min X : { b(A, S, X) }.\n");
+        assert!(
+            out.contains("b(A, _w1_S, X) }, b(A, S, _w1_X), _w1_X = D"),
+            "{out}"
+        );
+        let out = expanded("c(S, N) :- N = count : { b(S) }.\n");
+        assert_eq!(out, "c(S, N) :- N = count : { b(S) }.", "{out}");
+        // A `_` result is named for the equality.
+        let out = expanded("f(X, Y) :- _ = min X + Y : { d(X, Y) }.\n");
+        assert!(
+            out.contains("_w1_result = min _w1_X + _w1_Y : { d(_w1_X, _w1_Y) }"),
+            "{out}"
+        );
+        assert!(out.contains("d(X, Y), X + Y = _w1_result"), "{out}");
+    }
+}
