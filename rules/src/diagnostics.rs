@@ -75,6 +75,9 @@ pub const COUNTED_SAMPLES: &str = "W0512";
 /// A distance bounded as if the relation went on past its range (`near(E, P, T, D), D > 30.0`
 /// for "farther than 30 m": `near` holds only within 50 m).
 pub const BEYOND_RANGE: &str = "W0513";
+/// A `%` right after an operand and before more of an expression (`X % 2 = 0`): it starts a
+/// comment, so the rest of the line is not read; the remainder is written `mod`.
+pub const PERCENT_COMMENT: &str = "W0514";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -93,6 +96,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     BARE_NUMBER,
     COUNTED_SAMPLES,
     BEYOND_RANGE,
+    PERCENT_COMMENT,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -217,6 +221,11 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         BEYOND_RANGE,
         Severity::Warning,
         "distance bounded past the relation's range",
+    ),
+    (
+        PERCENT_COMMENT,
+        Severity::Warning,
+        "`%` after an operand starts a comment",
     ),
 ];
 

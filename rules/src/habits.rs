@@ -616,3 +616,82 @@ fn split_top<'t, 'a>(
     parts.push(&toks[start..]);
     Some(parts)
 }
+
+/// W0514 for each `%` that follows an operand on its line and is followed by what reads as more
+/// of the expression (a number, a variable or `(`, then an operator, `)`, `,` or `.`): in
+/// Scenalog `%` starts a comment (Prolog's habit), so `X % 2 = 0` hides `2 = 0` and what follows
+/// on the line; Soufflé's remainder is written `mod`. A comment after code (`D < 5 % metres`)
+/// is left alone.
+pub(crate) fn percent_comments(source: &str) -> Vec<Diagnostic> {
+    let (toks, _) = lex(source);
+    let mut out = Vec::new();
+    for pair in toks.windows(2) {
+        let [t, next] = pair else { continue };
+        let operand = matches!(
+            t.tok,
+            Tok::Var(_) | Tok::Int(_) | Tok::Float(_) | Tok::RParen | Tok::Ident(_)
+        );
+        let Some(gap) = source.get(t.span.end..next.span.start) else {
+            continue;
+        };
+        let Some(at) = gap.find('%') else { continue };
+        if !operand || !gap[..at].chars().all(|c| c == ' ' || c == '\t') {
+            continue;
+        }
+        let start = t.span.end + at;
+        let line_end = source[start..]
+            .find('\n')
+            .map_or(source.len(), |n| start + n);
+        let rest = source[start + 1..line_end].trim_start();
+        if !reads_as_operand_then_operator(rest) {
+            continue;
+        }
+        out.push(
+            crate::diagnostics::warning(
+                diagnostics::PERCENT_COMMENT,
+                Span::new(start, start + 1),
+                "`%` starts a comment here, so the rest of the line is not read",
+            )
+            .with_hint("the remainder of a division is written `mod` (`X mod 2`)")
+            .with_edit(Span::new(start, start + 1), spaced_mod(source, start)),
+        );
+    }
+    out
+}
+
+/// Whether `text` starts with a number, a variable or `(`, then (after spaces) an operator,
+/// `)`, `,` or `.`.
+fn reads_as_operand_then_operator(text: &str) -> bool {
+    let b = text.as_bytes();
+    let Some(&first) = b.first() else {
+        return false;
+    };
+    let mut i = if first == b'(' {
+        return true;
+    } else if first.is_ascii_digit() || first.is_ascii_uppercase() || first == b'_' {
+        b.iter()
+            .position(|c| !(c.is_ascii_alphanumeric() || *c == b'_' || *c == b'.'))
+            .unwrap_or(b.len())
+    } else {
+        return false;
+    };
+    // A number ending the clause (`X % 2.`) is read with its `.`.
+    if i == b.len() && text.ends_with('.') {
+        return true;
+    }
+    while i < b.len() && b[i] == b' ' {
+        i += 1;
+    }
+    b.get(i).is_some_and(|c| b"=<>!+-*/^),.".contains(c))
+}
+
+/// `mod` for the `%` at `at`, with a space on each side that has none.
+fn spaced_mod(source: &str, at: usize) -> String {
+    let before = source[..at].ends_with([' ', '\t']);
+    let after = source[at + 1..].starts_with([' ', '\t']);
+    format!(
+        "{}mod{}",
+        if before { "" } else { " " },
+        if after { "" } else { " " }
+    )
+}

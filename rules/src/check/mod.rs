@@ -145,6 +145,7 @@ fn place_back(mut d: Diagnostic, edits: &[Edit]) -> Diagnostic {
 fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
     let parsed = parse_detailed(source);
     let mut diags = parsed.diagnostics;
+    diags.extend(crate::habits::percent_comments(source));
     let mut program = parsed.program;
     // The prelude's clauses go after the program's own text, so their spans say whose they are.
     let prelude_at = source.len() + 1;

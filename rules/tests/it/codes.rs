@@ -882,6 +882,34 @@ fn a_declared_column_carries_its_unit_as_the_catalog_prints_it() {
 }
 
 #[test]
+fn w0514_percent_after_an_operand_starts_a_comment() {
+    // `T % 2 = 0, T > 0.` would be the remainder in Soufflé; here the rest of the line is a
+    // comment, so the clause runs on into the next one and the parser stops there.
+    let src = "referred(V, T) :- present(V, T), T % 2 = 0,\n    T > 0.\n";
+    let all = diags(src);
+    let w: Vec<_> = all.iter().filter(|d| d.code == "W0514").collect();
+    assert_eq!(w.len(), 1, "{all:#?}");
+    assert_eq!(&src[w[0].span.start..w[0].span.end], "%");
+    let fixed = scenalog_rules::apply_fix(src, w[0]).unwrap_or_default();
+    assert!(fixed.contains("T mod 2 = 0"), "{fixed}");
+    // Glued to its operands, the fix adds the spaces `mod` needs.
+    let glued = "referred(V, T) :- present(V, T), T%2 = 0.\n";
+    let d = expect(glued, "W0514", "%", "mod");
+    let fixed = scenalog_rules::apply_fix(glued, &d).unwrap_or_default();
+    assert!(fixed.contains("T mod 2 = 0"), "{fixed}");
+    assert!(diags(&fixed).is_empty(), "{fixed}: {:#?}", diags(&fixed));
+    // Comments after code are comments.
+    for src in [
+        "referred(V, T) :- present(V, T). % every track, every frame\n",
+        "referred(V, T) :- near(V, P, T, D), D < 5 m, % metres\n    P != V.\n",
+        "referred(V, T) :- present(V, T) % 2 tracks at most\n    .\n",
+    ] {
+        let all = diags(src);
+        assert!(all.iter().all(|d| d.code != "W0514"), "{src}{all:#?}");
+    }
+}
+
+#[test]
 fn w0513_a_lower_bound_on_a_distance_past_its_range_writes_the_negation() {
     let src =
         "referred(P, T) :- ego(E), category(P, \"PEDESTRIAN\"), near(E, P, T, D), D > 30 m.\n";
