@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use scenalog_facts::catalog::ColType;
 
 use super::preds::output_arity;
-use crate::ast::{Clause, ExprKind, Literal, Program, Span};
+use crate::ast::{AggFunc, Clause, ExprKind, Literal, Program, Span};
 use crate::Diagnostic;
 
 /// The column types of a head predicate: inferred for helpers, required for the outputs.
@@ -112,6 +112,14 @@ pub fn refine(
                 continue;
             };
             let d = &mut diags[at];
+            if let Some(func) = folded_only(c, v) {
+                d.hint = Some(format!(
+                    "`{v}` is bound only inside the braces of a `{func}`, and a `{func}` has no witness \
+                     (only `min` and `max` name the tuples that reach them, as in Soufflé); to get \
+                     one result per `{v}`, bind `{v}` outside the braces too"
+                ));
+                continue;
+            }
             let atom = if c.head.pred == "related" && i == 1 {
                 let x = c.head.args.first().and_then(|e| e.as_var()).unwrap_or("X");
                 let t = time_bound.unwrap_or("T");
@@ -247,4 +255,18 @@ pub(crate) fn excerpt(text: &str) -> String {
         tail += 1;
     }
     format!("{} … {}", &text[..head], &text[tail..])
+}
+
+/// The function of a `count` or `sum` of the clause whose braces hold `v`, if any (such a
+/// variable is no witness: only `min` and `max` have them, see `crate::witness`).
+fn folded_only(c: &Clause, v: &str) -> Option<&'static str> {
+    c.body.iter().find_map(|l| match l {
+        Literal::Agg(g)
+            if matches!(g.func, AggFunc::Count | AggFunc::Sum)
+                && crate::walk::aggregate_vars(g).contains(&v) =>
+        {
+            Some(g.func.as_str())
+        }
+        _ => None,
+    })
 }

@@ -882,6 +882,16 @@ fn a_declared_column_carries_its_unit_as_the_catalog_prints_it() {
 }
 
 #[test]
+fn e0201_a_head_variable_bound_only_in_a_count_has_no_witness() {
+    // `min`/`max` witnesses are the tuples that reach them; `count` and `sum` have none.
+    let src = "referred(P, T) :- ego(E), present(E, T), N = count : { near(E, P, T, _) }, N > 2.\n";
+    let d = expect(src, "E0201", "P", "no witness");
+    assert!(d.hint.unwrap_or_default().contains("`count`"));
+    let ok = "referred(P, T) :- ego(E), D = min X : { near(E, P, T, X) }, D < 10 m.\n";
+    assert!(diags(ok).iter().all(|d| !d.is_error()), "{:#?}", diags(ok));
+}
+
+#[test]
 fn w0514_percent_after_an_operand_starts_a_comment() {
     // `T % 2 = 0, T > 0.` would be the remainder in Soufflé; here the rest of the line is a
     // comment, so the clause runs on into the next one and the parser stops there.
