@@ -27,6 +27,12 @@ pub fn evaluate(
     provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
     options: &Options,
 ) -> Result<Evaluation, EngineError> {
+    // Demand: relations the caller does not read, restricted to what their uses ask for.
+    let restricted = match &options.reads {
+        Some(reads) if !options.provenance => crate::magic::restrict(program, reads),
+        _ => None,
+    };
+    let program = restricted.as_ref().unwrap_or(program);
     let width = row_width(program);
     if width <= WIDTH && !options.wide_rows {
         evaluate_at::<WIDTH>(program, provider, options)

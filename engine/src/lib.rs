@@ -14,6 +14,7 @@ mod evaluate;
 mod explain;
 mod ground;
 mod limits;
+mod magic;
 mod plan;
 mod prove;
 mod rows;
@@ -132,6 +133,13 @@ pub struct Options {
     /// [`value::WIDTH`] (off by default): the same answers, a little slower; the tests run
     /// programs both ways to cover the path wide programs take.
     pub wide_rows: bool,
+    /// The relations the caller will read (`None`, the default: all of them). With a list, and
+    /// provenance off, a derived relation no one else can see is derived only for the values its
+    /// uses bind it to (a one-level magic-set transformation, see `magic.rs`): the relations
+    /// listed are the same, a restricted one holds a subset of its tuples, and the evaluation
+    /// also holds the `magic_*` relations that restricted it. No command sets it yet (see
+    /// `magic.rs` for the figures).
+    pub reads: Option<Vec<String>>,
 }
 
 impl Default for Options {
@@ -142,6 +150,7 @@ impl Default for Options {
             provenance: false,
             pushdown: true,
             wide_rows: false,
+            reads: None,
         }
     }
 }

@@ -156,6 +156,7 @@ fn every_checked_program_runs_or_stops_at_a_limit() {
             pushdown: true,
             // The widest rows for every fifth program: no panic on that path either.
             wide_rows: case % 5 == 0,
+            reads: None,
         };
         let result = catch_unwind(AssertUnwindSafe(|| {
             let mut provider = |r: &Request| -> Result<RelationData, String> {
