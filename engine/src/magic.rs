@@ -29,9 +29,10 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use scenalog_rules::ast::{Atom, Clause, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind, PredicateInfo};
 
-/// One use of a relation: the clause and the index of the positive literal.
-struct Use {
-    clause: usize,
+/// One use of a relation: the clause, the positive atom and its index among the literals.
+struct Use<'a> {
+    clause: &'a Clause,
+    atom: &'a Atom,
     literal: usize,
 }
 
@@ -51,11 +52,12 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
             refused.extend(s.predicates.iter().map(String::as_str));
         }
     }
-    for (ci, c) in program.program.clauses.iter().enumerate() {
+    for c in &program.program.clauses {
         for (li, l) in c.body.iter().enumerate() {
             match l {
                 Literal::Pos(a) => uses.entry(a.pred.as_str()).or_default().push(Use {
-                    clause: ci,
+                    clause: c,
+                    atom: a,
                     literal: li,
                 }),
                 Literal::Neg(a, _) => {
@@ -85,11 +87,8 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
         // Per use: the bound columns and the atoms binding them.
         let mut bound: Vec<(BTreeSet<usize>, Vec<&Atom>)> = Vec::new();
         for u in pred_uses {
-            let c = &program.program.clauses[u.clause];
-            let Literal::Pos(atom) = &c.body[u.literal] else {
-                continue;
-            };
-            let binders: Vec<&Atom> = c
+            let binders: Vec<&Atom> = u
+                .clause
                 .body
                 .iter()
                 .enumerate()
@@ -118,7 +117,8 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
                 .iter()
                 .flat_map(|a| a.args.iter().filter_map(|e| e.as_var()))
                 .collect();
-            let cols: BTreeSet<usize> = atom
+            let cols: BTreeSet<usize> = u
+                .atom
                 .args
                 .iter()
                 .enumerate()
@@ -138,17 +138,14 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
         else {
             continue;
         };
-        if cols.is_empty() || bound.len() != pred_uses.len() {
+        if cols.is_empty() {
             continue;
         }
         let cols: Vec<usize> = cols.into_iter().collect();
         let magic = fresh_name(&out, pred);
         // The magic relation's rules: per use, its bound arguments from its binders.
         for (u, (_, binders)) in pred_uses.iter().zip(&bound) {
-            let c = &program.program.clauses[u.clause];
-            let Literal::Pos(atom) = &c.body[u.literal] else {
-                continue;
-            };
+            let (c, atom) = (u.clause, u.atom);
             let args: Vec<_> = cols.iter().map(|&i| atom.args[i].clone()).collect();
             let body = magic_body(c, &args, binders);
             out.program.clauses.push(Clause {

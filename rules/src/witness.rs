@@ -80,12 +80,18 @@ fn binds_outside(l: &Literal, out: &mut BTreeSet<String>) {
 }
 
 /// The witnesses of the aggregate at `body[i]`: variables of its braces' own level that the head
-/// or another literal uses and no other literal binds.
-fn witnesses(head: &[Expr], body: &[Literal], i: usize, g: &Aggregate) -> Vec<String> {
-    if !matches!(g.func, AggFunc::Min | AggFunc::Max) {
-        return Vec::new();
-    }
+/// or another literal uses and no other literal binds; with the variables the other literals
+/// bind (which group the aggregate).
+fn witnesses(
+    head: &[Expr],
+    body: &[Literal],
+    i: usize,
+    g: &Aggregate,
+) -> (Vec<String>, BTreeSet<String>) {
     let mut bound_outside = BTreeSet::new();
+    if !matches!(g.func, AggFunc::Min | AggFunc::Max) {
+        return (Vec::new(), bound_outside);
+    }
     let mut used_outside: BTreeSet<String> = head
         .iter()
         .flat_map(expr_names)
@@ -102,13 +108,14 @@ fn witnesses(head: &[Expr], body: &[Literal], i: usize, g: &Aggregate) -> Vec<St
     let result: BTreeSet<&str> = expr_names(&g.result).into_iter().collect();
     // The braces' own variables (their atoms, comparisons and target; a nested aggregate's
     // result): the copy outside binds them as the braces do, or the checker says it cannot.
-    walk::aggregate_level_vars(g)
+    let ws = walk::aggregate_level_vars(g)
         .into_iter()
         .map(str::to_string)
         .filter(|v| {
             used_outside.contains(v) && !bound_outside.contains(v) && !result.contains(v.as_str())
         })
-        .collect()
+        .collect();
+    (ws, bound_outside)
 }
 
 /// Rewrites every `min`/`max` aggregate with witnesses (see the module documentation).
@@ -121,22 +128,23 @@ pub fn expand(program: &mut Program) {
                 i += 1;
                 continue;
             };
-            let ws = witnesses(&clause.head.args, &clause.body, i, g);
+            let (ws, outside) = witnesses(&clause.head.args, &clause.body, i, g);
             if ws.is_empty() {
                 i += 1;
                 continue;
             }
             next += 1;
             let tag = format!("_w{next}_");
-            let mut g = g.clone();
-            // Variables the rest of the rule binds group the aggregate and keep their names.
-            let mut outside = BTreeSet::new();
-            for (j, l) in clause.body.iter().enumerate() {
-                if j != i {
-                    binds_outside(l, &mut outside);
-                }
-            }
+            // The copy, from the original braces: the witnesses and the variables the rest of
+            // the rule binds (the group) keep their names, the rest is renamed; then the target
+            // equal to the result.
+            let keep: BTreeSet<String> = ws.iter().cloned().chain(outside).collect();
+            let rename = |v: &str| (!keep.contains(v)).then(|| format!("{tag}{v}"));
+            let mut copy: Vec<Literal> = g.body.clone();
+            copy.iter_mut().for_each(|l| rename_literal(l, &rename));
+            let target = g.target.clone();
             // The aggregate itself: the witnesses become local to its braces.
+            let mut g = g.clone();
             let local: BTreeMap<String, String> = ws
                 .iter()
                 .map(|w| (w.clone(), format!("{tag}{w}")))
@@ -154,27 +162,13 @@ pub fn expand(program: &mut Program) {
                     span: g.result.span,
                 };
             }
-            // The copy: the witnesses and the group keep their names, the rest is renamed.
-            let keep: BTreeSet<String> = ws.iter().cloned().chain(outside).collect();
-            let rename = |v: &str| (!keep.contains(v)).then(|| format!("{tag}{v}"));
-            let mut copy: Vec<Literal> = g.body.clone();
-            // `g.body` has the witnesses renamed local; the copy starts from the original.
-            if let Literal::Agg(original) = &clause.body[i] {
-                copy = original.body.clone();
-            }
-            copy.iter_mut().for_each(|l| rename_literal(l, &rename));
-            let target = match &clause.body[i] {
-                Literal::Agg(original) => original.target.clone(),
-                _ => None,
-            };
             if let Some(mut t) = target {
                 rename_expr(&mut t, &rename);
-                let span = g.span;
                 copy.push(Literal::Cmp(Comparison {
                     op: CmpOp::Eq,
                     lhs: t,
                     rhs: g.result.clone(),
-                    span,
+                    span: g.span,
                 }));
             }
             let n = copy.len();

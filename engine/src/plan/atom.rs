@@ -93,6 +93,13 @@ impl<const R: usize> AtomStep<R> {
         self.consts.iter().all(|&(i, c)| t[i] == c) && self.sames.iter().all(|&(i, j)| t[i] == t[j])
     }
 
+    /// The slots the step writes: its new variables, then its filters' results.
+    pub(crate) fn writes(&self) -> Vec<usize> {
+        let news = self.news.iter().map(|&(_, s)| s);
+        news.chain(self.after.iter().filter_map(Filter::written))
+            .collect()
+    }
+
     /// The binding row extended with the atom's new variables.
     pub fn extend(&self, mut b: Row<R>, t: &[u64]) -> Row<R> {
         for &(i, s) in &self.news {

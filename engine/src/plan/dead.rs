@@ -9,34 +9,14 @@ use super::*;
 
 /// Appends the slots `e` reads.
 fn cexpr_slots(e: &CExpr, out: &mut Vec<usize>) {
-    match e {
-        CExpr::Slot(s, _) => out.push(*s),
-        CExpr::Const(_) => {}
-        CExpr::Neg(a) => cexpr_slots(a, out),
-        CExpr::Bin(_, a, b) => {
-            cexpr_slots(a, out);
-            cexpr_slots(b, out);
-        }
-        CExpr::Call(_, args) => args.iter().for_each(|a| cexpr_slots(a, out)),
-    }
+    e.any_slot(&mut |s| {
+        out.push(s);
+        false
+    });
 }
 
-/// Appends the slots `e` reads.
-fn iexpr_slots(e: &IExpr, out: &mut Vec<usize>) {
-    match e {
-        IExpr::Int(s) | IExpr::Time(s) => out.push(*s),
-        IExpr::Const(_) => {}
-        IExpr::Neg(a) | IExpr::Abs(a) => iexpr_slots(a, out),
-        IExpr::Bin(_, a, b) => {
-            iexpr_slots(a, out);
-            iexpr_slots(b, out);
-        }
-        IExpr::Diff(a, b) | IExpr::AbsDiff(a, b) => out.extend([*a, *b]),
-    }
-}
-
-/// Appends the slots a filter reads to `reads` and those it writes to `writes`.
-fn filter_slots<const R: usize>(f: &Filter<R>, reads: &mut Vec<usize>, writes: &mut Vec<usize>) {
+/// Appends the slots a filter reads.
+fn filter_reads<const R: usize>(f: &Filter<R>, reads: &mut Vec<usize>) {
     match f {
         Filter::Cmp(_, a, b) | Filter::CmpText(_, a, b, _) => {
             cexpr_slots(a, reads);
@@ -49,14 +29,15 @@ fn filter_slots<const R: usize>(f: &Filter<R>, reads: &mut Vec<usize>, writes: &
             }
         }
         Filter::CmpInt(_, a, b) => {
-            iexpr_slots(a, reads);
-            iexpr_slots(b, reads);
+            for e in [a, b] {
+                e.any_slot(&mut |s| {
+                    reads.push(s);
+                    false
+                });
+            }
         }
         Filter::CmpDiff { a, b, .. } => reads.extend([*a, *b]),
-        Filter::Bind(s, e, _) => {
-            cexpr_slots(e, reads);
-            writes.push(*s);
-        }
+        Filter::Bind(_, e, _) => cexpr_slots(e, reads),
         Filter::Neg(n) => {
             for a in &n.args {
                 if let KeyArg::Val(e, _) = a {
@@ -67,26 +48,18 @@ fn filter_slots<const R: usize>(f: &Filter<R>, reads: &mut Vec<usize>, writes: &
                 reads.extend(slots.iter().map(|&(_, s)| s));
             }
         }
-        Filter::AggRun(c, s) => {
-            reads.extend(&c.group);
-            writes.push(*s);
-        }
-        Filter::Agg { group, out, .. } => {
-            reads.extend(group);
-            writes.push(*out);
-        }
+        Filter::AggRun(c, _) => reads.extend(&c.group),
+        Filter::Agg { group, .. } => reads.extend(group),
     }
 }
 
 /// The slots an atom step reads (its keys, its window, its filters) and writes (its new
 /// variables, its filters' results).
 fn step_slots<const R: usize>(step: &AtomStep<R>) -> (Vec<usize>, Vec<usize>) {
-    let (mut reads, mut writes) = (Vec::new(), Vec::new());
+    let mut reads = Vec::new();
     for a in &step.args {
-        match a {
-            Arg::Key(e, _) => cexpr_slots(e, &mut reads),
-            Arg::New(s) => writes.push(*s),
-            Arg::Const(_) | Arg::Same(_) | Arg::Wild => {}
+        if let Arg::Key(e, _) = a {
+            cexpr_slots(e, &mut reads);
         }
     }
     if let Some(n) = &step.narrow {
@@ -98,9 +71,9 @@ fn step_slots<const R: usize>(step: &AtomStep<R>) -> (Vec<usize>, Vec<usize>) {
         }
     }
     for f in &step.after {
-        filter_slots(f, &mut reads, &mut writes);
+        filter_reads(f, &mut reads);
     }
-    (reads, writes)
+    (reads, step.writes())
 }
 
 /// Sets [`AtomStep::dead_until`] on each atom that starts a run of two or more atoms nothing

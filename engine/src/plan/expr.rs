@@ -19,6 +19,19 @@ pub enum CExpr {
 }
 
 impl CExpr {
+    /// Whether `f` holds for some slot the expression reads (each is passed to `f` until it
+    /// does): the one walk over an expression's slots, for what it reads and whether it reads
+    /// a given set.
+    pub(crate) fn any_slot(&self, f: &mut dyn FnMut(usize) -> bool) -> bool {
+        match self {
+            CExpr::Slot(s, _) => f(*s),
+            CExpr::Const(_) => false,
+            CExpr::Neg(a) => a.any_slot(f),
+            CExpr::Bin(_, a, b) => a.any_slot(f) || b.any_slot(f),
+            CExpr::Call(_, args) => args.iter().any(|a| a.any_slot(f)),
+        }
+    }
+
     /// The value encoded into a column of type `ty`: `encode(self.eval(row)?, ty)`, with the
     /// outer `None` when evaluation fails and the inner one when the value cannot be stored
     /// in the column. A slot of the column's own type is copied, and an int or time slot plus
@@ -115,6 +128,17 @@ pub(crate) fn int_diff(e: &CExpr) -> Option<(usize, usize)> {
 }
 
 impl IExpr {
+    /// Whether `f` holds for some slot the expression reads (see [`CExpr::any_slot`]).
+    pub(crate) fn any_slot(&self, f: &mut dyn FnMut(usize) -> bool) -> bool {
+        match self {
+            IExpr::Int(s) | IExpr::Time(s) => f(*s),
+            IExpr::Const(_) => false,
+            IExpr::Neg(a) | IExpr::Abs(a) => a.any_slot(f),
+            IExpr::Bin(_, a, b) => a.any_slot(f) || b.any_slot(f),
+            IExpr::Diff(a, b) | IExpr::AbsDiff(a, b) => f(*a) || f(*b),
+        }
+    }
+
     /// The integer form of an expression, when it is one.
     pub fn from(e: &CExpr) -> Option<IExpr> {
         let b = |e: &CExpr| IExpr::from(e).map(Box::new);

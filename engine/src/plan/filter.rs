@@ -59,6 +59,17 @@ pub enum Filter<const R: usize> {
     },
 }
 
+impl<const R: usize> Filter<R> {
+    /// The slot this filter writes (a binding's or an aggregate's result), if any.
+    pub(crate) fn written(&self) -> Option<usize> {
+        match self {
+            Filter::Bind(s, ..) | Filter::AggRun(_, s) => Some(*s),
+            Filter::Agg { out, .. } => Some(*out),
+            _ => None,
+        }
+    }
+}
+
 /// The tuples of a negated atom (a completed relation), keyed for lookups by binding.
 #[derive(Debug)]
 pub struct NegSet<const R: usize> {

@@ -104,13 +104,7 @@ impl Narrow {
 
 /// Whether an expression reads a slot at or past `from` (a variable the atom binds).
 pub(crate) fn reads_new(e: &CExpr, from: usize) -> bool {
-    match e {
-        CExpr::Slot(s, _) => *s >= from,
-        CExpr::Const(_) => false,
-        CExpr::Neg(a) => reads_new(a, from),
-        CExpr::Bin(_, a, b) => reads_new(a, from) || reads_new(b, from),
-        CExpr::Call(_, args) => args.iter().any(|a| reads_new(a, from)),
-    }
+    e.any_slot(&mut |s| s >= from)
 }
 
 /// The bounds `x op r` puts on slot `x`, when `l` is `x`, `x ± e`, `e - x` or `abs(x - e)`

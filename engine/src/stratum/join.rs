@@ -205,14 +205,7 @@ fn invariant<const R: usize>(plan: &Plan<R>) -> Vec<bool> {
     let mut out = vec![false; plan.atoms.len()];
     for (d, pair) in plan.atoms.windows(2).enumerate() {
         let [prev, step] = pair else { continue };
-        let mut written: Vec<usize> = prev.news.iter().map(|&(_, s)| s).collect();
-        for f in &prev.after {
-            match f {
-                Filter::Bind(s, ..) | Filter::AggRun(_, s) => written.push(*s),
-                Filter::Agg { out, .. } => written.push(*out),
-                _ => {}
-            }
-        }
+        let written = prev.writes();
         let keys = step.args.iter().all(|a| match a {
             Arg::Key(e, _) => !reads(e, &written),
             _ => true,
@@ -229,13 +222,7 @@ fn invariant<const R: usize>(plan: &Plan<R>) -> Vec<bool> {
 
 /// Whether an expression reads one of `slots`.
 fn reads(e: &CExpr, slots: &[usize]) -> bool {
-    match e {
-        CExpr::Slot(s, _) => slots.contains(s),
-        CExpr::Const(_) => false,
-        CExpr::Neg(a) => reads(a, slots),
-        CExpr::Bin(_, a, b) => reads(a, slots) || reads(b, slots),
-        CExpr::Call(_, args) => args.iter().any(|a| reads(a, slots)),
-    }
+    e.any_slot(&mut |s| slots.contains(&s))
 }
 
 impl<const R: usize, const W: usize> Join<'_, R, W> {
@@ -402,18 +389,24 @@ impl<const R: usize, const W: usize> Join<'_, R, W> {
                         }
                         _ => None,
                     };
-                    // A run of atoms from this one that only tests existence: where to see
-                    // that a candidate got past it.
+                    // A run of atoms from this one that only tests existence: the atom past
+                    // it, whose arrivals (or, past the last atom, the head tuples written)
+                    // say that a candidate got there.
+                    let last = self.plan.atoms.len();
                     let past = step.dead_until.map(|e| e + 1);
+                    let reached = |progress: &Progress<'_, R>, out: &Vec<Tup<W>>, p: usize| {
+                        if p < last {
+                            progress.arrivals[p]
+                        } else {
+                            out.len() as u64
+                        }
+                    };
                     for t in matches {
                         for &(pos, slot) in &acc.news {
                             b[slot] = t[pos];
                         }
                         if apply_mut(&step.after, b) {
-                            let before = match past {
-                                Some(p) if p < progress.arrivals.len() - 1 => progress.arrivals[p],
-                                _ => out.len() as u64,
-                            };
+                            let before = past.map(|p| reached(progress, out, p));
                             progress.arrivals[depth + 1] += 1;
                             match exists {
                                 Some(leaf) => self.exists(b, out, progress, leaf),
@@ -424,17 +417,12 @@ impl<const R: usize, const W: usize> Join<'_, R, W> {
                                 // binding, so the same results.
                                 return Ok(());
                             }
-                            let got_past = match past {
-                                Some(p) if p < progress.arrivals.len() - 1 => {
-                                    progress.arrivals[p] > before
+                            if let (Some(p), Some(before)) = (past, before) {
+                                if reached(progress, out, p) > before {
+                                    // The run was satisfied: its other ways give the rest of
+                                    // the join the same binding.
+                                    return Ok(());
                                 }
-                                Some(_) => out.len() as u64 > before,
-                                None => false,
-                            };
-                            if got_past {
-                                // The run was satisfied: its other ways give the rest of the
-                                // join the same binding.
-                                return Ok(());
                             }
                         }
                     }

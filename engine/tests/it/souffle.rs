@@ -126,29 +126,33 @@ fn run_case(case: &str, timeout: Duration) -> Result<(), String> {
         ..Options::default()
     };
     let eval = evaluate(&program, &mut provider, &options).map_err(|e| e.to_string())?;
+    // The case's expected outputs, in name order: `REL.size`, the number of tuples Soufflé's
+    // `.printsize REL` prints, and `REL.csv`, the relation itself.
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| e.to_string())?
         .flatten()
         .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
         .collect();
     files.sort();
-    for file in std::fs::read_dir(&dir)
-        .map_err(|e| e.to_string())?
-        .flatten()
+    for file in files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "size"))
     {
-        // `REL.size`: the number of tuples Soufflé's `.printsize REL` prints.
-        let name = file.file_name().to_string_lossy().to_string();
-        let Some(rel) = name.strip_suffix(".size") else {
-            continue;
-        };
-        let text = std::fs::read_to_string(file.path()).map_err(|e| e.to_string())?;
-        let expected: usize = text.trim().parse().map_err(|e| format!("{name}: {e}"))?;
+        let rel = file
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_default();
+        let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
+        let expected: usize = text
+            .trim()
+            .parse()
+            .map_err(|e| format!("{rel}.size: {e}"))?;
         let got = eval.size(&format!("s_{rel}"));
         if got != expected {
             return Err(format!("{rel}: {got} tuples, Soufflé prints {expected}"));
         }
     }
+    files.retain(|p| p.extension().is_some_and(|x| x == "csv"));
     for file in files {
         let rel = file
             .file_stem()
