@@ -78,6 +78,9 @@ pub const BEYOND_RANGE: &str = "W0513";
 /// A `%` right after an operand and before more of an expression (`X % 2 = 0`): it starts a
 /// comment, so the rest of the line is not read; the remainder is written `mod`.
 pub const PERCENT_COMMENT: &str = "W0514";
+/// A variable bound only inside a `min`'s or `max`'s braces and used outside them: a witness
+/// (the tuples reaching the extremum over everything the braces match), not a group.
+pub const WITNESS: &str = "W0515";
 /// A time (frames) compared with a float: probably seconds meant as frames.
 pub const TIME_VS_FLOAT: &str = "W0504";
 /// A `count` whose braces have no variable of their own: it is 0 or 1.
@@ -97,6 +100,7 @@ pub const MEANING_WARNINGS: &[&str] = &[
     COUNTED_SAMPLES,
     BEYOND_RANGE,
     PERCENT_COMMENT,
+    WITNESS,
 ];
 
 /// Every code, in order, with its severity and a one-line summary.
@@ -227,6 +231,7 @@ pub const CODES: &[(&str, Severity, &str)] = &[
         Severity::Warning,
         "`%` after an operand starts a comment",
     ),
+    (WITNESS, Severity::Warning, "a min/max witness, not a group"),
 ];
 
 /// An error with no related spans and no hint.

@@ -19,7 +19,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::ast::{AggFunc, Aggregate, CmpOp, Comparison, Expr, ExprKind, Literal, Program};
+use crate::diagnostics::{self, warning};
 use crate::walk::{self, expr_names};
+use crate::Diagnostic;
 
 /// Calls `f` on each variable name of `e` (in place).
 fn rename_expr(e: &mut Expr, f: &dyn Fn(&str) -> Option<String>) {
@@ -118,8 +120,11 @@ fn witnesses(
     (ws, bound_outside)
 }
 
-/// Rewrites every `min`/`max` aggregate with witnesses (see the module documentation).
-pub fn expand(program: &mut Program) {
+/// Rewrites every `min`/`max` aggregate with witnesses (see the module documentation), and
+/// returns a W0515 for each: someone who meant one extremum per witness (as if it grouped the
+/// aggregate) gets another answer, silently without it.
+pub fn expand(program: &mut Program) -> Vec<Diagnostic> {
+    let mut said = Vec::new();
     let mut next = 0usize;
     for clause in &mut program.clauses {
         let mut i = 0;
@@ -135,6 +140,26 @@ pub fn expand(program: &mut Program) {
             }
             next += 1;
             let tag = format!("_w{next}_");
+            let names = ws
+                .iter()
+                .map(|w| format!("`{w}`"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let func = g.func.as_str();
+            said.push(
+                warning(
+                    diagnostics::WITNESS,
+                    g.span,
+                    format!(
+                        "{names} bound only inside this `{func}`'s braces: the tuples that reach the \
+                         {func} over everything the braces match (a witness), not one {func} per value"
+                    ),
+                )
+                .with_hint(format!(
+                    "for one {func} per value, bind {names} outside the braces too (with the atom \
+                     that gives its values); for the tuples reaching the overall {func}, keep it"
+                )),
+            );
             // The copy, from the original braces: the witnesses and the variables the rest of
             // the rule binds (the group) keep their names, the rest is renamed; then the target
             // equal to the result.
@@ -177,6 +202,7 @@ pub fn expand(program: &mut Program) {
             i += 1 + n;
         }
     }
+    said
 }
 
 #[cfg(test)]
@@ -186,7 +212,7 @@ mod tests {
     fn expanded(src: &str) -> String {
         let (mut program, diags) = crate::parser::parse(src);
         assert!(diags.is_empty(), "{diags:?}");
-        expand(&mut program);
+        let _ = expand(&mut program);
         let text = crate::printer::print_program(&program);
         text.split_whitespace().collect::<Vec<_>>().join(" ")
     }

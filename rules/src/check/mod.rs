@@ -159,8 +159,12 @@ fn check_plain(source: &str, options: &CheckOptions) -> CheckOutcome {
         }
         let (names, shadowed) = crate::prelude::extend(&mut program, prelude_at);
         diags.extend(shadowed);
-        // Witnesses of `min` and `max` become plain joins before anything checks the rules.
-        crate::witness::expand(&mut program);
+        // Witnesses of `min` and `max` become plain joins before anything checks the rules;
+        // a scenario program is told (W0515), a general Datalog program (`run`) means them.
+        let witnesses = crate::witness::expand(&mut program);
+        if options.require_referred {
+            diags.extend(witnesses);
+        }
         names
     };
     let table = preds::collect(&program, &parsed.broken_heads, options, &mut diags);

@@ -892,6 +892,28 @@ fn e0201_a_head_variable_bound_only_in_a_count_has_no_witness() {
 }
 
 #[test]
+fn w0515_a_min_witness_is_said_to_be_one() {
+    // P and T are bound only in the braces: the pedestrian nearest over the whole log, not the
+    // nearest at each moment; a program that meant the latter hears it.
+    let src = "referred(P, T) :- ego(E), D = min X : { near(E, P, T, X) }, D < 10 m.\n";
+    let d = expect(
+        src,
+        "W0515",
+        "D = min X : { near(E, P, T, X) }",
+        "outside the braces",
+    );
+    assert!(d.message.contains("`P`, `T`"), "{}", d.message);
+    // Bound outside, they group it: no witness, no warning.
+    let grouped =
+        "referred(P, T) :- ego(E), present(P, T), D = min X : { near(E, P, T, X) }, D < 10 m.\n";
+    assert!(
+        diags(grouped).iter().all(|x| x.code != "W0515"),
+        "{:#?}",
+        diags(grouped)
+    );
+}
+
+#[test]
 fn w0514_percent_after_an_operand_starts_a_comment() {
     // `T % 2 = 0, T > 0.` would be the remainder in Soufflé; here the rest of the line is a
     // comment, so the clause runs on into the next one and the parser stops there.
