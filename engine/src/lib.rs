@@ -137,8 +137,8 @@ pub struct Options {
     /// provenance off, a derived relation no one else can see is derived only for the values its
     /// uses bind it to (a one-level magic-set transformation, see `magic.rs`): the relations
     /// listed are the same, a restricted one holds a subset of its tuples, and the evaluation
-    /// also holds the `magic_*` relations that restricted it. No command sets it yet (see
-    /// `magic.rs` for the figures).
+    /// also holds the `magic_*` relations that restricted it. The scenario commands read only
+    /// `referred` and `related` (see `magic.rs` for the figures).
     pub reads: Option<Vec<String>>,
 }
 

@@ -4,8 +4,8 @@
 //! values. `referred(X, T) :- category(X, "REGULAR_VEHICLE"), stopped(X, T).` becomes
 //!
 //! ```text
-//! magic_stopped(X) :- category(X, "REGULAR_VEHICLE").
-//! stopped(X, T) :- magic_stopped(X), speed(X, T, V), V < 0.5 m/s.
+//! magic_stopped_0(X) :- category(X, "REGULAR_VEHICLE").
+//! stopped(X, T) :- magic_stopped_0(X), speed(X, T, V), V < 0.5 m/s.
 //! ```
 //!
 //! so `stopped` (and the `speed` request, through the catalog pushdown of [`crate::demand`]) holds
@@ -14,15 +14,17 @@
 //! braces, not recursive, and each use's other atoms it is bound through come from earlier
 //! strata (or the catalog), so each use still finds every tuple it can join. Relations derived
 //! for the restricted one (its own body's relations) are left whole: one level, where the
-//! prelude's concepts meet the program's filters. Only selections bind (at most two columns, or
-//! a constant among three: `ego(E)`, `category(X, "BUS")`): a magic rule re-runs its body.
+//! prelude's concepts meet the program's filters.
 //!
-//! No command turns it on yet: on the library (three sample logs) it makes `stopped_car`
-//! faster (0.22 → 0.16 s) and a few others (`vehicle_making_a_u_turn` 0.155 → 0.094 s of
-//! evaluation), but others slower (`pedestrian_walking_between_two_stopped_vehicles` 0.012 →
-//! 1.18 s), 1.05 → 2.98 s of evaluation in all; with any binder instead of selections only,
-//! 13.5 s. The catalog requests of a restricted relation's stratum change with it; that
-//! interplay is the next thing to measure before `mine` reads with it.
+//! Two choices keep a magic rule cheaper than what it saves: only selections bind (one column,
+//! or a constant among at most three: `ego(E)`, `category(X, "BUS")`; not `stopped(A, T)`,
+//! whose times restrict little and cost a join), and each bound column has its own magic
+//! relation (`magic_moving_0(P)`), so columns bound by unrelated atoms are never paired in a
+//! product. `mine` and every command that reads a scenario's `referred` and `related` evaluate
+//! this way; explanations (provenance) and `run` read every relation and do not. On the library
+//! (three sample logs, one thread) evaluation falls from 1.14 to 0.77 s with the same matches
+//! (`vehicle_making_a_u_turn` 0.170 → 0.058 s, `bicycle_and_vehicle_near_each_other` 0.109 →
+//! 0.002 s).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -102,11 +104,12 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
                             || stratum_of.get(a.pred.as_str()).is_some_and(|&s| s < sp)
                     })
                 })
-                // Only selections (at most two columns, or a constant among them: `ego(E)`,
+                // Only selections (one column, or a constant among at most three: `ego(E)`,
                 // `category(X, "BUS")`): a magic rule re-runs its body, and a join there can
-                // cost more than the whole relation it restricts.
+                // cost more than the whole relation it restricts; `stopped(A, T)` binding T
+                // restricts little (most times have a stopped vehicle) at the price of a join.
                 .filter(|a| {
-                    a.args.len() <= 2
+                    a.args.len() == 1
                         || a.args
                             .iter()
                             .any(|e| matches!(e.kind, ExprKind::Int(_) | ExprKind::Str(_)))
@@ -141,48 +144,51 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
         if cols.is_empty() {
             continue;
         }
-        let cols: Vec<usize> = cols.into_iter().collect();
-        let magic = fresh_name(&out, pred);
-        // The magic relation's rules: per use, its bound arguments from its binders.
-        for (u, (_, binders)) in pred_uses.iter().zip(&bound) {
-            let (c, atom) = (u.clause, u.atom);
-            let args: Vec<_> = cols.iter().map(|&i| atom.args[i].clone()).collect();
-            let body = magic_body(c, &args, binders);
-            out.program.clauses.push(Clause {
-                head: Atom {
+        // One magic relation per bound column: the columns' sets are joined in the guard, never
+        // as a product in a magic rule (a pedestrian column and a time column bound by
+        // unrelated atoms would otherwise make every pair of them).
+        for i in cols {
+            let magic = fresh_name(&out, &format!("{pred}_{i}"));
+            // The magic relation's rules: per use, its bound argument from its binders.
+            for (u, (_, binders)) in pred_uses.iter().zip(&bound) {
+                let (c, atom) = (u.clause, u.atom);
+                let args = vec![atom.args[i].clone()];
+                let body = magic_body(c, &args, binders);
+                out.program.clauses.push(Clause {
+                    head: Atom {
+                        pred: magic.clone(),
+                        pred_span: atom.pred_span,
+                        args,
+                        span: atom.span,
+                    },
+                    body,
+                    span: c.span,
+                });
+            }
+            // The restricted relation's rules start from the magic relation.
+            for c in out
+                .program
+                .clauses
+                .iter_mut()
+                .filter(|c| c.head.pred == *pred)
+            {
+                let guard = Atom {
                     pred: magic.clone(),
-                    pred_span: atom.pred_span,
-                    args,
-                    span: atom.span,
+                    pred_span: c.head.pred_span,
+                    args: vec![c.head.args[i].clone()],
+                    span: c.head.span,
+                };
+                c.body.insert(0, Literal::Pos(guard));
+            }
+            out.predicates.insert(
+                magic.clone(),
+                PredicateInfo {
+                    name: magic.clone(),
+                    types: vec![info.types[i]],
+                    kind: PredKind::Derived,
                 },
-                body,
-                span: c.span,
-            });
+            );
         }
-        // The restricted relation's rules start from the magic relation.
-        for c in out
-            .program
-            .clauses
-            .iter_mut()
-            .filter(|c| c.head.pred == *pred)
-        {
-            let args = cols.iter().map(|&i| c.head.args[i].clone()).collect();
-            let guard = Atom {
-                pred: magic.clone(),
-                pred_span: c.head.pred_span,
-                args,
-                span: c.head.span,
-            };
-            c.body.insert(0, Literal::Pos(guard));
-        }
-        out.predicates.insert(
-            magic.clone(),
-            PredicateInfo {
-                name: magic.clone(),
-                types: cols.iter().map(|&i| info.types[i]).collect(),
-                kind: PredKind::Derived,
-            },
-        );
         changed = true;
     }
     if !changed {
@@ -243,7 +249,7 @@ fn magic_body(c: &Clause, args: &[scenalog_rules::ast::Expr], binders: &[&Atom])
     body
 }
 
-/// `magic_{pred}`, with a number when the program already has that name.
+/// `magic_{pred}` (`pred` names the relation and column), with a number when the program already has that name.
 fn fresh_name(program: &CheckedProgram, pred: &str) -> String {
     let base = format!("magic_{pred}");
     (0..)

@@ -143,13 +143,28 @@ impl std::fmt::Display for EvaluationError {
 
 /// Evaluates a checked program on one scene, asking the extractor (and its per-scene cache) for
 /// exactly the catalog relations the program uses, with the constraints the program implies.
+/// The evaluation's answer is `referred` and `related`: unless `options` name the relations read
+/// ([`Options::reads`]) or ask for provenance, the other derived relations hold only what those
+/// two need (the engine's demand: `stopped` only for the regular vehicles of `stopped_car`).
 pub fn evaluate_on(
     extractor: &Extractor<'_>,
     program: &CheckedProgram,
     options: &Options,
 ) -> Result<Evaluation, EvaluationError> {
-    evaluate_with(extractor, program, options, false)
+    let options = Options {
+        reads: Some(
+            options
+                .reads
+                .clone()
+                .unwrap_or_else(|| ANSWER.iter().map(|r| r.to_string()).collect()),
+        ),
+        ..options.clone()
+    };
+    evaluate_with(extractor, program, &options, false)
 }
+
+/// The relations a scenario's evaluation is read for.
+const ANSWER: [&str; 2] = ["referred", "related"];
 
 /// As [`evaluate_on`], but every catalog relation is asked whole, without the constants,
 /// categories and bounds the program fixes (so a report can show the values that failed them).
@@ -248,5 +263,38 @@ mod tests {
             limits_after_check(&unlimited, &s).expect("no limit"),
             unlimited
         );
+    }
+
+    /// Demand: `stopped_car` on log 3bffdcff derives `stopped` for the regular vehicles only (the
+    /// prelude's `stopped` is every slow track), with the same answer as evaluating every relation.
+    #[test]
+    fn a_scenario_derives_the_preludes_concepts_only_for_what_it_reads() {
+        let log = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(crate::api::inputs::SAMPLE_LOGS)
+            .join("3bffdcff-c3a7-38b6-a0f2-64196d130958");
+        let scene = scenalog_facts::load_scene(&log).expect("a sample log");
+        let extractor = Extractor::new(&scene);
+        let source = "referred(V, T) :- category(V, \"REGULAR_VEHICLE\"), stopped(V, T).\n";
+        let s =
+            scenario_from_source(Path::new("stopped_car.dl"), source.to_string()).expect("checks");
+        let demand = evaluate_on(&extractor, &s.program, &Options::default()).expect("runs");
+        let every = Options {
+            reads: Some(s.program.predicates.keys().cloned().collect()),
+            ..Options::default()
+        };
+        let whole = evaluate_on(&extractor, &s.program, &every).expect("runs");
+        assert_eq!(referred_pairs(&demand), referred_pairs(&whole));
+        assert!(!referred_pairs(&demand).is_empty());
+        // Every `stopped` tuple is a referred one: nothing derived for other categories.
+        assert_eq!(demand.size("stopped"), demand.size("referred"));
+        assert!(
+            whole.size("stopped") > demand.size("stopped"),
+            "{} whole, {} with demand",
+            whole.size("stopped"),
+            demand.size("stopped")
+        );
+        // And the extractor computed speeds for those tracks only (the request carries them).
+        assert_eq!(demand.size("speed"), demand.size("stopped"));
+        assert!(whole.size("speed") > demand.size("speed"));
     }
 }

@@ -300,6 +300,33 @@ fn a_relation_no_one_reads_is_derived_only_where_its_uses_bind_it() {
     assert_eq!(proven.size("slow"), 429);
 }
 
+#[test]
+fn columns_bound_by_unrelated_atoms_are_not_paired_by_demand() {
+    // `p` is bound in X by 100 `a` facts and in Y by 100 `b` facts: one magic relation over both
+    // columns would hold their 10,000 pairs, past the budget of 5,000; one per column holds 100
+    // values each, and `p` (200 tuples) only those of the 20 with both ends demanded.
+    let mut src = String::new();
+    for i in 0..100 {
+        src.push_str(&format!("a({i}, \"k\"). b({}, \"k\").\n", i + 1000));
+    }
+    for i in 0..200 {
+        src.push_str(&format!("q({}, {}).\n", i * 5, 1000 + i));
+    }
+    src.push_str("p(X, Y) :- q(X, Y).\n");
+    src.push_str("r(X, Y) :- a(X, \"k\"), b(Y, \"k\"), p(X, Y).\n");
+    let whole = run(&src);
+    let options = Options {
+        max_tuples: 5000,
+        reads: Some(vec!["r".into()]),
+        ..Options::default()
+    };
+    let e = run_with(&src, &options).expect("evaluates within the budget");
+    assert_eq!(ints_of(&e, "r"), ints_of(&whole, "r"));
+    assert_eq!(e.size("r"), 20);
+    assert_eq!(whole.size("p"), 200);
+    assert_eq!(e.size("p"), 20, "only the pairs with both ends demanded");
+}
+
 /// The tuples of `rel` with every value printed (ints and strings alike).
 fn ints_of(e: &Evaluation, rel: &str) -> Vec<String> {
     e.tuples(rel)
