@@ -27,12 +27,18 @@ pub fn evaluate(
     provider: &mut dyn FnMut(&Request) -> Result<RelationData, String>,
     options: &Options,
 ) -> Result<Evaluation, EngineError> {
-    // Demand: relations the caller does not read, restricted to what their uses ask for.
-    let restricted = match &options.reads {
-        Some(reads) if !options.provenance => crate::magic::restrict(program, reads),
-        _ => None,
+    // Relations the caller does not read: inlined where used once, then restricted to what
+    // their uses ask for (demand).
+    let (inlined, restricted);
+    let program = match &options.reads {
+        Some(reads) if !options.provenance => {
+            inlined = crate::inline::inline(program, reads);
+            let program = inlined.as_ref().unwrap_or(program);
+            restricted = crate::magic::restrict(program, reads);
+            restricted.as_ref().unwrap_or(program)
+        }
+        _ => program,
     };
-    let program = restricted.as_ref().unwrap_or(program);
     let width = row_width(program);
     if width <= WIDTH && !options.wide_rows {
         evaluate_at::<WIDTH>(program, provider, options)

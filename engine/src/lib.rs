@@ -13,6 +13,7 @@ mod demand;
 mod evaluate;
 mod explain;
 mod ground;
+mod inline;
 mod limits;
 mod magic;
 mod plan;

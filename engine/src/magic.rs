@@ -21,10 +21,14 @@
 //! whose times restrict little and cost a join), and each bound column has its own magic
 //! relation (`magic_moving_0(P)`), so columns bound by unrelated atoms are never paired in a
 //! product. `mine` and every command that reads a scenario's `referred` and `related` evaluate
-//! this way; explanations (provenance) and `run` read every relation and do not. On the library
-//! (three sample logs, one thread) evaluation falls from 1.14 to 0.77 s with the same matches
-//! (`vehicle_making_a_u_turn` 0.170 → 0.058 s, `bicycle_and_vehicle_near_each_other` 0.109 →
-//! 0.002 s).
+//! this way (after [`crate::inline`]); explanations (provenance) and `run` read every relation
+//! and do not. Measured on the library (three sample logs, one thread, against 1eb78af): its
+//! evaluation falls from 1.36 to 0.71 s, `mine` from 3.14 to 2.55 s (median wall), the same
+//! matches (`vehicle_making_a_u_turn` 0.176 → 0.045 s, `bicycle_and_vehicle_near_each_other`
+//! 0.133 → 0.003 s); the 255 imported RefAV programs take the same time (wall ratio 1.00 and
+//! 1.01) with the same matches. Those needed the extractor to answer a narrowed request from a
+//! kept broader one (`Extractor::extract_within`): without it, requests narrowed by demand
+//! missed the answers other programs on the log had left, and imported programs ran 1.11x.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -47,33 +51,27 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
         .flat_map(|(i, s)| s.predicates.iter().map(move |p| (p.as_str(), i)))
         .collect();
     // Where each derived relation may be restricted, and its uses.
-    let mut uses: BTreeMap<&str, Vec<Use>> = BTreeMap::new();
-    let mut refused: BTreeSet<&str> = reads.iter().map(String::as_str).collect();
-    for s in &program.strata {
-        if s.recursive || s.predicates.len() > 1 {
-            refused.extend(s.predicates.iter().map(String::as_str));
-        }
-    }
-    for c in &program.program.clauses {
-        for (li, l) in c.body.iter().enumerate() {
-            match l {
-                Literal::Pos(a) => uses.entry(a.pred.as_str()).or_default().push(Use {
-                    clause: c,
-                    atom: a,
-                    literal: li,
-                }),
-                Literal::Neg(a, _) => {
-                    refused.insert(a.pred.as_str());
-                }
-                Literal::Cmp(_) => {}
-                Literal::Agg(g) => {
-                    for (a, _) in scenalog_rules::walk::body_atoms(&g.body) {
-                        refused.insert(a.pred.as_str());
+    let (positive, refused) = uses_of(program, reads);
+    let uses: BTreeMap<&str, Vec<Use>> = positive
+        .into_iter()
+        .map(|(pred, at)| {
+            let found = at
+                .into_iter()
+                .filter_map(|(ci, li)| {
+                    let clause = program.program.clauses.get(ci)?;
+                    match clause.body.get(li) {
+                        Some(Literal::Pos(atom)) => Some(Use {
+                            clause,
+                            atom,
+                            literal: li,
+                        }),
+                        _ => None,
                     }
-                }
-            }
-        }
-    }
+                })
+                .collect();
+            (pred, found)
+        })
+        .collect();
     let mut out = program.clone();
     let mut changed = false;
     for (pred, pred_uses) in &uses {
@@ -191,9 +189,46 @@ pub(crate) fn restrict(program: &CheckedProgram, reads: &[String]) -> Option<Che
         }
         changed = true;
     }
-    if !changed {
-        return None;
+    changed.then(|| restratified(out)).flatten()
+}
+
+/// Per relation, the (clause, literal) indices of its positive uses.
+pub(crate) type PositiveUses<'p> = BTreeMap<&'p str, Vec<(usize, usize)>>;
+
+/// Per relation, where it is used positively (clause, literal), and the relations a rewrite must
+/// leave whole: those read, recursive, negated or inside an aggregate's braces.
+pub(crate) fn uses_of<'p>(
+    program: &'p CheckedProgram,
+    reads: &'p [String],
+) -> (PositiveUses<'p>, BTreeSet<&'p str>) {
+    let mut uses: PositiveUses = BTreeMap::new();
+    let mut refused: BTreeSet<&str> = reads.iter().map(String::as_str).collect();
+    for s in &program.strata {
+        if s.recursive || s.predicates.len() > 1 {
+            refused.extend(s.predicates.iter().map(String::as_str));
+        }
     }
+    for (ci, c) in program.program.clauses.iter().enumerate() {
+        for (li, l) in c.body.iter().enumerate() {
+            match l {
+                Literal::Pos(a) => uses.entry(a.pred.as_str()).or_default().push((ci, li)),
+                Literal::Neg(a, _) => {
+                    refused.insert(a.pred.as_str());
+                }
+                Literal::Cmp(_) => {}
+                Literal::Agg(g) => {
+                    for (a, _) in scenalog_rules::walk::body_atoms(&g.body) {
+                        refused.insert(a.pred.as_str());
+                    }
+                }
+            }
+        }
+    }
+    (uses, refused)
+}
+
+/// `out` with its strata computed again after a rewrite, or `None` if they cannot be.
+pub(crate) fn restratified(mut out: CheckedProgram) -> Option<CheckedProgram> {
     let (strata, diags) = scenalog_rules::strata::stratify(&out.program);
     if diags.iter().any(|d| d.is_error()) {
         return None;

@@ -7,7 +7,7 @@ use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use scenalog_facts::relation::RelationData;
+use scenalog_facts::relation::{RelationData, Request};
 use scenalog_facts::{Frame, Scene};
 
 use crate::events::{self, Side};
@@ -29,7 +29,7 @@ pub struct Extractor<'s> {
     lane_changes: OnceLock<Vec<Vec<(Frame, Side)>>>,
     stop_signs: OnceLock<Vec<StopSign>>,
     extra: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
-    results: Mutex<HashMap<String, Arc<RelationData>>>,
+    results: Mutex<HashMap<String, (Request, Arc<RelationData>)>>,
 }
 
 impl std::fmt::Debug for Extractor<'_> {
@@ -189,8 +189,10 @@ impl<'s> Extractor<'s> {
         self.extra.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// The answers kept so far, by request.
-    pub(crate) fn answers(&self) -> std::sync::MutexGuard<'_, HashMap<String, Arc<RelationData>>> {
+    /// The answers kept so far, by request (its text), with the request.
+    pub(crate) fn answers(
+        &self,
+    ) -> std::sync::MutexGuard<'_, HashMap<String, (Request, Arc<RelationData>)>> {
         self.results.lock().unwrap_or_else(|e| e.into_inner())
     }
 }

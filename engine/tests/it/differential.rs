@@ -339,7 +339,7 @@ fn check_proofs(
 fn engine_matches_the_naive_evaluator_on_random_programs() {
     let mut rng = Rng(0x5eed_cafe_f00d_0001);
     let (mut compared, mut nonempty, mut with_neg, mut with_agg) = (0, 0, 0, 0);
-    let (mut with_agg_wild, mut with_expr_arg, mut restricted) = (0, 0, 0);
+    let (mut with_agg_wild, mut with_expr_arg, mut restricted, mut inlined) = (0, 0, 0, 0);
     for case in 0..400 {
         let g = gen(&mut rng);
         let text = program_text(&g);
@@ -392,6 +392,17 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
                     "case {case}: demand changed {read}\n{text}"
                 );
                 restricted += usize::from(d.names().any(|n| n.starts_with("magic_")));
+                // Inlined: a relation the whole evaluation holds tuples of, derived nowhere.
+                inlined += usize::from(NAMES.iter().any(|n| {
+                    *n != read
+                        && d.size(n) == 0
+                        && eval.size(n) > 0
+                        && !program
+                            .program
+                            .clauses
+                            .iter()
+                            .any(|c| c.head.pred == *n && c.body.is_empty())
+                }));
             }
             Err(e) => panic!("case {case}: demand: {e}\n{text}"),
         }
@@ -423,7 +434,8 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
     eprintln!(
         "{compared} programs: {nonempty} non-empty derived relations, {with_neg} with negation, \
          {with_agg} with aggregates ({with_agg_wild} with `_` in the braces), {with_expr_arg} \
-         with an expression in an atom, {restricted} with a relation restricted by demand"
+         with an expression in an atom, {restricted} with a relation restricted by demand, \
+         {inlined} with one inlined"
     );
     assert_eq!(compared, 400);
     // The generator must exercise what it claims to.
@@ -444,5 +456,9 @@ fn engine_matches_the_naive_evaluator_on_random_programs() {
     assert!(
         restricted > 20,
         "only {restricted} programs with a relation restricted by demand"
+    );
+    assert!(
+        inlined > 20,
+        "only {inlined} programs with a relation inlined"
     );
 }

@@ -272,17 +272,19 @@ fn a_relation_no_one_reads_is_derived_only_where_its_uses_bind_it() {
     }
     src.push_str("slow(X, S) :- v_speed(X, S), S < 3.\n");
     src.push_str("r(X, S) :- v_kind(X, \"BUS\"), slow(X, S).\n");
+    // A second use (a relation used once is inlined instead: see the next tests).
+    src.push_str("r2(X) :- v_kind(X, \"BUS\"), slow(X, 1).\n");
     // A negated use keeps a relation whole; so does a use inside an aggregate's braces.
     src.push_str("fast(X) :- v_speed(X, S), S >= 5.\n");
     src.push_str("q(X) :- v_kind(X, \"BUS\"), !fast(X).\n");
     src.push_str("n(C) :- C = count : { fast(_) }.\n");
     let whole = run(&src);
     let demand = Options {
-        reads: Some(vec!["r".into(), "q".into(), "n".into()]),
+        reads: Some(vec!["r".into(), "r2".into(), "q".into(), "n".into()]),
         ..Options::default()
     };
     let e = run_with(&src, &demand).expect("evaluates");
-    for rel in ["r", "q", "n"] {
+    for rel in ["r", "r2", "q", "n"] {
         assert_eq!(ints_of(&e, rel), ints_of(&whole, rel), "{rel}");
     }
     assert_eq!(whole.size("slow"), 429);
@@ -314,17 +316,47 @@ fn columns_bound_by_unrelated_atoms_are_not_paired_by_demand() {
     }
     src.push_str("p(X, Y) :- q(X, Y).\n");
     src.push_str("r(X, Y) :- a(X, \"k\"), b(Y, \"k\"), p(X, Y).\n");
+    src.push_str("r2(Y, X) :- b(Y, \"k\"), a(X, \"k\"), p(X, Y).\n");
     let whole = run(&src);
     let options = Options {
         max_tuples: 5000,
-        reads: Some(vec!["r".into()]),
+        reads: Some(vec!["r".into(), "r2".into()]),
         ..Options::default()
     };
     let e = run_with(&src, &options).expect("evaluates within the budget");
     assert_eq!(ints_of(&e, "r"), ints_of(&whole, "r"));
+    assert_eq!(ints_of(&e, "r2"), ints_of(&whole, "r2"));
     assert_eq!(e.size("r"), 20);
     assert_eq!(whole.size("p"), 200);
     assert_eq!(e.size("p"), 20, "only the pairs with both ends demanded");
+}
+
+#[test]
+fn a_relation_used_once_and_not_read_is_inlined_not_stored() {
+    // Soufflé's example/inline_nats: `pair` is nat x nat (10^8 tuples), read once on its
+    // diagonal below 2; inlined, the rule joins `nat` with itself on X and keeps two tuples.
+    let mut src = String::from("nat(0).\nnat(X + 1) :- X < 10000, nat(X).\n");
+    src.push_str("pair(X, Y) :- nat(X), nat(Y).\n");
+    src.push_str("query(X) :- pair(X, X), X < 2.\n");
+    // Inlined into a use with `_`, a relation of two rules, one of them negating.
+    src.push_str("k(1, 7). k(2, 8). k(3, 9). bad(8).\n");
+    src.push_str("good(X, Z) :- k(X, Z), !bad(Z).\ngood(X, Z) :- nat(X), X > 9998, Z = X * 2.\n");
+    src.push_str("g(X) :- good(X, _), X != 1.\n");
+    let options = Options {
+        max_tuples: 50_000,
+        reads: Some(vec!["query".into(), "g".into()]),
+        ..Options::default()
+    };
+    let e = run_with(&src, &options).expect("evaluates within the budget");
+    assert_eq!(ints(&e, "query"), vec![vec![0], vec![1]]);
+    assert_eq!(ints(&e, "g"), vec![vec![3], vec![9999], vec![10000]]);
+    assert_eq!(e.size("pair"), 0, "never stored");
+    // Read, `pair` is derived in full, past the budget.
+    let read = Options {
+        reads: Some(vec!["query".into(), "pair".into()]),
+        ..options
+    };
+    assert!(run_with(&src, &read).is_err());
 }
 
 /// The tuples of `rel` with every value printed (ints and strings alike).

@@ -186,3 +186,53 @@ fn map_distances_match_brute_force() {
         }
     }
 }
+
+#[test]
+fn a_narrower_request_is_answered_from_a_kept_broader_one_as_if_extracted() {
+    use scenalog_facts::relation::{Constraint, Value};
+    for scene in scenes() {
+        let every = |n: usize| -> std::sync::Arc<[Value]> {
+            (0..scene.tracks.len())
+                .step_by(n)
+                .map(|i| Value::Track(scenalog_facts::TrackId(i as u32)))
+                .collect()
+        };
+        for (name, broad, narrow) in [
+            // speed under 0.5 m/s, then also for every third track.
+            (
+                "speed",
+                vec![(2, Constraint::Lt(0.5))],
+                vec![(2, Constraint::Lt(0.5)), (0, Constraint::OneOf(every(3)))],
+            ),
+            // A tighter bound and a subset of the tracks.
+            (
+                "speed",
+                vec![(2, Constraint::Le(0.5)), (0, Constraint::OneOf(every(3)))],
+                vec![(0, Constraint::OneOf(every(6))), (2, Constraint::Lt(0.3))],
+            ),
+            // Pedestrians in the drivable area, then every third track of them.
+            (
+                "in_drivable_area",
+                vec![(0, Constraint::Category("PEDESTRIAN".into()))],
+                vec![
+                    (0, Constraint::Category("PEDESTRIAN".into())),
+                    (0, Constraint::OneOf(every(3))),
+                ],
+            ),
+        ] {
+            let request = |constraints| Request {
+                name: name.into(),
+                constraints,
+            };
+            let shared = Extractor::new(scene);
+            let whole = shared.extract(&request(broad)).expect("extracts");
+            let served = shared.extract(&request(narrow.clone())).expect("extracts");
+            let fresh = Extractor::new(scene)
+                .extract(&request(narrow))
+                .expect("extracts");
+            assert_eq!(*served, *fresh, "{name} on {}", scene.log_id);
+            assert!(whole.len() >= served.len());
+            assert!(name != "speed" || !served.is_empty(), "{}", scene.log_id);
+        }
+    }
+}
