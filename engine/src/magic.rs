@@ -21,8 +21,8 @@
 //! whose times restrict little and cost a join), and each bound column has its own magic
 //! relation (`magic_moving_0(P)`), so columns bound by unrelated atoms are never paired in a
 //! product. `mine` and every command that reads a scenario's `referred` and `related` evaluate
-//! this way (after [`crate::inline`]); explanations (provenance) and `run` read every relation
-//! and do not. Measured on the library (three sample logs, one thread, against 1eb78af): its
+//! this way (after [`crate::inline`]); explanations (provenance) and `run` without `--print` read every
+//! relation and do not (`run --print REL` reads those). Measured on the library (three sample logs, one thread, against 1eb78af): its
 //! evaluation falls from 1.36 to 0.71 s, `mine` from 3.14 to 2.55 s (median wall), the same
 //! matches (`vehicle_making_a_u_turn` 0.176 → 0.045 s, `bicycle_and_vehicle_near_each_other`
 //! 0.133 → 0.003 s); the 255 imported RefAV programs take the same time (wall ratio 1.00 and

@@ -72,7 +72,12 @@ pub fn run(request: &RunRequest) -> Result<Ran, Error> {
                 "{display} has no relation `{name}` to print"
             )));
         }
-        let options = request.limits.engine(1);
+        // Printing some relations reads only those: the others may be inlined or derived only
+        // for what those need (the engine's demand), as Soufflé computes for its outputs.
+        let options = scenalog_engine::Options {
+            reads: (!request.print.is_empty()).then(|| request.print.clone()),
+            ..request.limits.engine(1)
+        };
         let mut provider = |r: &Request| -> Result<RelationData, String> {
             Err(format!(
                 "`{}` comes from a log, and `scenalog run` has none",

@@ -17,7 +17,9 @@ use crate::api::Limits;
 pub struct Args {
     /// The rule program; `-` reads it from standard input.
     pub file: String,
-    /// Print this relation's tuples (repeatable); default: sizes of all derived relations.
+    /// Print this relation's tuples (repeatable); default: sizes of all derived relations. Only
+    /// the relations printed are read: the others may be inlined or derived only for what those
+    /// need, as Soufflé computes for its outputs.
     #[arg(long = "print", value_name = "REL")]
     pub print: Vec<String>,
     /// Print JSON instead of text.

@@ -6,6 +6,16 @@ fn scenalog(args: &[&str], stdin: &str) -> Output {
     crate::util::with_stdin(args, stdin)
 }
 
+/// The run ended with exit 0 (else its standard error is shown).
+fn assert_ran(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 const TC: &str = "edge(1, 2). edge(2, 3). edge(3, 4). label(1, \"a b\"). w(1, 2.5). w(2, 3.0).\n\
 path(X, Y) :- edge(X, Y).\n\
 path(X, Z) :- path(X, Y), edge(Y, Z).\n\
@@ -19,12 +29,7 @@ fn prints_requested_relations_as_sorted_facts() {
         ],
         TC,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ran(&out);
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),
         "path(1, 2).\npath(1, 3).\npath(1, 4).\npath(2, 3).\npath(2, 4).\npath(3, 4).\n\
@@ -135,4 +140,37 @@ fn a_program_deriving_forever_ends_at_the_tuple_budget() {
         out.stdout.is_empty(),
         "nothing printed from a failed evaluation"
     );
+}
+
+#[test]
+fn printing_some_relations_computes_only_what_they_need() {
+    // Soufflé's inline_nats: `pair` (nat x nat, 10^8 tuples) is read once on its diagonal.
+    let program = "nat(0).\nnat(X + 1) :- X < 10000, nat(X).\npair(X, Y) :- nat(X), nat(Y).\n\
+                   query(X) :- pair(X, X), X < 2.\n";
+    let out = scenalog(
+        &["run", "-", "--print", "query", "--max-tuples", "100000"],
+        program,
+    );
+    assert_ran(&out);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "query(0).\nquery(1).\n"
+    );
+    // Printing `pair` too (or every size), it is derived in full: past the budget.
+    let out = scenalog(
+        &[
+            "run",
+            "-",
+            "--print",
+            "query",
+            "--print",
+            "pair",
+            "--max-tuples",
+            "100000",
+        ],
+        program,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`pair`"), "{err}");
 }

@@ -3,7 +3,7 @@
 //! `tests/souffle/import.py`; UPL-1.0, see `tests/souffle/README.md`) must give exactly the
 //! relations (and the sizes `.printsize` prints) Soufflé's test expects, or be refused by the checker when Soufflé refuses it. The
 //! cases listed in `tests/souffle/known_differences.tsv` are checked to still differ when every
-//! relation is read (as `scenalog run` reads them), so the list stays true: a case that starts to
+//! relation is read (as `scenalog run` without `--print` reads them), so the list stays true: a case that starts to
 //! pass must leave it. Read for its outputs only (as Soufflé computes), every case must match.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -95,7 +95,7 @@ fn value_cell(v: &Value) -> Cell {
 
 /// What a case gave: `Ok(())` when it matches Soufflé, else what differs.
 /// Runs one case: reading only its outputs (`demand`, as Soufflé computes) or every relation
-/// (as `scenalog run` does).
+/// (as `scenalog run` does without `--print`).
 fn run_case(case: &str, timeout: Duration, demand: bool) -> Result<(), String> {
     let dir = root().join("cases").join(case);
     let src = std::fs::read_to_string(dir.join("program.dl")).map_err(|e| e.to_string())?;
