@@ -140,6 +140,10 @@ fn within(a: &[Value], k: &[Value]) -> bool {
             _ => None,
         }
     }
+    // Distinct values: more than `k` holds cannot all be in it (and `false` only extracts again).
+    if a.len() > k.len() {
+        return false;
+    }
     let kept: Option<std::collections::HashSet<(u8, i64)>> = k.iter().map(key).collect();
     match kept {
         Some(kept) => a.iter().all(|v| key(v).is_some_and(|x| kept.contains(&x))),
