@@ -24,7 +24,7 @@
 
 use std::collections::{BTreeSet, HashMap};
 
-use scenalog_rules::ast::{Atom, Clause, Expr, ExprKind, Literal};
+use scenalog_rules::ast::{Clause, ExprKind, Literal};
 use scenalog_rules::{CheckedProgram, PredKind};
 
 use crate::value::{WIDEST, WIDTH};
@@ -137,65 +137,23 @@ fn inline_one(
     {
         *fresh += 1;
         let n = *fresh;
-        // The head's variables take the use's arguments (a `_` there: a fresh variable).
-        let mut names: HashMap<&str, Expr> = HashMap::new();
+        // The head's variables take the use's (a `_` there: a fresh variable), the others
+        // fresh names.
+        let mut names: HashMap<&str, String> = HashMap::new();
         for (h, u) in rule.head.args.iter().zip(&used.args) {
             let v = h.as_var()?;
-            let to = match &u.kind {
-                ExprKind::Var(_) => u.clone(),
-                _ => Expr::var(&format!("{v}~{n}")),
-            };
+            let to = u
+                .as_var()
+                .map_or_else(|| format!("{v}~{n}"), str::to_string);
             names.insert(v, to);
         }
-        let rename = |e: &Expr| rename_expr(e, &names, n);
-        let body: Vec<Literal> = rule
-            .body
-            .iter()
-            .map(|l| match l {
-                Literal::Pos(a) => Literal::Pos(rename_atom(a, &rename)),
-                Literal::Neg(a, s) => Literal::Neg(rename_atom(a, &rename), *s),
-                Literal::Cmp(c) => {
-                    let mut c = c.clone();
-                    c.lhs = rename(&c.lhs);
-                    c.rhs = rename(&c.rhs);
-                    Literal::Cmp(c)
-                }
-                Literal::Agg(g) => Literal::Agg(g.clone()),
-            })
-            .collect();
+        let rename = |v: &str| Some(names.get(v).cloned().unwrap_or_else(|| format!("{v}~{n}")));
+        let mut body = rule.body.clone();
+        body.iter_mut()
+            .for_each(|l| scenalog_rules::walk::rename_literal(l, &rename));
         let mut clause = use_clause.clone();
         clause.body.splice(li..=li, body);
         made.push(clause);
     }
     Some(made)
-}
-
-fn rename_atom(a: &Atom, rename: &dyn Fn(&Expr) -> Expr) -> Atom {
-    Atom {
-        args: a.args.iter().map(rename).collect(),
-        ..a.clone()
-    }
-}
-
-/// `e` with the head's variables as `names` says and every other variable `V` as `V~n`.
-fn rename_expr(e: &Expr, names: &HashMap<&str, Expr>, n: usize) -> Expr {
-    let kind = match &e.kind {
-        ExprKind::Var(v) => {
-            return names.get(v.as_str()).cloned().unwrap_or_else(|| Expr {
-                kind: ExprKind::Var(format!("{v}~{n}")),
-                span: e.span,
-            });
-        }
-        ExprKind::Neg(x) => ExprKind::Neg(Box::new(rename_expr(x, names, n))),
-        ExprKind::Binary(op, a, b) => ExprKind::Binary(
-            *op,
-            Box::new(rename_expr(a, names, n)),
-            Box::new(rename_expr(b, names, n)),
-        ),
-        ExprKind::Call(f, args) => {
-            ExprKind::Call(*f, args.iter().map(|a| rename_expr(a, names, n)).collect())
-        }
-        k => k.clone(),
-    };
-    Expr { kind, span: e.span }
 }

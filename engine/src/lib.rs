@@ -135,10 +135,11 @@ pub struct Options {
     /// programs both ways to cover the path wide programs take.
     pub wide_rows: bool,
     /// The relations the caller will read (`None`, the default: all of them). With a list, and
-    /// provenance off, a derived relation no one else can see is derived only for the values its
-    /// uses bind it to (a one-level magic-set transformation, see `magic.rs`): the relations
-    /// listed are the same, a restricted one holds a subset of its tuples, and the evaluation
-    /// also holds the `magic_*` relations that restricted it. The scenario commands read only
+    /// provenance off, a derived relation no one else can see is inlined where it is used once
+    /// (`inline.rs`: it is then empty) or else derived only for the values its uses bind it to
+    /// (a one-level magic-set transformation, see `magic.rs`): the relations listed are the
+    /// same, a restricted one holds a subset of its tuples, and the evaluation also holds the
+    /// `magic_*` relations that restricted it. The scenario commands read only
     /// `referred` and `related` (see `magic.rs` for the figures).
     pub reads: Option<Vec<String>>,
 }

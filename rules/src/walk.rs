@@ -1,5 +1,5 @@
 //! Which variables an expression, a literal or an aggregate holds, and which atoms a body holds
-//! ([`body_atoms`]): the AST walks that the checker, the prelude, the engine's planner and its
+//! ([`body_atoms`]), and their renaming ([`rename_literal`]): the AST walks that the checker, the prelude, the engine's planner and its
 //! explanations all ask, written once.
 //!
 //! Every walk visits named variables only (never `_`) in source order, repeats included; the
@@ -181,6 +181,47 @@ pub fn binding_slots(clause: &Clause) -> usize {
     let mut n = names.len();
     literals(&clause.body, false, &mut n);
     n
+}
+
+/// Renames the variables of `e` in place: each named variable `v` becomes `f(v)` when that is
+/// `Some` (`_` is left alone).
+pub fn rename_expr(e: &mut Expr, f: &dyn Fn(&str) -> Option<String>) {
+    match &mut e.kind {
+        ExprKind::Var(v) => {
+            if let Some(n) = f(v) {
+                *v = n;
+            }
+        }
+        ExprKind::Neg(x) => rename_expr(x, f),
+        ExprKind::Binary(_, a, b) => {
+            rename_expr(a, f);
+            rename_expr(b, f);
+        }
+        ExprKind::Call(_, args) => args.iter_mut().for_each(|a| rename_expr(a, f)),
+        ExprKind::Wildcard
+        | ExprKind::Str(_)
+        | ExprKind::Int(_)
+        | ExprKind::Float(_)
+        | ExprKind::Quantity(_) => {}
+    }
+}
+
+/// Renames the variables of a literal in place as [`rename_expr`] does, inside aggregates too.
+pub fn rename_literal(l: &mut Literal, f: &dyn Fn(&str) -> Option<String>) {
+    match l {
+        Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter_mut().for_each(|e| rename_expr(e, f)),
+        Literal::Cmp(c) => {
+            rename_expr(&mut c.lhs, f);
+            rename_expr(&mut c.rhs, f);
+        }
+        Literal::Agg(g) => {
+            rename_expr(&mut g.result, f);
+            if let Some(t) = &mut g.target {
+                rename_expr(t, f);
+            }
+            g.body.iter_mut().for_each(|l| rename_literal(l, f));
+        }
+    }
 }
 
 #[cfg(test)]

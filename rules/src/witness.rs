@@ -20,48 +20,8 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::ast::{AggFunc, Aggregate, CmpOp, Comparison, Expr, ExprKind, Literal, Program};
 use crate::diagnostics::{self, warning};
-use crate::walk::{self, expr_names};
+use crate::walk::{self, expr_names, rename_expr, rename_literal};
 use crate::Diagnostic;
-
-/// Calls `f` on each variable name of `e` (in place).
-fn rename_expr(e: &mut Expr, f: &dyn Fn(&str) -> Option<String>) {
-    match &mut e.kind {
-        ExprKind::Var(v) => {
-            if let Some(n) = f(v) {
-                *v = n;
-            }
-        }
-        ExprKind::Neg(x) => rename_expr(x, f),
-        ExprKind::Binary(_, a, b) => {
-            rename_expr(a, f);
-            rename_expr(b, f);
-        }
-        ExprKind::Call(_, args) => args.iter_mut().for_each(|a| rename_expr(a, f)),
-        ExprKind::Wildcard
-        | ExprKind::Str(_)
-        | ExprKind::Int(_)
-        | ExprKind::Float(_)
-        | ExprKind::Quantity(_) => {}
-    }
-}
-
-/// Renames the variables of a literal (inside aggregates too).
-fn rename_literal(l: &mut Literal, f: &dyn Fn(&str) -> Option<String>) {
-    match l {
-        Literal::Pos(a) | Literal::Neg(a, _) => a.args.iter_mut().for_each(|e| rename_expr(e, f)),
-        Literal::Cmp(c) => {
-            rename_expr(&mut c.lhs, f);
-            rename_expr(&mut c.rhs, f);
-        }
-        Literal::Agg(g) => {
-            rename_expr(&mut g.result, f);
-            if let Some(t) = &mut g.target {
-                rename_expr(t, f);
-            }
-            g.body.iter_mut().for_each(|l| rename_literal(l, f));
-        }
-    }
-}
 
 /// The variables a literal outside an aggregate binds for the rest of the rule: those of its
 /// positive atoms, the result of an aggregate, either side of an `=`.
